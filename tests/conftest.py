@@ -1,0 +1,35 @@
+"""Shared pytest fixtures: where the real Habitat test assets live.
+
+The assets sit in ``../shared/assets/habitat/data`` beside the repository root (see
+DEVELOPERS.md); ``RIGIDSIM_HABITAT_DATA`` overrides the location.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+def habitat_data_dir() -> Path:
+    """Return the folder holding Habitat's ``test_assets`` and physics configs."""
+    override = os.environ.get("RIGIDSIM_HABITAT_DATA")
+    if override:
+        return Path(override)
+    return REPO_ROOT.parent / "shared" / "assets" / "habitat" / "data"
+
+
+@pytest.fixture(scope="session")
+def habitat_data() -> Path:
+    path = habitat_data_dir()
+    if not path.is_dir():
+        pytest.fail(f"Habitat test assets not found at {path}; set RIGIDSIM_HABITAT_DATA")
+    return path
+
+
+@pytest.fixture(scope="session")
+def test_assets(habitat_data: Path) -> Path:
+    return habitat_data / "test_assets"
