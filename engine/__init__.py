@@ -1,0 +1,63 @@
+"""rigidsim's engine: Habitat-sim's interactive rigid-object API in pure NumPy.
+
+``import engine as habitat_sim`` gives the names a Habitat user expects::
+
+    engine.Simulator, engine.Configuration, engine.SimulatorConfiguration,
+    engine.agent.AgentConfiguration, engine.AgentState, engine.CameraSensorSpec,
+    engine.SensorType, engine.SensorSubType, engine.RigidState, engine.physics,
+    engine.NavMeshSettings, engine.PathFinder, engine.ShortestPath, engine.MultiGoalShortestPath
+
+and ``from engine import mn`` replaces ``import magnum as mn``. Names are resolved lazily
+(PEP 562), so ``from engine import mn`` does not load the physics or the renderer.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from engine import mn
+
+# public name -> module that defines it
+_LAZY = {
+    "Simulator": "engine.simulator",
+    "Configuration": "engine.simulator",
+    "SimulatorConfiguration": "engine.simulator",
+    "AgentState": "engine.agent",
+    "AgentConfiguration": "engine.agent",
+    "Agent": "engine.agent",
+    "ActionSpec": "engine.agent",
+    "ActuationSpec": "engine.agent",
+    "CameraSensorSpec": "engine.sensors",
+    "SensorType": "engine.sensors",
+    "SensorSubType": "engine.sensors",
+    "RigidState": "engine.physics",
+    "SceneNode": "engine.scene_node",
+    "NavMeshSettings": "navmesh",
+    "PathFinder": "navmesh",
+    "ShortestPath": "navmesh",
+    "MultiGoalShortestPath": "navmesh",
+}
+_SUBMODULES = {
+    "agent",
+    "assets",
+    "attributes",
+    "attributes_managers",
+    "datasets",
+    "geo",
+    "physics",
+    "scene_node",
+    "sensors",
+    "user_config",
+    "utils",
+}
+
+__all__ = ["mn", *sorted(_LAZY), *sorted(_SUBMODULES)]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    if name in _SUBMODULES:
+        return importlib.import_module(f"engine.{name}")
+    raise AttributeError(f"module 'engine' has no attribute {name!r}")

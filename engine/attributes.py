@@ -1,0 +1,320 @@
+"""Templates: the attributes objects, stages and the physics world are created from.
+
+Mirrors ``habitat_sim.attributes``. A template is a bag of typed fields with Habitat's names
+and defaults, read from a ``*.object_config.json`` / ``*.stage_config.json`` /
+``*.physics_config.json`` file and editable in Python before it is registered with its
+manager. Each field is declared once in a table (:data:`OBJECT_FIELDS` ...) giving its JSON
+key, its kind (``float``, ``vec3``, ``bool``, ...) and its default; the JSON reader and the
+property setters share one validator, so bad values raise the same clear ``ValueError``.
+
+Conventions: asset paths in a config are relative to the config file; they are stored as
+absolute paths unless they name a built-in primitive (``cubeSolid``...). JSON quaternions are
+``[w, x, y, z]``; vectors are ``[x, y, z]``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from engine import mn
+from engine.user_config import Configuration
+
+__all__ = [
+    "AbstractAttributes",
+    "ObjectAttributes",
+    "PhysicsManagerAttributes",
+    "PrimitiveAssetAttributes",
+    "StageAttributes",
+    "is_primitive_handle",
+]
+
+# The primitive asset handle prefixes of Magnum's primitives (see attributes_managers).
+_PRIMITIVE_PREFIXES = ("capsule3D", "cone", "cube", "cylinder", "icosphere", "uvSphere")
+
+
+def is_primitive_handle(handle: str) -> bool:
+    """True for built-in primitive asset handles such as ``cubeSolid``."""
+    return any(handle.startswith(p) for p in _PRIMITIVE_PREFIXES) and "/" not in handle
+
+
+@dataclass(frozen=True)
+class Field:
+    """One template field: its JSON key, its kind, its default value."""
+
+    json_key: str | None
+    kind: str  # "float", "positive", "nonnegative", "vec3", "bool", "int", "str", "asset"
+    default: Any
+
+
+def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
+    """``value`` converted to the field's kind; ValueError naming the field (and file)."""
+    where = f" in {source}" if source else ""
+    if kind == "vec3":
+        return np.asarray(mn.to_vector3(value, f"{name}{where}"))
+    if kind == "bool":
+        if not isinstance(value, bool | np.bool_):
+            raise ValueError(f"{name}{where} must be a bool, got {value!r}")
+        return bool(value)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int | np.integer):
+            raise ValueError(f"{name}{where} must be an integer, got {value!r}")
+        return int(value)
+    if kind in ("str", "asset"):
+        if not isinstance(value, str):
+            raise ValueError(f"{name}{where} must be a string, got {value!r}")
+        return value
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise ValueError(f"{name}{where} must be a number, got {value!r}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise ValueError(f"{name}{where} must be finite, got {value!r}")
+    if kind == "positive" and number <= 0.0:
+        raise ValueError(f"{name}{where} must be > 0, got {value!r}")
+    if kind == "nonnegative" and number < 0.0:
+        raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
+    return number
+
+
+class AbstractAttributes:
+    """Shared machinery: typed fields from a table, JSON loading, copying, user config."""
+
+    FIELDS: dict[str, Field] = {}
+
+    def __init__(self, handle: str = "") -> None:
+        values = {name: field.default for name, field in self.FIELDS.items()}
+        object.__setattr__(self, "_values", {k: _copy_value(v) for k, v in values.items()})
+        object.__setattr__(self, "_user_config", Configuration())
+        object.__setattr__(self, "handle", handle)
+        object.__setattr__(self, "template_id", -1)
+        object.__setattr__(self, "file_directory", "")
+        object.__setattr__(self, "_explicit", set())
+
+    # -- typed field access -----------------------------------------------------------------------
+    def __getattr__(self, name: str) -> Any:
+        values = self.__dict__.get("_values")
+        if values is not None and name in values:
+            value = values[name]
+            return mn.Vector3(value) if isinstance(value, np.ndarray) else value
+        raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if isinstance(getattr(type(self), name, None), property):
+            object.__setattr__(self, name, value)  # a property's own setter validates
+        elif name in self.FIELDS:
+            self._values[name] = _validate(name, self.FIELDS[name].kind, value)
+            self._explicit.add(name)
+        elif name in ("handle", "file_directory"):
+            object.__setattr__(self, name, _validate(name, "str", value))
+        elif name == "template_id":
+            object.__setattr__(self, name, _validate(name, "int", value))
+        else:
+            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+
+    @property
+    def ID(self) -> int:  # noqa: N802 - Habitat's spelling
+        return self.template_id
+
+    def get_user_config(self) -> Configuration:
+        """The editable user configuration (``user_defined`` in the JSON), by reference."""
+        return self._user_config
+
+    def is_set_explicitly(self, name: str) -> bool:
+        """True when the field was given by the JSON file or a setter (not left at default)."""
+        return name in self._explicit
+
+    def copy(self) -> AbstractAttributes:
+        clone = type(self).__new__(type(self))
+        for key, value in self.__dict__.items():
+            object.__setattr__(clone, key, _copy_value(value))
+        return clone
+
+    def as_dict(self) -> dict[str, Any]:
+        return {name: _copy_value(value) for name, value in self._values.items()}
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(handle={self.handle!r}, id={self.template_id})"
+
+    # -- JSON ------------------------------------------------------------------------------
+    @classmethod
+    def from_json_file(cls, path: str | Path) -> AbstractAttributes:
+        """Read a config file; the template handle is its full path."""
+        path = Path(path).resolve()
+        if not path.is_file():
+            raise FileNotFoundError(f"config file not found: {path}")
+        try:
+            data = json.loads(path.read_text())
+        except json.JSONDecodeError as error:
+            raise ValueError(f"malformed JSON in {path}: {error}") from error
+        if not isinstance(data, dict):
+            raise ValueError(f"{path} must hold a JSON object")
+        template = cls(str(path))
+        template.file_directory = str(path.parent)
+        template._apply_json(data, path)
+        return template
+
+    def _apply_json(self, data: dict, path: Path) -> None:
+        """Validate every known key first, then assign (nothing half-applied on error)."""
+        staged: dict[str, Any] = {}
+        for name, field in self.FIELDS.items():
+            if field.json_key is None or field.json_key not in data:
+                continue
+            value = _validate(field.json_key, field.kind, data[field.json_key], str(path))
+            if field.kind == "asset" and not is_primitive_handle(value):
+                value = str((path.parent / value).resolve())
+            staged[name] = value
+        user = Configuration.from_dict(data.get("user_defined", {}), f"user_defined in {path}")
+        self._values.update(staged)
+        self._explicit.update(staged)
+        object.__setattr__(self, "_user_config", user)
+
+
+def _copy_value(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    if isinstance(value, Configuration):
+        return value.copy()
+    if isinstance(value, set | dict | list):
+        return type(value)(value)
+    return value
+
+
+_VEC_ONE = np.ones(3)
+_VEC_ZERO = np.zeros(3)
+_UP = np.array([0.0, 1.0, 0.0])
+_FRONT = np.array([0.0, 0.0, -1.0])
+
+# Fields shared by objects and stages (Habitat's AbstractObjectAttributes).
+_ASSET_FIELDS = {
+    "render_asset_handle": Field("render_asset", "asset", ""),
+    "collision_asset_handle": Field("collision_asset", "asset", ""),
+    "collision_asset_size": Field("collision_asset_size", "vec3", _VEC_ONE),
+    "scale": Field("scale", "vec3", _VEC_ONE),
+    "margin": Field("margin", "nonnegative", 0.04),
+    "orient_up": Field("up", "vec3", _UP),
+    "orient_front": Field("front", "vec3", _FRONT),
+    "units_to_meters": Field("units_to_meters", "positive", 1.0),
+    "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
+    "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
+    "force_flat_shading": Field("force_flat_shading", "bool", False),
+    "is_collidable": Field("is_collidable", "bool", True),
+    "shader_type": Field("shader_type", "str", "material"),
+}
+
+OBJECT_FIELDS = {
+    **_ASSET_FIELDS,
+    "mass": Field("mass", "positive", 1.0),
+    "com": Field("COM", "vec3", _VEC_ZERO),
+    "inertia": Field("inertia", "vec3", _VEC_ZERO),
+    "linear_damping": Field("linear_damping", "nonnegative", 0.2),
+    "angular_damping": Field("angular_damping", "nonnegative", 0.2),
+    "bounding_box_collisions": Field("use_bounding_box_for_collision", "bool", False),
+    "join_collision_meshes": Field("join_collision_meshes", "bool", False),
+    "is_visibile": Field("is_visible", "bool", True),
+    "semantic_id": Field("semantic_id", "int", 0),
+}
+
+STAGE_FIELDS = {
+    **_ASSET_FIELDS,
+    "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
+    "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
+    "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
+    "origin": Field("origin", "vec3", _VEC_ZERO),
+    "navmesh_asset_handle": Field("nav_asset", "asset", ""),
+}
+
+PHYSICS_FIELDS = {
+    "simulator": Field("physics_simulator", "str", "bullet"),
+    "timestep": Field("timestep", "positive", 0.008),
+    "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
+    "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
+    "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
+    "max_substeps": Field("max_substeps", "int", 10),
+}
+
+
+class ObjectAttributes(AbstractAttributes):
+    """An object template (``*.object_config.json``), Habitat's ``ObjectAttributes``.
+
+    ``compute_COM_from_shape`` is True unless the config (or a setter) gave ``COM``: then the
+    object's origin (its ``translation``) is the center of its render mesh's AABB.
+    An ``inertia`` of zero means "compute from the collision shape".
+    """
+
+    FIELDS = OBJECT_FIELDS
+
+    @property
+    def compute_COM_from_shape(self) -> bool:  # noqa: N802 - Habitat's spelling
+        return "com" not in self._explicit
+
+    @compute_COM_from_shape.setter
+    def compute_COM_from_shape(self, value: bool) -> None:  # noqa: N802
+        if _validate("compute_COM_from_shape", "bool", value):
+            self._explicit.discard("com")
+        else:
+            self._explicit.add("com")
+
+    @property
+    def render_asset_is_primitive(self) -> bool:
+        return is_primitive_handle(self.render_asset_handle)
+
+    @property
+    def collision_asset_is_primitive(self) -> bool:
+        return is_primitive_handle(self.collision_asset_handle or self.render_asset_handle)
+
+    @property
+    def use_mesh_for_collision(self) -> bool:
+        return not self.bounding_box_collisions
+
+
+class StageAttributes(AbstractAttributes):
+    """A stage template (``*.stage_config.json``), Habitat's ``StageAttributes``.
+
+    A bare ``.glb`` with no config beside it is Z-up: see
+    :meth:`engine.attributes_managers.StageAttributesManager.create_template_for_asset`.
+    """
+
+    FIELDS = STAGE_FIELDS
+
+
+class PhysicsManagerAttributes(AbstractAttributes):
+    """The physics world's settings (``*.physics_config.json``)."""
+
+    FIELDS = PHYSICS_FIELDS
+
+
+PRIMITIVE_FIELDS: dict[str, Field] = {}
+
+
+class PrimitiveAssetAttributes(AbstractAttributes):
+    """A built-in primitive asset (Magnum primitive) known by its handle, e.g. ``cubeSolid``.
+
+    ``primitive_class`` is the Magnum class name (``cubeSolid`` -> ``Cube``); ``is_wireframe``
+    tells the wireframe variants (rendered and collided as their solid surface in rigidsim).
+    """
+
+    FIELDS = PRIMITIVE_FIELDS
+
+    @property
+    def primitive_class(self) -> str:
+        names = {
+            "capsule3D": "Capsule3D",
+            "cone": "Cone",
+            "cube": "Cube",
+            "cylinder": "Cylinder",
+            "icosphere": "Icosphere",
+            "uvSphere": "UVSphere",
+        }
+        for prefix, name in names.items():
+            if self.handle.startswith(prefix):
+                return name
+        raise ValueError(f"not a primitive handle: {self.handle!r}")
+
+    @property
+    def is_wireframe(self) -> bool:
+        return "Wireframe" in self.handle

@@ -1,0 +1,293 @@
+"""Template libraries: register, look up, copy, lock and remove attribute templates.
+
+Mirrors ``habitat_sim.attributes_managers``. A manager maps **handles** (a config file's full
+path, or a primitive's name such as ``cubeSolid``) to templates with integer **ids**.
+Habitat's contract, kept here:
+
+* ``get_template_by_id`` / ``get_template_by_handle`` return **copies**; edits take effect only
+  after ``register_template``, which overwrites an existing handle keeping its id, or adds the
+  template with a new id.
+* ``get_template_handles(search_str, contains=True)`` matches case-insensitively and is sorted.
+* ``load_configs(path)``: a folder loads every ``*.object_config.json`` directly in it (sorted,
+  not recursive); a path without the extension gets it appended; re-loading a file keeps its id.
+* Locked templates cannot be overwritten or removed; the primitive defaults are locked.
+
+Managers need no simulator: ``ObjectAttributesManager()`` works on its own.
+"""
+
+from __future__ import annotations
+
+import random
+from pathlib import Path
+from typing import Generic, TypeVar
+
+from engine.attributes import (
+    AbstractAttributes,
+    ObjectAttributes,
+    PhysicsManagerAttributes,
+    PrimitiveAssetAttributes,
+    StageAttributes,
+)
+
+__all__ = [
+    "PRIMITIVE_ASSET_HANDLES",
+    "AssetAttributesManager",
+    "ObjectAttributesManager",
+    "PhysicsAttributesManager",
+    "StageAttributesManager",
+]
+
+# Habitat's 12 default primitive asset handles (Magnum primitives with their parameters).
+PRIMITIVE_ASSET_HANDLES = (
+    "capsule3DSolid_hemiRings_4_cylRings_1_segments_12_halfLen_0.75"
+    "_useTexCoords_false_useTangents_false",
+    "capsule3DWireframe_hemiRings_8_cylRings_1_segments_16_halfLen_1",
+    "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true",
+    "coneWireframe_segments_32_halfLen_1.25",
+    "cubeSolid",
+    "cubeWireframe",
+    "cylinderSolid_rings_1_segments_12_halfLen_1_useTexCoords_false_useTangents_false"
+    "_capEnds_true",
+    "cylinderWireframe_rings_1_segments_32_halfLen_1",
+    "icosphereSolid_subdivs_1",
+    "icosphereWireframe_subdivs_1",
+    "uvSphereSolid_rings_8_segments_16_useTexCoords_false_useTangents_false",
+    "uvSphereWireframe_rings_16_segments_32",
+)
+
+# Scale of the primitive-based object templates: a cube object is 0.2 m across.
+PRIMITIVE_OBJECT_SCALE = 0.1
+
+T = TypeVar("T", bound=AbstractAttributes)
+
+
+class _AttributesManager(Generic[T]):
+    """Handle <-> id bookkeeping shared by every template manager."""
+
+    template_class: type[AbstractAttributes] = AbstractAttributes
+    config_suffix = ".json"
+
+    def __init__(self) -> None:
+        self._templates: dict[str, T] = {}
+        self._ids: dict[str, int] = {}
+        self._locked: set[str] = set()
+        self._undeletable: set[str] = set()
+        self._next_id = 0
+
+    # -- queries --------------------------------------------------------------------------------
+    def get_num_templates(self) -> int:
+        return len(self._templates)
+
+    def get_library_has_handle(self, handle: str) -> bool:
+        return handle in self._templates
+
+    def get_library_has_id(self, template_id: int) -> bool:
+        return template_id in self._ids.values()
+
+    def get_template_id_by_handle(self, handle: str) -> int:
+        if handle not in self._ids:
+            raise KeyError(f"no template with handle {handle!r}")
+        return self._ids[handle]
+
+    def get_template_handle_by_id(self, template_id: int) -> str:
+        for handle, known_id in self._ids.items():
+            if known_id == template_id:
+                return handle
+        raise KeyError(f"no template with id {template_id!r}")
+
+    def get_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
+        """Handles that contain (or, with ``contains=False``, do not contain) ``search_str``,
+        compared case-insensitively, sorted case-insensitively."""
+        needle = search_str.lower()
+        chosen = [h for h in self._templates if (needle in h.lower()) == contains]
+        return sorted(chosen, key=lambda h: (h.lower(), h))
+
+    def get_random_template_handle(self) -> str:
+        return random.choice(self.get_template_handles())
+
+    # -- copies in and out ----------------------------------------------------------------------
+    def get_template_by_handle(self, handle: str) -> T:
+        """A copy of the template registered under ``handle`` (KeyError if unknown)."""
+        if handle not in self._templates:
+            raise KeyError(f"no template with handle {handle!r}")
+        return self._templates[handle].copy()
+
+    def get_template_by_id(self, template_id: int) -> T:
+        return self.get_template_by_handle(self.get_template_handle_by_id(template_id))
+
+    get_template_by_ID = get_template_by_id  # noqa: N815 - Habitat's older spelling
+
+    def get_templates_by_handle_substring(self, search_str: str = "", contains: bool = True):
+        handles = self.get_template_handles(search_str, contains)
+        return {h: self.get_template_by_handle(h) for h in handles}
+
+    def create_new_template(self, handle: str, register_template: bool = False) -> T:
+        """A template with default values (registered too if asked)."""
+        template = self.template_class(handle)
+        if register_template:
+            self.register_template(template)
+        return template
+
+    def register_template(self, template: T, specified_handle: str = "") -> int:
+        """Store a copy of ``template``; an existing handle keeps its id. Returns the id."""
+        if not isinstance(template, self.template_class):
+            raise TypeError(
+                f"expected a {self.template_class.__name__}, got {type(template).__name__}"
+            )
+        handle = specified_handle or template.handle
+        if not handle:
+            raise ValueError("a template needs a non-empty handle to be registered")
+        if handle in self._locked:
+            raise ValueError(f"template {handle!r} is locked and cannot be overwritten")
+        template_id = self._ids.get(handle)
+        if template_id is None:
+            template_id = self._next_id
+            self._next_id += 1
+        stored = template.copy()
+        stored.handle = handle
+        stored.template_id = template_id
+        self._templates[handle] = stored
+        self._ids[handle] = template_id
+        return template_id
+
+    # -- removal and locks ----------------------------------------------------------------------
+    def remove_template_by_handle(self, handle: str) -> T:
+        if handle not in self._templates:
+            raise KeyError(f"no template with handle {handle!r}")
+        if handle in self._locked or handle in self._undeletable:
+            raise ValueError(f"template {handle!r} is locked and cannot be removed")
+        self._ids.pop(handle)
+        return self._templates.pop(handle)
+
+    def remove_template_by_id(self, template_id: int) -> T:
+        return self.remove_template_by_handle(self.get_template_handle_by_id(template_id))
+
+    def remove_all_templates(self) -> None:
+        for handle in self.get_template_handles():
+            if handle not in self._locked and handle not in self._undeletable:
+                self.remove_template_by_handle(handle)
+
+    def set_template_lock(self, handle: str, lock: bool) -> None:
+        if handle not in self._templates:
+            raise KeyError(f"no template with handle {handle!r}")
+        (self._locked.add if lock else self._locked.discard)(handle)
+
+    def get_template_lock(self, handle: str) -> bool:
+        return handle in self._locked
+
+    def get_undeletable_handles(self) -> list[str]:
+        return sorted(self._undeletable)
+
+    # -- files ----------------------------------------------------------------------------------
+    def _config_files(self, path: str | Path) -> list[Path]:
+        """The config files ``path`` names: a folder's, a file, or a file missing its suffix."""
+        path = Path(path).expanduser()
+        if path.is_dir():
+            return sorted(path.glob(f"*{self.config_suffix}"))
+        if path.is_file() and path.name.endswith(self.config_suffix):
+            return [path]
+        with_suffix = path.with_name(path.name + self.config_suffix)
+        if with_suffix.is_file():
+            return [with_suffix]
+        raise FileNotFoundError(f"no {self.config_suffix} config at {path}")
+
+    def load_configs(self, path: str | Path) -> list[int]:
+        """Load every config ``path`` names; returns their template ids (in file order).
+
+        All files are parsed before any is registered, so a bad file registers nothing.
+        """
+        templates = [self.template_class.from_json_file(f) for f in self._config_files(path)]
+        return [self.register_template(t) for t in templates]
+
+
+class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
+    """The primitive asset templates (Magnum primitives), locked defaults included."""
+
+    template_class = PrimitiveAssetAttributes
+
+    def __init__(self) -> None:
+        super().__init__()
+        for handle in PRIMITIVE_ASSET_HANDLES:
+            self.register_template(PrimitiveAssetAttributes(handle))
+            self._undeletable.add(handle)
+
+    def get_default_template_handle(self, primitive_class: str, is_wireframe: bool = False) -> str:
+        """The default handle of a primitive class (``"Cube"``, ``"Icosphere"``...)."""
+        for handle in PRIMITIVE_ASSET_HANDLES:
+            template = self._templates[handle]
+            same_class = template.primitive_class == primitive_class
+            if same_class and template.is_wireframe == is_wireframe:
+                return handle
+        raise KeyError(f"unknown primitive class {primitive_class!r}")
+
+
+class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):
+    """Object templates: the 12 primitive-based defaults plus those loaded from files."""
+
+    template_class = ObjectAttributes
+    config_suffix = ".object_config.json"
+
+    def __init__(self) -> None:
+        super().__init__()
+        for handle in PRIMITIVE_ASSET_HANDLES:
+            template = ObjectAttributes(handle)
+            template.render_asset_handle = handle
+            template.collision_asset_handle = handle
+            template.scale = [PRIMITIVE_OBJECT_SCALE] * 3
+            self.register_template(template)
+            self._undeletable.add(handle)
+
+    def get_synth_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
+        """Handles of the primitive-based templates."""
+        prims = set(PRIMITIVE_ASSET_HANDLES)
+        return [h for h in self.get_template_handles(search_str, contains) if h in prims]
+
+    def get_file_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
+        """Handles of the templates loaded from config files."""
+        prims = set(PRIMITIVE_ASSET_HANDLES)
+        return [h for h in self.get_template_handles(search_str, contains) if h not in prims]
+
+
+class StageAttributesManager(_AttributesManager[StageAttributes]):
+    """Stage templates from ``*.stage_config.json`` or a bare render asset."""
+
+    template_class = StageAttributes
+    config_suffix = ".stage_config.json"
+
+    def create_template_for_asset(self, asset_path: str | Path) -> StageAttributes:
+        """The stage template for ``scene_id``: its config file, the config beside a mesh
+        (``<stem>.stage_config.json``), or, for a bare mesh, defaults with a Z-up frame
+        (asset ``(x, y, z)`` -> world ``(x, z, -y)``, Habitat's default for a ``.glb`` stage)."""
+        path = Path(asset_path).expanduser().resolve()
+        if path.name.endswith(self.config_suffix):
+            return StageAttributes.from_json_file(path)
+        if not path.is_file():
+            raise FileNotFoundError(f"stage asset not found: {path}")
+        beside = path.with_name(path.name.split(".")[0] + self.config_suffix)
+        if beside.is_file():
+            template = StageAttributes.from_json_file(beside)
+            if not template.render_asset_handle:
+                template.render_asset_handle = str(path)
+            return template
+        template = StageAttributes(str(path))
+        template.file_directory = str(path.parent)
+        template.render_asset_handle = str(path)
+        template.orient_up = [0.0, 0.0, 1.0]
+        template.orient_front = [0.0, 1.0, 0.0]
+        return template
+
+
+class PhysicsAttributesManager(_AttributesManager[PhysicsManagerAttributes]):
+    """Physics world settings from ``*.physics_config.json`` (defaults when none given)."""
+
+    template_class = PhysicsManagerAttributes
+    config_suffix = ".physics_config.json"
+
+    def load(self, path: str | Path | None = None) -> PhysicsManagerAttributes:
+        """Read and register a physics config; ``None`` or ``""`` gives Habitat's defaults."""
+        if not path:
+            template = PhysicsManagerAttributes("default.physics_config.json")
+        else:
+            template = PhysicsManagerAttributes.from_json_file(self._config_files(path)[0])
+        self.register_template(template)
+        return self.get_template_by_handle(template.handle)

@@ -1,0 +1,217 @@
+"""The scene graph: nodes with a local translation-rotation-scaling (TRS) transform.
+
+A :class:`SceneNode` holds its pose relative to its parent. The world pose of a node is the
+product of the local transforms from the root down to it::
+
+    world_from_node = world_from_parent @ T(translation) @ R(rotation) @ S(scaling)
+
+Objects, agents and sensors each own a node; attaching one node under another (a camera under
+an agent, an agent's node used as a robot object's root) makes the child follow the parent.
+Nodes may carry :class:`Drawable` s (meshes the renderer draws with the node's world matrix).
+
+Habitat semantics kept here: ``translate`` moves in the parent frame and ``translate_local`` in
+the node's own frame; ``rotate(angle, axis)`` pre-multiplies (rotation about the parent's axes),
+``rotate_local`` post-multiplies (about the node's own axes); ``rotate_x/y/z`` are shorthands.
+``transformation_matrix()`` is the absolute (world) transformation, as in Habitat.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from engine import mn
+
+if TYPE_CHECKING:  # pragma: no cover
+    from engine.assets import MeshData
+
+__all__ = ["Drawable", "SceneNode"]
+
+
+@dataclass
+class Drawable:
+    """A mesh attached to a node: drawn by the renderer with the node's world matrix.
+
+    ``lit`` selects the object lighting (False: flat/unlit, as Habitat draws the stage);
+    ``semantic_id`` is written to the SEMANTIC sensor's id buffer.
+    """
+
+    mesh: MeshData
+    lit: bool = True
+    semantic_id: int = 0
+
+
+class SceneNode:
+    """A node of the scene graph with a local TRS transform, a parent and children."""
+
+    def __init__(self, parent: SceneNode | None = None, name: str = "") -> None:
+        self.name = name
+        self._parent: SceneNode | None = None
+        self._children: list[SceneNode] = []
+        self._translation = np.zeros(3)
+        self._rotation = np.array([0.0, 0.0, 0.0, 1.0])  # [x, y, z, w]
+        self._scaling = np.ones(3)
+        self.drawables: list[Drawable] = []
+        if parent is not None:
+            self.parent = parent
+
+    # -- hierarchy --------------------------------------------------------------------------
+    @property
+    def parent(self) -> SceneNode | None:
+        return self._parent
+
+    @parent.setter
+    def parent(self, new_parent: SceneNode | None) -> None:
+        """Re-parent the node, keeping its local transform (like Magnum's ``set_parent``)."""
+        node = new_parent
+        while node is not None:
+            if node is self:
+                raise ValueError("a scene node cannot be its own ancestor")
+            node = node._parent
+        if self._parent is not None:
+            self._parent._children.remove(self)
+        self._parent = new_parent
+        if new_parent is not None:
+            new_parent._children.append(self)
+
+    @property
+    def children(self) -> list[SceneNode]:
+        return list(self._children)
+
+    def descendants(self) -> list[SceneNode]:
+        """This node and every node below it, depth first (children in insertion order)."""
+        nodes, stack = [], [self]
+        while stack:
+            node = stack.pop()
+            nodes.append(node)
+            stack.extend(reversed(node._children))
+        return nodes
+
+    # -- local transform ----------------------------------------------------------------------
+    @property
+    def translation(self) -> mn.Vector3:
+        return mn.Vector3(self._translation)
+
+    @translation.setter
+    def translation(self, value: Any) -> None:
+        self._translation = np.asarray(mn.to_vector3(value, "translation"))
+
+    @property
+    def rotation(self) -> mn.Quaternion:
+        return mn.Quaternion.from_xyzw(self._rotation)
+
+    @rotation.setter
+    def rotation(self, value: Any) -> None:
+        self._rotation = mn.to_quaternion(value).xyzw
+
+    @property
+    def scaling(self) -> mn.Vector3:
+        return mn.Vector3(self._scaling)
+
+    @scaling.setter
+    def scaling(self, value: Any) -> None:
+        self._scaling = np.asarray(mn.to_vector3(value, "scaling"))
+
+    def local_matrix(self) -> np.ndarray:
+        """``T @ R @ S`` as a (4, 4) ndarray."""
+        matrix = np.eye(4)
+        matrix[:3, :3] = mn.quaternion_to_matrix(self._rotation) * self._scaling  # R @ diag(s)
+        matrix[:3, 3] = self._translation
+        return matrix
+
+    @property
+    def transformation(self) -> mn.Matrix4:
+        """The local transformation (relative to the parent)."""
+        return mn.Matrix4(self.local_matrix())
+
+    @transformation.setter
+    def transformation(self, value: Any) -> None:
+        """Decompose a rigid (optionally scaled) 4x4 matrix into translation, rotation, scaling."""
+        matrix = np.asarray(value, dtype=np.float64)
+        if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+            raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
+        scaling = np.linalg.norm(matrix[:3, :3], axis=0)
+        if np.any(scaling < 1e-12):
+            raise ValueError("transformation has a zero scaling column")
+        self._rotation = mn.matrix_to_quaternion(matrix[:3, :3] / scaling)
+        self._translation = matrix[:3, 3].copy()
+        self._scaling = scaling
+
+    # -- world transform ------------------------------------------------------------------------
+    def world_matrix(self) -> np.ndarray:
+        """``world_from_node`` as a (4, 4) ndarray (product of local matrices from the root)."""
+        matrix = self.local_matrix()
+        node = self._parent
+        while node is not None:
+            matrix = node.local_matrix() @ matrix
+            node = node._parent
+        return matrix
+
+    def absolute_transformation(self) -> mn.Matrix4:
+        return mn.Matrix4(self.world_matrix())
+
+    def transformation_matrix(self) -> mn.Matrix4:
+        """Habitat's name for the absolute transformation."""
+        return self.absolute_transformation()
+
+    @property
+    def absolute_translation(self) -> mn.Vector3:
+        return mn.Vector3(self.world_matrix()[:3, 3])
+
+    # -- Habitat's motion helpers ---------------------------------------------------------------
+    def translate(self, vector: Any) -> SceneNode:
+        """Move by ``vector`` given in the parent frame."""
+        self._translation = self._translation + np.asarray(mn.to_vector3(vector, "vector"))
+        return self
+
+    def translate_local(self, vector: Any) -> SceneNode:
+        """Move by ``vector`` given in this node's own (rotated) frame."""
+        offset = mn.quaternion_to_matrix(self._rotation) @ np.asarray(mn.to_vector3(vector))
+        self._translation = self._translation + offset
+        return self
+
+    def rotate(self, angle: Any, axis: Any) -> SceneNode:
+        """Rotate about ``axis`` of the parent frame: ``q <- r * q``."""
+        turn = mn.Quaternion.rotation(angle, axis).xyzw
+        self._rotation = _normalize(mn.quaternion_multiply(turn, self._rotation))
+        return self
+
+    def rotate_local(self, angle: Any, axis: Any) -> SceneNode:
+        """Rotate about ``axis`` of this node's own frame: ``q <- q * r``."""
+        turn = mn.Quaternion.rotation(angle, axis).xyzw
+        self._rotation = _normalize(mn.quaternion_multiply(self._rotation, turn))
+        return self
+
+    def rotate_x(self, angle: Any) -> SceneNode:
+        return self.rotate(angle, (1.0, 0.0, 0.0))
+
+    def rotate_y(self, angle: Any) -> SceneNode:
+        return self.rotate(angle, (0.0, 1.0, 0.0))
+
+    def rotate_z(self, angle: Any) -> SceneNode:
+        return self.rotate(angle, (0.0, 0.0, 1.0))
+
+    def rotate_x_local(self, angle: Any) -> SceneNode:
+        return self.rotate_local(angle, (1.0, 0.0, 0.0))
+
+    def rotate_y_local(self, angle: Any) -> SceneNode:
+        return self.rotate_local(angle, (0.0, 1.0, 0.0))
+
+    def rotate_z_local(self, angle: Any) -> SceneNode:
+        return self.rotate_local(angle, (0.0, 0.0, 1.0))
+
+    def reset_transformation(self) -> SceneNode:
+        self._translation = np.zeros(3)
+        self._rotation = np.array([0.0, 0.0, 0.0, 1.0])
+        self._scaling = np.ones(3)
+        return self
+
+    def __repr__(self) -> str:
+        label = f" {self.name!r}" if self.name else ""
+        return f"<SceneNode{label} at {self.translation!r}>"
+
+
+def _normalize(xyzw: np.ndarray) -> np.ndarray:
+    return xyzw / np.linalg.norm(xyzw)
