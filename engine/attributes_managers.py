@@ -186,9 +186,10 @@ class _AttributesManager(Generic[T]):
             return sorted(path.glob(f"*{self.config_suffix}"))
         if path.is_file() and path.name.endswith(self.config_suffix):
             return [path]
-        with_suffix = path.with_name(path.name + self.config_suffix)
-        if with_suffix.is_file():
-            return [with_suffix]
+        for suffix in (self.config_suffix, ".json"):  # "x" or "x.object_config" -> full name
+            with_suffix = path.with_name(path.name + suffix)
+            if with_suffix.is_file() and with_suffix.name.endswith(self.config_suffix):
+                return [with_suffix]
         raise FileNotFoundError(f"no {self.config_suffix} config at {path}")
 
     def load_configs(self, path: str | Path) -> list[int]:

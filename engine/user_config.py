@@ -73,8 +73,8 @@ class Configuration:
         if isinstance(value, mn.Vector3 | list | tuple | np.ndarray):
             array = np.asarray(value, dtype=np.float64) if len(value) in (3, 4) else None
             if array is not None and array.shape == (3,):
-                return ConfigValType.MagnumVec3, mn.Vector3(array)
-            if array is not None and array.shape == (4,):
+                return ConfigValType.MagnumVec3, mn.to_vector3(array, key)
+            if array is not None and array.shape == (4,) and np.all(np.isfinite(array)):
                 return ConfigValType.MagnumVec4, array
         raise ValueError(f"user attribute {key!r}: unsupported value {value!r}")
 
@@ -92,8 +92,7 @@ class Configuration:
     def get(self, key: str) -> Any:
         """The value stored under ``key`` (a copy for vectors); KeyError if absent."""
         if key in self._values:
-            value = self._values[key][1]
-            return copy.copy(value) if not isinstance(value, np.ndarray) else value.copy()
+            return copy.deepcopy(self._values[key][1])
         if key in self._subconfigs:
             return self._subconfigs[key]
         raise KeyError(f"user attribute {key!r} not found")

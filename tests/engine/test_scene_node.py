@@ -1,0 +1,84 @@
+"""Scene graph: TRS composition and Habitat's translate/rotate semantics."""
+
+import math
+
+import numpy as np
+import pytest
+
+from engine import mn
+from engine.scene_node import SceneNode
+
+
+def test_child_world_matrix_is_parent_times_local():
+    root = SceneNode()
+    parent = SceneNode(root)
+    parent.translation = [1.0, 0.0, 0.0]
+    parent.rotation = mn.Quaternion.rotation(mn.Deg(90.0), [0, 1, 0])
+    child = SceneNode(parent)
+    child.translation = [0.0, 0.0, -1.0]
+    # the child sits 1 m along the parent's -Z, which the parent's 90 degree yaw turns to -X
+    np.testing.assert_allclose(np.asarray(child.absolute_translation), [0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(
+        np.asarray(child.transformation_matrix()),
+        parent.local_matrix() @ child.local_matrix(),
+        atol=1e-12,
+    )
+
+
+def test_translate_local_moves_along_own_axes():
+    node = SceneNode()
+    node.rotate_y(mn.Deg(90.0))
+    node.translate_local([0, 0, -1])  # forward in the node's frame is -X in the world
+    np.testing.assert_allclose(np.asarray(node.translation), [-1, 0, 0], atol=1e-12)
+    node.translate([0, 1, 0])
+    np.testing.assert_allclose(np.asarray(node.translation), [-1, 1, 0], atol=1e-12)
+
+
+def test_rotate_pre_multiplies_and_rotate_local_post_multiplies():
+    a, b = SceneNode(), SceneNode()
+    q_first = mn.Quaternion.rotation(mn.Deg(90.0), [1, 0, 0])
+    a.rotation = b.rotation = q_first
+    a.rotate(mn.Deg(90.0), [0, 1, 0])
+    b.rotate_local(mn.Deg(90.0), [0, 1, 0])
+    turn = mn.Quaternion.rotation(mn.Deg(90.0), [0, 1, 0])
+    np.testing.assert_allclose(a.rotation.xyzw, (turn * q_first).xyzw, atol=1e-12)
+    np.testing.assert_allclose(b.rotation.xyzw, (q_first * turn).xyzw, atol=1e-12)
+
+
+def test_properties_return_copies_so_augmented_assignment_uses_setter():
+    node = SceneNode()
+    t = node.translation
+    t.x = 5.0
+    assert node.translation == [0, 0, 0]
+    node.translation += [0, 0, 0.01]
+    assert node.translation == [0, 0, 0.01]
+
+
+def test_transformation_setter_decomposes_scaled_rigid_matrix():
+    node = SceneNode()
+    rot = mn.Quaternion.rotation(mn.Rad(0.7), mn.Vector3(1, 2, 3).normalized())
+    matrix = mn.Matrix4.from_(np.asarray(rot.to_matrix()) * 2.0, [1, 2, 3])
+    node.transformation = matrix
+    np.testing.assert_allclose(np.asarray(node.scaling), [2, 2, 2], atol=1e-12)
+    np.testing.assert_allclose(node.local_matrix(), np.asarray(matrix), atol=1e-12)
+
+
+def test_reparenting_and_cycles():
+    root, a = SceneNode(), SceneNode()
+    a.parent = root
+    assert a in root.children
+    with pytest.raises(ValueError):
+        root.parent = a
+    a.parent = None
+    assert root.children == []
+
+
+def test_bad_input_leaves_node_unchanged():
+    node = SceneNode()
+    node.translation = [1, 2, 3]
+    with pytest.raises(ValueError):
+        node.translation = [math.nan, 0, 0]
+    with pytest.raises(ValueError):
+        node.rotation = [0, 0, 0, 0]
+    assert node.translation == [1, 2, 3]
+    np.testing.assert_array_equal(node.rotation.xyzw, [0, 0, 0, 1])
