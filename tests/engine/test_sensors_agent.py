@@ -106,7 +106,8 @@ def test_color_and_depth_sensors_share_a_pose_and_see_a_plane_at_its_z_depth():
     for uuid, kind in (("rgba", SensorType.COLOR), ("depth", SensorType.DEPTH),
                        ("sem", SensorType.SEMANTIC)):
         spec = CameraSensorSpec()
-        spec.uuid, spec.sensor_type, spec.resolution, spec.position = uuid, kind, [40, 60], [0, 0, 0]
+        spec.uuid, spec.sensor_type = uuid, kind
+        spec.resolution, spec.position = [40, 60], [0, 0, 0]
         specs.append(spec)
     agent = Agent(SceneNode(root), AgentConfiguration(sensor_specifications=specs))
     obs = SceneRenderer(root).observe(agent.sensors)
