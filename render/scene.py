@@ -1,0 +1,235 @@
+"""What the renderer draws: ``RenderMesh`` (one mesh and its material) and ``RenderScene``.
+
+A ``RenderMesh`` is plain arrays in the mesh's local frame plus a pose ``world_from_mesh``.
+A ``RenderScene`` concatenates the static arrays of many meshes once (vertices, faces,
+per-triangle material tables) so that each frame only re-transforms vertices with the
+current poses: meshes are static, poses change. Build one ``RenderScene`` when the set of
+meshes changes (objects added or removed), update poses with ``set_world_from_mesh`` and
+hide meshes with ``set_visible``; pass it to ``render_frame`` every frame.
+
+Conventions: meters, Y up, counter-clockwise faces are front faces; colors are uint8 RGBA;
+``uvs`` follow ``uv_origin`` (default ``"bottom"``: v = 0 is the bottom row of the texture
+image, which is what ``trimesh`` returns for a glTF/glb file: its loader flips the file's
+v, so that texel row = (1 - v) * h; use ``"top"`` for raw glTF uvs, row = v * h).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from render.camera import check_pose
+from render.shade import MaterialTable, pack_rgba, pad_texture_wrap
+
+UV_ORIGINS = ("bottom", "top")
+
+
+def _finite_array(name: str, value: object, shape_tail: tuple[int, ...]) -> np.ndarray:
+    """``value`` as float64 with shape ``(n, *shape_tail)`` and finite entries, else ValueError."""
+    if value is None:
+        raise ValueError(f"{name} must be an array, got None")
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
+        raise ValueError(
+            f"{name} must have shape (n, {', '.join(map(str, shape_tail))}), got {arr.shape}"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN/inf)")
+    return arr
+
+
+def _uint8_color_array(name: str, value: object, n: int | None) -> np.ndarray:
+    """RGBA uint8 colors ``(n, 4)`` (or ``(4,)`` when ``n`` is None); RGB gets alpha 255."""
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "uif" or np.any(arr < 0) or np.any(arr > 255) or np.any(np.isnan(arr)):
+        raise ValueError(f"{name} must hold numbers in [0, 255], got dtype {arr.dtype}")
+    expected = (4,) if n is None else (n, 4)
+    if arr.shape[-1:] == (3,):
+        arr = np.concatenate([arr, np.full(arr.shape[:-1] + (1,), 255)], axis=-1)
+    if arr.shape != expected:
+        raise ValueError(f"{name} must have shape {expected} (RGBA), got {np.shape(value)}")
+    return np.rint(arr).astype(np.uint8)
+
+
+@dataclass
+class RenderMesh:
+    """One drawable mesh.
+
+    Attributes
+    ----------
+    vertices : (V, 3) float64, mesh-local frame, meters.
+    faces : (F, 3) int64, vertex indices, counter-clockwise = front face.
+    world_from_mesh : (4, 4) float64 pose (may include scaling).
+    vertex_colors : (V, 4) uint8 RGBA (or (V, 3) RGB) or None.
+    uvs : (V, 2) float texture coordinates or None (required with ``texture``).
+    texture : (h, w, 3 | 4) uint8 image, row 0 at the top, or None.
+    base_color : (4,) uint8 RGBA multiplied into every pixel (default white).
+    lit : False draws the color as is (Habitat's stage); True applies the default lights.
+    semantic_id : int in [0, 2**32), written to the ids buffer.
+    uv_origin : ``"bottom"`` (trimesh, default) or ``"top"`` (raw glTF), see module doc.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    world_from_mesh: np.ndarray = field(default_factory=lambda: np.eye(4))
+    vertex_colors: np.ndarray | None = None
+    uvs: np.ndarray | None = None
+    texture: np.ndarray | None = None
+    base_color: np.ndarray = field(default_factory=lambda: np.full(4, 255, dtype=np.uint8))
+    lit: bool = False
+    semantic_id: int = 0
+    uv_origin: str = "bottom"
+
+    def __post_init__(self) -> None:
+        self.vertices = _finite_array("vertices", self.vertices, (3,))
+        n_vertices = len(self.vertices)
+        faces = np.asarray(self.faces)
+        if faces.ndim != 2 or faces.shape[1] != 3 or faces.dtype.kind not in "iu":
+            raise ValueError(f"faces must be an (F, 3) int array, got {faces.dtype} {faces.shape}")
+        if faces.size and (faces.min() < 0 or faces.max() >= n_vertices):
+            raise ValueError(f"faces index vertices out of range [0, {n_vertices})")
+        self.faces = faces.astype(np.int64)
+        self.world_from_mesh = check_pose(self.world_from_mesh, "world_from_mesh")
+        if self.vertex_colors is not None:
+            self.vertex_colors = _uint8_color_array("vertex_colors", self.vertex_colors, n_vertices)
+        if self.uvs is not None:
+            self.uvs = _finite_array("uvs", self.uvs, (2,)).astype(np.float32)
+            if len(self.uvs) != n_vertices:
+                raise ValueError(
+                    f"uvs must have one row per vertex ({n_vertices}), got {len(self.uvs)}"
+                )
+        if self.texture is not None:
+            self.texture = _check_texture(self.texture)
+            if self.uvs is None:
+                raise ValueError("texture given without uvs")
+        self.base_color = _uint8_color_array("base_color", self.base_color, None)
+        if not isinstance(self.lit, (bool, np.bool_)):
+            raise TypeError(f"lit must be a bool, got {self.lit!r}")
+        sid = self.semantic_id
+        if isinstance(sid, bool) or not isinstance(sid, (int, np.integer)) or not 0 <= sid < 2**32:
+            raise ValueError(f"semantic_id must be an int in [0, 2**32), got {sid!r}")
+        if self.uv_origin not in UV_ORIGINS:
+            raise ValueError(f"uv_origin must be one of {UV_ORIGINS}, got {self.uv_origin!r}")
+
+
+def _check_texture(texture: object) -> np.ndarray:
+    """Texture as (h, w, 4) uint8 RGBA (RGB gets alpha 255, gray is replicated)."""
+    tex = np.asarray(texture)
+    if tex.dtype != np.uint8:
+        raise ValueError(f"texture must be uint8, got {tex.dtype}")
+    if tex.ndim == 2:
+        tex = np.repeat(tex[:, :, None], 3, axis=2)
+    if tex.ndim != 3 or tex.shape[2] not in (3, 4) or tex.shape[0] == 0 or tex.shape[1] == 0:
+        raise ValueError(f"texture must have shape (h, w, 3|4), got {tex.shape}")
+    if tex.shape[2] == 3:
+        tex = np.concatenate([tex, np.full(tex.shape[:2] + (1,), 255, np.uint8)], axis=2)
+    return np.ascontiguousarray(tex)
+
+
+class RenderScene:
+    """Meshes concatenated once for fast repeated rendering (see module docstring).
+
+    Attributes
+    ----------
+    meshes : the ``RenderMesh`` list (do not mutate its arrays; build a new scene instead).
+    world_from_mesh : (M, 4, 4) float64 current poses.
+    visible : (M,) bool.
+    vertices_local : (V, 3) float64, all meshes' local vertices.
+    vertex_slices : M slices of ``vertices_local``.
+    materials : ``MaterialTable`` (faces in global vertex ids, colors, textures).
+    tri_lit : (T,) bool.  tri_semantic : (T,) uint32.
+    """
+
+    def __init__(self, meshes: Sequence[RenderMesh]) -> None:
+        meshes = list(meshes)
+        for i, mesh in enumerate(meshes):
+            if not isinstance(mesh, RenderMesh):
+                raise TypeError(f"meshes[{i}] must be a RenderMesh, got {type(mesh).__name__}")
+        self.meshes = meshes
+        n_meshes = len(meshes)
+        self.world_from_mesh = np.array([m.world_from_mesh for m in meshes]).reshape(n_meshes, 4, 4)
+        self.visible = np.ones(n_meshes, dtype=bool)
+        counts = np.array([len(m.vertices) for m in meshes], dtype=np.int64)
+        offsets = np.concatenate([[0], np.cumsum(counts)])
+        self.vertex_slices = [slice(int(a), int(b)) for a, b in zip(offsets[:-1], offsets[1:], strict=True)]
+        self.vertices_local = np.concatenate([m.vertices for m in meshes] or [np.zeros((0, 3))])
+        n_faces = np.array([len(m.faces) for m in meshes], dtype=np.int64)
+        tri_mesh = np.repeat(np.arange(n_meshes), n_faces)
+        self.tri_lit = np.array([m.lit for m in meshes], dtype=bool)[tri_mesh]
+        self.tri_semantic = np.array([m.semantic_id for m in meshes], dtype=np.uint32)[tri_mesh]
+        faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
+        self.materials = _material_table(
+            meshes, tri_mesh, np.concatenate(faces or [np.zeros((0, 3), np.int64)])
+        )
+        self._vertices_camera = np.empty_like(self.vertices_local)
+
+    @property
+    def n_triangles(self) -> int:
+        """Total number of triangles T."""
+        return len(self.materials.faces)
+
+    def set_world_from_mesh(self, index: int, world_from_mesh: np.ndarray) -> None:
+        """Set mesh ``index``'s pose, a (4, 4) matrix (ValueError if malformed)."""
+        if not 0 <= index < len(self.meshes):
+            raise KeyError(f"mesh index {index!r} out of range [0, {len(self.meshes)})")
+        self.world_from_mesh[index] = check_pose(world_from_mesh, "world_from_mesh")
+
+    def set_visible(self, index: int, visible: bool) -> None:
+        """Show or hide mesh ``index``."""
+        if not 0 <= index < len(self.meshes):
+            raise KeyError(f"mesh index {index!r} out of range [0, {len(self.meshes)})")
+        self.visible[index] = bool(visible)
+
+    def vertices_in_camera(self, camera_from_world: np.ndarray) -> np.ndarray:
+        """All vertices in the camera frame, ``(V, 3)`` float64 (a reused buffer).
+
+        ``p_camera = camera_from_world @ world_from_mesh @ p_local`` per mesh.
+        """
+        for i, sl in enumerate(self.vertex_slices):
+            camera_from_mesh = camera_from_world @ self.world_from_mesh[i]
+            out = self._vertices_camera[sl]
+            np.matmul(self.vertices_local[sl], camera_from_mesh[:3, :3].T, out=out)  # R p
+            out += camera_from_mesh[:3, 3]  # + t
+        return self._vertices_camera
+
+
+def _material_table(
+    meshes: list[RenderMesh], tri_mesh: np.ndarray, faces: np.ndarray
+) -> MaterialTable:
+    """Concatenate the meshes' materials into one ``MaterialTable``."""
+    n_vertices = sum(len(m.vertices) for m in meshes)
+    base = np.array([m.base_color for m in meshes], dtype=np.uint8).reshape(-1, 4)
+    has_vc = np.array([m.vertex_colors is not None for m in meshes], dtype=bool)
+    vertex_colors = uvs = None
+    if has_vc.any():
+        vertex_colors = np.concatenate(
+            [
+                m.vertex_colors / 255.0
+                if m.vertex_colors is not None
+                else np.ones((len(m.vertices), 4))
+                for m in meshes
+            ]
+        ).astype(np.float32)
+    textured = [m.texture is not None for m in meshes]
+    if any(textured):
+        uvs = np.concatenate(
+            [m.uvs if m.uvs is not None else np.zeros((len(m.vertices), 2)) for m in meshes]
+        ).astype(np.float32)
+    assert vertex_colors is None or len(vertex_colors) == n_vertices
+    return MaterialTable(
+        tri_mesh=tri_mesh,
+        tri_base_packed=pack_rgba(base)[tri_mesh] if len(base) else np.zeros(0, np.uint32),
+        faces=faces,
+        base_colors=base.astype(np.float32) / 255.0,
+        has_vertex_colors=has_vc,
+        vertex_colors=vertex_colors,
+        uvs=uvs,
+        textures=[
+            pad_texture_wrap(pack_rgba(m.texture)) if m.texture is not None else None
+            for m in meshes
+        ],
+        uv_origins=[m.uv_origin for m in meshes],
+        interpolated_meshes=[i for i, m in enumerate(meshes) if has_vc[i] or textured[i]],
+    )

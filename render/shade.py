@@ -1,0 +1,230 @@
+"""Shading: the color of each visible pixel from its triangle, attributes and material.
+
+Shading is *deferred*: the rasterizer first finds, per pixel, the nearest triangle and its
+depth; each visible pixel is then shaded exactly once here. Perspective-correct vertex
+attributes (uvs, vertex colors) come from ``render.raster.AttributePlanes``; ``b`` below
+are the perspective-correct barycentrics of the pixel center.
+
+Color of a pixel (all factors in [0, 1], RGBA)::
+
+    color = base_color * vertex_color(b) * texture(uv(b)) * light
+
+* ``vertex_color(b) = sum_k b_k c_k`` (1 if the mesh has no vertex colors).
+* ``uv(b) = sum_k b_k uv_k``; ``texture`` samples bilinearly between the four nearest texel
+  centers, wrapping (glTF's default REPEAT). Texel ``(i, j)`` has its center at
+  ``u = (j + 0.5) / w`` and, for ``uv_origin="bottom"`` (trimesh and OpenGL: v = 0 is the
+  bottom row of the image), ``v = 1 - (i + 0.5) / h``; for ``uv_origin="top"`` (the glTF
+  file convention) ``v = (i + 0.5) / h``.
+* ``light = 1`` for unlit meshes (Habitat draws the stage flat). Lit meshes (Habitat's
+  default object light setup: 4 directional lights travelling along
+  ``d = (+-1, -0.5, 0)`` and ``(0, -0.5, +-1)`` (world frame, normalized) plus ambient)
+  use the Lambert term on the flat face normal ``n`` (world frame)::
+
+      light = clamp(AMBIENT + DIFFUSE * sum_k max(0, n . l_k), 0, 1),  l_k = -d_k
+
+  with ``AMBIENT = 0.4`` and ``DIFFUSE = 0.5``: the top face (``n . l_k = 0.447`` for all
+  4 lights) gets 1.0, a vertical side facing +-x or +-z 0.85, the bottom 0.4. Alpha is
+  never lit (drawn pixels always get alpha 255).
+
+Colors travel packed as one ``uint32`` per pixel (``R | G << 8 | B << 16 | A << 24``: the
+bytes R, G, B, A in memory) so that gathers are 1-D and cheap. Bilinear filtering and
+lighting of packed colors use the classic SWAR trick of software renderers: the channel
+pairs (R, B) and (G, A) are masked into two 16-bit lanes of a uint32 and multiplied by an
+8-bit fixed-point weight ``W = round(256 f)`` at once: ``(p & 0x00FF00FF) * W >> 8``.
+Weights are quantized to 1/256 (like GPU texture units): a result may differ from the
+exact float formula by one level out of 255.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from render.raster import AttributePlanes, VisiblePixels
+
+AMBIENT = 0.4
+DIFFUSE = 0.5
+#: world-frame directions the 4 default lights travel along (unit vectors)
+LIGHT_DIRECTIONS = np.array(
+    [[1.0, -0.5, 0.0], [-1.0, -0.5, 0.0], [0.0, -0.5, 1.0], [0.0, -0.5, -1.0]]
+) / np.sqrt(1.25)
+_RB_MASK = np.uint32(0x00FF00FF)  # lanes holding R and B
+_ALPHA = np.uint32(0xFF000000)
+_U8 = np.uint32(8)
+_WHITE = np.array([1.0, 1.0, 1.0, 1.0], np.float32)
+
+
+@dataclass
+class MaterialTable:
+    """Per-triangle and per-mesh material arrays of a scene (built by ``RenderScene``).
+
+    T triangles, V vertices and M meshes, all meshes concatenated.
+
+    Attributes
+    ----------
+    tri_mesh : (T,) int64, mesh index of each triangle.
+    tri_base_packed : (T,) uint32, packed base color (RGBA) of each triangle's mesh.
+    faces : (T, 3) int64, global vertex ids of each triangle's corners.
+    base_colors : (M, 4) float32 in [0, 1].
+    has_vertex_colors : (M,) bool.
+    vertex_colors : (V, 4) float32 in [0, 1] (ones for meshes without), or None if no mesh
+        has vertex colors.
+    uvs : (V, 2) float32 (zeros for meshes without), or None if no mesh is textured.
+    textures : M entries, ``(h + 2, w + 2)`` uint32 packed RGBA (row 0 = top) with the
+        wrap border of ``pad_texture_wrap``, or None.
+    uv_origins : M entries, ``"bottom"`` or ``"top"`` (see module docstring).
+    interpolated_meshes : indices of meshes with vertex colors or a texture (shaded per
+        pixel); the others are flat and shaded by one gather of ``tri_base_packed``.
+    """
+
+    tri_mesh: np.ndarray
+    tri_base_packed: np.ndarray
+    faces: np.ndarray
+    base_colors: np.ndarray
+    has_vertex_colors: np.ndarray
+    vertex_colors: np.ndarray | None
+    uvs: np.ndarray | None
+    textures: list
+    uv_origins: list
+    interpolated_meshes: list
+
+
+def pack_rgba(rgba: np.ndarray) -> np.ndarray:
+    """Pack ``(..., 4)`` uint8 RGBA into ``(...)`` uint32 (bytes R, G, B, A in memory)."""
+    rgba = np.ascontiguousarray(rgba, dtype=np.uint8)
+    return rgba.view("<u4")[..., 0].astype(np.uint32)
+
+
+def unpack_rgba(packed: np.ndarray) -> np.ndarray:
+    """Inverse of ``pack_rgba``: ``(...)`` uint32 to ``(..., 4)`` uint8."""
+    packed = np.ascontiguousarray(packed, dtype="<u4")
+    return packed[..., None].view(np.uint8)
+
+
+def face_light_factors(normals_world: np.ndarray) -> np.ndarray:
+    """Lambert factor of Habitat's default light setup per face, ``(T,)`` float32.
+
+    Parameters
+    ----------
+    normals_world : (T, 3) float, face normals in the world frame (any length; zero-length
+        normals, from degenerate faces, get the ambient term only).
+    """
+    length = np.linalg.norm(normals_world, axis=1, keepdims=True)
+    unit = np.divide(normals_world, length, out=np.zeros_like(normals_world), where=length > 0)
+    n_dot_l = unit @ (-LIGHT_DIRECTIONS.T)  # (T, 4): n . l_k with l_k = -d_k (towards the light)
+    light = AMBIENT + DIFFUSE * np.maximum(n_dot_l, 0.0).sum(axis=1)
+    return np.clip(light, 0.0, 1.0).astype(np.float32)  # clamp(ambient + k sum max(0, n.l), 0, 1)
+
+
+def _fixed_weight(f: np.ndarray) -> np.ndarray:
+    """Weights in [0, 1] as 8-bit fixed point ``round(256 f)`` in [0, 256], uint32."""
+    return np.rint(f * np.float32(256.0)).astype(np.uint32)
+
+
+def modulate_packed(packed: np.ndarray, factor: np.ndarray) -> np.ndarray:
+    """Scale the RGB bytes of packed colors by ``factor`` in [0, 1]; alpha is kept.
+
+    ``packed`` (n,) uint32, ``factor`` (n,) float. SWAR: ``c' = (c W + 128) >> 8`` per lane.
+    """
+    weight = _fixed_weight(np.asarray(factor, dtype=np.float32))
+    rb = ((packed & _RB_MASK) * weight + np.uint32(0x00800080)) >> _U8 & _RB_MASK  # R, B lanes
+    g = (((packed >> _U8) & np.uint32(0xFF)) * weight + np.uint32(0x80)) >> _U8  # G alone
+    return rb | (g << _U8) | (packed & _ALPHA)
+
+
+def pad_texture_wrap(texture_packed: np.ndarray) -> np.ndarray:
+    """Add a one-texel border copied from the opposite edges (REPEAT wrap), ``(h+2, w+2)``.
+
+    With the border, the four texels around any sample are neighbors in memory and need no
+    modulo: ``sample_bilinear`` expects textures padded this way.
+    """
+    return np.pad(texture_packed, 1, mode="wrap")
+
+
+def sample_bilinear(texture_padded: np.ndarray, uv: np.ndarray, uv_origin: str) -> np.ndarray:
+    """Bilinear texture lookup with wrap-around (REPEAT), returning packed RGBA ``(n,)``.
+
+    Parameters
+    ----------
+    texture_padded : (h + 2, w + 2) uint32, packed RGBA texels (row 0 = top of the image)
+        with the wrap border of ``pad_texture_wrap``.
+    uv : (n, 2) float32, texture coordinates (u right, v per ``uv_origin``).
+    uv_origin : ``"bottom"`` (v = 0 is the bottom row, trimesh/OpenGL) or ``"top"`` (glTF).
+    """
+    h, w = texture_padded.shape[0] - 2, texture_padded.shape[1] - 2
+    u = uv[:, 0] - np.floor(uv[:, 0])  # REPEAT: u mod 1 in [0, 1)
+    v_down = (np.float32(1.0) - uv[:, 1]) if uv_origin == "bottom" else uv[:, 1]
+    v_down = v_down - np.floor(v_down)
+    col = u * np.float32(w) - np.float32(0.5)  # texel-center coordinates in [-0.5, w - 0.5)
+    row = v_down * np.float32(h) - np.float32(0.5)
+    col0, row0 = np.floor(col), np.floor(row)  # in [-1, w - 1]: the padded border is -1
+    wc, wr = _fixed_weight(col - col0), _fixed_weight(row - row0)  # fractions, 8-bit fixed point
+    stride = w + 2
+    index = (row0.astype(np.int32) + 1) * stride + (col0.astype(np.int32) + 1)  # padded texel
+    flat = texture_padded.ravel()
+    top = _lerp_packed(flat[index], flat[index + 1], wc)  # along u on row0
+    bottom = _lerp_packed(flat[index + stride], flat[index + stride + 1], wc)  # on row0 + 1
+    return _lerp_packed(top, bottom, wr)  # along v
+
+
+def _lerp_packed(p: np.ndarray, q: np.ndarray, weight: np.ndarray) -> np.ndarray:
+    """Per-channel ``p + (q - p) W / 256`` of packed colors, as ``(p (256 - W) + q W) >> 8``."""
+    inv = np.uint32(256) - weight
+    rb = ((p & _RB_MASK) * inv + (q & _RB_MASK) * weight + np.uint32(0x00800080)) >> _U8
+    ga = ((p >> _U8) & _RB_MASK) * inv + ((q >> _U8) & _RB_MASK) * weight + np.uint32(0x00800080)
+    return (rb & _RB_MASK) | (ga & ~_RB_MASK)  # ga lanes are already shifted up by 8 bits
+
+
+def shade_pixels(
+    materials: MaterialTable,
+    visible: VisiblePixels,
+    triangle: np.ndarray,
+    uv_planes: AttributePlanes | None,
+    color_planes: AttributePlanes | None,
+    light: np.ndarray | None,
+) -> np.ndarray:
+    """Deferred shading of visible pixels, returning packed RGBA ``(n,)`` uint32, alpha 255.
+
+    Parameters
+    ----------
+    materials : the scene's ``MaterialTable``.
+    visible : the resolved pixels (``visible.winner`` indexes the attribute planes).
+    triangle : (n,) int64, global triangle index of each pixel.
+    uv_planes, color_planes : interpolators of uvs and vertex colors of the rasterized
+        triangles, or None when no mesh is textured / vertex-colored.
+    light : (n,) float32 light factor per pixel (1 = unlit), or None if nothing is lit.
+    """
+    packed = materials.tri_base_packed[triangle]  # flat meshes: one gather
+    if materials.interpolated_meshes:
+        pixel_mesh = materials.tri_mesh[triangle]
+        for mesh in materials.interpolated_meshes:
+            sel = np.flatnonzero(pixel_mesh == mesh)
+            if len(sel):
+                subset = visible.subset(sel)
+                packed[sel] = _interpolated_colors(materials, mesh, subset, uv_planes, color_planes)
+    if light is not None:
+        lit = np.flatnonzero(light < 1.0)
+        packed[lit] = modulate_packed(packed[lit], light[lit])
+    return packed | _ALPHA  # alpha 255 where drawn
+
+
+def _interpolated_colors(
+    materials: MaterialTable,
+    mesh: int,
+    visible: VisiblePixels,
+    uv_planes: AttributePlanes | None,
+    color_planes: AttributePlanes | None,
+) -> np.ndarray:
+    """Packed colors of the pixels of one vertex-colored and/or textured mesh."""
+    factor = materials.base_colors[mesh]
+    if materials.has_vertex_colors[mesh]:
+        factor = factor * color_planes.evaluate(visible)  # base * sum_k b_k c_k, (n, 4)
+    texture = materials.textures[mesh]
+    if texture is None:
+        return pack_rgba(np.clip(np.rint(factor * 255.0), 0, 255).astype(np.uint8))
+    texel = sample_bilinear(texture, uv_planes.evaluate(visible), materials.uv_origins[mesh])
+    if factor.ndim == 1 and np.array_equal(factor, _WHITE):
+        return texel  # the common case: a plain textured mesh
+    color = unpack_rgba(texel).astype(np.float32) * factor  # texture * base * vertex color
+    return pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
