@@ -1,0 +1,453 @@
+"""PathFinder: Habitat-sim's navmesh query API over rigidsim's layered grid navmesh.
+
+Names, defaults and return conventions follow ``habitat_sim.nav.PathFinder``
+(``src/esp/nav/PathFinder.cpp``): points in, points out, ``snap_point`` returns a NaN vector
+when nothing is near, ``find_path`` fills ``points`` / ``geodesic_distance`` (inf and False
+when unreachable), ``try_step`` slides along walls. rigidsim additions: ``build(vertices,
+faces, settings)`` (Habitat builds through ``Simulator.recompute_navmesh``), ``navmesh_data``
+(the arrays, for plotting), and clear exceptions for bad input.
+
+World frame: Y up, -Z forward, meters. Every position returned is a plain ``(3,) float64``
+``np.ndarray``; every position accepted may be any 3-sequence (list, tuple, ndarray,
+magnum-like Vector3).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from navmesh.build import build_navmesh
+from navmesh.navmesh_data import NavMeshData
+from navmesh.query import NavGrid
+from navmesh.search import GridGraph, path_length, pull_string
+from navmesh.settings import NavMeshSettings
+from navmesh.step_filter import try_step
+
+
+def _nan3() -> np.ndarray:
+    return np.full(3, np.nan)
+
+
+@dataclass
+class ShortestPath:
+    """Query and result of ``PathFinder.find_path`` between two points."""
+
+    requested_start: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    requested_end: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    points: list = field(default_factory=list)  # list of (3,) float64 waypoints
+    geodesic_distance: float = math.inf  # meters, inf when no path exists
+
+
+@dataclass
+class MultiGoalShortestPath:
+    """Query and result of ``PathFinder.find_path`` to the closest of several ends."""
+
+    requested_start: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    requested_ends: list = field(default_factory=list)  # list of (3,) points
+    points: list = field(default_factory=list)
+    geodesic_distance: float = math.inf
+    closest_end_point_index: int = -1  # index into requested_ends of the chosen end
+
+
+@dataclass
+class HitRecord:
+    """Closest obstacle: ``hit_pos`` (3,), ``hit_normal`` (3,) unit XZ vector from the wall
+    toward the query point, ``hit_dist`` meters (``max_search_radius`` when none found)."""
+
+    hit_pos: np.ndarray
+    hit_normal: np.ndarray
+    hit_dist: float
+
+
+def as_point(value, name: str = "point") -> np.ndarray:
+    """Return ``value`` as a finite ``(3,) float64`` array or raise naming ``name``."""
+    if value is None:
+        raise TypeError(f"{name} must be a 3-vector, got None")
+    try:
+        point = np.array(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError) as err:
+        raise TypeError(f"{name} must be a 3-vector of numbers, got {value!r}") from err
+    if point.shape != (3,):
+        raise ValueError(f"{name} must have 3 components, got shape {point.shape}")
+    if not np.all(np.isfinite(point)):
+        raise ValueError(f"{name} must be finite, got {point.tolist()}")
+    return point
+
+
+class PathFinder:
+    """Loads or builds a navmesh and answers sampling, path, step and island queries."""
+
+    def __init__(self) -> None:
+        self._data: NavMeshData | None = None
+        self._grid: NavGrid | None = None
+        self._graph: GridGraph | None = None
+        self._island_radius: np.ndarray | None = None
+        self._rng = np.random.default_rng(0)
+
+    # -- building, loading, saving -----------------------------------------------------------
+    def build(self, vertices, faces, settings: NavMeshSettings | None = None) -> bool:
+        """Build the navmesh of a world-frame triangle mesh (rigidsim addition).
+
+        ``vertices (V, 3) float64`` meters, Y up; ``faces (F, 3) int64``. Returns True on
+        success (the previous navmesh is replaced); raises ValueError/TypeError for bad input
+        and leaves the current navmesh unchanged.
+        """
+        settings = NavMeshSettings() if settings is None else settings
+        if not isinstance(settings, NavMeshSettings):
+            raise TypeError(f"settings must be a NavMeshSettings, got {type(settings)}")
+        self._install(build_navmesh(vertices, faces, settings))
+        return True
+
+    def load_nav_mesh(self, path: str | Path) -> bool:
+        """Load a file written by ``save_nav_mesh``; False when it is not a valid navmesh.
+
+        Raises FileNotFoundError when ``path`` does not exist.
+        """
+        try:
+            data = NavMeshData.load(path)
+        except FileNotFoundError:
+            raise
+        except (ValueError, KeyError):
+            return False
+        self._install(data)
+        return True
+
+    def save_nav_mesh(self, path: str | Path) -> bool:
+        """Write the navmesh to ``path`` (format in ``navmesh.navmesh_data``); False if empty."""
+        if self._data is None:
+            return False
+        self._data.save(path)
+        return True
+
+    def _install(self, data: NavMeshData) -> None:
+        self._data, self._grid = data, NavGrid(data)
+        self._graph, self._island_radius = None, None
+
+    @property
+    def is_loaded(self) -> bool:
+        """True once a navmesh was built or loaded."""
+        return self._data is not None
+
+    @property
+    def navmesh_data(self) -> NavMeshData:
+        """The layered grid arrays (for plots and notebooks)."""
+        return self._require()
+
+    @property
+    def nav_mesh_settings(self) -> NavMeshSettings:
+        """A copy of the settings the current navmesh was built with."""
+        return NavMeshSettings(**vars(self._require().settings))
+
+    def _require(self) -> NavMeshData:
+        if self._data is None:
+            raise RuntimeError("PathFinder is not loaded: build() or load_nav_mesh() first")
+        return self._data
+
+    # -- global properties -------------------------------------------------------------------
+    def get_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """(min (3,), max (3,)) world AABB of the mesh the navmesh was built from, meters."""
+        bounds = self._require().bounds
+        return bounds[0].copy(), bounds[1].copy()
+
+    @property
+    def num_islands(self) -> int:
+        """Number of connected navigable components."""
+        self._require()
+        return self._grid.n_islands
+
+    @property
+    def navigable_area(self) -> float:
+        """Total navigable area projected on XZ, square meters."""
+        return self.island_area(-1)
+
+    def island_area(self, island_index: int = -1) -> float:
+        """Navigable XZ area of one island (all islands for -1), square meters."""
+        self._require()
+        self._check_island(island_index)
+        grid = self._grid
+        mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
+        return float(np.count_nonzero(mask)) * grid.cell_size**2
+
+    def _check_island(self, island_index) -> None:
+        if isinstance(island_index, bool) or not isinstance(island_index, (int, np.integer)):
+            raise TypeError(f"island_index must be an int, got {island_index!r}")
+        if not -1 <= island_index < self._grid.n_islands:
+            raise ValueError(
+                f"island_index {island_index} out of range [-1, {self._grid.n_islands})"
+            )
+
+    # -- points ------------------------------------------------------------------------------
+    def seed(self, new_seed: int) -> None:
+        """Seed the random point sampler (same seed -> same sequence of points)."""
+        if isinstance(new_seed, bool) or not isinstance(new_seed, (int, np.integer)):
+            raise TypeError(f"seed must be an int, got {new_seed!r}")
+        self._rng = np.random.default_rng(int(new_seed) & 0xFFFFFFFF)
+
+    def snap_point(self, point, island_index: int = -1) -> np.ndarray:
+        """Closest navigable point (Detour's findNearestPoly box: 2 m, 4 m, 2 m); NaN if none."""
+        p = as_point(point, "point")
+        self._require()
+        self._check_island(island_index)
+        node, snapped = self._grid.nearest_node(p, island_index)
+        return snapped if node >= 0 else _nan3()
+
+    def is_navigable(self, pt, max_y_delta: float = 0.5) -> bool:
+        """True when ``pt`` snaps onto the navmesh with no XZ motion (<= 1 cm) and at most
+        ``max_y_delta`` meters vertically."""
+        p = as_point(pt, "pt")
+        self._require()
+        node, snapped = self._grid.nearest_node(p)
+        if node < 0:
+            return False
+        horizontal = math.hypot(snapped[0] - p[0], snapped[2] - p[2])
+        return abs(snapped[1] - p[1]) <= max_y_delta and horizontal <= 1e-2
+
+    def get_island(self, pt) -> int:
+        """Island index of the navmesh point nearest ``pt``, -1 when nothing is near."""
+        p = as_point(pt, "pt")
+        self._require()
+        node, _ = self._grid.nearest_node(p)
+        return int(self._grid.island[node]) if node >= 0 else -1
+
+    def island_radius(self, pt) -> float:
+        """Largest distance of the island's cell centres from their centroid (Habitat's
+        island radius) for the island nearest ``pt``; 0 when nothing is near."""
+        island = self.get_island(pt)
+        if island < 0:
+            return 0.0
+        if self._island_radius is None:
+            self._island_radius = _island_radii(self._grid)
+        return float(self._island_radius[island])
+
+    def get_random_navigable_point(self, max_tries: int = 10, island_index: int = -1):
+        """Uniformly distributed (by XZ area) navigable point, optionally on one island.
+
+        Sampling a node then a point in its square cannot fail, so ``max_tries`` (kept for
+        Habitat's signature) is only validated. Raises RuntimeError when nothing is navigable.
+        """
+        if int(max_tries) < 1:
+            raise ValueError(f"max_tries must be >= 1, got {max_tries!r}")
+        self._require()
+        self._check_island(island_index)
+        grid = self._grid
+        mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
+        nodes = np.flatnonzero(mask)
+        if nodes.size == 0:
+            raise RuntimeError("NavMesh has no navigable area to sample from")
+        return self._sample_in(nodes)
+
+    def get_random_navigable_point_near(
+        self, circle_center, radius: float, max_tries: int = 100, island_index: int = -1
+    ) -> np.ndarray:
+        """Random navigable point within ``radius`` (3D) of ``circle_center`` on the island
+        nearest the centre (or ``island_index``); NaN vector after ``max_tries`` failures."""
+        center = as_point(circle_center, "circle_center")
+        if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
+            raise ValueError(f"radius must be a finite number > 0, got {radius!r}")
+        self._require()
+        self._check_island(island_index)
+        node, _ = self._grid.nearest_node(center, island_index)
+        if node < 0:
+            return _nan3()
+        nodes = _nodes_in_disk(self._grid, center, radius, int(self._grid.island[node]))
+        for _ in range(max(1, int(max_tries))):
+            point = self._sample_in(nodes)
+            if np.linalg.norm(point - center) < radius:
+                return point
+        return _nan3()
+
+    def _sample_in(self, nodes: np.ndarray) -> np.ndarray:
+        """Pick a node uniformly, then a uniform point inside its square."""
+        grid = self._grid
+        node = int(nodes[self._rng.integers(nodes.size)])
+        u, v = self._rng.random(2)
+        ix, iz = grid.node_cell(node)
+        x, z = grid.clamp_into_cell(
+            node, grid.x0 + (ix + u) * grid.cell_size, grid.z0 + (iz + v) * grid.cell_size
+        )
+        return np.array([x, grid.floor[node], z])
+
+    # -- paths -------------------------------------------------------------------------------
+    def find_path(self, path) -> bool:
+        """Fill ``path.points`` and ``path.geodesic_distance``; True when a path exists.
+
+        ``path`` is a ``ShortestPath`` or a ``MultiGoalShortestPath`` (which also gets
+        ``closest_end_point_index``). Unreachable: ``points == []``, distance inf, False.
+        """
+        if isinstance(path, ShortestPath):
+            ends = [as_point(path.requested_end, "requested_end")]
+        elif isinstance(path, MultiGoalShortestPath):
+            ends = [as_point(e, "requested_ends") for e in path.requested_ends]
+        else:
+            raise TypeError(f"path must be a ShortestPath or MultiGoalShortestPath, got {path!r}")
+        start = as_point(path.requested_start, "requested_start")
+        self._require()
+        path.points, path.geodesic_distance = [], math.inf
+        index, points = self._best_path(start, ends)
+        if isinstance(path, MultiGoalShortestPath):
+            path.closest_end_point_index = index
+        if index < 0:
+            return False
+        path.points, path.geodesic_distance = points, path_length(points)
+        return True
+
+    def _best_path(self, start: np.ndarray, ends: list[np.ndarray]):
+        """(index of the closest reachable end, its waypoints) or (-1, [])."""
+        grid = self._grid
+        start_node, start_pt = grid.nearest_node(start)
+        if start_node < 0:
+            return -1, []
+        goals = []
+        for k, end in enumerate(ends):
+            node, pt = grid.nearest_node(end)
+            if node >= 0 and grid.island[node] == grid.island[start_node]:
+                goals.append((k, node, pt))
+        if not goals:
+            return -1, []
+        if self._graph is None:
+            self._graph = GridGraph(grid)
+        reach = max(np.linalg.norm(pt - start_pt) for _, _, pt in goals)
+        _, pred = self._graph.tree_from(start_node, [n for _, n, _ in goals], 2.0 * reach + 1.0)
+        best = (-1, [], math.inf)
+        for k, node, pt in goals:
+            nodes = self._graph.node_path(pred, start_node, node)
+            points = pull_string(grid, nodes, start_pt, pt)
+            length = path_length(points)
+            if length < best[2]:
+                best = (k, points, length)
+        return best[0], best[1]
+
+    # -- stepping ----------------------------------------------------------------------------
+    def try_step(self, start, end) -> np.ndarray:
+        """Move from ``start`` toward ``end``, sliding along walls (see ``step_filter``)."""
+        self._require()
+        return try_step(self._grid, as_point(start, "start"), as_point(end, "end"), True)
+
+    def try_step_no_sliding(self, start, end) -> np.ndarray:
+        """Move from ``start`` toward ``end``, stopping at the first wall (direction kept)."""
+        self._require()
+        return try_step(self._grid, as_point(start, "start"), as_point(end, "end"), False)
+
+    # -- obstacles ---------------------------------------------------------------------------
+    def distance_to_closest_obstacle(self, pt, max_search_radius: float = 2.0) -> float:
+        """Distance from the snapped ``pt`` to the navmesh boundary, capped at the radius."""
+        return self.closest_obstacle_surface_point(pt, max_search_radius).hit_dist
+
+    def closest_obstacle_surface_point(self, pt, max_search_radius: float = 2.0) -> HitRecord:
+        """Closest boundary point within ``max_search_radius`` of the snapped ``pt``.
+
+        Off the mesh: ``hit_dist`` inf (positions zero), as Habitat. No wall in range:
+        ``hit_dist == max_search_radius`` and NaN ``hit_pos`` / ``hit_normal``.
+        """
+        p = as_point(pt, "pt")
+        if not (isinstance(max_search_radius, (int, float)) and max_search_radius > 0):
+            raise ValueError(f"max_search_radius must be > 0, got {max_search_radius!r}")
+        self._require()
+        grid = self._grid
+        node, snapped = grid.nearest_node(p)
+        if node < 0:
+            return HitRecord(np.zeros(3), np.zeros(3), math.inf)
+        best_dist, best_hit = float(max_search_radius), None
+        for near, square_dist in grid._expand(node, (snapped[0], snapped[2]), best_dist):
+            if square_dist >= best_dist:
+                break
+            for side in grid.boundary_sides(near):
+                dist, hx, hz = _point_segment(snapped[0], snapped[2], *side)
+                if dist < best_dist:
+                    best_dist, best_hit = dist, (hx, grid.floor[near], hz)
+        if best_hit is None:
+            return HitRecord(_nan3(), _nan3(), float(max_search_radius))
+        hit = np.array(best_hit)
+        normal = np.array([snapped[0] - hit[0], 0.0, snapped[2] - hit[2]])
+        norm = np.linalg.norm(normal)
+        normal = normal / norm if norm > 0 else normal
+        return HitRecord(hit, normal, best_dist)
+
+    # -- maps --------------------------------------------------------------------------------
+    def get_topdown_view(self, meters_per_pixel: float, height: float, eps: float = 0.5):
+        """Boolean map ``(int(zspan / mpp), int(xspan / mpp))``: pixel (h, w) is the point
+        ``(x_min + w * mpp, height, z_min + h * mpp)`` and is True when a navigable surface
+        lies within ``eps`` meters of ``height`` there."""
+        return self.get_topdown_island_view(meters_per_pixel, height, eps) >= 0
+
+    def get_topdown_island_view(self, meters_per_pixel: float, height: float, eps: float = 0.5):
+        """Like ``get_topdown_view`` but ``int32`` island indices, -1 where not navigable."""
+        if not (isinstance(meters_per_pixel, (int, float)) and meters_per_pixel > 0):
+            raise ValueError(f"meters_per_pixel must be > 0, got {meters_per_pixel!r}")
+        if not math.isfinite(height):
+            raise ValueError(f"height must be finite, got {height!r}")
+        data = self._require()
+        return _topdown_islands(self._grid, data.bounds, float(meters_per_pixel), height, eps)
+
+
+def _point_segment(px, pz, ax, az, bx, bz):
+    """Distance from (px, pz) to segment a-b and the closest point (XZ plane)."""
+    ex, ez = bx - ax, bz - az
+    # t = clamp(((p - a) . e) / |e|^2, 0, 1), closest = a + t e
+    t = min(max(((px - ax) * ex + (pz - az) * ez) / (ex * ex + ez * ez), 0.0), 1.0)
+    hx, hz = ax + t * ex, az + t * ez
+    return math.hypot(px - hx, pz - hz), hx, hz
+
+
+def _island_radii(grid: NavGrid) -> np.ndarray:
+    """(n_islands,) max distance of cell centres from the island centroid, meters."""
+    nodes = np.flatnonzero(grid.island >= 0)
+    label = grid.island[nodes]
+    iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
+    centers = np.stack(
+        [grid.x0 + (ix + 0.5) * grid.cell_size, grid.floor[nodes],
+         grid.z0 + (iz + 0.5) * grid.cell_size], axis=1,
+    )
+    count = np.bincount(label, minlength=grid.n_islands)[:, None]
+    centroid = np.stack(
+        [np.bincount(label, weights=centers[:, k], minlength=grid.n_islands) for k in range(3)],
+        axis=1,
+    ) / np.maximum(count, 1)
+    dist = np.linalg.norm(centers - centroid[label], axis=1)
+    radius = np.zeros(grid.n_islands)
+    np.maximum.at(radius, label, dist)
+    return radius
+
+
+def _nodes_in_disk(grid: NavGrid, center: np.ndarray, radius: float, island: int) -> np.ndarray:
+    """Nodes of ``island`` whose square centre lies within ``radius`` (XZ) of ``center``."""
+    cs = grid.cell_size
+    lo_x = max(0, math.floor((center[0] - radius - grid.x0) / cs))
+    hi_x = min(grid.nx, math.ceil((center[0] + radius - grid.x0) / cs) + 1)
+    lo_z = max(0, math.floor((center[2] - radius - grid.z0) / cs))
+    hi_z = min(grid.nz, math.ceil((center[2] + radius - grid.z0) / cs) + 1)
+    iz, ix = np.mgrid[lo_z:hi_z, lo_x:hi_x]
+    cells = (iz * grid.nx + ix).ravel()
+    nodes = (np.arange(grid.n_layers)[:, None] * grid.n_cells + cells).ravel()
+    # |c - center|_xz <= radius for the cell centre c
+    dx = grid.x0 + (np.tile(ix.ravel(), grid.n_layers) + 0.5) * cs - center[0]
+    dz = grid.z0 + (np.tile(iz.ravel(), grid.n_layers) + 0.5) * cs - center[2]
+    inside = (dx * dx + dz * dz <= radius * radius) & (grid.island[nodes] == island)
+    return nodes[inside]
+
+
+def _topdown_islands(grid: NavGrid, bounds, mpp: float, height: float, eps: float):
+    """Island index at each top-down pixel (vectorized ``is_navigable`` over the image)."""
+    x_min, z_min = bounds[0][0], bounds[0][2]
+    x_res = int((bounds[1][0] - x_min) / mpp)
+    z_res = int((bounds[1][2] - z_min) / mpp)
+    xs = x_min + np.arange(x_res) * mpp
+    zs = z_min + np.arange(z_res) * mpp
+    ix = np.floor((xs - grid.x0) / grid.cell_size).astype(np.int64)
+    iz = np.floor((zs - grid.z0) / grid.cell_size).astype(np.int64)
+    ok_x, ok_z = (ix >= 0) & (ix < grid.nx), (iz >= 0) & (iz < grid.nz)
+    cells = np.clip(iz, 0, grid.nz - 1)[:, None] * grid.nx + np.clip(ix, 0, grid.nx - 1)[None]
+    result = np.full((z_res, x_res), -1, dtype=np.int32)
+    best_dy = np.full((z_res, x_res), np.inf)
+    for layer in range(grid.n_layers):
+        node = cells + layer * grid.n_cells
+        dy = np.abs(grid.floor[node] - height)
+        better = (grid.island[node] >= 0) & (dy <= eps) & (dy < best_dy)
+        result = np.where(better, grid.island[node], result)
+        best_dy = np.where(better, dy, best_dy)
+    result[~(ok_z[:, None] & ok_x[None])] = -1
+    return result

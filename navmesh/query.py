@@ -1,0 +1,248 @@
+"""NavGrid: point queries on a built navmesh -- locate, snap, walk a segment, local searches.
+
+The navigable region is the union of the squares of navigable nodes (see
+``navmesh.navmesh_data`` for the grid conventions: Y up, cells ``[layer, iz, ix]``, node =
+(layer * nz + iz) * nx + ix). Its boundary is made of cell sides without a link.
+
+``nearest_node`` follows Detour's ``findNearestPoly`` as Habitat calls it: candidates are
+nodes within a box of half extents (2 m, 4 m, 2 m) around the query point; a node whose
+square contains the point scores ``max(|dy| - max_climb, 0)^2``, any other node the squared
+3D distance to its square. The best node and the closest point on it are returned.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+
+from navmesh.layers import neighbour_node_ids
+from navmesh.navmesh_data import NavMeshData
+
+# Half extents (x, y, z) of Habitat's nearest-polygon search box, meters.
+SNAP_HALF_EXTENTS = (2.0, 4.0, 2.0)
+# Points clamped onto a cell side are pulled this far inside it (Habitat nudges by 0.1 mm).
+INSIDE_EPS = 1e-4
+
+
+class NavGrid:
+    """Read-only query structure over a ``NavMeshData``.
+
+    Attributes
+    ----------
+    floor : (N,) float64
+        Surface height of every node (NaN for missing layers), meters.
+    island : (N,) int32
+        Island index of every node, -1 when not navigable.
+    neighbours : (8, N) int64
+        Side (rows 0-3, ``DIRECTIONS``) and diagonal (rows 4-7) neighbour node ids, -1 none.
+    """
+
+    def __init__(self, data: NavMeshData):
+        self.data = data
+        self.n_layers, self.nz, self.nx = data.shape
+        self.n_cells = self.nz * self.nx
+        self.cell_size = float(data.cell_size)
+        self.x0, self.z0 = (float(v) for v in data.origin_xz)
+        self.max_climb = float(data.settings.agent_max_climb)
+        self.floor = data.floor.reshape(-1)
+        self.island = data.island.reshape(-1)
+        self.navigable = data.navigable.reshape(-1)
+        self.neighbours = neighbour_node_ids(data.links)
+        self.n_islands = int(self.island.max(initial=-1)) + 1
+        self._window = _window_offsets(
+            math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size), self.nx, self.nz
+        )
+
+    # -- cells and nodes ---------------------------------------------------------------------
+    def cell_of(self, x: float, z: float) -> tuple[int, int]:
+        """(ix, iz) of the cell containing world (x, z); may lie outside the grid."""
+        return (
+            math.floor((x - self.x0) / self.cell_size),
+            math.floor((z - self.z0) / self.cell_size),
+        )
+
+    def node_cell(self, node: int) -> tuple[int, int]:
+        """(ix, iz) of a node."""
+        iz, ix = divmod(node % self.n_cells, self.nx)
+        return ix, iz
+
+    def node_center(self, node: int) -> np.ndarray:
+        """(3,) world position of the centre of a node's square at its surface height."""
+        ix, iz = self.node_cell(node)
+        return np.array(
+            [
+                self.x0 + (ix + 0.5) * self.cell_size,
+                self.floor[node],
+                self.z0 + (iz + 0.5) * self.cell_size,
+            ]
+        )
+
+    def clamp_into_cell(self, node: int, x: float, z: float) -> tuple[float, float]:
+        """Closest point to (x, z) inside the node's square (pulled INSIDE_EPS inwards)."""
+        ix, iz = self.node_cell(node)
+        lo_x, lo_z = self.x0 + ix * self.cell_size, self.z0 + iz * self.cell_size
+        eps = min(INSIDE_EPS, 0.25 * self.cell_size)
+        cx = min(max(x, lo_x + eps), lo_x + self.cell_size - eps)
+        cz = min(max(z, lo_z + eps), lo_z + self.cell_size - eps)
+        return cx, cz
+
+    def nodes_at(self, ix: int, iz: int) -> list[int]:
+        """Navigable nodes of cell (ix, iz), bottom layer first (empty outside the grid)."""
+        if not (0 <= ix < self.nx and 0 <= iz < self.nz):
+            return []
+        cell = iz * self.nx + ix
+        return [
+            cell + layer * self.n_cells
+            for layer in range(self.n_layers)
+            if self.navigable[cell + layer * self.n_cells]
+        ]
+
+    # -- nearest node (Detour's findNearestPoly) -----------------------------------------------
+    def nearest_node(self, point, island_index: int = -1) -> tuple[int, np.ndarray | None]:
+        """Return ``(node, snapped (3,))`` of the best node near ``point`` or ``(-1, None)``."""
+        x, y, z = (float(v) for v in point)
+        ix, iz = self.cell_of(x, z)
+        best, best_score = -1, math.inf
+        for node in self.nodes_at(ix, iz):  # fast path: a surface right under the point
+            if island_index >= 0 and self.island[node] != island_index:
+                continue
+            dy = abs(self.floor[node] - y)
+            score = max(dy - self.max_climb, 0.0) ** 2
+            if dy <= SNAP_HALF_EXTENTS[1] and score < best_score:
+                best, best_score = node, score
+        if best >= 0 and best_score == 0.0:
+            return best, np.array([x, self.floor[best], z])
+        return self._nearest_in_window(x, y, z, ix, iz, island_index)
+
+    def _nearest_in_window(self, x, y, z, ix, iz, island_index):
+        """Vectorized search of every node in the snap box around (x, y, z)."""
+        cs = self.cell_size
+        d_ix, d_iz = self._window
+        cx, cz = ix + d_ix, iz + d_iz
+        inside = (cx >= 0) & (cx < self.nx) & (cz >= 0) & (cz < self.nz)
+        cx, cz = cx[inside], cz[inside]
+        nodes = (np.arange(self.n_layers)[:, None] * self.n_cells + (cz * self.nx + cx)).ravel()
+        cx, cz = np.tile(cx, self.n_layers), np.tile(cz, self.n_layers)
+        floor = self.floor[nodes]
+        ok = self.navigable[nodes] & (np.abs(floor - y) <= SNAP_HALF_EXTENTS[1])
+        if island_index >= 0:
+            ok &= self.island[nodes] == island_index
+        if not np.any(ok):
+            return -1, None
+        nodes, cx, cz, floor = nodes[ok], cx[ok], cz[ok], floor[ok]
+        # closest point of each square: clamp (x, z) into [lo, lo + cs]
+        px = np.clip(x, self.x0 + cx * cs, self.x0 + (cx + 1) * cs)
+        pz = np.clip(z, self.z0 + cz * cs, self.z0 + (cz + 1) * cs)
+        own = (cx == ix) & (cz == iz)
+        # score = max(|dy| - climb, 0)^2 over the own cell, else |p - closest|^2
+        score = np.where(
+            own,
+            np.maximum(np.abs(floor - y) - self.max_climb, 0.0) ** 2,
+            (px - x) ** 2 + (pz - z) ** 2 + (floor - y) ** 2,
+        )
+        k = int(np.argmin(score))
+        node = int(nodes[k])
+        sx, sz = (x, z) if own[k] else self.clamp_into_cell(node, x, z)
+        return node, np.array([sx, self.floor[node], sz])
+
+    # -- walking a straight segment (grid traversal, Amanatides & Woo 1987) --------------------
+    def walk_segment(self, node: int, p0, p1) -> tuple[int, float, bool]:
+        """Follow the XZ segment p0 -> p1 from ``node`` (whose cell contains p0) across links.
+
+        Returns ``(last_node, t, reached)``: ``reached`` when the cell of p1 is entered, else
+        ``t`` in [0, 1] is the segment parameter where it leaves the navigable region.
+        Corners crossed exactly need the diagonal link (both L-routes open).
+        """
+        x, z = float(p0[0]), float(p0[-1])
+        dx, dz = float(p1[0]) - x, float(p1[-1]) - z
+        ix, iz = self.node_cell(node)
+        end_ix, end_iz = self.cell_of(float(p1[0]), float(p1[-1]))
+        t_max_x, t_step_x, side_x = self._axis_setup(x - self.x0, dx, ix, 0)
+        t_max_z, t_step_z, side_z = self._axis_setup(z - self.z0, dz, iz, 2)
+        step_x, step_z = (1 if dx > 0 else -1), (1 if dz > 0 else -1)
+        diagonal_row = 4 + 2 * (side_x == 1) + (side_z == 3)
+        for _ in range(abs(end_ix - ix) + abs(end_iz - iz) + 2):
+            if ix == end_ix and iz == end_iz:
+                return node, 1.0, True
+            tie = abs(t_max_x - t_max_z) < 1e-12
+            if tie:
+                row, t = diagonal_row, t_max_x
+            elif t_max_x < t_max_z:
+                row, t = side_x, t_max_x
+            else:
+                row, t = side_z, t_max_z
+            if t > 1.0:  # p1 lies on a cell side: the end cell is the current one
+                return node, 1.0, True
+            nxt = int(self.neighbours[row, node])
+            if nxt < 0:
+                return node, t, False
+            node = nxt
+            if tie or row == side_x:
+                ix, t_max_x = ix + step_x, t_max_x + t_step_x
+            if tie or row == side_z:
+                iz, t_max_z = iz + step_z, t_max_z + t_step_z
+        return node, 1.0, True
+
+    def _axis_setup(self, offset: float, delta: float, index: int, side_pos: int):
+        """t of the first side crossing, t per cell and the side row along one axis."""
+        if delta == 0.0:
+            return math.inf, math.inf, side_pos
+        cs = self.cell_size
+        if delta > 0:
+            return ((index + 1) * cs - offset) / delta, cs / delta, side_pos
+        return (index * cs - offset) / delta, -cs / delta, side_pos + 1
+
+    def line_of_sight(self, node: int, p0, p1) -> bool:
+        """True when the straight XZ segment p0 -> p1 stays on the navmesh from ``node``."""
+        return self.walk_segment(node, p0, p1)[2]
+
+    # -- local searches ------------------------------------------------------------------------
+    def nodes_near(self, start: int, center, radius: float) -> list[int]:
+        """Nodes connected to ``start`` through squares that intersect the XZ disk
+        (center, radius), in best-first order of their distance to the centre."""
+        return [node for node, _ in self._expand(start, center, radius)]
+
+    def _square_distance(self, node: int, cx: float, cz: float) -> float:
+        ix, iz = self.node_cell(node)
+        lo_x, lo_z = self.x0 + ix * self.cell_size, self.z0 + iz * self.cell_size
+        ddx = max(lo_x - cx, 0.0, cx - lo_x - self.cell_size)
+        ddz = max(lo_z - cz, 0.0, cz - lo_z - self.cell_size)
+        return math.hypot(ddx, ddz)
+
+    def _expand(self, start: int, center, radius: float):
+        """Best-first flood over side links inside a disk; yields (node, distance)."""
+        cx, cz = float(center[0]), float(center[-1])
+        heap = [(self._square_distance(start, cx, cz), start)]
+        seen = {start}
+        while heap:
+            dist, node = heapq.heappop(heap)
+            yield node, dist
+            for row in range(4):
+                nxt = int(self.neighbours[row, node])
+                if nxt < 0 or nxt in seen:
+                    continue
+                seen.add(nxt)
+                d = self._square_distance(nxt, cx, cz)
+                if d <= radius:
+                    heapq.heappush(heap, (d, nxt))
+
+    def boundary_sides(self, node: int):
+        """Yield the XZ end points ``(ax, az, bx, bz)`` of each side of ``node`` without a link."""
+        ix, iz = self.node_cell(node)
+        cs = self.cell_size
+        lo_x, lo_z = self.x0 + ix * cs, self.z0 + iz * cs
+        hi_x, hi_z = lo_x + cs, lo_z + cs
+        sides = ((hi_x, lo_z, hi_x, hi_z), (lo_x, lo_z, lo_x, hi_z),
+                 (lo_x, hi_z, hi_x, hi_z), (lo_x, lo_z, hi_x, lo_z))  # +X, -X, +Z, -Z
+        for row in range(4):
+            if self.neighbours[row, node] < 0:
+                yield sides[row]
+
+
+def _window_offsets(half_cells: int, nx: int, nz: int) -> tuple[np.ndarray, np.ndarray]:
+    """Cell offsets (d_ix, d_iz) of the square snap window, clipped to the grid size."""
+    hx, hz = min(half_cells, nx), min(half_cells, nz)
+    d_iz, d_ix = np.mgrid[-hz : hz + 1, -hx : hx + 1]
+    return d_ix.ravel(), d_iz.ravel()

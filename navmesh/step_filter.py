@@ -1,0 +1,91 @@
+"""try_step / try_step_no_sliding: move an agent along the navmesh surface.
+
+This is the contract of Detour's ``dtNavMeshQuery::moveAlongSurface`` as Habitat-sim's
+``PathFinder::Impl::tryStep`` uses it (``src/esp/nav/PathFinder.cpp``):
+
+1. Project ``start`` and ``end`` onto the navmesh with the nearest-node search
+   (``NavGrid.nearest_node``: a (2, 4, 2) m box). If either finds nothing, or they lie on
+   different islands, return ``start`` unchanged. An ``end`` merely *off* the mesh (within the
+   box) is not a failure: the agent moves toward it.
+2. Sliding (``allow_sliding=True``): Detour floods the polygons connected to the start whose
+   area touches the disk centred on the midpoint of start-end with radius |end - start| / 2,
+   and returns the point of those polygons closest to ``end``. Here the polygons are grid
+   squares. If ``end`` lies in a visited square the result is ``end``; otherwise it is the
+   closest point on the reached boundary, i.e. the step slides along the wall.
+3. No sliding (Habitat's ``allowSliding=false``): walk the straight segment start -> end and
+   stop where it first leaves the navigable region, so the direction of motion is kept.
+4. The result's y is the surface height of the square it lies in.
+
+Positions are world-frame (Y up, meters) ``(3,) float64`` arrays.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from navmesh.query import INSIDE_EPS, NavGrid
+
+
+def try_step(grid: NavGrid, start, end, allow_sliding: bool) -> np.ndarray:
+    """Return where an agent moving from ``start`` toward ``end`` ends on the navmesh.
+
+    Parameters
+    ----------
+    grid : NavGrid
+        The navmesh.
+    start, end : (3,) float
+        World positions, meters.
+    allow_sliding : bool
+        Slide along walls (``try_step``) or stop at the first wall (``try_step_no_sliding``).
+    """
+    start = np.array(start, dtype=np.float64)
+    end = np.asarray(end, dtype=np.float64)
+    start_node, start_pt = grid.nearest_node(start)
+    end_node, _ = grid.nearest_node(end)
+    if start_node < 0 or end_node < 0 or grid.island[start_node] != grid.island[end_node]:
+        return start
+    if allow_sliding:
+        node, x, z = _slide(grid, start_node, start_pt, end)
+    else:
+        node, x, z = _walk_straight(grid, start_node, start_pt, end)
+    return np.array([x, grid.floor[node], z])
+
+
+def _slide(grid: NavGrid, start_node: int, start_pt: np.ndarray, end: np.ndarray):
+    """Closest point to ``end`` over the squares reached inside the search disk."""
+    center = 0.5 * (start_pt + end)
+    # Detour: radius = |end - start| / 2 (+ 1 mm so the end point's square is inside the disk)
+    radius = 0.5 * math.hypot(end[0] - start_pt[0], end[2] - start_pt[2]) + 1e-3
+    best_node, best_dist_sq, best_xz = start_node, math.inf, (start_pt[0], start_pt[2])
+    for node in grid.nodes_near(start_node, (center[0], center[2]), radius):
+        x, z = _clamp_to_square(grid, node, end[0], end[2])
+        dist_sq = (x - end[0]) ** 2 + (z - end[2]) ** 2
+        if dist_sq < best_dist_sq:
+            best_node, best_dist_sq, best_xz = node, dist_sq, (x, z)
+            if dist_sq == 0.0:  # end lies on this square: the step is unobstructed
+                break
+    if best_dist_sq > 0.0:  # pull the boundary point inside so it locates on best_node
+        best_xz = grid.clamp_into_cell(best_node, best_xz[0], best_xz[1])
+    return best_node, best_xz[0], best_xz[1]
+
+
+def _clamp_to_square(grid: NavGrid, node: int, x: float, z: float) -> tuple[float, float]:
+    """Closest point to (x, z) of the node's closed square (no inward nudge)."""
+    ix, iz = grid.node_cell(node)
+    cs = grid.cell_size
+    lo_x, lo_z = grid.x0 + ix * cs, grid.z0 + iz * cs
+    return min(max(x, lo_x), lo_x + cs), min(max(z, lo_z), lo_z + cs)
+
+
+def _walk_straight(grid: NavGrid, start_node: int, start_pt: np.ndarray, end: np.ndarray):
+    """Follow start -> end until the segment leaves the navmesh (direction kept)."""
+    p0 = (start_pt[0], start_pt[2])
+    node, t, reached = grid.walk_segment(start_node, p0, (end[0], end[2]))
+    if reached:
+        return node, end[0], end[2]
+    length = math.hypot(end[0] - p0[0], end[2] - p0[1])
+    # back off INSIDE_EPS along the segment so the point stays in the last navigable square
+    t = max(0.0, t - INSIDE_EPS / length) if length > 0.0 else 0.0
+    return node, p0[0] + t * (end[0] - p0[0]), p0[1] + t * (end[2] - p0[1])
