@@ -1,0 +1,151 @@
+"""``python -m engine.tutorial``: run Habitat's managed rigid object tutorial end to end.
+
+Runs every section of the tutorial in order on the demo apartment, with a progress bar per
+section (in simulated world seconds), writes the nine videos and a ``summary.json`` to
+``--output-dir`` and prints a table: world time, frames and wall time per section, split into
+physics, rendering and encoding (see :mod:`engine.tutorial.recording`).
+
+Example
+-------
+    python -m engine.tutorial --output-dir ./tutorial_output
+    python -m engine.tutorial --fast --no-make-video --seed 3
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import random
+import time
+from collections.abc import Callable, Sequence
+from functools import partial
+
+from tqdm.auto import tqdm
+
+import engine as habitat_sim
+from engine.datasets import demo_data_path
+from engine.tutorial.context import SectionResult, TutorialContext
+from engine.tutorial.recording import SectionRecorder, VideoSpec
+from engine.tutorial.report import format_summary, write_summary
+from engine.tutorial.scene_setup import (
+    FAST_RESOLUTION,
+    TUTORIAL_RESOLUTION,
+    make_configuration,
+    place_agent,
+)
+from engine.tutorial.sections_agent import embodied_agent, embodied_agent_navmesh
+from engine.tutorial.sections_control import (
+    kinematic_update,
+    local_velocity_control,
+    velocity_control,
+)
+from engine.tutorial.sections_objects import (
+    basics,
+    dynamic_control,
+    kinematic_interactions,
+    object_user_configurations,
+)
+
+# (progress label, section function, simulated world seconds) in the tutorial's order.
+SECTIONS: list[tuple[str, Callable[[TutorialContext], SectionResult], float]] = [
+    ("basics", basics, 1.5),
+    ("user attributes", object_user_configurations, 0.0),
+    ("dynamic control", dynamic_control, 3.0),
+    ("kinematic interactions", kinematic_interactions, 1.5),
+    ("kinematic update", kinematic_update, 1.0),
+    ("velocity control", velocity_control, 2.0),
+    ("local velocity control", local_velocity_control, 1.5),
+    ("embodied agent", embodied_agent, 10.0),
+    ("navmesh, sliding", partial(embodied_agent_navmesh, allow_sliding=True), 6.0),
+    ("navmesh, no sliding", partial(embodied_agent_navmesh, allow_sliding=False), 6.0),
+]
+
+
+def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
+    """Command-line options of the tutorial job."""
+    parser = argparse.ArgumentParser(prog="python -m engine.tutorial", description=__doc__)
+    parser.add_argument("--output-dir", default="./tutorial_output", help="videos + summary")
+    parser.add_argument(
+        "--no-make-video", dest="make_video", action="store_false", help="simulate only"
+    )
+    parser.add_argument(
+        "--fast", action="store_true", help=f"render {FAST_RESOLUTION} instead of 544 x 720"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    return parser.parse_args(argv)
+
+
+def run_tutorial(
+    output_dir: str,
+    make_video: bool = True,
+    fast: bool = False,
+    seed: int = 0,
+    progress: bool = True,
+    keep_observations: bool = False,
+) -> list[SectionResult]:
+    """Run every tutorial section in order and return their results.
+
+    Parameters
+    ----------
+    output_dir : str
+        Folder for the ``<video>.mp4`` files (created if missing).
+    make_video : bool
+        Render and encode the videos; False only simulates (frames are still counted).
+    fast : bool
+        Render at ``FAST_RESOLUTION`` instead of the tutorial's 544 x 720.
+    seed : int
+        Seeds the simulator and the navmesh section's random turns.
+    progress : bool
+        Show a tqdm bar per section.
+    keep_observations : bool
+        Keep every observation dict in the results (memory heavy at full resolution).
+    """
+    if make_video:
+        os.makedirs(output_dir, exist_ok=True)
+    resolution = FAST_RESOLUTION if fast else TUTORIAL_RESOLUTION
+    data_path = str(demo_data_path())
+    with habitat_sim.Simulator(make_configuration(data_path, resolution, seed)) as sim:
+        place_agent(sim)
+        context = TutorialContext(sim, data_path, None, random.Random(seed))
+        results = []
+        for label, section, world_seconds in SECTIONS:
+            with tqdm(total=world_seconds, desc=label, unit="s", disable=not progress) as bar:
+                context.new_recorder = partial(
+                    _new_recorder, sim, output_dir, make_video, keep_observations, bar.update
+                )
+                results.append(section(context))
+    return results
+
+
+def _new_recorder(
+    sim: habitat_sim.Simulator,
+    output_dir: str,
+    make_video: bool,
+    keep_observations: bool,
+    on_frame: Callable[[float], object],
+    video: VideoSpec | None,
+) -> SectionRecorder:
+    """The recorder of one section: streams its video when ``make_video`` is on."""
+    if not make_video:
+        video = None
+    path = os.path.join(output_dir, video.name + ".mp4") if video is not None else None
+    return SectionRecorder(
+        sim, video, path, keep_observations=keep_observations, on_frame=on_frame
+    )
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``python -m engine.tutorial``; returns the process exit code."""
+    args = parse_args(argv)
+    start = time.perf_counter()
+    results = run_tutorial(
+        args.output_dir, args.make_video, args.fast, args.seed, progress=not args.quiet
+    )
+    resolution = FAST_RESOLUTION if args.fast else TUTORIAL_RESOLUTION
+    settings = {"resolution": list(resolution), "seed": args.seed, "make_video": args.make_video}
+    settings["wall_time"] = time.perf_counter() - start
+    summary_path = write_summary(results, settings, args.output_dir)
+    print(format_summary(results))
+    print(f"whole job: {settings['wall_time']:.1f} s wall; summary: {summary_path}")
+    return 0
