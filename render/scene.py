@@ -153,7 +153,8 @@ class RenderScene:
         self.visible = np.ones(n_meshes, dtype=bool)
         counts = np.array([len(m.vertices) for m in meshes], dtype=np.int64)
         offsets = np.concatenate([[0], np.cumsum(counts)])
-        self.vertex_slices = [slice(int(a), int(b)) for a, b in zip(offsets[:-1], offsets[1:], strict=True)]
+        bounds = zip(offsets[:-1], offsets[1:], strict=True)
+        self.vertex_slices = [slice(int(a), int(b)) for a, b in bounds]
         self.vertices_local = np.concatenate([m.vertices for m in meshes] or [np.zeros((0, 3))])
         n_faces = np.array([len(m.faces) for m in meshes], dtype=np.int64)
         tri_mesh = np.repeat(np.arange(n_meshes), n_faces)

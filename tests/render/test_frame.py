@@ -1,0 +1,238 @@
+"""render_frame outputs: colors, textures, lighting, ids, scene caching, bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from render.camera import Camera
+from render.frame import BACKGROUND_RGBA, FrameBuffers, RenderMesh, RenderScene, render_frame
+from render.shade import face_light_factors
+
+H, W = 48, 80
+QUAD_FACES = np.array([[0, 1, 2], [0, 2, 3]])
+
+
+def pixel_quad(camera: Camera, col0: int, row0: int, n_cols: int, n_rows: int, depth: float):
+    """Corners (bottom-left, bottom-right, top-right, top-left) of a fronto-parallel quad
+    whose edges lie exactly on pixel boundaries [col0, col0 + n_cols) x [row0, row0 + n_rows)."""
+    x0, x1 = ((c - camera.cx) * depth / camera.fx for c in (col0, col0 + n_cols))
+    y_top, y_bottom = (-(r - camera.cy) * depth / camera.fy for r in (row0, row0 + n_rows))
+    return np.array(
+        [[x0, y_bottom, -depth], [x1, y_bottom, -depth], [x1, y_top, -depth], [x0, y_top, -depth]]
+    )
+
+
+def test_flat_unlit_triangle_renders_its_exact_color_and_alpha_255():
+    camera = Camera((H, W))
+    color = np.array([12, 34, 56, 78], np.uint8)  # alpha is ignored: drawn pixels are opaque
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=color)
+    frame = render_frame([mesh], camera, np.eye(4))
+    drawn = frame.depth > 0
+    assert drawn.sum() == 30 * 20
+    assert np.all(frame.rgba[drawn] == [12, 34, 56, 255])
+    assert np.all(frame.rgba[~drawn] == BACKGROUND_RGBA)
+    assert frame.rgba.dtype == np.uint8 and frame.rgba.shape == (H, W, 4)
+
+
+@pytest.mark.parametrize("uv_origin", ["top", "bottom"])
+def test_texture_mapped_one_texel_per_pixel_is_reproduced_exactly(uv_origin):
+    camera = Camera((H, W))
+    rng = np.random.default_rng(3)
+    texture = rng.integers(0, 256, size=(16, 16, 3), dtype=np.uint8)
+    v_bottom, v_top = (1.0, 0.0) if uv_origin == "top" else (0.0, 1.0)
+    uvs = np.array([[0, v_bottom], [1, v_bottom], [1, v_top], [0, v_top]], dtype=float)
+    mesh = RenderMesh(
+        pixel_quad(camera, 30, 12, 16, 16, 3.0),
+        QUAD_FACES,
+        uvs=uvs,
+        texture=texture,
+        uv_origin=uv_origin,
+    )
+    frame = render_frame([mesh], camera, np.eye(4))
+    # every pixel center is a texel center: bilinear weights are 0 -> the texel itself
+    np.testing.assert_array_equal(frame.rgba[12:28, 30:46, :3], texture)
+    assert np.all(frame.rgba[12:28, 30:46, 3] == 255)
+
+
+def test_bilinear_filter_interpolates_between_texel_centers():
+    camera = Camera((H, W))
+    texture = np.array([[[0, 0, 0], [255, 255, 255]]], dtype=np.uint8)  # 1 x 2 texels
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=float)
+    mesh = RenderMesh(pixel_quad(camera, 8, 4, 64, 8, 2.0), QUAD_FACES, uvs=uvs, texture=texture)
+    red = render_frame([mesh], camera, np.eye(4)).rgba[8, 8:72, 0].astype(float)
+    u = (np.arange(64) + 0.5) / 64
+    between = (u > 0.25) & (u < 0.75)  # between the two texel centers (no wrap-around)
+    expected = (2 * u - 0.5) * 255  # col = u w - 0.5, value = col * 255
+    # 8-bit fixed-point weights: within 1 level of the exact blend
+    np.testing.assert_allclose(red[between], expected[between], atol=1.0)
+
+
+def test_texture_on_a_receding_floor_is_perspective_correct():
+    camera = Camera((H, W), hfov=90.0)
+    near_z, far_z = 1.0, 9.0
+    vertices = np.array([[-4, -1, -near_z], [4, -1, -near_z], [4, -1, -far_z], [-4, -1, -far_z]])
+    uvs = np.array([[0.5, 0.0], [0.5, 0.0], [0.5, 1.0], [0.5, 1.0]])  # v: 0 near -> 1 far
+    ramp = np.repeat(np.arange(256, dtype=np.uint8)[:, None, None], 3, axis=2)  # row i = i
+    mesh = RenderMesh(vertices, QUAD_FACES, uvs=uvs, texture=ramp, uv_origin="top")
+    frame = render_frame([mesh], camera, np.eye(4))
+    rows = np.arange(H) + 0.5
+    ray_v = -(rows - camera.cy) / camera.fy
+    with np.errstate(divide="ignore"):
+        depth = np.where(ray_v < 0, 1.0 / -ray_v, np.inf)  # floor at y = -1
+    v = (depth - near_z) / (far_z - near_z)
+    texel = v * 256 - 0.5  # texel-row coordinate of the exact (perspective) v
+    usable = (texel > 0.5) & (texel < 254.5)
+    assert usable.sum() > 5
+    got = frame.rgba[:, W // 2, 0].astype(float)
+    np.testing.assert_allclose(got[usable], texel[usable], atol=1.0)
+    # screen-linear (affine) interpolation would be far off in the middle rows
+    assert np.max(np.abs(got[usable] - texel[usable])) < 1.0
+
+
+def test_vertex_colors_interpolate_barycentrically():
+    camera = Camera((H, W))
+    corners = pixel_quad(camera, 10, 4, 60, 40, 2.0)[[0, 1, 3]]  # one triangle
+    colors = np.array([[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255]], np.uint8)
+    mesh = RenderMesh(corners, np.array([[0, 1, 2]]), vertex_colors=colors)
+    frame = render_frame([mesh], camera, np.eye(4))
+    screen, _ = camera.project(corners)
+    drawn = np.argwhere(frame.depth > 0)
+    p = drawn[:, ::-1] + 0.5  # (px, py) pixel centers
+    # screen-space barycentrics are exact for a fronto-parallel triangle
+    t = np.column_stack([screen[1] - screen[0], screen[2] - screen[0]])
+    b12 = np.linalg.solve(t, (p - screen[0]).T).T
+    bary = np.column_stack([1 - b12.sum(axis=1), b12])
+    expected = bary @ colors[:, :3].astype(float)
+    got = frame.rgba[drawn[:, 0], drawn[:, 1], :3].astype(float)
+    np.testing.assert_allclose(got, expected, atol=0.51 + 1e-3)  # rounding to uint8
+
+
+def test_default_light_factors_top_side_bottom():
+    normals = np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1], [0, -1, 0], [0, 0, 0]], float)
+    # top: 0.4 + 0.5 * 4 * 0.447 > 1 -> 1; side: 0.4 + 0.5 * 0.894; bottom/degenerate: ambient
+    side = 0.4 + 0.5 * 1.0 / np.sqrt(1.25)
+    np.testing.assert_allclose(face_light_factors(normals), [1.0, side, side, 0.4, 0.4], rtol=1e-6)
+
+
+def test_lit_cube_faces_are_shaded_by_the_default_lights_unlit_are_not():
+    camera = Camera((H, W))
+    pose = np.eye(4)
+    # camera above and in front of a unit cube, looking down 45 degrees
+    c, s = np.cos(np.radians(-45)), np.sin(np.radians(-45))
+    pose[:3, :3] = [[1, 0, 0], [0, c, -s], [0, s, c]]
+    pose[:3, 3] = [0.0, 3.0, 3.0]
+    corners = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    faces = np.array(
+        [[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1]]
+        + [[2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]]
+    )
+    base = np.array([200, 100, 50, 255], np.uint8)
+    for lit in (False, True):
+        frame = render_frame([RenderMesh(corners, faces, base_color=base, lit=lit)], camera, pose)
+        colors = {tuple(c) for c in frame.rgba[frame.depth > 0].tolist()}
+        if not lit:
+            assert colors == {(200, 100, 50, 255)}
+        else:
+            # top face: factor 1 (exact); front face (+z): 0.847 x base = (169.4, 84.7, 42.4),
+            # within one level (8-bit fixed-point light weight, see render.shade)
+            assert (200, 100, 50, 255) in colors and len(colors) == 2
+            (side,) = colors - {(200, 100, 50, 255)}
+            side_factor = 0.4 + 0.5 / np.sqrt(1.25)
+            np.testing.assert_allclose(side[:3], side_factor * base[:3], atol=1.0)
+
+
+def test_ids_buffer_holds_semantic_ids_and_zero_background():
+    camera = Camera((H, W))
+    left = RenderMesh(pixel_quad(camera, 0, 0, 40, 48, 2.0), QUAD_FACES, semantic_id=7)
+    right = RenderMesh(pixel_quad(camera, 40, 0, 20, 48, 3.0), QUAD_FACES, semantic_id=2**32 - 1)
+    frame = render_frame([left, right], camera, np.eye(4))
+    assert frame.ids.dtype == np.uint32
+    assert np.all(frame.ids[:, :40] == 7)
+    assert np.all(frame.ids[:, 40:60] == 2**32 - 1)
+    assert np.all(frame.ids[:, 60:] == 0)
+
+
+def test_render_scene_poses_visibility_and_buffer_reuse_match_fresh_renders():
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 10, 20, 20, 2.0), QUAD_FACES, semantic_id=1)
+    scene = RenderScene([mesh])
+    first = render_frame(scene, camera, np.eye(4))
+    depth_before = first.depth.copy()
+    moved = np.eye(4)
+    moved[:3, 3] = [0.0, 0.0, -1.0]  # push the quad 1 m away
+    scene.set_world_from_mesh(0, moved)
+    second = render_frame(scene, camera, np.eye(4), buffers=first)
+    assert second is first  # buffers reused
+    assert second.depth.max() == pytest.approx(3.0, rel=1e-6)
+    fresh = render_frame(
+        [RenderMesh(mesh.vertices, QUAD_FACES, moved, semantic_id=1)], camera, np.eye(4)
+    )
+    np.testing.assert_array_equal(second.rgba, fresh.rgba)
+    np.testing.assert_array_equal(second.depth, fresh.depth)
+    assert not np.array_equal(depth_before, second.depth)
+    scene.set_visible(0, False)
+    hidden = render_frame(scene, camera, np.eye(4), buffers=second)
+    assert not hidden.depth.any() and not hidden.ids.any()
+    other = render_frame(scene, Camera((10, 12)), np.eye(4), buffers=hidden)
+    assert other.depth.shape == (10, 12)
+
+
+def test_rendering_is_bit_identical_across_calls():
+    camera = Camera((H, W), hfov=70.0)
+    rng = np.random.default_rng(1)
+    vertices = rng.uniform(-1, 1, size=(60, 3)) + [0, 0, -3]
+    faces = rng.integers(0, 60, size=(80, 3))
+    colors = rng.integers(0, 256, size=(60, 4), dtype=np.uint8)
+    mesh = RenderMesh(vertices, faces, vertex_colors=colors, lit=True)
+    a = render_frame([mesh], camera, np.eye(4))
+    b = render_frame(RenderScene([mesh]), camera, np.eye(4))
+    for name in ("rgba", "depth", "ids"):
+        assert getattr(a, name).tobytes() == getattr(b, name).tobytes()
+
+
+def test_empty_scene_renders_background():
+    frame = render_frame([], Camera((H, W)), np.eye(4))
+    assert isinstance(frame, FrameBuffers)
+    assert np.all(frame.rgba == BACKGROUND_RGBA) and not frame.depth.any() and not frame.ids.any()
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, fragment",
+    [
+        ({"vertices": np.full((3, 3), np.nan)}, ValueError, "vertices"),
+        ({"vertices": np.zeros((3, 2))}, ValueError, "vertices"),
+        ({"faces": np.array([[0, 1, 3]])}, ValueError, "faces"),
+        ({"faces": np.array([[0.0, 1.0, 2.0]])}, ValueError, "faces"),
+        ({"world_from_mesh": np.eye(3)}, ValueError, "world_from_mesh"),
+        ({"vertex_colors": np.zeros((2, 4))}, ValueError, "vertex_colors"),
+        ({"vertex_colors": np.full((3, 4), 300)}, ValueError, "vertex_colors"),
+        ({"texture": np.zeros((4, 4, 3), np.uint8)}, ValueError, "uvs"),
+        ({"uvs": np.zeros((3, 2)), "texture": np.zeros((4, 4, 3))}, ValueError, "texture"),
+        ({"uvs": np.full((3, 2), np.inf)}, ValueError, "uvs"),
+        ({"base_color": (1, 2)}, ValueError, "base_color"),
+        ({"semantic_id": -1}, ValueError, "semantic_id"),
+        ({"lit": "yes"}, TypeError, "lit"),
+        ({"uv_origin": "left"}, ValueError, "uv_origin"),
+    ],
+)
+def test_bad_render_mesh_raises_naming_the_field(kwargs, error, fragment):
+    args = {"vertices": np.eye(3), "faces": np.array([[0, 1, 2]]), **kwargs}
+    with pytest.raises(error, match=fragment):
+        RenderMesh(**args)
+
+
+def test_bad_render_frame_arguments_raise():
+    mesh = RenderMesh(np.eye(3), np.array([[0, 1, 2]]))
+    with pytest.raises(ValueError, match="world_from_camera"):
+        render_frame([mesh], Camera((H, W)), np.full((4, 4), np.nan))
+    with pytest.raises(TypeError, match="camera"):
+        render_frame([mesh], (H, W), np.eye(4))
+    with pytest.raises(TypeError, match="meshes"):
+        render_frame([mesh, "box"], Camera((H, W)), np.eye(4))
+    scene = RenderScene([mesh])
+    with pytest.raises(KeyError):
+        scene.set_world_from_mesh(3, np.eye(4))
+    with pytest.raises(ValueError, match="world_from_mesh"):
+        scene.set_world_from_mesh(0, np.zeros((4, 4)))
+    np.testing.assert_array_equal(scene.world_from_mesh[0], np.eye(4))  # unchanged
