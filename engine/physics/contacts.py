@@ -1,0 +1,124 @@
+"""Persistent contact manifolds: up to four points per body pair, kept across steps.
+
+Each manifold point stores its two anchors in the body frames (``local_a``, ``local_b``),
+its normal in A's frame, and the impulses accumulated by the solver ``(normal, tangent1,
+tangent2)`` in N s. Every step (Bullet's ``btPersistentManifold`` idea):
+
+1. refresh: recompute the world anchors; drop points whose bodies separated more than
+   ``CONTACT_BREAKING_DISTANCE`` along the normal or slid apart more than
+   ``CONTACT_DRIFT_DISTANCE`` tangentially;
+2. merge: a fresh point within ``CONTACT_MATCH_DISTANCE`` of a cached one replaces it and
+   inherits its impulses (this is what makes warm starting work), others are appended;
+3. reduce to four: the deepest point, the point farthest from it, then the points that
+   maximize the contact polygon's area (largest support area = most stable resting).
+
+Normals point from body A to body B; depth ``(p_a - p_b) . n`` is positive when overlapping.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import settings
+
+
+class Manifold:
+    """Contact points of one body pair ``(body_a, body_b)``, ``body_a < body_b``.
+
+    Attributes
+    ----------
+    local_a, local_b : (k, 3) anchors in the body frames of A and B, m.
+    normal_local : (k, 3) unit normal in A's body frame (from A to B).
+    impulse : (k, 3) accumulated impulses (normal, tangent 1, tangent 2), N s.
+    max_points : int, 1 for pairs with a sphere (a rolling point must not persist).
+    """
+
+    def __init__(self, body_a: int, body_b: int, max_points: int) -> None:
+        self.body_a, self.body_b, self.max_points = body_a, body_b, max_points
+        self.local_a = np.zeros((0, 3))
+        self.local_b = np.zeros((0, 3))
+        self.normal_local = np.zeros((0, 3))
+        self.impulse = np.zeros((0, 3))
+
+    def __len__(self) -> int:
+        return len(self.local_a)
+
+    def world_points(self, pose_a, pose_b):
+        """World anchors ``(k, 3)`` of A and B and world normals ``(k, 3)``."""
+        (ra, xa), (rb, xb) = pose_a, pose_b
+        return self.local_a @ ra.T + xa, self.local_b @ rb.T + xb, self.normal_local @ ra.T
+
+    def update(self, pose_a, pose_b, fresh) -> None:
+        """Refresh cached points, merge the fresh ``(point_a, point_b, normal)`` arrays, reduce."""
+        self._refresh(pose_a, pose_b)
+        if fresh is not None:
+            self._merge(pose_a, pose_b, *fresh)
+        if len(self) > self.max_points:
+            self._reduce(pose_a, pose_b)
+
+    def _keep(self, mask) -> None:
+        self.local_a, self.local_b = self.local_a[mask], self.local_b[mask]
+        self.normal_local, self.impulse = self.normal_local[mask], self.impulse[mask]
+
+    def _refresh(self, pose_a, pose_b) -> None:
+        if len(self) == 0:
+            return
+        point_a, point_b, normal = self.world_points(pose_a, pose_b)
+        gap = point_a - point_b
+        depth = np.sum(gap * normal, axis=1)  # d = (p_a - p_b) . n
+        drift_sq = np.sum(gap * gap, axis=1) - depth**2  # |tangential part of the gap|^2
+        self._keep((depth > -settings.CONTACT_BREAKING_DISTANCE)
+                   & (drift_sq < settings.CONTACT_DRIFT_DISTANCE**2))
+
+    def _merge(self, pose_a, pose_b, point_a, point_b, normal) -> None:
+        (ra, xa), (rb, xb) = pose_a, pose_b
+        new_local_a = (point_a - xa) @ ra  # R^T (p - x)
+        new_local_b = (point_b - xb) @ rb
+        new_impulse = np.zeros((len(point_a), 3))
+        if self.max_points == 1 or len(self) == 0:
+            keep_old = np.zeros(len(self), dtype=bool)
+            if len(self) and self.max_points == 1:
+                new_impulse[:] = self.impulse[0]  # the single rolling point keeps its impulse
+        else:
+            # distance between every cached (row) and fresh (column) anchor on B
+            dist_sq = np.sum((self.local_b[:, None] - new_local_b[None]) ** 2, axis=2)
+            nearest = np.argmin(dist_sq, axis=0)
+            matched = dist_sq[nearest, np.arange(len(point_a))] < settings.CONTACT_MATCH_DISTANCE**2
+            new_impulse[matched] = self.impulse[nearest[matched]]
+            keep_old = np.ones(len(self), dtype=bool)
+            keep_old[nearest[matched]] = False
+        self._keep(keep_old)
+        self.local_a = np.concatenate([self.local_a, new_local_a])
+        self.local_b = np.concatenate([self.local_b, new_local_b])
+        self.normal_local = np.concatenate([self.normal_local, normal @ ra])
+        self.impulse = np.concatenate([self.impulse, new_impulse])
+
+    def _reduce(self, pose_a, pose_b) -> None:
+        point_a, point_b, normal = self.world_points(pose_a, pose_b)
+        depth = np.sum((point_a - point_b) * normal, axis=1)
+        self._keep(select_support_points(point_b, depth, normal[0], self.max_points))
+
+
+def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
+                          count: int) -> np.ndarray:
+    """Indices of ``count`` points: the deepest, then those spanning the largest area.
+
+    Parameters
+    ----------
+    points : (k, 3) world contact points, depth : (k,) m, normal : (3,) unit.
+    """
+    chosen = [int(np.argmax(depth))]
+    if count >= 2:
+        chosen.append(int(np.argmax(np.sum((points - points[chosen[0]]) ** 2, axis=1))))
+    if count >= 3:
+        edge = points[chosen[1]] - points[chosen[0]]
+        # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
+        area = np.cross(edge, points - points[chosen[0]]) @ normal
+        third = int(np.argmax(np.abs(area)))
+        chosen.append(third)
+        if count >= 4:
+            # the fourth point lies on the other side of edge p0-p1 with the largest area
+            opposite = -np.sign(area[third]) * area
+            opposite[chosen] = -np.inf
+            chosen.append(int(np.argmax(opposite)))
+    return np.array(sorted(set(chosen)), dtype=np.int64)

@@ -1,0 +1,416 @@
+"""Properties and actions of ``ManagedRigidObject`` (Habitat's names, including ``intertia``).
+
+Every getter returns a copy; every setter validates first (ValueError/TypeError naming the
+value) and only then writes the world's ``body_*`` arrays, so bad input changes nothing.
+STATIC objects ignore pose setters; KINEMATIC objects store velocities without moving;
+forces and impulses act only on DYNAMIC objects. Pose and velocity writes wake the body.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from engine import mn
+
+from .bodies import DYNAMIC, KINEMATIC, STATIC
+from .integrate import world_inverse_inertia
+from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
+from .velocity_control import RigidState
+
+
+def _number(value: Any, name: str, low: float = -math.inf, high: float = math.inf,
+            low_open: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise TypeError(f"{name} must be a number, got {value!r}")
+    number = float(value)
+    if not math.isfinite(number) or number < low or number > high or (low_open and number <= low):
+        bound = ">" if low_open else ">="
+        raise ValueError(f"{name} must be finite, {bound} {low} and <= {high}, got {value!r}")
+    return number
+
+
+def _angle(value: Any) -> float:
+    return float(mn.Rad(_number(float(mn.Rad(value)) if isinstance(value, mn.Deg) else value,
+                                "angle")))
+
+
+class ObjectPropertiesMixin:
+    """Mixed into ``ManagedRigidObject``; ``self._check()`` returns the body index."""
+
+    # -- identity ------------------------------------------------------------------------------
+    @property
+    def handle(self) -> str:
+        self._check()
+        return self._handle
+
+    @property
+    def object_id(self) -> int:
+        return self._check()
+
+    @property
+    def creation_attributes(self):
+        """A copy of the template the object was created from."""
+        self._check()
+        return self._template.copy()
+
+    @property
+    def user_attributes(self):
+        """The object's own user configuration (a copy of the template's at creation)."""
+        self._check()
+        return self._user_attributes
+
+    @property
+    def root_scene_node(self):
+        self._check()
+        return self._root_node
+
+    @property
+    def visual_scene_nodes(self) -> list:
+        self._check()
+        return [self._visual_node]
+
+    @property
+    def velocity_control(self):
+        """The object's own :class:`VelocityControl` (by reference)."""
+        return self._world.velocity_controls[self._check()]
+
+    @property
+    def margin(self) -> float:
+        self._check()
+        return float(self._template.margin)
+
+    @property
+    def aabb(self) -> mn.Range3D:
+        """Render-mesh AABB in the object's local (COM) frame."""
+        self._check()
+        return mn.Range3D(self._description.aabb_min, self._description.aabb_max)
+
+    @property
+    def com(self) -> mn.Vector3:
+        """Center of mass in the asset frame (the offset of the visual node is ``-com``)."""
+        self._check()
+        return mn.Vector3(self._description.com)
+
+    # -- motion type ---------------------------------------------------------------------------
+    @property
+    def motion_type(self):
+        from .objects import MotionType
+
+        return MotionType(int(self._world.bodies.body_motion_type[self._check()]))
+
+    @motion_type.setter
+    def motion_type(self, value: Any) -> None:
+        index = self._check()
+        if isinstance(value, bool) or not isinstance(value, int) or value not in (0, 1, 2):
+            raise ValueError(f"motion_type must be STATIC, KINEMATIC or DYNAMIC, got {value!r}")
+        b = self._world.bodies
+        if b.body_motion_type[index] == int(value):
+            return
+        b.body_motion_type[index] = int(value)
+        if value != DYNAMIC:
+            b.body_awake[index] = True
+        self._world.wake(index)
+        self._world.wake_neighbors(index)
+
+    # -- pose ----------------------------------------------------------------------------------
+    def _set_pose(self, position: np.ndarray, rotation: np.ndarray) -> None:
+        index = self._check()
+        if self._world.bodies.body_motion_type[index] == STATIC:
+            return  # Habitat: STATIC objects silently ignore pose setters
+        self._world.set_body_pose(index, position, rotation)
+
+    @property
+    def translation(self) -> mn.Vector3:
+        """Center of mass, world frame, m."""
+        return mn.Vector3(self._world.bodies.body_position[self._check()])
+
+    @translation.setter
+    def translation(self, value: Any) -> None:
+        position = np.asarray(mn.to_vector3(value, "translation"))
+        self._set_pose(position, self._world.bodies.body_rotation[self._check()].copy())
+
+    @property
+    def rotation(self) -> mn.Quaternion:
+        return mn.Quaternion.from_xyzw(self._world.bodies.body_rotation[self._check()])
+
+    @rotation.setter
+    def rotation(self, value: Any) -> None:
+        rotation = mn.to_quaternion(value, "rotation").xyzw
+        self._set_pose(self._world.bodies.body_position[self._check()].copy(), rotation)
+
+    @property
+    def transformation(self) -> mn.Matrix4:
+        index = self._check()
+        b = self._world.bodies
+        return mn.Matrix4.from_(quat_to_matrix(b.body_rotation[index]), b.body_position[index])
+
+    @transformation.setter
+    def transformation(self, value: Any) -> None:
+        self._check()
+        matrix = np.asarray(value, dtype=np.float64) if not isinstance(value, str) else None
+        if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+            raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
+        scale = np.linalg.norm(matrix[:3, :3], axis=0)
+        if np.any(scale < 1e-9):
+            raise ValueError(f"transformation has a degenerate rotation part: {value!r}")
+        self._set_pose(matrix[:3, 3].copy(), matrix_to_quat(matrix[:3, :3] / scale))
+
+    @property
+    def rigid_state(self) -> RigidState:
+        return RigidState(self.rotation, self.translation)
+
+    @rigid_state.setter
+    def rigid_state(self, value: Any) -> None:
+        self._check()
+        if not isinstance(value, RigidState):
+            raise TypeError(f"rigid_state must be a RigidState, got {value!r}")
+        self._set_pose(value._translation.copy(), value._rotation.copy())
+
+    def translate(self, vector: Any) -> None:
+        """Move by ``vector`` (world frame, m)."""
+        offset = np.asarray(mn.to_vector3(vector, "vector"))
+        index = self._check()
+        self._set_pose(self._world.bodies.body_position[index] + offset,
+                       self._world.bodies.body_rotation[index].copy())
+
+    def translate_local(self, vector: Any) -> None:
+        """Move by ``vector`` given in the object's frame."""
+        offset = np.asarray(mn.to_vector3(vector, "vector"))
+        index = self._check()
+        b = self._world.bodies
+        self._set_pose(b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ offset,
+                       b.body_rotation[index].copy())
+
+    def rotate(self, angle: Any, axis: Any, local: bool = False) -> None:
+        """Rotate by ``angle`` (Rad/Deg) about ``axis``: world axes (``q' = r q``) or local
+        (``q' = q r``)."""
+        turn = mn.Quaternion.rotation(mn.Rad(_angle(angle)), axis).xyzw
+        index = self._check()
+        b = self._world.bodies
+        q = b.body_rotation[index]
+        new = quat_multiply(q, turn) if local else quat_multiply(turn, q)
+        self._set_pose(b.body_position[index].copy(), new)
+
+    def rotate_local(self, angle: Any, axis: Any) -> None:
+        self.rotate(angle, axis, local=True)
+
+    def rotate_x(self, angle: Any) -> None:
+        self.rotate(angle, (1.0, 0.0, 0.0))
+
+    def rotate_y(self, angle: Any) -> None:
+        self.rotate(angle, (0.0, 1.0, 0.0))
+
+    def rotate_z(self, angle: Any) -> None:
+        self.rotate(angle, (0.0, 0.0, 1.0))
+
+    def rotate_x_local(self, angle: Any) -> None:
+        self.rotate(angle, (1.0, 0.0, 0.0), local=True)
+
+    def rotate_y_local(self, angle: Any) -> None:
+        self.rotate(angle, (0.0, 1.0, 0.0), local=True)
+
+    def rotate_z_local(self, angle: Any) -> None:
+        self.rotate(angle, (0.0, 0.0, 1.0), local=True)
+
+    # -- velocities ------------------------------------------------------------------------------
+    def _set_velocity(self, name: str, value: Any, label: str) -> None:
+        velocity = np.asarray(mn.to_vector3(value, label))
+        index = self._check()
+        b = self._world.bodies
+        if b.body_motion_type[index] == STATIC:
+            return
+        getattr(b, name)[index] = velocity
+        self._world.wake(index)
+
+    @property
+    def linear_velocity(self) -> mn.Vector3:
+        """World frame, m/s (KINEMATIC: the stored value)."""
+        return mn.Vector3(self._world.bodies.body_linear_velocity[self._check()])
+
+    @linear_velocity.setter
+    def linear_velocity(self, value: Any) -> None:
+        self._set_velocity("body_linear_velocity", value, "linear_velocity")
+
+    @property
+    def angular_velocity(self) -> mn.Vector3:
+        """World frame, rad/s."""
+        return mn.Vector3(self._world.bodies.body_angular_velocity[self._check()])
+
+    @angular_velocity.setter
+    def angular_velocity(self, value: Any) -> None:
+        self._set_velocity("body_angular_velocity", value, "angular_velocity")
+
+    # -- forces and impulses -------------------------------------------------------------------
+    def _dynamic_index(self):
+        index = self._check()
+        b = self._world.bodies
+        return index if b.body_motion_type[index] == DYNAMIC else None
+
+    def apply_force(self, force: Any, relative_position: Any) -> None:
+        """Force (N, world frame) at a world-frame offset from the COM, for the next
+        ``step_physics`` call: ``F += f``, ``tau += r x f``."""
+        f = np.asarray(mn.to_vector3(force, "force"))
+        r = np.asarray(mn.to_vector3(relative_position, "relative_position"))
+        index = self._dynamic_index()
+        if index is None:
+            return
+        self._world.bodies.body_force[index] += f
+        self._world.bodies.body_torque[index] += np.cross(r, f)
+        self._world.wake(index)
+
+    def apply_torque(self, torque: Any) -> None:
+        """Torque (N m, world frame) for the next ``step_physics`` call."""
+        tau = np.asarray(mn.to_vector3(torque, "torque"))
+        index = self._dynamic_index()
+        if index is not None:
+            self._world.bodies.body_torque[index] += tau
+            self._world.wake(index)
+
+    def apply_impulse(self, impulse: Any, relative_position: Any) -> None:
+        """Instant impulse (N s, world) at a world offset: ``v += J/m``, ``w += I^-1 (r x J)``."""
+        j = np.asarray(mn.to_vector3(impulse, "impulse"))
+        r = np.asarray(mn.to_vector3(relative_position, "relative_position"))
+        index = self._dynamic_index()
+        if index is None:
+            return
+        b = self._world.bodies
+        b.body_linear_velocity[index] += j / b.body_mass[index]
+        self._add_angular_impulse(index, np.cross(r, j))
+
+    def apply_impulse_torque(self, impulse: Any) -> None:
+        """Instant angular impulse (N m s, world): ``w += I_w^-1 L``."""
+        angular = np.asarray(mn.to_vector3(impulse, "impulse"))
+        index = self._dynamic_index()
+        if index is not None:
+            self._add_angular_impulse(index, angular)
+
+    def _add_angular_impulse(self, index: int, angular: np.ndarray) -> None:
+        b = self._world.bodies
+        inv = world_inverse_inertia(b.body_rotation[index][None], b.body_inertia[index][None])[0]
+        b.body_angular_velocity[index] += inv @ angular
+        self._world.wake(index)
+
+    def contact_test(self) -> bool:
+        """True if the object currently overlaps another collidable object or the stage."""
+        return self._world.contact_test(self._check())
+
+    # -- material and mass ---------------------------------------------------------------------
+    def _scalar(self, name: str) -> float:
+        return float(getattr(self._world.bodies, name)[self._check()])
+
+    def _set_scalar(self, name: str, value: float) -> None:
+        index = self._check()
+        getattr(self._world.bodies, name)[index] = value
+        self._world.wake(index)
+
+    @property
+    def mass(self) -> float:
+        """kg. Setting it keeps the inertia (as Bullet's ``setMassProps`` call in Habitat)."""
+        return self._scalar("body_mass")
+
+    @mass.setter
+    def mass(self, value: Any) -> None:
+        self._set_scalar("body_mass", _number(value, "mass", 0.0, low_open=True))
+
+    @property
+    def intertia_diagonal(self) -> mn.Vector3:  # Habitat's spelling
+        """Diagonal inertia about the COM, object axes, kg m^2."""
+        return mn.Vector3(self._world.bodies.body_inertia[self._check()])
+
+    @intertia_diagonal.setter
+    def intertia_diagonal(self, value: Any) -> None:
+        inertia = np.asarray(mn.to_vector3(value, "intertia_diagonal"))
+        if np.any(inertia <= 0):
+            raise ValueError(f"intertia_diagonal must be > 0, got {inertia.tolist()}")
+        index = self._check()
+        self._world.bodies.body_inertia[index] = inertia
+        self._world.wake(index)
+
+    inertia_diagonal = intertia_diagonal
+
+    @property
+    def friction_coefficient(self) -> float:
+        return self._scalar("body_friction")
+
+    @friction_coefficient.setter
+    def friction_coefficient(self, value: Any) -> None:
+        self._set_scalar("body_friction", _number(value, "friction_coefficient", 0.0))
+
+    @property
+    def restitution_coefficient(self) -> float:
+        return self._scalar("body_restitution")
+
+    @restitution_coefficient.setter
+    def restitution_coefficient(self, value: Any) -> None:
+        self._set_scalar("body_restitution", _number(value, "restitution_coefficient", 0.0, 1.0))
+
+    @property
+    def linear_damping(self) -> float:
+        return self._scalar("body_linear_damping")
+
+    @linear_damping.setter
+    def linear_damping(self, value: Any) -> None:
+        self._set_scalar("body_linear_damping", _number(value, "linear_damping", 0.0, 1.0))
+
+    @property
+    def angular_damping(self) -> float:
+        return self._scalar("body_angular_damping")
+
+    @angular_damping.setter
+    def angular_damping(self, value: Any) -> None:
+        self._set_scalar("body_angular_damping", _number(value, "angular_damping", 0.0, 1.0))
+
+    # -- flags ----------------------------------------------------------------------------------
+    @property
+    def awake(self) -> bool:
+        index = self._check()
+        b = self._world.bodies
+        return bool(b.body_awake[index]) if b.body_motion_type[index] == DYNAMIC else False
+
+    @awake.setter
+    def awake(self, value: Any) -> None:
+        if not isinstance(value, bool | np.bool_):
+            raise TypeError(f"awake must be a bool, got {value!r}")
+        index = self._check()
+        b = self._world.bodies
+        if value:
+            self._world.wake(index)
+        elif b.body_motion_type[index] == DYNAMIC:
+            b.body_awake[index] = False
+            b.body_linear_velocity[index] = 0.0
+            b.body_angular_velocity[index] = 0.0
+
+    @property
+    def collidable(self) -> bool:
+        return bool(self._world.bodies.body_collidable[self._check()])
+
+    @collidable.setter
+    def collidable(self, value: Any) -> None:
+        if not isinstance(value, bool | np.bool_):
+            raise TypeError(f"collidable must be a bool, got {value!r}")
+        index = self._check()
+        self._world.wake_neighbors(index)
+        self._world.bodies.body_collidable[index] = bool(value)
+        for key in [k for k in self._world.manifolds if index in k]:
+            del self._world.manifolds[key]
+        self._world.wake(index)
+
+    @property
+    def semantic_id(self) -> int:
+        self._check()
+        drawables = self._visual_node.drawables
+        return int(drawables[0].semantic_id) if drawables else int(self._template.semantic_id)
+
+    @semantic_id.setter
+    def semantic_id(self, value: Any) -> None:
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+            raise ValueError(f"semantic_id must be a non-negative int, got {value!r}")
+        self._check()
+        for drawable in self._visual_node.drawables:
+            drawable.semantic_id = int(value)
+
+
+__all__ = ["KINEMATIC", "ObjectPropertiesMixin"]

@@ -1,0 +1,94 @@
+"""Solver switches and physical constants of the rigid-body world, with units.
+
+Every tunable number of the physics engine lives here, never as a scattered literal.
+The boolean switches mirror box2d-lite's demo toggles (accumulated impulses, warm
+starting, position correction) so a student can turn each idea off and watch what breaks.
+
+Conventions (declared once for the whole package): Y up, -Z forward, right handed,
+meters / kilograms / seconds, quaternion arrays ``(4,)`` in order ``[x, y, z, w]``.
+Contact normals point **from body A to body B** of a pair (A has the lower body index;
+the stage, index 0, is always A).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass
+class SolverSettings:
+    """Switches and constants of the sequential-impulse solver.
+
+    Attributes
+    ----------
+    velocity_iterations : int
+        Gauss-Seidel sweeps over all contacts per fixed step (Catto 2005). Range 1..50.
+    position_iterations : int
+        Sweeps of the split-impulse (pseudo velocity) position solve. 0 disables it.
+    substeps : int
+        Each fixed step is divided into this many solver substeps (>= 1).
+    warm_starting : bool
+        Start each step from last step's accumulated impulses (matched contact points).
+    accumulate_impulses : bool
+        Clamp the accumulated impulse (True, Catto) instead of each increment (False).
+    position_correction : bool
+        Remove penetration with split impulses (pseudo velocities that never enter the
+        real velocity, so they add no kinetic energy).
+    use_vectorized : bool
+        Solve one graph color at a time with NumPy batches (True) or run the plain scalar
+        reference loop (False). Both give the same numbers.
+    """
+
+    velocity_iterations: int = 10
+    position_iterations: int = 4
+    substeps: int = 1
+    warm_starting: bool = True
+    accumulate_impulses: bool = True
+    position_correction: bool = True
+    use_vectorized: bool = True
+
+
+# --- contact geometry -------------------------------------------------------------------
+#: m, penetration left uncorrected so resting contacts persist from step to step.
+PENETRATION_SLOP = 0.002
+#: 1, fraction of the penetration beyond the slop removed per step by the position solve.
+POSITION_BAUMGARTE = 0.4
+#: m/s, upper bound of the position-correction pseudo velocity (no launches).
+MAX_CORRECTION_SPEED = 2.0
+#: m, a manifold point whose bodies separate by more than this along the normal is dropped.
+CONTACT_BREAKING_DISTANCE = 0.02
+#: m, a persistent point whose two anchors slide apart more than this tangentially is dropped.
+CONTACT_DRIFT_DISTANCE = 0.02
+#: m, a new point closer than this to a cached one inherits its impulses (warm start).
+CONTACT_MATCH_DISTANCE = 0.02
+#: m, hull vertices up to this far above a stage triangle still make (speculative) contacts.
+SPECULATIVE_DISTANCE = 0.004
+#: points, the most points a manifold keeps (deepest + largest area, as Bullet does).
+MAX_MANIFOLD_POINTS = 4
+#: fcl contacts requested per shape pair.
+MAX_FCL_CONTACTS = 32
+
+# --- restitution and friction -----------------------------------------------------------
+#: m/s, approach speeds below this do not bounce (kills micro bounces of resting bodies).
+RESTITUTION_VELOCITY_THRESHOLD = 0.5
+
+# --- sleeping ---------------------------------------------------------------------------
+#: m/s, a body slower than this (and below the angular threshold) counts as resting.
+SLEEP_LINEAR_VELOCITY = 0.05
+#: rad/s, angular speed threshold for resting.
+SLEEP_ANGULAR_VELOCITY = 0.1
+#: s, an island sleeps after all its bodies have rested this long.
+TIME_TO_SLEEP = 0.5
+
+# --- robustness -------------------------------------------------------------------------
+#: m/s, linear speeds are clamped to this (keeps a bad impulse from launching a body).
+MAX_LINEAR_SPEED = 200.0
+#: rad/s, angular speeds are clamped to this.
+MAX_ANGULAR_SPEED = 100.0
+#: fixed steps, the most a single step_physics call may run (dt / timestep above it raises).
+MAX_STEPS_PER_CALL = 100_000
+#: 1, a body moving more than this fraction of its smallest half extent per step is swept
+#: against static geometry (CCD-lite) so it cannot tunnel through thin walls.
+CCD_MOTION_FRACTION = 0.5
+#: m, how deep a swept body is left inside the wall it hit, so the next step sees the contact.
+CCD_PENETRATION = 0.001

@@ -1,0 +1,327 @@
+"""Sequential impulses (projected Gauss-Seidel) for contacts with friction and restitution.
+
+Derivation (Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005; box2d-lite
+``Arbiter.cpp``). For a contact point with normal ``n`` (from A to B), anchors
+``r_a = p - x_a`` and ``r_b = p - x_b``, and body velocities ``V = (v_a, w_a, v_b, w_b)``,
+the relative velocity along a direction ``d`` is the Jacobian row times V::
+
+    J = [-d, -(r_a x d), d, r_b x d],     v_d = J V   (> 0 separating)
+
+An impulse ``lambda`` along d changes the velocities by ``M^-1 J^T lambda`` ("W lambda");
+the effective mass is ``m_eff = 1 / (J M^-1 J^T)``. Each iteration computes
+``d_lambda = -m_eff (J V + b)``, clamps the *accumulated* impulse (normal: ``>= 0``;
+friction: the 2-D tangent impulse inside the circle ``|lambda_t| <= mu lambda_n``, isotropic
+Coulomb cone) and applies only the change. Warm starting applies last step's impulses first.
+
+Vectorization (Box2D v3 ``contact_solver.c``): manifolds are sorted by graph color; all
+manifolds of one color touch distinct dynamic bodies and are solved by one NumPy batch, so
+colors remain Gauss-Seidel. The (up to) four points of one manifold share their bodies: they
+are solved together as a Jacobi block with *mass splitting* (Tonge et al. 2012): each point
+sees ``n_points x`` the inverse mass, i.e. ``m_eff / n_points``, which keeps the block
+convergent. :func:`solve_contacts_scalar` runs the very same algebra with plain loops; a
+test checks both agree.
+
+Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
+pushes penetrations deeper than ``PENETRATION_SLOP`` apart at ``beta (depth - slop) / h``;
+the pseudo velocity moves the bodies this step and is then discarded, so it adds no energy.
+Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
+faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import settings as constants
+
+SLOTS = constants.MAX_MANIFOLD_POINTS
+
+
+@dataclass
+class ContactBatch:
+    """Solver arrays for ``m`` manifolds sorted by color, ``S = 4`` point slots each.
+
+    Shapes: ``body_a, body_b (m,)``; ``normal_jac (m, S, 12)``; ``normal_w (m, 12, S)``
+    (``W^T`` for matmul); ``normal_mass (m, S)`` (split effective mass, 0 in empty slots);
+    ``tangent_jac (m, 2S, 12)``, ``tangent_w (m, 12, 2S)``, ``tangent_mass (m, 2S)``;
+    ``friction (m, 1)``, ``restitution (m, 1)``; ``depth``, ``approach_speed (m, S)``;
+    ``impulse (m, S, 3)`` accumulated (normal, t1, t2) in N s; ``color_slices`` list of
+    ``(start, stop)`` into the manifold axis.
+    """
+
+    body_a: np.ndarray
+    body_b: np.ndarray
+    mask: np.ndarray
+    normal_jac: np.ndarray
+    normal_w: np.ndarray
+    normal_mass: np.ndarray
+    tangent_jac: np.ndarray
+    tangent_w: np.ndarray
+    tangent_mass: np.ndarray
+    friction: np.ndarray
+    restitution: np.ndarray
+    depth: np.ndarray
+    approach_speed: np.ndarray
+    impulse: np.ndarray
+    color_slices: list
+
+
+def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
+    # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
+    axis = np.zeros_like(normal)
+    axis[..., 0] = np.abs(normal[..., 0]) < 0.57
+    axis[..., 1] = 1.0 - axis[..., 0]
+    t1 = np.cross(normal, axis)
+    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), 1e-300)
+    return t1, np.cross(normal, t1)
+
+
+def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
+    """Jacobian rows ``(m, S, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, S, 3)``."""
+    ra_x_d, rb_x_d = np.cross(r_a, direction), np.cross(r_b, direction)
+    jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
+    # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
+    w = np.concatenate([-direction * inv_mass_a[:, None, None],
+                        -np.einsum("mij,msj->msi", inv_inertia_a, ra_x_d),
+                        direction * inv_mass_b[:, None, None],
+                        np.einsum("mij,msj->msi", inv_inertia_b, rb_x_d)], axis=-1)
+    return jac, w
+
+
+def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
+                inv_inertia, friction, restitution, impulse, velocity, color_slices):
+    """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
+
+    Parameters
+    ----------
+    points_a, points_b, normals : (m, S, 3) world anchors and unit normals A -> B.
+    counts : (m,) int, used slots per manifold.
+    body_a, body_b : (m,) int. position : (n, 3). inv_mass : (n,).
+    inv_inertia : (n, 3, 3) world inverse inertia (zero for non-dynamic bodies).
+    friction, restitution : (m,) pair coefficients. impulse : (m, S, 3) cached impulses.
+    velocity : (n, 6) body velocities [v, w], to record the approach speed.
+    """
+    mask = np.arange(SLOTS)[None, :] < counts[:, None]
+    point = 0.5 * (points_a + points_b)
+    r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
+    args = (r_a, r_b, inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a],
+            inv_inertia[body_b])
+    normal_jac, normal_w = _rows(normals, *args)
+    t1, t2 = tangent_basis(normals)
+    tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
+    r2 = (np.repeat(r_a, 2, axis=1), np.repeat(r_b, 2, axis=1))
+    tangent_jac, tangent_w = _rows(tangents, *r2, *args[2:])
+    split = np.maximum(counts, 1)[:, None]
+    # m_eff = 1 / (n_points J M^-1 J^T)  (mass splitting), zero in empty slots
+    k_normal = np.sum(normal_jac * normal_w, axis=-1)
+    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, 1e-300)), 0.0)
+    k_tangent = np.sum(tangent_jac * tangent_w, axis=-1)
+    tangent_mass = np.where(np.repeat(mask, 2, axis=1),
+                            1.0 / (split * np.maximum(k_tangent, 1e-300)), 0.0)
+    vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
+    approach = (normal_jac @ vab[:, :, None])[..., 0]
+    depth = np.sum((points_a - points_b) * normals, axis=-1)
+    return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
+                        normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
+                        friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
+                        approach, np.where(mask[..., None], impulse, 0.0), color_slices)
+
+
+def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
+    """Apply the cached impulses: ``V += W lambda`` for all rows (duplicates summed)."""
+    lam_t = batch.impulse[:, :, 1:].reshape(len(batch.body_a), 2 * SLOTS)
+    dv = (batch.normal_w @ batch.impulse[:, :, :1])[..., 0] + (batch.tangent_w @ lam_t[..., None])[..., 0]
+    np.add.at(velocity, batch.body_a, dv[:, :6])
+    np.add.at(velocity, batch.body_b, dv[:, 6:])
+
+
+def _relative(velocity, jac, a, b):
+    """Row velocities ``J V`` ``(k, rows)`` of a color."""
+    vab = np.concatenate([velocity[a], velocity[b]], axis=1)
+    return (jac @ vab[:, :, None])[..., 0]
+
+
+def _apply(velocity, w, d_lambda, a, b):
+    """``V += W d_lambda`` for one color (bodies distinct; static rows of W are zero)."""
+    dv = (w @ d_lambda[:, :, None])[..., 0]
+    velocity[a] += dv[:, :6]
+    velocity[b] += dv[:, 6:]
+
+
+def _solve_normal_color(batch, s, velocity, bias, lam, accumulate):
+    a, b = batch.body_a[s], batch.body_b[s]
+    vn = _relative(velocity, batch.normal_jac[s], a, b)
+    step = -batch.normal_mass[s] * (vn + bias[s])  # d_lambda = -m_eff (J V + b)
+    if accumulate:
+        new = np.maximum(lam[s] + step, 0.0)  # clamp the accumulated impulse
+        step = new - lam[s]
+    else:
+        step = np.maximum(step, 0.0)  # clamp each increment (box2d-lite's toggle)
+        new = lam[s] + step
+    lam[s] = new
+    _apply(velocity, batch.normal_w[s], step, a, b)
+
+
+def _solve_friction_color(batch, s, velocity, accumulate):
+    a, b = batch.body_a[s], batch.body_b[s]
+    vt = _relative(velocity, batch.tangent_jac[s], a, b)
+    old = batch.impulse[s, :, 1:]
+    step = (-batch.tangent_mass[s] * vt).reshape(old.shape)
+    limit = batch.friction[s] * batch.impulse[s, :, 0]  # |lambda_t| <= mu lambda_n
+    new = old + step if accumulate else step
+    norm = np.linalg.norm(new, axis=-1)
+    new = new * np.minimum(1.0, limit / np.maximum(norm, 1e-300))[..., None]
+    step = new - old if accumulate else new
+    batch.impulse[s, :, 1:] = old + step
+    _apply(velocity, batch.tangent_w[s], step.reshape(len(a), 2 * SLOTS), a, b)
+
+
+def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
+    """Velocity iterations (normal then friction per color), then the restitution pass."""
+    # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
+    bias = np.maximum(-batch.depth, 0.0) / h
+    lam = batch.impulse[:, :, 0].copy()
+    for _ in range(options.velocity_iterations):
+        for start, stop in batch.color_slices:
+            s = slice(start, stop)
+            _solve_normal_color(batch, s, velocity, bias, lam, options.accumulate_impulses)
+            batch.impulse[s, :, 0] = lam[s]
+            _solve_friction_color(batch, s, velocity, options.accumulate_impulses)
+    bounce = (batch.restitution > 0) & (batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD)
+    bounce &= lam > 0
+    if np.any(bounce):
+        # target v_n = -e v_n0, i.e. bias b = e v_n0 on the loaded, fast-approaching points
+        target = np.where(bounce, batch.restitution * batch.approach_speed, -np.inf)
+        for start, stop in batch.color_slices:
+            s = slice(start, stop)
+            _restitution_color(batch, s, velocity, target, lam)
+    batch.impulse[:, :, 0] = lam
+
+
+def _restitution_color(batch, s, velocity, target, lam):
+    a, b = batch.body_a[s], batch.body_b[s]
+    active = np.isfinite(target[s])
+    vn = _relative(velocity, batch.normal_jac[s], a, b)
+    step = np.where(active, -batch.normal_mass[s] * (vn + np.where(active, target[s], 0)), 0)
+    new = np.maximum(lam[s] + step, 0.0)
+    step = new - lam[s]
+    lam[s] = new
+    _apply(velocity, batch.normal_w[s], step, a, b)
+
+
+def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
+    """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop."""
+    pseudo = np.zeros((n_bodies, 6))
+    if not options.position_correction or options.position_iterations == 0:
+        return pseudo
+    # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
+    excess = np.maximum(batch.depth - constants.PENETRATION_SLOP, 0.0)
+    target = np.minimum(constants.POSITION_BAUMGARTE * excess / h, constants.MAX_CORRECTION_SPEED)
+    lam = np.zeros_like(batch.depth)
+    for _ in range(options.position_iterations):
+        for start, stop in batch.color_slices:
+            s = slice(start, stop)
+            _solve_normal_color(batch, s, pseudo, -target, lam, True)
+    return pseudo
+
+
+def solve_contacts(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> np.ndarray:
+    """Full solve: warm start, velocity iterations, restitution; returns pseudo velocities."""
+    if options.warm_starting:
+        warm_start(batch, velocity)
+    else:
+        batch.impulse[:] = 0.0
+    if options.use_vectorized:
+        solve_velocities(batch, velocity, h, options)
+    else:
+        solve_velocities_scalar(batch, velocity, h, options)
+    return solve_positions(batch, len(velocity), h, options)
+
+
+def solve_velocities_scalar(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
+    """Reference path: the algebra of :func:`solve_velocities` with plain Python loops.
+
+    For every color, every manifold, every point slot (Jacobi inside a manifold: all slots
+    read the velocities from before the manifold's update)::
+
+        v_n = J_i . V;  dl = -m_i (v_n + b_i);  l_i = max(l_i + dl, 0);  V += W_i dl
+    """
+    lam = batch.impulse[:, :, 0].tolist()
+    bias = (np.maximum(-batch.depth, 0.0) / h).tolist()
+    for _ in range(options.velocity_iterations):
+        for start, stop in batch.color_slices:
+            for m in range(start, stop):
+                _scalar_normal(batch, m, velocity, bias[m], lam[m], options.accumulate_impulses)
+                batch.impulse[m, :, 0] = lam[m]
+                _scalar_friction(batch, m, velocity, options.accumulate_impulses)
+    for start, stop in batch.color_slices:
+        for m in range(start, stop):
+            _scalar_restitution(batch, m, velocity, lam[m])
+    batch.impulse[:, :, 0] = lam
+
+
+def _scalar_row_velocity(jac_row, velocity, a, b):
+    total = 0.0
+    for k in range(6):
+        total += jac_row[k] * velocity[a, k] + jac_row[6 + k] * velocity[b, k]
+    return total
+
+
+def _scalar_apply(w, steps, velocity, a, b):
+    for k in range(6):
+        da = sum(w[k, i] * steps[i] for i in range(len(steps)))
+        db = sum(w[6 + k, i] * steps[i] for i in range(len(steps)))
+        velocity[a, k] += da
+        velocity[b, k] += db
+
+
+def _scalar_normal(batch, m, velocity, bias, lam, accumulate):
+    a, b = batch.body_a[m], batch.body_b[m]
+    steps = [0.0] * SLOTS
+    for slot in range(SLOTS):
+        vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
+        step = -batch.normal_mass[m, slot] * (vn + bias[slot])
+        new = max(lam[slot] + step, 0.0) if accumulate else lam[slot] + max(step, 0.0)
+        steps[slot] = new - lam[slot]
+        lam[slot] = new
+    _scalar_apply(batch.normal_w[m], steps, velocity, a, b)
+
+
+def _scalar_friction(batch, m, velocity, accumulate):
+    a, b = batch.body_a[m], batch.body_b[m]
+    steps = [0.0] * (2 * SLOTS)
+    for slot in range(SLOTS):
+        old = batch.impulse[m, slot, 1:].copy()
+        new = [0.0, 0.0]
+        for t in range(2):
+            vt = _scalar_row_velocity(batch.tangent_jac[m, 2 * slot + t], velocity, a, b)
+            step = -batch.tangent_mass[m, 2 * slot + t] * vt
+            new[t] = old[t] + step if accumulate else step
+        limit = batch.friction[m, 0] * batch.impulse[m, slot, 0]
+        norm = (new[0] ** 2 + new[1] ** 2) ** 0.5
+        scale = min(1.0, limit / max(norm, 1e-300))
+        for t in range(2):
+            value = new[t] * scale
+            steps[2 * slot + t] = value - old[t] if accumulate else value
+            batch.impulse[m, slot, 1 + t] = old[t] + steps[2 * slot + t]
+    _scalar_apply(batch.tangent_w[m], steps, velocity, a, b)
+
+
+def _scalar_restitution(batch, m, velocity, lam):
+    """Bounce the loaded, fast-approaching points of manifold m to ``v_n = -e v_n0``."""
+    a, b = batch.body_a[m], batch.body_b[m]
+    e = batch.restitution[m, 0]
+    steps = [0.0] * SLOTS
+    for slot in range(SLOTS):
+        fast = batch.approach_speed[m, slot] < -constants.RESTITUTION_VELOCITY_THRESHOLD
+        if not (e > 0 and fast and lam[slot] > 0):
+            continue
+        vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
+        step = -batch.normal_mass[m, slot] * (vn + e * batch.approach_speed[m, slot])
+        new = max(lam[slot] + step, 0.0)
+        steps[slot] = new - lam[slot]
+        lam[slot] = new
+    _scalar_apply(batch.normal_w[m], steps, velocity, a, b)

@@ -1,0 +1,339 @@
+"""The physics world: bodies, the fixed-step loop and Habitat's ``step_physics`` accumulator.
+
+``World.step`` (here :meth:`PhysicsWorld._step`) reads top to bottom, one stage per banner,
+after box2d-lite's ``World::Step`` and Box2D v3's stage list:
+
+1. forces: gravity, applied forces/torques and damping change the velocities;
+2. collision: broad phase (AABB pairs), narrow phase (fcl + our manifolds);
+3. solve: warm start, sequential impulses by graph color, restitution, split impulses;
+4. integrate: positions and rotations, speed clamps, CCD-lite sweeps of fast bodies;
+5. sleep: islands at rest fall asleep, disturbed ones wake.
+
+``step_physics(dt)`` wraps it the way Habitat wraps ``btDiscreteDynamicsWorld::
+stepSimulation``: it accumulates ``dt`` and runs whole fixed steps of ``timestep`` (0.008 s
+default), so world time lags the requested time by less than one step; ``dt <= 0`` runs
+one step. Velocity control acts once per call; applied forces act on every fixed step of
+the call and are cleared at its end. Object poses are written to their scene nodes after
+the call.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import time as timer
+from collections import defaultdict
+from typing import Any
+
+import numpy as np
+
+from engine import mn
+
+from . import settings as constants
+from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
+from .collide import overlapping_pairs, pair_contacts, world_aabbs
+from .contacts import Manifold
+from .integrate import clamp_speeds, integrate_positions, integrate_velocities
+from .quaternions import matrix_to_quat, quat_to_matrix
+from .settings import SolverSettings
+from .shapes import mesh_shape
+from .sleeping import update_sleep
+from .solve_stage import solve_stage
+from .sweep import sweep_fast_bodies
+from .world_api import WorldApiMixin
+
+#: object id of the stage (Habitat's ``RIGID_STAGE_ID`` in rigidsim's numbering).
+STAGE_ID = 0
+#: m, broad-phase AABB inflation so slightly separated manifolds keep being refreshed.
+AABB_MARGIN = 0.01
+
+
+class PhysicsWorld(WorldApiMixin):
+    """The rigid-body world behind ``Simulator`` (see the module docstring)."""
+
+    def __init__(self, physics_attributes, root_node, object_template_manager,
+                 asset_template_manager=None, seed: int = 0) -> None:
+        from .objects import RigidObjectManager
+
+        self._timestep = float(physics_attributes.timestep)
+        if not (math.isfinite(self._timestep) and self._timestep > 0):
+            raise ValueError(f"physics timestep must be > 0, got {self._timestep!r}")
+        self._gravity = np.asarray(mn.to_vector3(physics_attributes.gravity, "gravity"))
+        self._default_friction = float(physics_attributes.friction_coefficient)
+        self._default_restitution = float(physics_attributes.restitution_coefficient)
+        self.settings = SolverSettings()
+        self.seed = int(seed)
+        self.root_node = root_node
+        self.asset_template_manager = asset_template_manager
+        self.bodies = Bodies()
+        self.bodies.add(STAGE_ID)
+        self.bodies.body_collidable[STAGE_ID] = False
+        self.bodies.body_motion_type[STAGE_ID] = STATIC
+        self.fcl_objects: dict[int, list] = {}
+        self.manifolds: dict[tuple[int, int], Manifold] = {}
+        self.nodes: dict[int, Any] = {}
+        self.velocity_controls: dict[int, Any] = {}
+        self.render_meshes: dict[int, list] = {}
+        self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._node_pose: dict[int, np.ndarray] = {}
+        self._time = 0.0
+        self._accumulator = 0.0
+        self.n_overlapping_pairs = 0
+        self.last_step = 0.0
+        self.profile: dict[str, float] = defaultdict(float)
+        self.rigid_object_manager = RigidObjectManager(self, object_template_manager, root_node)
+
+    # ------------------------------------------------------------------------------------
+    # stage
+    # ------------------------------------------------------------------------------------
+    def set_stage(self, meshes, stage_attributes) -> None:
+        """Use ``meshes`` (world frame, list of MeshData) as the static stage, id 0."""
+        b = self.bodies
+        if not meshes:
+            b.shapes[STAGE_ID], b.body_collidable[STAGE_ID] = [], False
+            self.fcl_objects.pop(STAGE_ID, None)
+            return
+        vertices, faces, offset = [], [], 0
+        for i, mesh in enumerate(meshes):
+            v = np.asarray(mesh.vertices, dtype=np.float64)
+            f = np.asarray(mesh.faces, dtype=np.int64)
+            if len(v) == 0 or len(f) == 0:
+                continue
+            vertices.append(v)
+            faces.append(f + offset)
+            offset += len(v)
+            if not np.all(np.isfinite(v)):
+                raise ValueError(f"stage mesh {i} has NaN or inf vertices")
+        if not faces:
+            raise ValueError("stage meshes hold no triangles")
+        shape = mesh_shape(np.concatenate(vertices), np.concatenate(faces), "stage")
+        self._install_shapes(STAGE_ID, [shape])
+        friction, restitution = self._default_friction, self._default_restitution
+        if stage_attributes is not None:
+            friction = float(stage_attributes.friction_coefficient)
+            restitution = float(stage_attributes.restitution_coefficient)
+        b.body_friction[STAGE_ID], b.body_restitution[STAGE_ID] = friction, restitution
+        b.body_collidable[STAGE_ID] = True
+
+    def _install_shapes(self, index: int, shapes: list) -> None:
+        """Attach shapes to a body: fcl objects, body-frame AABB, smallest half extent."""
+        import fcl
+
+        b = self.bodies
+        b.shapes[index] = shapes
+        self.fcl_objects[index] = [fcl.CollisionObject(s.geometry, fcl.Transform())
+                                   for s in shapes]
+        points = np.concatenate([s.hull_vertices for s in shapes])
+        lo, hi = points.min(0), points.max(0)
+        b.body_shape_center[index] = 0.5 * (lo + hi)
+        b.body_shape_half[index] = 0.5 * (hi - lo)
+        b.body_min_half_extent[index] = min(s.min_half_extent for s in shapes)
+        self._update_fcl(index)
+
+    def _update_fcl(self, index: int, rotation: np.ndarray | None = None) -> None:
+        """Move body ``index``'s fcl objects to its pose (world_from_shape = pose @ offset)."""
+        import fcl
+
+        b = self.bodies
+        r = quat_to_matrix(b.body_rotation[index]) if rotation is None else rotation
+        x = b.body_position[index]
+        for shape, obj in zip(b.shapes[index], self.fcl_objects[index]):
+            offset = shape.body_from_shape
+            obj.setTransform(fcl.Transform(r @ offset[:3, :3], r @ offset[:3, 3] + x))
+
+    # ------------------------------------------------------------------------------------
+    # stepping
+    # ------------------------------------------------------------------------------------
+    def step_physics(self, dt: float = 1.0 / 60.0) -> None:
+        """Advance by ``dt`` seconds in whole fixed steps (see the module docstring)."""
+        if isinstance(dt, bool) or not isinstance(dt, int | float | np.integer | np.floating):
+            raise TypeError(f"dt must be a number, got {dt!r}")
+        dt = float(dt)
+        if not math.isfinite(dt):
+            raise ValueError(f"dt must be finite, got {dt!r}")
+        if dt <= 0.0:
+            dt = self._timestep
+        accumulated = self._accumulator + dt
+        n_steps = int(accumulated / self._timestep)
+        if n_steps > constants.MAX_STEPS_PER_CALL:
+            raise ValueError(f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
+                             f"the limit per call is {constants.MAX_STEPS_PER_CALL}")
+        self._accumulator = accumulated - n_steps * self._timestep
+        self._sync_from_nodes()
+        self._apply_velocity_control(dt)
+        for _ in range(n_steps):
+            for _ in range(max(1, int(self.settings.substeps))):
+                self._step(self._timestep / max(1, int(self.settings.substeps)))
+            self._time += self._timestep
+        self.bodies.body_force[:] = 0.0
+        self.bodies.body_torque[:] = 0.0
+        self._write_nodes()
+
+    def _step(self, h: float) -> None:
+        """One fixed step of length ``h`` seconds (the five stages of the module docstring)."""
+        b, clock = self.bodies, timer.perf_counter
+        start = clock()
+        # ---- 1. forces: v += h (g + F/m), w += h I^-1 tau, damping -------------------------
+        moving = self._awake_dynamic()
+        integrate_velocities(b, moving, self._gravity, h)
+        t_forces = clock()
+        # ---- 2. collision: broad phase pairs, narrow phase contacts, persistent manifolds --
+        self._update_contacts()
+        t_collide = clock()
+        # ---- 3. solve: warm start, sequential impulses by color, restitution, split impulses
+        pseudo = solve_stage(self, moving, h)
+        t_solve = clock()
+        # ---- 4. integrate: clamp speeds, x += h v, rotate, sweep fast bodies -------------
+        clamp_speeds(b, moving, constants.MAX_LINEAR_SPEED, constants.MAX_ANGULAR_SPEED)
+        old_position = b.body_position[moving].copy()
+        extra_lin = None if pseudo is None else pseudo[moving, :3]
+        extra_ang = None if pseudo is None else pseudo[moving, 3:]
+        integrate_positions(b, moving, h, extra_lin, extra_ang)
+        sweep_fast_bodies(self, moving, old_position)
+        # ---- 5. sleep: resting islands fall asleep, disturbed ones wake --------------------
+        update_sleep(b, self.manifolds, h)
+        end = clock()
+        for name, t0, t1 in (("forces", start, t_forces), ("collide", t_forces, t_collide),
+                             ("solve", t_collide, t_solve), ("integrate+sleep", t_solve, end)):
+            self.profile[name] += t1 - t0
+        self.last_step = end - start
+
+    def _awake_dynamic(self) -> np.ndarray:
+        b, n = self.bodies, self.bodies.count
+        mask = b.body_alive[:n] & b.body_awake[:n] & (b.body_motion_type[:n] == DYNAMIC)
+        return np.nonzero(mask)[0]
+
+    # ------------------------------------------------------------------------------------
+    # collision stage
+    # ------------------------------------------------------------------------------------
+    def _update_contacts(self) -> None:
+        """Broad phase over all collidable bodies, then refresh the manifolds of each pair."""
+        b, n = self.bodies, self.bodies.count
+        start = timer.perf_counter()
+        has_shapes = np.array([len(s) > 0 for s in b.shapes[:n]], dtype=bool)
+        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n] & has_shapes)[0]
+        rotation = quat_to_matrix(b.body_rotation[:n])
+        lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
+                             b.body_position[:n], b.body_rotation[:n])
+        b.body_aabb_min[:n], b.body_aabb_max[:n] = lo - AABB_MARGIN, hi + AABB_MARGIN
+        dynamic = b.body_motion_type[:n] == DYNAMIC
+        kinematic_moving = (b.body_motion_type[:n] == KINEMATIC) & (
+            np.any(b.body_solver_velocity[:n] != 0, axis=1)
+            | np.any(b.body_solver_angular_velocity[:n] != 0, axis=1))
+        active = (dynamic & b.body_awake[:n]) | kinematic_moving
+        pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
+        pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
+        self.n_overlapping_pairs = len(pairs)
+        self.profile["broad phase"] += timer.perf_counter() - start
+        refreshed = set()
+        for a, c in pairs.tolist():
+            for index in (a, c):
+                if index not in refreshed and index != STAGE_ID:
+                    self._update_fcl(index, rotation[index])
+                    refreshed.add(index)
+            self._refresh_manifold(a, c, rotation)
+        current = {tuple(p) for p in pairs.tolist()}
+        for key in list(self.manifolds):
+            a, c = key
+            if key not in current and (active[a] or active[c] or not b.body_alive[a]
+                                       or not b.body_alive[c]):
+                del self.manifolds[key]
+
+    def _refresh_manifold(self, a: int, c: int, rotation: np.ndarray) -> None:
+        b = self.bodies
+        pose_a = (rotation[a], b.body_position[a])
+        pose_c = (rotation[c], b.body_position[c])
+        fresh = []
+        for shape_a, obj_a in zip(b.shapes[a], self.fcl_objects[a]):
+            for shape_c, obj_c in zip(b.shapes[c], self.fcl_objects[c]):
+                result = pair_contacts(shape_a, pose_a, obj_a, shape_c, pose_c, obj_c)
+                if result is not None:
+                    fresh.append(result)
+        merged = None
+        if fresh:
+            merged = tuple(np.concatenate([f[i] for f in fresh]) for i in range(3))
+        manifold = self.manifolds.get((a, c))
+        if manifold is None:
+            if merged is None:
+                return
+            rolling = any(s.kind == "sphere" for s in b.shapes[a] + b.shapes[c])
+            manifold = Manifold(a, c, 1 if rolling else constants.MAX_MANIFOLD_POINTS)
+            self.manifolds[(a, c)] = manifold
+        manifold.update(pose_a, pose_c, merged)
+
+    def perform_discrete_collision_detection(self) -> None:
+        """Run the collision stage without stepping (refreshes contact points)."""
+        self._sync_from_nodes()
+        self._update_contacts()
+
+    # ------------------------------------------------------------------------------------
+    # velocity control, scene nodes
+    # ------------------------------------------------------------------------------------
+    def _apply_velocity_control(self, dt: float) -> None:
+        """Kinematic: integrate the pose once by ``dt``; dynamic: overwrite the velocity."""
+        b = self.bodies
+        b.body_solver_velocity[:] = 0.0
+        b.body_solver_angular_velocity[:] = 0.0
+        for index, control in self.velocity_controls.items():
+            if not b.body_alive[index]:
+                continue
+            if not (control.controlling_lin_vel or control.controlling_ang_vel):
+                continue
+            motion = b.body_motion_type[index]
+            linear, angular = control.world_velocities(b.body_rotation[index])
+            if motion == KINEMATIC:
+                from .velocity_control import RigidState
+
+                state = RigidState(mn.Quaternion.from_xyzw(b.body_rotation[index]),
+                                   b.body_position[index])
+                new = control.integrate_transform(dt, state)
+                self.set_body_pose(index, new._translation, new._rotation, wake=True)
+                if linear is not None:
+                    b.body_solver_velocity[index] = linear
+                if angular is not None:
+                    b.body_solver_angular_velocity[index] = angular
+            elif motion == DYNAMIC:
+                if linear is not None:
+                    b.body_linear_velocity[index] = linear
+                if angular is not None:
+                    b.body_angular_velocity[index] = angular
+                self.wake(index)
+
+    def _write_nodes(self) -> None:
+        """Write the pose of every body that can have moved to its root scene node."""
+        b = self.bodies
+        for index, node in self.nodes.items():
+            if b.body_alive[index] and b.body_motion_type[index] != STATIC:
+                self._write_node(index)
+
+    def _write_node(self, index: int) -> None:
+        node = self.nodes.get(index)
+        if node is None:
+            return
+        b = self.bodies
+        world = np.eye(4)
+        world[:3, :3] = quat_to_matrix(b.body_rotation[index])
+        world[:3, 3] = b.body_position[index]
+        if self._node_pose.get(index) is not None and np.array_equal(self._node_pose[index], world):
+            return
+        parent = node.parent
+        local = world if parent is None else np.linalg.inv(parent.world_matrix()) @ world
+        node.translation = local[:3, 3]
+        node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
+        self._node_pose[index] = node.world_matrix().copy()
+
+    def _sync_from_nodes(self) -> None:
+        """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies."""
+        b = self.bodies
+        for index, node in self.nodes.items():
+            if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
+                continue
+            world = node.world_matrix()
+            if np.array_equal(world, self._node_pose.get(index)):
+                continue
+            rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
+            b.body_position[index] = world[:3, 3]
+            b.body_rotation[index] = matrix_to_quat(rotation)
+            self._node_pose[index] = world.copy()
+            self._update_fcl(index)
+            self.wake_neighbors(index)

@@ -1,0 +1,225 @@
+"""The public, non-stepping half of :class:`~engine.physics.world.PhysicsWorld`.
+
+Body lifetime (add, remove, pose writes, waking), world settings (gravity, time), and the
+queries Habitat exposes on the simulator: ray casts, contact points, contact tests, static
+meshes for the navmesh, and a state hash for determinism tests.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from typing import Any
+
+import fcl
+import numpy as np
+
+from engine import mn
+
+from .bodies import DYNAMIC, STATIC
+from .quaternions import quat_to_matrix
+from .queries import ContactPointData, RayHitInfo, RaycastResults, cast_ray_bodies
+
+_TEST_REQUEST = fcl.CollisionRequest()
+
+
+class WorldApiMixin:
+    """Methods of :class:`PhysicsWorld` that do not step (see the module docstring)."""
+
+    # -- time and gravity ----------------------------------------------------------------
+    def get_world_time(self) -> float:
+        """Simulated seconds: a whole number of fixed steps since creation or reset."""
+        return self._time
+
+    def get_physics_time_step(self) -> float:
+        """The fixed step, seconds (0.008 by default)."""
+        return self._timestep
+
+    def get_gravity(self) -> mn.Vector3:
+        return mn.Vector3(self._gravity)
+
+    def set_gravity(self, gravity: Any) -> None:
+        """Set gravity (m/s^2, world frame) and wake every dynamic body."""
+        self._gravity = np.asarray(mn.to_vector3(gravity, "gravity"))
+        n = self.bodies.count
+        self.bodies.body_awake[:n] |= self.bodies.body_alive[:n]
+        self.bodies.body_sleep_time[:n] = 0.0
+
+    # -- bodies ----------------------------------------------------------------------------
+    def add_body(self, description, template) -> int:
+        """Create a DYNAMIC body from a BodyDescription and its template; returns its id."""
+        b = self.bodies
+        index = b.count
+        b.add(index)
+        b.body_mass[index] = description.mass
+        b.body_inertia[index] = description.inertia
+        b.body_motion_type[index] = DYNAMIC
+        b.body_friction[index] = float(template.friction_coefficient)
+        b.body_restitution[index] = float(template.restitution_coefficient)
+        b.body_linear_damping[index] = float(template.linear_damping)
+        b.body_angular_damping[index] = float(template.angular_damping)
+        b.body_collidable[index] = bool(template.is_collidable)
+        self._install_shapes(index, description.shapes)
+        self.creation_state[index] = (b.body_position[index].copy(), b.body_rotation[index].copy())
+        return index
+
+    def remove_body(self, index: int) -> None:
+        """Kill body ``index`` (its slot stays, ``body_alive`` False) and wake its neighbors."""
+        self.wake_neighbors(index)
+        b = self.bodies
+        b.body_alive[index] = False
+        b.body_awake[index] = False
+        b.body_linear_velocity[index] = 0.0
+        b.body_angular_velocity[index] = 0.0
+        for key in [k for k in self.manifolds if index in k]:
+            del self.manifolds[key]
+        self.fcl_objects.pop(index, None)
+        b.shapes[index] = []
+        self.nodes.pop(index, None)
+        self.velocity_controls.pop(index, None)
+        self.creation_state.pop(index, None)
+        self._node_pose.pop(index, None)
+
+    def set_body_pose(self, index: int, position: np.ndarray, rotation: np.ndarray,
+                      wake: bool = True) -> None:
+        """Teleport body ``index`` (position (3,), rotation [x, y, z, w]); node follows."""
+        b = self.bodies
+        b.body_position[index] = position
+        b.body_rotation[index] = rotation / np.linalg.norm(rotation)
+        if index in self.fcl_objects:
+            self._update_fcl(index)
+        self._write_node(index)
+        if wake:
+            self.wake(index)
+            self.wake_neighbors(index)
+
+    def wake(self, index: int) -> None:
+        """Wake body ``index`` (a no-op for non-dynamic bodies)."""
+        if self.bodies.body_motion_type[index] == DYNAMIC:
+            self.bodies.body_awake[index] = True
+            self.bodies.body_sleep_time[index] = 0.0
+
+    def wake_neighbors(self, index: int) -> None:
+        """Wake every body sharing a contact manifold with ``index``."""
+        for a, c in self.manifolds:
+            if a == index or c == index:
+                self.wake(c if a == index else a)
+
+    def reset(self) -> None:
+        """World time 0; every object back to its creation pose, at rest, awake."""
+        b = self.bodies
+        for index, (position, rotation) in self.creation_state.items():
+            b.body_position[index] = position
+            b.body_rotation[index] = rotation
+            b.body_awake[index] = True
+            self._update_fcl(index)
+            self._write_node(index)
+        n = b.count
+        for name in ("body_linear_velocity", "body_angular_velocity", "body_force",
+                     "body_torque", "body_solver_velocity", "body_solver_angular_velocity"):
+            getattr(b, name)[:n] = 0.0
+        b.body_sleep_time[:n] = 0.0
+        self.manifolds.clear()
+        self._time = 0.0
+        self._accumulator = 0.0
+
+    # -- queries ---------------------------------------------------------------------------
+    def cast_ray(self, ray, max_distance: float = 100.0) -> RaycastResults:
+        """All hits of ``ray`` with collidable bodies up to ``max_distance`` (units of
+        ``|ray.direction|``), sorted by distance. The stage reports object id 0."""
+        max_distance = float(max_distance)
+        if not np.isfinite(max_distance) or max_distance < 0:
+            raise ValueError(f"max_distance must be finite and >= 0, got {max_distance!r}")
+        origin = np.asarray(mn.to_vector3(ray.origin, "ray.origin"))
+        direction = np.asarray(mn.to_vector3(ray.direction, "ray.direction"))
+        results = RaycastResults(ray)
+        if not np.any(direction):
+            return results
+        b, n = self.bodies, self.bodies.count
+        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+        candidates = [i for i in candidates.tolist() if b.shapes[i]]
+        for t, index, point, normal in cast_ray_bodies(b, candidates, origin, direction,
+                                                       max_distance):
+            results.hits.append(RayHitInfo(index, mn.Vector3(point), mn.Vector3(normal), t))
+        return results
+
+    def contact_test(self, index: int) -> bool:
+        """True when body ``index`` overlaps any other collidable body (or the stage)."""
+        b, n = self.bodies, self.bodies.count
+        if not (b.body_alive[index] and b.body_collidable[index] and b.shapes[index]):
+            return False
+        rotation = quat_to_matrix(b.body_rotation[:n])
+        from .collide import world_aabbs
+
+        lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
+                             b.body_position[:n], b.body_rotation[:n])
+        overlap = np.all((lo <= hi[index]) & (hi >= lo[index]), axis=1)
+        overlap &= b.body_alive[:n] & b.body_collidable[:n]
+        overlap[index] = False
+        self._update_fcl(index, rotation[index])
+        for other in np.nonzero(overlap)[0].tolist():
+            if not b.shapes[other]:
+                continue
+            if other != 0:
+                self._update_fcl(other, rotation[other])
+            for obj_a in self.fcl_objects[index]:
+                for obj_b in self.fcl_objects[other]:
+                    if fcl.collide(obj_a, obj_b, _TEST_REQUEST, fcl.CollisionResult()):
+                        return True
+        return False
+
+    def get_physics_contact_points(self) -> list[ContactPointData]:
+        """Contact points of every manifold (last step's impulses as forces)."""
+        h = getattr(self, "last_h", self._timestep)
+        points = []
+        b = self.bodies
+        for (a, c), manifold in sorted(self.manifolds.items()):
+            if not len(manifold):
+                continue
+            pose_a = (quat_to_matrix(b.body_rotation[a]), b.body_position[a])
+            pose_c = (quat_to_matrix(b.body_rotation[c]), b.body_position[c])
+            pa, pc, normal = manifold.world_points(pose_a, pose_c)
+            from .solver import tangent_basis
+
+            t1, t2 = tangent_basis(normal)
+            active = bool(b.body_awake[a] or b.body_awake[c])
+            for k in range(len(manifold)):
+                impulse = manifold.impulse[k]
+                points.append(ContactPointData(
+                    a, c, 0, 0, mn.Vector3(pa[k]), mn.Vector3(pc[k]), mn.Vector3(-normal[k]),
+                    float(-(pa[k] - pc[k]) @ normal[k]), float(impulse[0] / h),
+                    float(impulse[1] / h), float(impulse[2] / h), mn.Vector3(t1[k]),
+                    mn.Vector3(t2[k]), active))
+        return points
+
+    def get_physics_num_active_contact_points(self) -> int:
+        """Number of manifold points touching at least one awake body."""
+        b = self.bodies
+        return sum(len(m) for (a, c), m in self.manifolds.items()
+                   if b.body_awake[a] or b.body_awake[c])
+
+    def get_physics_num_active_overlapping_pairs(self) -> int:
+        """Broad-phase pairs found by the last collision pass."""
+        return self.n_overlapping_pairs
+
+    def static_meshes_world(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``(vertices (V, 3), faces (F, 3))`` of every STATIC object's render meshes, world frame."""
+        b, meshes = self.bodies, []
+        for index, node in sorted(self.nodes.items()):
+            if not (b.body_alive[index] and b.body_motion_type[index] == STATIC):
+                continue
+            rotation = quat_to_matrix(b.body_rotation[index])
+            for mesh in self.render_meshes.get(index, []):
+                vertices = np.asarray(mesh.vertices) @ rotation.T + b.body_position[index]
+                meshes.append((vertices, np.asarray(mesh.faces, dtype=np.int64)))
+        return meshes
+
+    def state_hash(self) -> str:
+        """SHA-256 of every body's full state, the manifolds, world time and accumulator."""
+        digest = hashlib.sha256(self.bodies.state_bytes())
+        digest.update(np.array([self._time, self._accumulator, *self._gravity]).tobytes())
+        for key, manifold in sorted(self.manifolds.items()):
+            digest.update(np.array(key).tobytes())
+            for array in (manifold.local_a, manifold.local_b, manifold.normal_local,
+                          manifold.impulse):
+                digest.update(array.tobytes())
+        return digest.hexdigest()
