@@ -1,0 +1,251 @@
+"""Videos from sensor observations, mirroring ``habitat_sim.utils.viz_utils``.
+
+Pipeline of ``make_video``: for every observation dict, ``make_video_frame`` turns the
+primary observation into an RGB(A) ``PIL.Image`` with ``observation_to_image``, pastes the
+overlays (each on a border frame from ``border_frames_from_overlay``), resizes to
+``video_dims``; the frames are encoded to ``<video_file>.mp4`` with imageio-ffmpeg (H.264),
+falling back to an animated GIF beside it when no mp4 encoder works; ``display_video`` then
+shows the file inline in a notebook (HTML5 ``<video>`` / ``<img>``) or prints its path.
+
+Conversions (Habitat's)::
+
+    depth    -> gray  uint8(clip(d, 0, depth_clip) / depth_clip * 255)
+    semantic -> RGBA  D3_40_COLORS_RGB[id % 40]
+    color    -> the RGBA / RGB array as is
+
+Overlay settings are dicts with ``obs`` (observation key), ``type`` (``"color"``,
+``"depth"``, ``"semantic"``), ``dims`` (width, height), ``pos`` (x, y of the top-left corner),
+``border`` (pixels) and optionally ``border_color`` (RGB, default gray 150).
+Nothing here blocks or needs a display: headless runs just get the file path printed.
+"""
+
+from __future__ import annotations
+
+import base64
+import os
+import sys
+from collections.abc import Iterable, Sequence
+from functools import partial
+from typing import Any
+
+import imageio
+import numpy as np
+from PIL import Image
+from tqdm.auto import tqdm
+
+#: 40 category colors (d3's category20 followed by category20b), id % 40 indexes them
+_D3_40_HEX = (
+    "1f77b4 aec7e8 ff7f0e ffbb78 2ca02c 98df8a d62728 ff9896 9467bd c5b0d5 "
+    "8c564b c49c94 e377c2 f7b6d2 7f7f7f c7c7c7 bcbd22 dbdb8d 17becf 9edae5 "
+    "393b79 5254a3 6b6ecf 9c9ede 637939 8ca252 b5cf6b cedb9c 8c6d31 bd9e39 "
+    "e7ba52 e7cb94 843c39 ad494a d6616b e7969c 7b4173 a55194 ce6dbd de9ed6"
+).split()
+D3_40_COLORS_RGB = np.array(
+    [[int(h[i : i + 2], 16) for i in (0, 2, 4)] for h in _D3_40_HEX], np.uint8
+)
+#: videos longer than this get a tqdm progress bar while encoding
+PROGRESS_BAR_MIN_FRAMES = 100
+
+
+def is_notebook() -> bool:
+    """True when running inside a Jupyter kernel (not a plain script or IPython console)."""
+    ipython_module = sys.modules.get("IPython")
+    if ipython_module is None:
+        return False
+    try:
+        shell = ipython_module.get_ipython()
+        return shell is not None and "IPKernelApp" in shell.config
+    except (AttributeError, TypeError, KeyError):
+        return False
+
+
+def depth_to_rgb(depth_image: np.ndarray, clip_max: float = 10.0) -> np.ndarray:
+    """Depth (meters) to an (H, W) uint8 gray image: ``uint8(clip(d, 0, max) / max * 255)``."""
+    if not np.isfinite(clip_max) or clip_max <= 0:
+        raise ValueError(f"clip_max must be finite and > 0, got {clip_max!r}")
+    normalized = np.clip(np.asarray(depth_image, dtype=np.float64), 0.0, clip_max) / clip_max
+    return (normalized * 255).astype(np.uint8)
+
+
+def semantic_to_rgb(semantic_image: np.ndarray) -> Image.Image:
+    """Semantic ids (H, W) to an RGBA ``PIL.Image``: color ``D3_40_COLORS_RGB[id % 40]``."""
+    ids = np.asarray(semantic_image).astype(np.int64)
+    image = Image.new("P", (ids.shape[1], ids.shape[0]))
+    image.putpalette(D3_40_COLORS_RGB.flatten().tolist())
+    image.putdata((ids.flatten() % 40).astype(np.uint8))
+    return image.convert("RGBA")
+
+
+def observation_to_image(
+    observation_image: np.ndarray, observation_type: str, depth_clip: float | None = 10.0
+) -> Image.Image | None:
+    """A ``PIL.Image`` of one observation (``"color"``, ``"depth"`` or ``"semantic"``).
+
+    Returns None (and prints a message) for an unsupported type, like Habitat.
+    """
+    if observation_type == "color":
+        return Image.fromarray(np.uint8(observation_image))
+    if observation_type == "depth":
+        clip = 10.0 if depth_clip is None else depth_clip
+        return Image.fromarray(depth_to_rgb(observation_image, clip_max=clip))
+    if observation_type == "semantic":
+        return semantic_to_rgb(observation_image)
+    print(f"observation_to_image: unsupported observation type {observation_type!r}")
+    return None
+
+
+def border_frames_from_overlay(
+    overlay_settings: Sequence[dict] | None, observation_to_image=observation_to_image
+) -> list[Image.Image]:
+    """One solid border image per overlay: ``(dims + 2 border)`` pixels of ``border_color``."""
+    frames = []
+    for overlay in overlay_settings or []:
+        width, height = overlay["dims"]
+        border = overlay["border"]
+        color = np.asarray(overlay.get("border_color", (150, 150, 150)))
+        frame = np.empty((height + 2 * border, width + 2 * border, 3), np.uint8)
+        frame[:, :] = color
+        frames.append(observation_to_image(frame, "color"))
+    return frames
+
+
+def make_video_frame(
+    ob: dict,
+    primary_obs: str,
+    primary_obs_type: str,
+    video_dims: tuple[int, int] | None,
+    overlay_settings: Sequence[dict] | None = None,
+    observation_to_image=observation_to_image,
+) -> Image.Image:
+    """Compose one video frame: the primary image, bordered overlays, optional resize."""
+    frame = observation_to_image(ob[primary_obs], primary_obs_type)
+    if frame is None:
+        raise RuntimeError("make_video_frame: aborting, primary image processing failed.")
+    borders = border_frames_from_overlay(overlay_settings, observation_to_image)
+    for overlay, border_frame in zip(overlay_settings or [], borders, strict=True):
+        image = observation_to_image(ob[overlay["obs"]], overlay["type"])
+        if image is None:
+            raise RuntimeError(
+                f"make_video_frame: overlay image processing failed on {overlay['obs']!r}."
+            )
+        x, y = overlay["pos"]
+        frame.paste(border_frame, box=(x - overlay["border"], y - overlay["border"]))
+        frame.paste(image.resize(tuple(overlay["dims"])), box=(x, y))
+    if video_dims is not None:
+        frame = frame.resize(tuple(video_dims))
+    return frame
+
+
+def save_video(
+    video_file: str, frames: Iterable[np.ndarray], fps: int = 60, n_frames: int | None = None
+) -> str:
+    """Encode uint8 frames (RGB, RGBA or gray) to ``video_file`` (mp4), else to a GIF.
+
+    ``frames`` may be a sequence or a callable returning a fresh iterator (so that the GIF
+    fallback can start over without holding every frame in memory); ``n_frames`` (default
+    ``len(frames)`` when available) enables the progress bar above
+    ``PROGRESS_BAR_MIN_FRAMES``. Returns the path written (``.gif`` on fallback).
+    """
+    make_frames = frames if callable(frames) else (lambda: iter(frames))
+    if n_frames is None and hasattr(frames, "__len__"):
+        n_frames = len(frames)
+    try:
+        mp4_options = {"fps": fps, "format": "FFMPEG", "macro_block_size": 1}
+        _write_frames(video_file, make_frames(), n_frames, mp4_options)
+        return video_file
+    except Exception as error:  # noqa: BLE001 - any encoder failure falls back to GIF
+        gif_file = os.path.splitext(video_file)[0] + ".gif"
+        print(f"mp4 encoding failed ({error}); writing {gif_file} instead")
+        _write_frames(gif_file, make_frames(), n_frames, {"duration": 1000.0 / fps, "loop": 0})
+        return gif_file
+
+
+def _write_frames(
+    path: str, frames: Iterable[np.ndarray], n_frames: int | None, options: dict
+) -> None:
+    """Stream frames to an imageio writer, with a progress bar for long videos."""
+    show_bar = n_frames is not None and n_frames > PROGRESS_BAR_MIN_FRAMES
+    with imageio.get_writer(path, mode="I", **options) as writer:
+        for frame in tqdm(
+            frames, desc=f"Encoding video: {path}", total=n_frames, disable=not show_bar
+        ):
+            writer.append_data(_to_even_rgb(np.asarray(frame)))
+
+
+def _to_even_rgb(frame: np.ndarray) -> np.ndarray:
+    """(H, W, 3) uint8 with even H and W (H.264 with yuv420p needs them)."""
+    if frame.ndim == 2:
+        frame = np.repeat(frame[:, :, None], 3, axis=2)  # gray -> RGB
+    frame = frame[..., :3]  # drop alpha
+    return np.ascontiguousarray(frame[: frame.shape[0] // 2 * 2, : frame.shape[1] // 2 * 2])
+
+
+def display_video(video_file: str, height: int = 400) -> None:
+    """Show a video inline in a notebook, else print its path. Never blocks or raises."""
+    try:
+        if not is_notebook():
+            print(f"Video saved to {video_file}")
+            return
+        from IPython.display import HTML, display
+
+        with open(video_file, "rb") as handle:
+            data = base64.b64encode(handle.read()).decode("ascii")
+        if video_file.endswith(".gif"):
+            html = f'<img src="data:image/gif;base64,{data}" style="height: {height}px;"/>'
+        else:
+            html = (
+                f'<video autoplay loop controls style="height: {height}px;">'
+                f'<source src="data:video/mp4;base64,{data}" type="video/mp4"/></video>'
+            )
+        display(HTML(html))
+    except Exception as error:  # noqa: BLE001 - displaying is best effort
+        print(f"Video saved to {video_file} (could not display it: {error})")
+
+
+def make_video(
+    observations: Sequence[dict[str, Any]],
+    primary_obs: str,
+    primary_obs_type: str,
+    video_file: str,
+    fps: int = 60,
+    open_vid: bool = True,
+    video_dims: tuple[int, int] | None = None,
+    overlay_settings: Sequence[dict] | None = None,
+    depth_clip: float | None = 10.0,
+    observation_to_image=observation_to_image,
+) -> str:
+    """Build a video from a list of observation dicts (Habitat's ``viz_utils.make_video``).
+
+    Parameters
+    ----------
+    observations : list of ``{uuid: array}`` dicts, one per frame.
+    primary_obs, primary_obs_type : key and type (``"color"``, ``"depth"``, ``"semantic"``)
+        of the full-frame image.
+    video_file : output path; ``.mp4`` is appended when missing.
+    fps : frames per second. open_vid : call ``display_video`` when done.
+    video_dims : (width, height) of the output, applied after overlays, or None.
+    overlay_settings : list of overlay dicts (module docstring), or None.
+    depth_clip : meters mapped to white in depth images.
+
+    Returns
+    -------
+    The path written (an ``.gif`` beside it if mp4 encoding is unavailable).
+    """
+    if not isinstance(video_file, str) or not video_file:
+        raise ValueError(f"video_file must be a non-empty path string, got {video_file!r}")
+    if not video_file.endswith(".mp4"):
+        video_file += ".mp4"
+    print(f"Encoding the video: {video_file}")
+    to_image = partial(observation_to_image, depth_clip=depth_clip)
+
+    def frames() -> Iterable[np.ndarray]:
+        for ob in observations:
+            frame = make_video_frame(
+                ob, primary_obs, primary_obs_type, video_dims, overlay_settings, to_image
+            )
+            yield np.asarray(frame)
+
+    written = save_video(video_file, frames, fps=fps, n_frames=len(observations))
+    if open_vid:
+        display_video(written)
+    return written

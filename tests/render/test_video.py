@@ -1,0 +1,237 @@
+"""render.video: the behaviours of Habitat's tests/test_viz_utils.py, plus encoding."""
+
+from __future__ import annotations
+
+import imageio
+import numpy as np
+import pytest
+from PIL import Image
+
+from render import video
+from render.video import (
+    D3_40_COLORS_RGB,
+    border_frames_from_overlay,
+    depth_to_rgb,
+    display_video,
+    is_notebook,
+    make_video,
+    make_video_frame,
+    observation_to_image,
+    semantic_to_rgb,
+)
+
+# -- depth_to_rgb ---------------------------------------------------------------------------
+
+
+def test_depth_to_rgb_dtype_and_shape():
+    result = depth_to_rgb(np.ones((10, 20), np.float32) * 5.0)
+    assert result.dtype == np.uint8 and result.shape == (10, 20)
+
+
+@pytest.mark.parametrize(
+    "value, clip_max, expected",
+    [(0.0, 10.0, 0), (10.0, 10.0, 255), (100.0, 10.0, 255), (-5.0, 10.0, 0), (2.0, 2.0, 255)],
+)
+def test_depth_to_rgb_clips_and_scales(value, clip_max, expected):
+    depth = np.full((2, 2), value, np.float32)
+    np.testing.assert_array_equal(depth_to_rgb(depth, clip_max=clip_max), expected)
+
+
+def test_depth_to_rgb_half_depth_and_monotonic():
+    assert depth_to_rgb(np.array([[5.0]], np.float32))[0, 0] in (127, 128)
+    ramp = depth_to_rgb(np.array([[0.0, 2.5, 5.0, 7.5, 10.0]], np.float32))
+    assert np.all(np.diff(ramp[0].astype(int)) >= 0)
+
+
+def test_depth_to_rgb_leaves_its_input_unchanged():
+    depth = np.full((3, 3), 4.0, np.float32)
+    depth_to_rgb(depth, clip_max=2.0)
+    assert np.all(depth == 4.0)
+
+
+# -- semantic_to_rgb ------------------------------------------------------------------------
+
+
+def test_semantic_to_rgb_is_rgba_image_of_input_size():
+    result = semantic_to_rgb(np.zeros((10, 20), np.int32))
+    assert isinstance(result, Image.Image)
+    assert result.mode == "RGBA" and result.size == (20, 10)
+
+
+def test_semantic_ids_map_to_palette_modulo_40():
+    pixels = np.array(semantic_to_rgb(np.array([[0, 1, 40, 83]], np.uint32)))[0]
+    assert not np.array_equal(pixels[0], pixels[1])
+    np.testing.assert_array_equal(pixels[0], pixels[2])  # 40 % 40 == 0
+    np.testing.assert_array_equal(pixels[3], [*D3_40_COLORS_RGB[83 % 40], 255])
+    assert len({tuple(c) for c in D3_40_COLORS_RGB}) == 40
+
+
+# -- observation_to_image -------------------------------------------------------------------
+
+
+def test_observation_to_image_types():
+    rng = np.random.default_rng(0)
+    color = observation_to_image(rng.integers(0, 255, (48, 64, 4), dtype=np.uint8), "color")
+    assert isinstance(color, Image.Image) and color.size == (64, 48)
+    depth = observation_to_image(rng.random((48, 64), np.float32) * 10, "depth", depth_clip=10.0)
+    assert isinstance(depth, Image.Image)
+    semantic = observation_to_image(rng.integers(0, 20, (48, 64)), "semantic")
+    assert isinstance(semantic, Image.Image)
+    assert observation_to_image(np.zeros((4, 4), np.uint8), "unknown_type") is None
+
+
+def test_observation_to_image_depth_clip_changes_brightness():
+    obs = np.ones((4, 4), np.float32) * 5.0
+    dim = np.array(observation_to_image(obs, "depth", depth_clip=10.0))
+    bright = np.array(observation_to_image(obs, "depth", depth_clip=5.0))
+    assert bright.mean() > dim.mean()
+    assert np.all(bright == 255)
+
+
+# -- border_frames_from_overlay -------------------------------------------------------------
+
+
+def test_border_frames_none_or_empty_gives_empty_list():
+    assert border_frames_from_overlay(None) == []
+    assert border_frames_from_overlay([]) == []
+
+
+def test_border_frames_size_count_and_color():
+    frames = border_frames_from_overlay([{"dims": (100, 80), "border": 5}])
+    assert len(frames) == 1 and isinstance(frames[0], Image.Image)
+    assert frames[0].size == (110, 90)  # dims + 2 * border, PIL (width, height)
+    assert np.all(np.array(frames[0]) == 150)
+    two = border_frames_from_overlay(
+        [{"dims": (50, 50), "border": 2}, {"dims": (30, 30), "border": 4}]
+    )
+    assert len(two) == 2
+    red = border_frames_from_overlay([{"dims": (10, 10), "border": 1, "border_color": [255, 0, 0]}])
+    assert np.all(np.array(red[0]) == [255, 0, 0])
+
+
+# -- make_video_frame -----------------------------------------------------------------------
+
+
+def test_make_video_frame_basic_and_resized():
+    obs = {"color": np.random.default_rng(1).integers(0, 255, (48, 64, 4), dtype=np.uint8)}
+    frame = make_video_frame(obs, "color", "color", video_dims=None)
+    assert isinstance(frame, Image.Image) and frame.size == (64, 48)
+    assert make_video_frame(obs, "color", "color", video_dims=(320, 240)).size == (320, 240)
+
+
+def test_make_video_frame_failed_primary_raises():
+    def bad_obs_to_image(img, obs_type, depth_clip=10.0):
+        return None
+
+    with pytest.raises(RuntimeError, match="primary image processing failed"):
+        make_video_frame(
+            {"color": np.zeros((4, 4, 4), np.uint8)}, "color", "color", None,
+            observation_to_image=bad_obs_to_image,
+        )  # fmt: skip
+
+
+def test_make_video_frame_pastes_bordered_overlay():
+    obs = {
+        "color": np.zeros((100, 100, 4), np.uint8),
+        "depth": np.full((100, 100), 10.0, np.float32),  # white after depth_to_rgb
+    }
+    overlay = [{"obs": "depth", "type": "depth", "dims": (40, 40), "pos": (5, 5), "border": 2}]
+    frame = np.array(make_video_frame(obs, "color", "color", None, overlay_settings=overlay))
+    assert np.all(frame[5:45, 5:45, :3] == 255)  # the overlay
+    assert np.all(frame[3, 3:47, :3] == 150)  # its gray border
+    assert np.all(frame[60:, 60:, :3] == 0)  # the primary image elsewhere
+
+
+# -- is_notebook, display_video -------------------------------------------------------------
+
+
+def test_is_notebook_false_in_a_script():
+    assert is_notebook() is False
+
+
+def test_display_video_headless_prints_the_path(capsys, tmp_path):
+    display_video(str(tmp_path / "missing.mp4"))
+    assert "missing.mp4" in capsys.readouterr().out
+
+
+def test_display_video_in_a_notebook_emits_inline_html(monkeypatch, tmp_path):
+    pytest.importorskip("IPython")
+    import IPython.display
+
+    path = tmp_path / "clip.mp4"
+    path.write_bytes(b"not really a video")
+    shown = []
+    monkeypatch.setattr(video, "is_notebook", lambda: True)
+    monkeypatch.setattr(IPython.display, "display", lambda obj: shown.append(obj))
+    display_video(str(path), height=123)
+    assert len(shown) == 1
+    html = shown[0].data
+    assert "<video" in html and "height: 123px" in html and "base64," in html
+
+
+# -- make_video -----------------------------------------------------------------------------
+
+
+def observations(n: int, h: int = 32, w: int = 48) -> list[dict]:
+    """n observation dicts with color, depth and semantic images."""
+    out = []
+    for i in range(n):
+        color = np.zeros((h, w, 4), np.uint8)
+        color[..., 0] = (i * 40) % 256
+        color[..., 3] = 255
+        depth = np.full((h, w), i * 0.5, np.float32)
+        semantic = np.full((h, w), i, np.uint32)
+        out.append({"rgba": color, "depth": depth, "semantic": semantic})
+    return out
+
+
+def test_make_video_appends_mp4_and_writes_every_frame(tmp_path, capsys):
+    written = make_video(
+        observations(5), "rgba", "color", str(tmp_path / "clip"), fps=10, open_vid=True
+    )
+    assert written == str(tmp_path / "clip.mp4")
+    with imageio.get_reader(written) as reader:
+        assert reader.count_frames() == 5
+        first = reader.get_data(0)
+    assert first.shape[:2] == (32, 48)
+    assert "clip.mp4" in capsys.readouterr().out  # open_vid on a headless run: path printed
+
+
+@pytest.mark.parametrize("kind", ["depth", "semantic"])
+def test_make_video_with_depth_or_semantic_primary_and_overlay(tmp_path, kind):
+    overlay = [{"obs": "rgba", "type": "color", "dims": (12, 8), "pos": (2, 2), "border": 1}]
+    written = make_video(
+        observations(3), kind, kind, str(tmp_path / f"{kind}.mp4"), fps=5, open_vid=False,
+        video_dims=(64, 40), overlay_settings=overlay,
+    )  # fmt: skip
+    with imageio.get_reader(written) as reader:
+        assert reader.count_frames() == 3
+        assert reader.get_data(0).shape[:2] == (40, 64)
+
+
+def test_make_video_falls_back_to_gif_when_mp4_encoding_fails(tmp_path, monkeypatch):
+    real_get_writer = imageio.get_writer
+
+    def no_ffmpeg(path, *args, **kwargs):
+        if kwargs.get("format") == "FFMPEG":
+            raise RuntimeError("no ffmpeg here")
+        return real_get_writer(path, *args, **kwargs)
+
+    monkeypatch.setattr(video.imageio, "get_writer", no_ffmpeg)
+    written = make_video(
+        observations(4), "rgba", "color", str(tmp_path / "clip"), fps=10, open_vid=False
+    )
+    assert written == str(tmp_path / "clip.gif")
+    frames = imageio.mimread(written)
+    assert len(frames) == 4
+
+
+def test_long_videos_show_a_progress_bar(tmp_path, capsys):
+    make_video(
+        observations(101, 8, 8), "rgba", "color", str(tmp_path / "long"), fps=60, open_vid=False
+    )
+    assert "Encoding video" in capsys.readouterr().err
+    make_video(
+        observations(10, 8, 8), "rgba", "color", str(tmp_path / "short"), fps=60, open_vid=False
+    )
+    assert "Encoding video" not in capsys.readouterr().err
