@@ -17,11 +17,15 @@ Colors follow glTF's metallic-roughness base color: a textured mesh is colored
 ``texture(uv) * base_color / 255``; a mesh with vertex colors uses ``vertex_colors``
 (already multiplied by the material's base color); otherwise the flat ``base_color``.
 
-Texture coordinates follow OpenGL (trimesh flips glTF's ``v`` on load): ``v = 0`` is the
-*bottom* row of the image. With a texture of shape ``(h, w, 4)`` (row 0 = top row as
-stored in the file) the texel of ``(u, v)`` is::
+Texture coordinates follow OpenGL (trimesh flips glTF's ``v`` on load, so
+``v_returned = 1 - v_gltf``): ``v = 0`` is the *bottom* edge of the image and ``v = 1`` its
+top edge. With a texture of shape ``(h, w, 4)`` (row 0 = top row, as stored in the file) a
+nearest-texel lookup of ``(u, v)`` in ``[0, 1]`` reads::
 
     col = u * (w - 1)          row = (1 - v) * (h - 1)
+
+(bilinear filtering with texel centers uses ``col = u w - 1/2``, ``row = (1 - v) h - 1/2``;
+``render.RenderMesh(uv_origin="bottom")`` is this convention).
 
 Loaded meshes are cached by ``(path, mtime, size, up, front, scale, units_to_meters)``.
 The arrays of a returned :class:`MeshData` are shared with the cache and **read-only**
