@@ -310,16 +310,31 @@ class PathFinder:
             return -1, []
         if self._graph is None:
             self._graph = GridGraph(grid)
-        reach = max(np.linalg.norm(pt - start_pt) for _, _, pt in goals)
-        _, pred = self._graph.tree_from(start_node, [n for _, n, _ in goals], 2.0 * reach + 1.0)
+        # Habitat's multi-goal pruning: visit ends by straight-line distance (a lower bound of
+        # the geodesic) and skip those that cannot beat the best path found so far.
+        goals.sort(key=lambda goal: (float(np.linalg.norm(goal[2] - start_pt)), goal[0]))
         best = (-1, [], math.inf)
         for k, node, pt in goals:
-            nodes = self._graph.node_path(pred, start_node, node)
-            points = pull_string(grid, nodes, start_pt, pt)
+            if np.linalg.norm(pt - start_pt) >= best[2]:
+                continue
+            points = self._single_path(start_node, start_pt, node, pt)
             length = path_length(points)
             if length < best[2]:
                 best = (k, points, length)
         return best[0], best[1]
+
+    def _single_path(self, start_node: int, start_pt, end_node: int, end_pt) -> list:
+        """Waypoints from start_pt to end_pt (same island): straight when in line of sight,
+        else Dijkstra on the grid graph then string pulling."""
+        grid = self._grid
+        if np.allclose(start_pt, end_pt):
+            return [start_pt.copy(), end_pt.copy()]
+        if grid.line_of_sight(start_node, start_pt[[0, 2]], end_pt[[0, 2]], end_node):
+            return [start_pt.copy(), end_pt.copy()]
+        limit = 2.0 * float(np.linalg.norm(end_pt - start_pt)) + 1.0
+        _, pred = self._graph.tree_from(start_node, [end_node], limit)
+        nodes = self._graph.node_path(pred, start_node, end_node)
+        return pull_string(grid, nodes, start_pt, end_pt)
 
     # -- stepping ----------------------------------------------------------------------------
     def try_step(self, start, end) -> np.ndarray:

@@ -194,9 +194,14 @@ class NavGrid:
             return ((index + 1) * cs - offset) / delta, cs / delta, side_pos
         return (index * cs - offset) / delta, -cs / delta, side_pos + 1
 
-    def line_of_sight(self, node: int, p0, p1) -> bool:
-        """True when the straight XZ segment p0 -> p1 stays on the navmesh from ``node``."""
-        return self.walk_segment(node, p0, p1)[2]
+    def line_of_sight(self, node: int, p0, p1, target: int = -1) -> bool:
+        """True when the straight XZ segment p0 -> p1 stays on the navmesh from ``node``
+        (and, when ``target >= 0``, arrives on that node, not on another floor)."""
+        last, _, reached = self.walk_segment(node, p0, p1)
+        if not reached or target < 0 or last == target:
+            return reached
+        # p1 on a side shared by two linked squares may be "reached" in the neighbour
+        return bool(np.any(self.neighbours[:, last] == target))
 
     # -- local searches ------------------------------------------------------------------------
     def nodes_near(self, start: int, center, radius: float) -> list[int]:

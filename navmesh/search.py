@@ -88,11 +88,24 @@ def pull_string(grid: NavGrid, nodes: list[int], start_pt, end_pt) -> list[np.nd
     way_nodes = [nodes[k] for k in keep]
     way_points = [points[k] for k in keep]
     _slide_to_corners(grid, way_nodes, way_points)
+    _drop_redundant(grid, way_nodes, way_points)
     return way_points
 
 
-def _visible(grid: NavGrid, node_a: int, pa, pb) -> bool:
-    return grid.line_of_sight(node_a, (pa[0], pa[2]), (pb[0], pb[2]))
+def _drop_redundant(grid: NavGrid, nodes: list[int], points: list[np.ndarray]) -> None:
+    """Remove interior waypoints whose two neighbours see each other; in place."""
+    k = 1
+    while k < len(points) - 1:
+        if _visible(grid, nodes[k - 1], points[k - 1], points[k + 1], nodes[k + 1]):
+            del nodes[k], points[k]
+            k = max(1, k - 1)
+        else:
+            k += 1
+
+
+def _visible(grid: NavGrid, node_a: int, pa, pb, node_b: int) -> bool:
+    """Line of sight from point pa on node_a to point pb on node_b."""
+    return grid.line_of_sight(node_a, (pa[0], pa[2]), (pb[0], pb[2]), node_b)
 
 
 def _greedy_visible(grid: NavGrid, nodes: list[int], points: list[np.ndarray]) -> list[int]:
@@ -102,14 +115,14 @@ def _greedy_visible(grid: NavGrid, nodes: list[int], points: list[np.ndarray]) -
     while anchor < last:
         step, good = 1, anchor + 1
         while anchor + step <= last and _visible(
-            grid, nodes[anchor], points[anchor], points[anchor + step]
+            grid, nodes[anchor], points[anchor], points[anchor + step], nodes[anchor + step]
         ):
             good = anchor + step
             step *= 2
         lo, hi = good, min(anchor + step, last + 1)  # good is visible, hi is not (or past end)
         while hi - lo > 1:
             mid = (lo + hi) // 2
-            if _visible(grid, nodes[anchor], points[anchor], points[mid]):
+            if _visible(grid, nodes[anchor], points[anchor], points[mid], nodes[mid]):
                 lo = mid
             else:
                 hi = mid
@@ -131,8 +144,10 @@ def _slide_to_corners(grid: NavGrid, nodes: list[int], points: list[np.ndarray])
                 x, z = grid.clamp_into_cell(nodes[k], center[0] + sx * cs, center[2] + sz * cs)
                 cand = np.array([x, center[1], z])
                 length = np.linalg.norm(cand - prev_pt) + np.linalg.norm(next_pt - cand)
-                if length < best and _visible(grid, nodes[k - 1], prev_pt, cand) and _visible(
-                    grid, nodes[k], cand, next_pt
+                if (
+                    length < best
+                    and _visible(grid, nodes[k - 1], prev_pt, cand, nodes[k])
+                    and _visible(grid, nodes[k], cand, next_pt, nodes[k + 1])
                 ):
                     best, points[k] = length, cand
 

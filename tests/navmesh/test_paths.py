@@ -1,0 +1,110 @@
+"""Shortest paths: analytic lengths, unreachable goals, multi-goal (VALIDATION.md section 6).
+
+World frame Y up, meters. Tolerances: paths are any-angle on a 0.05 m grid, so the
+geodesic must match the analytic shortest path within 2 %.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from navmesh import MultiGoalShortestPath, ShortestPath
+
+
+def l_corridor(geometry, radius=0.1):
+    """L-shaped floor: x in [0, 6] x z in [0, 2] plus x in [4, 6] x z in [0, 6]; no ledge
+    filter, so the navigable region is the L shrunk by exactly ``radius``."""
+    return geometry.build(
+        geometry.box((0, -0.1, 0), (6, 0, 2)),
+        geometry.box((4, -0.1, 2), (6, 0, 6)),
+        filter_ledge_spans=False,
+        agent_radius=radius,
+    )
+
+
+def around_rounded_corner(start, end, corner, radius):
+    """Length of the taut string from start to end around a disk (corner, radius): the
+    obstacle corner dilated by the agent radius. Two tangents plus the arc between them;
+    the path wraps the side of the disk away from the obstacle (the reflex angle)."""
+    d1, d2 = np.linalg.norm(start - corner), np.linalg.norm(end - corner)
+    cos_between = np.dot(start - corner, end - corner) / (d1 * d2)
+    wrap = 2.0 * np.pi - np.arccos(cos_between)  # angle swept on the free side
+    arc = wrap - np.arccos(radius / d1) - np.arccos(radius / d2)
+    return np.sqrt(d1**2 - radius**2) + np.sqrt(d2**2 - radius**2) + radius * arc
+
+
+@pytest.mark.parametrize("radius", [0.1, 0.3])
+def test_l_corridor_path_matches_analytic_length(geometry, radius):
+    pf = l_corridor(geometry, radius)
+    start, end = np.array([1.0, 0.0, 1.0]), np.array([5.0, 0.0, 5.0])
+    path = ShortestPath(requested_start=start, requested_end=end)
+    assert pf.find_path(path)
+    assert path.geodesic_distance == pytest.approx(
+        around_rounded_corner(start, end, np.array([4.0, 0.0, 2.0]), radius), rel=0.02
+    )
+    assert path.geodesic_distance >= np.linalg.norm(end - start)
+    np.testing.assert_allclose(path.points[0], start, atol=1e-9)
+    np.testing.assert_allclose(path.points[-1], end, atol=1e-9)
+    for p in path.points:
+        assert pf.is_navigable(p)
+
+
+def test_straight_path_in_open_space_is_the_segment(geometry):
+    pf = geometry.build(geometry.box((0, -0.1, 0), (6, 0, 6)))
+    path = ShortestPath(requested_start=[1, 0, 1], requested_end=[5, 0, 4])
+    assert pf.find_path(path)
+    assert path.geodesic_distance == pytest.approx(5.0, abs=1e-9)
+    assert len(path.points) == 2
+
+
+def test_path_around_wall_through_door(geometry):
+    """Room split by a wall at x in [2.92, 3.12] with a 1 m door at z in [4.03, 5.03]."""
+    floor = geometry.box((0, -0.1, 0), (6, 0, 6))
+    wall_a = geometry.box((2.92, 0, 0), (3.12, 2.5, 4.03))
+    wall_b = geometry.box((2.92, 0, 5.03), (3.12, 2.5, 6))
+    pf = geometry.build(floor, wall_a, wall_b)
+    start, end = np.array([1.0, 0, 1.0]), np.array([5.0, 0, 1.0])
+    path = ShortestPath(requested_start=start, requested_end=end)
+    assert pf.find_path(path)
+    # through the door corners offset by the agent radius (upper bound of the rounded path)
+    c1, c2 = np.array([2.82, 0, 4.13]), np.array([3.22, 0, 4.13])
+    analytic = np.linalg.norm(c1 - start) + np.linalg.norm(c2 - c1) + np.linalg.norm(end - c2)
+    assert path.geodesic_distance == pytest.approx(analytic, rel=0.02)
+
+
+def test_unreachable_goal_gives_inf_and_false(geometry):
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (3, 0, 3)), geometry.box((5, -0.1, 0), (8, 0, 3))
+    )
+    assert pf.num_islands == 2
+    path = ShortestPath(requested_start=[1.5, 0, 1.5], requested_end=[6.5, 0, 1.5])
+    assert not pf.find_path(path)
+    assert math.isinf(path.geodesic_distance) and path.points == []
+    far = ShortestPath(requested_start=[1.5, 0, 1.5], requested_end=[1.5, 0, 30.0])
+    assert not pf.find_path(far)  # nothing within the snap box of the end
+    assert math.isinf(far.geodesic_distance)
+
+
+def test_multi_goal_picks_the_geodesically_closest_end(geometry):
+    pf = l_corridor(geometry)
+    start = [1.0, 0, 1.0]
+    ends = [[5.0, 0, 5.0], [5.0, 0, 1.0], [20.0, 0, 20.0]]
+    multi = MultiGoalShortestPath(requested_start=start, requested_ends=ends)
+    assert pf.find_path(multi)
+    assert multi.closest_end_point_index == 1
+    single = ShortestPath(requested_start=start, requested_end=ends[1])
+    pf.find_path(single)
+    assert multi.geodesic_distance == pytest.approx(single.geodesic_distance, rel=1e-12)
+
+
+def test_find_path_rejects_bad_input(geometry):
+    pf = geometry.build(geometry.box((0, -0.1, 0), (4, 0, 4)))
+    with pytest.raises(TypeError, match="ShortestPath"):
+        pf.find_path("path")
+    with pytest.raises(ValueError, match="requested_start"):
+        pf.find_path(ShortestPath(requested_start=[np.nan, 0, 0], requested_end=[1, 0, 1]))
+    with pytest.raises(ValueError, match="requested_end"):
+        pf.find_path(ShortestPath(requested_start=[1, 0, 1], requested_end=[1, 0]))

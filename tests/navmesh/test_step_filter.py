@@ -1,0 +1,130 @@
+"""try_step / try_step_no_sliding geometry (VALIDATION.md section 6, HABITAT_SEMANTICS.md).
+
+Scene: a 6 x 6 m floor (y = 0) with a 2 m wall across z in [4.02, 4.22]. The navigable
+region of the main room ends at z_b (the wall eroded by the agent radius).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+ON_BOUNDARY = 1e-3  # meters: results are pulled 0.1 mm inside the boundary
+
+
+@pytest.fixture(scope="module")
+def walled_room():
+    from navmesh import NavMeshSettings, PathFinder
+
+    import trimesh
+
+    floor = trimesh.creation.box(extents=(6, 0.1, 6))
+    floor.apply_translation((3, -0.05, 3))
+    wall = trimesh.creation.box(extents=(6, 2.0, 0.2))
+    wall.apply_translation((3, 1.0, 4.12))
+    mesh = trimesh.util.concatenate([floor, wall])
+    pf = PathFinder()
+    pf.build(mesh.vertices, mesh.faces.astype(np.int64), NavMeshSettings())
+    data = pf.navmesh_data
+    column = data.navigable[0, :, int(3.0 / data.cell_size)]  # cells along z at x = 3
+    main_room = np.flatnonzero(column[: int(4.0 / data.cell_size)])
+    z_b = data.origin_xz[1] + (main_room.max() + 1) * data.cell_size
+    return pf, z_b
+
+
+def step_45_into_wall(z_b):
+    start = np.array([3.0, 0.0, z_b - 0.05])
+    end = start + 0.25 * np.array([np.sqrt(0.5), 0.0, np.sqrt(0.5)])
+    return start, end
+
+
+def test_wall_boundary_is_agent_radius_from_wall(walled_room):
+    _, z_b = walled_room
+    assert 4.02 - 0.1 - 0.05 <= z_b <= 4.02 - 0.1 + 1e-9  # within one cell of wall - radius
+
+
+def test_sliding_step_ends_on_boundary_displaced_along_it(walled_room):
+    pf, z_b = walled_room
+    start, end = step_45_into_wall(z_b)
+    result = pf.try_step(start, end)
+    assert isinstance(result, np.ndarray) and result.shape == (3,)
+    assert result[2] == pytest.approx(z_b, abs=ON_BOUNDARY)
+    # the closest boundary point to the end: the end projected on the wall line
+    assert result[0] == pytest.approx(end[0], abs=ON_BOUNDARY)
+    assert result[1] == pytest.approx(0.0, abs=1e-9)
+    assert not np.allclose(result, end)  # collided
+    assert pf.is_navigable(result)
+
+
+def test_no_sliding_step_stops_where_segment_meets_boundary(walled_room):
+    pf, z_b = walled_room
+    start, end = step_45_into_wall(z_b)
+    result = pf.try_step_no_sliding(start, end)
+    assert result[2] == pytest.approx(z_b, abs=ON_BOUNDARY)
+    moved, wanted = (result - start)[[0, 2]], (end - start)[[0, 2]]
+    cos_angle = moved @ wanted / (np.linalg.norm(moved) * np.linalg.norm(wanted))
+    assert np.degrees(np.arccos(min(1.0, cos_angle))) < 1.0
+    assert np.linalg.norm(moved) == pytest.approx(0.05 * np.sqrt(2.0), abs=2 * ON_BOUNDARY)
+    assert not np.allclose(result, end)
+    assert pf.is_navigable(result)
+
+
+@pytest.mark.parametrize("method", ["try_step", "try_step_no_sliding"])
+def test_free_step_reaches_end_exactly(walled_room, method):
+    pf, _ = walled_room
+    start, end = [2.0, 0.0, 2.0], [2.2, 0.0, 2.1]
+    np.testing.assert_allclose(getattr(pf, method)(start, end), end, atol=1e-12)
+
+
+@pytest.mark.parametrize("method", ["try_step", "try_step_no_sliding"])
+def test_end_on_other_island_or_far_off_mesh_returns_start(walled_room, method):
+    pf, _ = walled_room
+    start = np.array([3.0, 0.0, 3.0])
+    other_room = [3.0, 0.0, 5.2]
+    assert pf.get_island(other_room) != pf.get_island(start)
+    np.testing.assert_array_equal(getattr(pf, method)(start, other_room), start)
+    far = [30.0, 0.0, 3.0]  # farther than the 2 m snap box from any navigable cell
+    np.testing.assert_array_equal(getattr(pf, method)(start, far), start)
+    off_start = [3.0, 0.0, -10.0]
+    np.testing.assert_array_equal(getattr(pf, method)(off_start, start), off_start)
+
+
+def test_end_just_off_the_floor_edge_slides_to_the_edge(walled_room):
+    pf, _ = walled_room
+    start, end = np.array([5.5, 0.0, 2.0]), np.array([6.3, 0.0, 2.0])  # floor ends at x = 6
+    result = pf.try_step(start, end)
+    assert 5.5 < result[0] < 6.0 and pf.is_navigable(result)
+    assert result[2] == pytest.approx(2.0, abs=ON_BOUNDARY)
+
+
+def test_result_height_is_surface_height(geometry):
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (3, 0, 4)), geometry.box((3, -0.1, 0), (6, 0.15, 4))
+    )
+    result = pf.try_step([2.9, 0.0, 2.0], [3.1, 0.0, 2.0])
+    np.testing.assert_allclose(result, [3.1, 0.15, 2.0], atol=1e-12)
+
+
+def test_try_step_is_fast_enough_for_60_hz(walled_room):
+    pf, z_b = walled_room
+    start, end = step_45_into_wall(z_b)
+    pf.try_step(start, end)
+    n = 200
+    t0 = time.perf_counter()
+    for _ in range(n):
+        pf.try_step(start, end)
+        pf.try_step_no_sliding(start, end)
+    per_call = (time.perf_counter() - t0) / (2 * n)
+    assert per_call < 1e-3  # budget 0.5 ms; 2x slack for a loaded 2-core machine
+
+
+def test_try_step_rejects_bad_points(walled_room):
+    pf, _ = walled_room
+    with pytest.raises(ValueError, match="start"):
+        pf.try_step([np.inf, 0, 0], [1, 0, 1])
+    with pytest.raises(ValueError, match="end"):
+        pf.try_step_no_sliding([1, 0, 1], [1, 0])
+    with pytest.raises(TypeError, match="start"):
+        pf.try_step(None, [1, 0, 1])
