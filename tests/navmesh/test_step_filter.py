@@ -10,16 +10,15 @@ import time
 
 import numpy as np
 import pytest
+import trimesh
+
+from navmesh import NavMeshSettings, PathFinder
 
 ON_BOUNDARY = 1e-3  # meters: results are pulled 0.1 mm inside the boundary
 
 
 @pytest.fixture(scope="module")
 def walled_room():
-    from navmesh import NavMeshSettings, PathFinder
-
-    import trimesh
-
     floor = trimesh.creation.box(extents=(6, 0.1, 6))
     floor.apply_translation((3, -0.05, 3))
     wall = trimesh.creation.box(extents=(6, 2.0, 0.2))
