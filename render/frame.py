@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from render import raster
+from render import cull, raster
 from render.camera import Camera, invert_rigid
 from render.scene import RenderMesh, RenderScene
 from render.shade import face_light_factors, pack_rgba, shade_pixels
@@ -100,18 +100,24 @@ def render_frame(
     # --- 1. vertex stage: mesh-local -> world -> camera frame
     vertices_camera = scene.vertices_in_camera(camera_from_world)
     clock.lap("transform")
-    # --- 2. primitive assembly and culling (frustum, hidden meshes, optional back faces)
-    tri_index = np.flatnonzero(scene.visible[scene.materials.tri_mesh])
-    tri_camera = vertices_camera[scene.materials.faces[tri_index]]  # (T, 3, 3)
-    keep = raster.frustum_keep_mask(tri_camera, camera, cull_back_faces)
-    tri_index, tri_camera = tri_index[keep], tri_camera[keep]
-    clock.lap("cull")
+    # --- 2. primitive assembly and culling (frustum outcodes, hidden meshes, back faces)
+    outcodes = cull.vertex_outcodes(vertices_camera, camera)
+    keep = cull.triangles_in_frustum(outcodes, scene.materials.faces)
+    if not scene.visible.all():
+        keep &= scene.visible[scene.materials.tri_mesh]
+    tri_index = np.flatnonzero(keep)
+    tri_camera = vertices_camera[:, scene.materials.faces[:, tri_index]].transpose(1, 0, 2)
+    if cull_back_faces:
+        facing = cull.front_facing(tri_camera, camera)
+        tri_index, tri_camera = tri_index[facing], tri_camera[:, :, facing]
+    clock.lap("cull")  # tri_camera: (3 corners, 3 coordinates, K) camera frame
     # --- 3. near clipping: pieces remember their source triangle (index into tri_index)
-    pieces, piece_source = raster.clip_near(tri_camera, np.arange(len(tri_index)), camera.near)
+    pieces, piece_source = cull.clip_near(tri_camera, np.arange(len(tri_index)), camera.near)
     clock.lap("clip")
     # --- 4. triangle setup: plane functions of the source triangles, corners to pixels
     planes, valid = raster.plane_coefficients(tri_camera, camera)
-    pieces, piece_source = pieces[valid[piece_source]], piece_source[valid[piece_source]]
+    usable = valid[piece_source]
+    pieces, piece_source = pieces[:, :, usable], piece_source[usable]
     screen = raster.project_triangles(pieces, camera)
     clock.lap("setup")
     # --- 5. scanline spans under the top-left fill rule
@@ -119,9 +125,7 @@ def render_frame(
     clock.lap("spans")
     # --- 6. fragments and depth test
     out.zkey.fill(raster.EMPTY_KEY)
-    out.n_fragments = raster.depth_test_spans(
-        spans, planes[piece_source], piece_source, camera, out.zkey
-    )
+    out.n_fragments = raster.depth_test_spans(spans, planes, piece_source, camera, out.zkey)
     clock.lap("fragments")
     # --- 7. per-triangle shading inputs: attribute planes, light factors
     shading = _ShadingInputs.build(scene, camera, camera_from_world, tri_camera, tri_index, planes)
@@ -167,19 +171,23 @@ class _ShadingInputs:
 
     @classmethod
     def build(cls, scene, camera, camera_from_world, tri_camera, tri_index, planes):
-        """From the K triangles that survived culling (``tri_camera`` (K, 3, 3) etc.)."""
+        """From the K triangles that survived culling (``tri_camera`` (3, 3, K) etc.)."""
         materials = scene.materials
-        corners = materials.faces[tri_index]  # (K, 3) global vertex ids
+        corners = materials.faces[:, tri_index]  # (3, K) global vertex ids
         uv_planes = color_planes = tri_light = None
-        if materials.uvs is not None:
-            uv_planes = raster.AttributePlanes(planes, materials.uvs[corners], camera)
+        if materials.uvs is not None:  # corner values (3 corners, C, K)
+            uv_corners = materials.uvs[:, corners].transpose(1, 0, 2)
+            uv_planes = raster.AttributePlanes(planes, uv_corners, camera)
         if materials.vertex_colors is not None:
-            color_planes = raster.AttributePlanes(planes, materials.vertex_colors[corners], camera)
+            color_corners = materials.vertex_colors[:, corners].transpose(1, 0, 2)
+            color_planes = raster.AttributePlanes(planes, color_corners, camera)
         lit = scene.tri_lit[tri_index]
         if lit.any():
-            # face normals, camera frame -> world frame: n_w = R_wc n_c = n_c^T R_cw
-            edge1, edge2 = tri_camera[:, 1] - tri_camera[:, 0], tri_camera[:, 2] - tri_camera[:, 0]
-            normal_world = np.cross(edge1, edge2) @ camera_from_world[:3, :3]
+            # face normals, camera frame -> world frame: n_w = R_wc n_c = R_cw^T n_c
+            normal_camera = np.array(
+                cull.cross(tri_camera[1] - tri_camera[0], tri_camera[2] - tri_camera[0])
+            )
+            normal_world = (camera_from_world[:3, :3].T @ normal_camera).T  # (K, 3)
             tri_light = np.where(lit, face_light_factors(normal_world), 1.0).astype(np.float32)
         return cls(tri_index, uv_planes, color_planes, tri_light)
 

@@ -1,13 +1,10 @@
 """Triangle rasterization with a z-buffer: culling, near clipping, scanline spans, depth test.
 
-Stages (each a function below, called in this order by ``render.frame.render_frame``)
+Stages (each a function below, called in this order by ``render.frame.render_frame``,
+after culling and near clipping in ``render.cull``; triangle batches use the corner-major
+``(3, 3, T)`` layout described there)
 ---------------------------------------------------------------------------------------
-1. ``frustum_keep_mask``: drop triangles whose three corners lie outside the same frustum
-   plane (Cohen-Sutherland outcodes), and optionally back faces.
-2. ``clip_near``: clip the triangles crossing the near plane ``z_camera = -near``. A triangle
-   with one corner in front becomes one triangle, with two corners in front a quad = two
-   triangles. Each piece remembers its ``source`` triangle.
-3. ``plane_coefficients``: per source triangle, three functions that are *affine in pixel
+1. ``plane_coefficients``: per source triangle, three functions that are *affine in pixel
    coordinates* (the key fact of perspective-correct interpolation)::
 
        pinhole: q_k = b_k / z  (k = 0, 1),   w = 1 / z = q_0 + q_1 + q_2
@@ -21,12 +18,12 @@ Stages (each a function below, called in this order by ``render.frame.render_fra
    ``(P1 x P2, P2 x P0, P0 x P1) / det M``: signed volumes of tetrahedra with the eye.
    These functions are computed from the *unclipped* triangle, so clipping never distorts
    attributes. Coordinates are centered on the principal point for float32 accuracy.
-4. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
-5. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
+2. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
+3. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
    fragment's depth and keep, per pixel, the smallest key ``(depth bits << 32) | triangle``
    with ``np.minimum.at`` (depth test and tie break in one pass: equal depths keep the
    lower triangle index, so the result is deterministic).
-6. ``resolve_depth`` and ``AttributePlanes``: the winning triangle and depth per pixel,
+4. ``resolve_depth`` and ``AttributePlanes``: the winning triangle and depth per pixel,
    then perspective-correct vertex attributes (uvs, colors) for deferred shading (each
    visible pixel is shaded exactly once).
 
@@ -47,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from render.camera import Camera
+from render.cull import cross
 
 #: fragments per chunk: temporaries of 16k elements stay in the CPU cache (3x faster than 200k)
 FRAGMENT_CHUNK = 16_384
@@ -55,143 +53,58 @@ EMPTY_KEY = np.uint64(0xFFFFFFFFFFFFFFFF)
 _LOW32 = np.uint64(0xFFFFFFFF)
 
 
-def frustum_keep_mask(
-    tri_camera: np.ndarray, camera: Camera, cull_back_faces: bool = False
-) -> np.ndarray:
-    """Which triangles may be visible: not entirely outside one frustum plane.
-
-    Parameters
-    ----------
-    tri_camera : (T, 3, 3) float64, triangle corners in the camera frame (meters).
-    camera : the camera (its near, far and image bounds define the frustum).
-    cull_back_faces : also drop triangles whose counter-clockwise front faces away.
-
-    Returns
-    -------
-    keep : (T,) bool.
-    """
-    x, y, z = tri_camera[..., 0], tri_camera[..., 1], tri_camera[..., 2]
-    depth = -z  # z-depth of each corner
-    if camera.is_pinhole:
-        # px < 0  <=>  cx + fx x / d < 0  <=>  fx x + cx d < 0 (half-spaces through the eye)
-        scaled_x, scaled_y, scale = camera.fx * x, camera.fy * y, depth
-    else:
-        scaled_x, scaled_y, scale = camera.fx * x, camera.fy * y, np.ones_like(depth)
-    outside = [
-        depth < camera.near,  # behind the near plane
-        depth > camera.far,  # beyond the far plane
-        scaled_x + camera.cx * scale < 0.0,  # left of the image: px < 0
-        scaled_x - camera.cx * scale > 0.0,  # right of the image: px > W
-        scaled_y - camera.cy * scale > 0.0,  # above the image: py < 0
-        -scaled_y - camera.cy * scale > 0.0,  # below the image: py > H
-    ]
-    keep = np.ones(len(tri_camera), dtype=bool)
-    for plane_outside in outside:
-        keep &= ~np.all(plane_outside, axis=1)  # culled if all 3 corners are out
-    if cull_back_faces:
-        normal = np.cross(tri_camera[:, 1] - tri_camera[:, 0], tri_camera[:, 2] - tri_camera[:, 0])
-        if camera.is_pinhole:
-            facing = np.einsum("ij,ij->i", normal, tri_camera[:, 0]) < 0.0  # n . (P0 - eye) < 0
-        else:
-            facing = normal[:, 2] > 0.0  # n . (0, 0, -1) < 0
-        keep &= facing
-    return keep
-
-
-def clip_near(
-    tri_camera: np.ndarray, source: np.ndarray, near: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """Clip triangles against the near plane ``z_camera = -near``.
-
-    Parameters
-    ----------
-    tri_camera : (T, 3, 3) float64, camera-frame corners.
-    source : (T,) int64, index each triangle reports as its source.
-    near : float, near distance in meters.
-
-    Returns
-    -------
-    clipped : (T', 3, 3) float64, corners all with z_camera <= -near.
-    clipped_source : (T',) int64. Triangles fully in front pass unchanged, fully behind ones
-        are dropped, one corner in front -> 1 triangle, two corners in front -> 2 triangles.
-        Winding order is preserved.
-    """
-    inside = tri_camera[..., 2] <= -near  # (T, 3) corner in front of the near plane
-    n_inside = inside.sum(axis=1)
-    pieces, sources = [tri_camera[n_inside == 3]], [source[n_inside == 3]]
-    for count in (1, 2):
-        sel = np.flatnonzero(n_inside == count)
-        if len(sel) == 0:
-            continue
-        # roll corners so the odd one (the lone inside / lone outside corner) comes first
-        odd_flag = inside[sel] if count == 1 else ~inside[sel]
-        first = np.argmax(odd_flag, axis=1)
-        order = (first[:, None] + np.arange(3)[None, :]) % 3
-        a, b, c = np.moveaxis(np.take_along_axis(tri_camera[sel], order[:, :, None], axis=1), 1, 0)
-        if count == 1:  # a inside, b and c outside
-            ab, ac = _near_point(a, b, near), _near_point(a, c, near)
-            pieces.append(np.stack([a, ab, ac], axis=1))
-            sources.append(source[sel])
-        else:  # a outside, b and c inside: quad (ab, b, c, ac)
-            ab, ac = _near_point(b, a, near), _near_point(c, a, near)
-            pieces += [np.stack([ab, b, c], axis=1), np.stack([ab, c, ac], axis=1)]
-            sources += [source[sel], source[sel]]
-    return np.concatenate(pieces), np.concatenate(sources)
-
-
-def _near_point(p_in: np.ndarray, p_out: np.ndarray, near: float) -> np.ndarray:
-    """Point where segment inside->outside crosses z = -near, shape (n, 3).
-
-    Always parameterized from the inside corner, so the two triangles sharing an edge
-    compute the same point bit for bit: ``t = (-near - z_in) / (z_out - z_in)``.
-    """
-    t = (-near - p_in[:, 2]) / (p_out[:, 2] - p_in[:, 2])
-    point = p_in + t[:, None] * (p_out - p_in)  # p = p_in + t (p_out - p_in)
-    point[:, 2] = -near
-    return point
-
-
-def plane_coefficients(tri_camera: np.ndarray, camera: Camera) -> tuple[np.ndarray, np.ndarray]:
+def plane_coefficients(tri: np.ndarray, camera: Camera) -> tuple[np.ndarray, np.ndarray]:
     """Affine screen functions ``(q_0, q_1, w)`` of each triangle (see module docstring).
 
     Each function is ``f(px, py) = A (px - cx) + B (py - cy) + C``.
 
+    Parameters
+    ----------
+    tri : (3, 3, T) float64, camera-frame corners (corner, coordinate, triangle).
+
     Returns
     -------
-    planes : (T, 3, 3) float64, ``planes[t, f] = (A, B, C)`` for f in (q_0, q_1, w).
+    planes : (3, 3, T) float64, ``planes[f, :, t] = (A, B, C)`` for f in (q_0, q_1, w).
     valid : (T,) bool, False for edge-on triangles (plane through the eye, or zero area).
     """
-    p0, p1, p2 = tri_camera[:, 0], tri_camera[:, 1], tri_camera[:, 2]
     if camera.is_pinhole:
-        corners = (p0, p1, p2)
+        corners = (tri[0], tri[1], tri[2])
     else:  # orthographic: 2D homogeneous corners (x, y, 1)
-        corners = tuple(np.column_stack([p[:, 0], p[:, 1], np.ones(len(p))]) for p in (p0, p1, p2))
-    rows = [np.cross(corners[1], corners[2]), np.cross(corners[2], corners[0])]
-    rows.append(np.cross(corners[0], corners[1]))
-    det = np.einsum("ij,ij->i", corners[0], rows[0])  # det M = P0 . (P1 x P2)
-    scale = np.prod([np.linalg.norm(c, axis=1) for c in corners], axis=0)
+        one = np.ones(tri.shape[2])
+        corners = tuple((tri[k, 0], tri[k, 1], one) for k in range(3))
+    rows = [cross(corners[1], corners[2]), cross(corners[2], corners[0])]
+    rows.append(cross(corners[0], corners[1]))  # rows of det(M) M^-1
+    det = sum(corners[0][c] * rows[0][c] for c in range(3))  # det M = P0 . (P1 x P2)
+    scale = np.ones_like(det)
+    for corner in corners:
+        scale *= np.sqrt(corner[0] ** 2 + corner[1] ** 2 + corner[2] ** 2)
     valid = np.abs(det) > 1e-12 * scale
     inv_det = np.divide(1.0, det, out=np.zeros_like(det), where=valid)
-    m = np.stack(rows, axis=1) * inv_det[:, None, None]  # (T, 3, 3) rows of M^-1
-    planes = np.empty((len(tri_camera), 3, 3))
+    sign_c = -1.0 if camera.is_pinhole else 1.0  # r = (u, v, -1) or (u, v, 1)
+    coeffs = [  # q_k = (m_k . r): A = m_x / fx, B = -m_y / fy, C = +-m_z
+        np.stack([m[0] / camera.fx, -m[1] / camera.fy, sign_c * m[2]]) * inv_det for m in rows
+    ]
+    planes = np.empty((3, 3, tri.shape[2]))
+    planes[0], planes[1] = coeffs[0], coeffs[1]
     if camera.is_pinhole:
-        # q_k = m_k . r,  r = ((px - cx) / fx, -(py - cy) / fy, -1)
-        coeffs = np.stack([m[..., 0] / camera.fx, -m[..., 1] / camera.fy, -m[..., 2]], axis=-1)
-        planes[:, :2] = coeffs[:, :2]
-        planes[:, 2] = coeffs.sum(axis=1)  # w = 1 / z = q_0 + q_1 + q_2
+        planes[2] = coeffs[0] + coeffs[1] + coeffs[2]  # w = 1 / z = q_0 + q_1 + q_2
     else:
-        # b_k = m_k . (u, v, 1),  u = (px - cx) / s,  v = -(py - cy) / s
-        coeffs = np.stack([m[..., 0] / camera.fx, -m[..., 1] / camera.fy, m[..., 2]], axis=-1)
-        planes[:, :2] = coeffs[:, :2]
-        depth = -tri_camera[..., 2]  # (T, 3) corner z-depths
-        planes[:, 2] = np.einsum("tkc,tk->tc", coeffs, depth)  # w = z = sum_k b_k z_k
+        depth = -tri[:, 2]  # (3, T) corner z-depths
+        planes[2] = coeffs[0] * depth[0] + coeffs[1] * depth[1] + coeffs[2] * depth[2]  # z
     return planes, valid
 
 
-def project_triangles(tri_camera: np.ndarray, camera: Camera) -> np.ndarray:
-    """Continuous pixel coordinates of triangle corners, ``(T, 3, 2)`` float64."""
-    pixels, _ = camera.project(tri_camera.reshape(-1, 3))
-    return pixels.reshape(-1, 3, 2)
+def project_triangles(tri: np.ndarray, camera: Camera) -> np.ndarray:
+    """Continuous pixel coordinates of triangle corners, ``(3, 2, T)`` (corner, px/py, t)."""
+    depth = -tri[:, 2]  # (3, T)
+    if camera.is_pinhole:
+        inv_depth = 1.0 / depth  # corners are in front of the near plane after clipping
+        px = camera.cx + camera.fx * tri[:, 0] * inv_depth  # px = cx + fx x / z
+        py = camera.cy - camera.fy * tri[:, 1] * inv_depth  # py = cy - fy y / z
+    else:
+        px = camera.cx + camera.fx * tri[:, 0]  # px = cx + s x
+        py = camera.cy - camera.fy * tri[:, 1]  # py = cy - s y
+    return np.stack([px, py], axis=1)
 
 
 @dataclass
@@ -212,24 +125,20 @@ def scanline_spans(screen: np.ndarray, height: int, width: int) -> Spans:
 
     Parameters
     ----------
-    screen : (T, 3, 2) float64, corner pixel coordinates ``(px, py)``.
+    screen : (3, 2, T) float64, corner pixel coordinates ``(px, py)``.
     height, width : image size in pixels.
     """
-    order = np.argsort(screen[:, :, 1], axis=1, kind="stable")
-    v = np.take_along_axis(screen, order[:, :, None], axis=1)  # corners sorted top to bottom
-    (x0, y0), (x1, y1), (x2, y2) = v[:, 0].T, v[:, 1].T, v[:, 2].T
+    (x0, y0), (x1, y1), (x2, y2) = _sort_corners_by_y(screen)  # top, middle, bottom
     with np.errstate(divide="ignore", invalid="ignore"):
-        slope02, slope01, slope12 = (
-            (x2 - x0) / (y2 - y0),
-            (x1 - x0) / (y1 - y0),
-            (x2 - x1) / (y2 - y1),
-        )
+        slope02 = (x2 - x0) / (y2 - y0)  # dx/dy of the long edge
+        slope01 = (x1 - x0) / (y1 - y0)  # upper short edge
+        slope12 = (x2 - x1) / (y2 - y1)  # lower short edge
     # long edge 0->2 is on the left when the middle corner is right of it (cross < 0, y down)
     long_is_left = (x2 - x0) * (y1 - y0) - (y2 - y0) * (x1 - x0) < 0.0
     row_first = np.clip(np.ceil(y0 - 0.5), 0, height).astype(np.int64)  # first yc >= y0
     row_end = np.clip(np.ceil(y2 - 0.5), 0, height).astype(np.int64)  # first yc >= y2
     n_rows = np.maximum(row_end - row_first, 0)
-    tri = np.repeat(np.arange(len(screen)), n_rows)
+    tri = np.repeat(np.arange(screen.shape[2]), n_rows)
     row = np.arange(len(tri)) - np.repeat(np.cumsum(n_rows) - n_rows - row_first, n_rows)
     yc = row + 0.5
     with np.errstate(invalid="ignore"):
@@ -247,6 +156,21 @@ def scanline_spans(screen: np.ndarray, height: int, width: int) -> Spans:
     return Spans(tri[keep], row[keep], col_first[keep], n_pixels[keep])
 
 
+def _sort_corners_by_y(screen: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Corners ``(x, y)`` ordered by increasing y with a 3-element sorting network.
+
+    The order of corners with equal y does not matter: only non-horizontal edges are ever
+    intersected, and their endpoints are ordered by y unambiguously.
+    """
+    corners = [(screen[k, 0], screen[k, 1]) for k in range(3)]
+    for i, j in ((0, 1), (1, 2), (0, 1)):
+        (xi, yi), (xj, yj) = corners[i], corners[j]
+        swap = yj < yi
+        corners[i] = (np.where(swap, xj, xi), np.where(swap, yj, yi))
+        corners[j] = (np.where(swap, xi, xj), np.where(swap, yi, yj))
+    return corners
+
+
 def depth_test_spans(
     spans: Spans,
     planes: np.ndarray,
@@ -258,9 +182,10 @@ def depth_test_spans(
 
     Parameters
     ----------
-    spans : runs from ``scanline_spans``; ``spans.triangle`` indexes ``planes``.
-    planes : (T, 3, 3) plane coefficients (of the rasterized triangles' sources).
-    key_triangle : (T,) int, the triangle index stored in the z-buffer key.
+    spans : runs from ``scanline_spans``; ``spans.triangle`` indexes ``key_triangle``.
+    planes : (3, 3, S) plane coefficients of the source triangles.
+    key_triangle : (T,) int, source triangle of each rasterized triangle: indexes ``planes``
+        and is the triangle id stored in the z-buffer key.
     camera : the camera (pinhole: depth = 1 / w; ortho: depth = w).
     zkey : (H * W,) uint64, the z-buffer ``(float32 depth bits << 32) | triangle``.
 
@@ -269,13 +194,14 @@ def depth_test_spans(
     n_fragments : int, number of fragments generated (for profiling).
     """
     width = camera.width
-    w_plane = planes[spans.triangle, 2]  # (S, 3) coefficients of w
+    source = key_triangle[spans.triangle]  # source triangle of each span
+    w_a, w_b, w_c = (planes[2, j][source] for j in range(3))  # plane of w per span
     xc = spans.col_first + 0.5 - camera.cx
     yc = spans.row + 0.5 - camera.cy
-    w_first = (w_plane[:, 0] * xc + w_plane[:, 1] * yc + w_plane[:, 2]).astype(np.float32)
-    w_step = w_plane[:, 0].astype(np.float32)  # dw / dpx along the row
+    w_first = (w_a * xc + w_b * yc + w_c).astype(np.float32)  # w at the first pixel center
+    w_step = w_a.astype(np.float32)  # dw / dpx along the row
     pixel_first = spans.row * width + spans.col_first
-    tri_key = key_triangle[spans.triangle].astype(np.uint64)
+    tri_key = source.astype(np.uint64)
     ends = np.cumsum(spans.n_pixels)
     cuts = np.searchsorted(
         ends, np.arange(FRAGMENT_CHUNK, ends[-1] if len(ends) else 0, FRAGMENT_CHUNK)
@@ -355,17 +281,17 @@ class AttributePlanes:
 
     Parameters
     ----------
-    planes : (K, 3, 3) float64 plane functions ``(q_0, q_1, w)`` of K triangles.
-    corner_values : (K, 3, C) float, the attribute at each triangle's 3 corners.
+    planes : (3, 3, K) float64 plane functions ``(q_0, q_1, w)`` of K triangles.
+    corner_values : (3, C, K) float, the attribute (C channels) at each triangle's corners.
     camera : the camera (pinhole or orthographic).
     """
 
     def __init__(self, planes: np.ndarray, corner_values: np.ndarray, camera: Camera) -> None:
-        a0, a1, a2 = (corner_values[:, k, :, None] for k in range(3))  # (K, C, 1)
-        sum_plane = planes[:, None, 2] if camera.is_pinhole else np.array([0.0, 0.0, 1.0])
-        attr = (a0 - a2) * planes[:, None, 0] + (a1 - a2) * planes[:, None, 1] + a2 * sum_plane
-        # (C, 3, K) float32: each coefficient column contiguous for fast 1-D gathers
-        self.coefficients = np.ascontiguousarray(np.moveaxis(attr, 0, -1), dtype=np.float32)
+        a0, a1, a2 = (corner_values[k][:, None, :] for k in range(3))  # (C, 1, K)
+        sum_plane = planes[2] if camera.is_pinhole else np.array([0.0, 0.0, 1.0])[:, None]
+        attr = (a0 - a2) * planes[0] + (a1 - a2) * planes[1] + a2 * sum_plane  # (C, 3, K)
+        # float32, each coefficient row contiguous for fast 1-D gathers
+        self.coefficients = np.ascontiguousarray(attr, dtype=np.float32)
         self.multiply_by_depth = camera.is_pinhole
 
     def evaluate(self, visible: VisiblePixels) -> np.ndarray:

@@ -136,9 +136,9 @@ class RenderScene:
     meshes : the ``RenderMesh`` list (do not mutate its arrays; build a new scene instead).
     world_from_mesh : (M, 4, 4) float64 current poses.
     visible : (M,) bool.
-    vertices_local : (V, 3) float64, all meshes' local vertices.
+    vertices_local : (3, V) float64, all meshes' local vertices (coordinate-major).
     vertex_slices : M slices of ``vertices_local``.
-    materials : ``MaterialTable`` (faces in global vertex ids, colors, textures).
+    materials : ``MaterialTable`` (faces ``(3, T)`` in global vertex ids, colors, textures).
     tri_lit : (T,) bool.  tri_semantic : (T,) uint32.
     """
 
@@ -155,15 +155,15 @@ class RenderScene:
         offsets = np.concatenate([[0], np.cumsum(counts)])
         bounds = zip(offsets[:-1], offsets[1:], strict=True)
         self.vertex_slices = [slice(int(a), int(b)) for a, b in bounds]
-        self.vertices_local = np.concatenate([m.vertices for m in meshes] or [np.zeros((0, 3))])
+        local = [m.vertices for m in meshes] or [np.zeros((0, 3))]
+        self.vertices_local = np.ascontiguousarray(np.concatenate(local).T)  # (3, V)
         n_faces = np.array([len(m.faces) for m in meshes], dtype=np.int64)
         tri_mesh = np.repeat(np.arange(n_meshes), n_faces)
         self.tri_lit = np.array([m.lit for m in meshes], dtype=bool)[tri_mesh]
         self.tri_semantic = np.array([m.semantic_id for m in meshes], dtype=np.uint32)[tri_mesh]
         faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
-        self.materials = _material_table(
-            meshes, tri_mesh, np.concatenate(faces or [np.zeros((0, 3), np.int64)])
-        )
+        faces = np.concatenate(faces or [np.zeros((0, 3), np.int64)])
+        self.materials = _material_table(meshes, tri_mesh, np.ascontiguousarray(faces.T))
         self._vertices_camera = np.empty_like(self.vertices_local)
 
     @property
@@ -184,41 +184,41 @@ class RenderScene:
         self.visible[index] = bool(visible)
 
     def vertices_in_camera(self, camera_from_world: np.ndarray) -> np.ndarray:
-        """All vertices in the camera frame, ``(V, 3)`` float64 (a reused buffer).
+        """All vertices in the camera frame, ``(3, V)`` float64 (a reused buffer).
 
         ``p_camera = camera_from_world @ world_from_mesh @ p_local`` per mesh.
         """
         for i, sl in enumerate(self.vertex_slices):
             camera_from_mesh = camera_from_world @ self.world_from_mesh[i]
-            out = self._vertices_camera[sl]
-            np.matmul(self.vertices_local[sl], camera_from_mesh[:3, :3].T, out=out)  # R p
-            out += camera_from_mesh[:3, 3]  # + t
+            out = self._vertices_camera[:, sl]
+            np.matmul(camera_from_mesh[:3, :3], self.vertices_local[:, sl], out=out)  # R p
+            out += camera_from_mesh[:3, 3:4]  # + t
         return self._vertices_camera
 
 
 def _material_table(
     meshes: list[RenderMesh], tri_mesh: np.ndarray, faces: np.ndarray
 ) -> MaterialTable:
-    """Concatenate the meshes' materials into one ``MaterialTable``."""
-    n_vertices = sum(len(m.vertices) for m in meshes)
+    """Concatenate the meshes' materials into one ``MaterialTable`` (``faces`` is (3, T))."""
     base = np.array([m.base_color for m in meshes], dtype=np.uint8).reshape(-1, 4)
     has_vc = np.array([m.vertex_colors is not None for m in meshes], dtype=bool)
+    textured = [m.texture is not None for m in meshes]
     vertex_colors = uvs = None
     if has_vc.any():
-        vertex_colors = np.concatenate(
-            [
-                m.vertex_colors / 255.0
-                if m.vertex_colors is not None
-                else np.ones((len(m.vertices), 4))
-                for m in meshes
-            ]
-        ).astype(np.float32)
-    textured = [m.texture is not None for m in meshes]
+        columns = [
+            m.vertex_colors / 255.0
+            if m.vertex_colors is not None
+            else np.ones((len(m.vertices), 4))
+            for m in meshes
+        ]
+        vertex_colors = np.ascontiguousarray(np.concatenate(columns).T, dtype=np.float32)
     if any(textured):
-        uvs = np.concatenate(
-            [m.uvs if m.uvs is not None else np.zeros((len(m.vertices), 2)) for m in meshes]
-        ).astype(np.float32)
-    assert vertex_colors is None or len(vertex_colors) == n_vertices
+        columns = [m.uvs if m.uvs is not None else np.zeros((len(m.vertices), 2)) for m in meshes]
+        uvs = np.ascontiguousarray(np.concatenate(columns).T, dtype=np.float32)
+    textures = [
+        pad_texture_wrap(pack_rgba(m.texture)) if t else None
+        for m, t in zip(meshes, textured, strict=True)
+    ]
     return MaterialTable(
         tri_mesh=tri_mesh,
         tri_base_packed=pack_rgba(base)[tri_mesh] if len(base) else np.zeros(0, np.uint32),
@@ -227,10 +227,7 @@ def _material_table(
         has_vertex_colors=has_vc,
         vertex_colors=vertex_colors,
         uvs=uvs,
-        textures=[
-            pad_texture_wrap(pack_rgba(m.texture)) if m.texture is not None else None
-            for m in meshes
-        ],
+        textures=textures,
         uv_origins=[m.uv_origin for m in meshes],
         interpolated_meshes=[i for i, m in enumerate(meshes) if has_vc[i] or textured[i]],
     )

@@ -65,12 +65,12 @@ class MaterialTable:
     ----------
     tri_mesh : (T,) int64, mesh index of each triangle.
     tri_base_packed : (T,) uint32, packed base color (RGBA) of each triangle's mesh.
-    faces : (T, 3) int64, global vertex ids of each triangle's corners.
+    faces : (3, T) int64, global vertex ids of each triangle's corners (corner-major).
     base_colors : (M, 4) float32 in [0, 1].
     has_vertex_colors : (M,) bool.
-    vertex_colors : (V, 4) float32 in [0, 1] (ones for meshes without), or None if no mesh
+    vertex_colors : (4, V) float32 in [0, 1] (ones for meshes without), or None if no mesh
         has vertex colors.
-    uvs : (V, 2) float32 (zeros for meshes without), or None if no mesh is textured.
+    uvs : (2, V) float32 (zeros for meshes without), or None if no mesh is textured.
     textures : M entries, ``(h + 2, w + 2)`` uint32 packed RGBA (row 0 = top) with the
         wrap border of ``pad_texture_wrap``, or None.
     uv_origins : M entries, ``"bottom"`` or ``"top"`` (see module docstring).

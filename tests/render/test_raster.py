@@ -116,8 +116,11 @@ def test_unit_cube_covers_exactly_the_pixels_inside_its_projected_hull(cull):
 
 
 def coverage_count(screen: np.ndarray, height: int, width: int) -> np.ndarray:
-    """How many triangles cover each pixel under the fill rule, (height, width) int."""
-    spans = raster.scanline_spans(screen, height, width)
+    """How many triangles cover each pixel under the fill rule, (height, width) int.
+
+    ``screen`` is (T, 3, 2): per triangle, 3 corners (px, py).
+    """
+    spans = raster.scanline_spans(screen.transpose(1, 2, 0), height, width)
     count = np.zeros(height * width, dtype=np.int64)
     for row, first, n in zip(spans.row, spans.col_first, spans.n_pixels, strict=True):
         count[row * width + first : row * width + first + n] += 1

@@ -1,0 +1,199 @@
+"""Benchmark ``render.render_frame`` (color + depth + ids at 544 x 720) against pybullet.
+
+Run on demand (not a test)::
+
+    .venv/bin/python benchmarks/bench_render.py          # full run
+    .venv/bin/python benchmarks/bench_render.py --quick  # fewer repeats, smaller scenes
+
+Scenes: spheres of about 1k, 10k and 100k triangles (unlit vertex colors and lit), a
+full-screen close-up of a textured plane with 5 lit boxes. When ``import pybullet`` works,
+pybullet's TinyRenderer (``p.getCameraImage(..., renderer=p.ER_TINY_RENDERER)``) renders the
+same triangles from the same camera in the same run; the table prints both medians and the
+ratio, plus where our time goes (per-stage medians from ``FrameBuffers.timings``) and a
+cross-check of the two depth images. Compare ratios, not absolute times across runs.
+
+``bench_scene(meshes, camera, world_from_camera, repeats)`` is importable, so other scenes
+(e.g. the demo apartment) can be measured the same way.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+import numpy as np
+import trimesh
+
+from render import Camera, RenderMesh, RenderScene, render_frame
+
+RESOLUTION = (544, 720)
+
+
+def bench_scene(
+    meshes: list[RenderMesh] | RenderScene,
+    camera: Camera,
+    world_from_camera: np.ndarray,
+    repeats: int = 10,
+) -> dict:
+    """Time ``render_frame`` on a cached ``RenderScene`` with reused buffers.
+
+    Returns a dict: ``ms`` (median total), ``stages`` (median ms per stage),
+    ``fragments``, ``covered`` (pixels drawn), ``frame`` (the last FrameBuffers).
+    """
+    scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
+    frame = render_frame(scene, camera, world_from_camera)  # warm-up, allocates buffers
+    totals, stages = [], {}
+    for _ in range(repeats):
+        start = time.perf_counter()
+        frame = render_frame(scene, camera, world_from_camera, buffers=frame)
+        totals.append((time.perf_counter() - start) * 1e3)
+        for name, ms in frame.timings.items():
+            stages.setdefault(name, []).append(ms)
+    return {
+        "ms": statistics.median(totals),
+        "stages": {name: statistics.median(v) for name, v in stages.items()},
+        "fragments": frame.n_fragments,
+        "covered": int(np.count_nonzero(frame.depth)),
+        "frame": frame,
+    }
+
+
+def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+    """``world_from_camera`` of a camera at ``eye`` looking at ``target`` (-Z forward)."""
+    eye, target, up = (np.asarray(v, dtype=float) for v in (eye, target, up))
+    back = eye - target
+    back /= np.linalg.norm(back)
+    right = np.cross(up, back)
+    right /= np.linalg.norm(right)
+    pose = np.eye(4)
+    pose[:3, :3] = np.column_stack([right, np.cross(back, right), back])
+    pose[:3, 3] = eye
+    return pose
+
+
+def sphere_scene(n_triangles: int) -> list[RenderMesh]:
+    """A unit sphere of about ``n_triangles`` triangles with vertex colors, lit."""
+    count = max(4, int(round(math.sqrt(n_triangles / 2))))
+    mesh = trimesh.creation.uv_sphere(radius=1.0, count=[count, count])
+    colors = ((mesh.vertices * 0.5 + 0.5) * 255).astype(np.uint8)
+    return [RenderMesh(mesh.vertices, mesh.faces, vertex_colors=colors, lit=True, semantic_id=1)]
+
+
+def plane_and_boxes_scene() -> list[RenderMesh]:
+    """A textured floor filling the view and 5 lit boxes close to the camera."""
+    checker = (np.indices((64, 64)).sum(axis=0) // 8 % 2 * 155 + 100).astype(np.uint8)
+    texture = np.repeat(checker[:, :, None], 3, axis=2)
+    floor = RenderMesh(
+        np.array([[-20, 0, 20], [20, 0, 20], [20, 0, -20], [-20, 0, -20]], dtype=float),
+        np.array([[0, 1, 2], [0, 2, 3]]),
+        uvs=np.array([[0, 0], [10, 0], [10, 10], [0, 10]], dtype=float),
+        texture=texture,
+        semantic_id=1,
+    )
+    meshes = [floor]
+    box = trimesh.creation.box(extents=(0.4, 0.4, 0.4))
+    for i, x in enumerate(np.linspace(-0.8, 0.8, 5)):
+        pose = np.eye(4)
+        pose[:3, 3] = [x, 0.2, -1.0 - 0.3 * (i % 2)]
+        color = np.array([60 + 40 * i, 200 - 30 * i, 120, 255], np.uint8)
+        meshes.append(
+            RenderMesh(box.vertices, box.faces, pose, base_color=color, lit=True, semantic_id=2 + i)
+        )
+    return meshes
+
+
+# --- pybullet TinyRenderer on the same triangles --------------------------------------------
+
+
+def pybullet_renderer(meshes: list[RenderMesh], camera: Camera, world_from_camera: np.ndarray):
+    """A zero-argument function rendering the meshes with TinyRenderer, or None."""
+    try:
+        import pybullet as p
+    except ImportError:
+        return None
+    client = p.connect(p.DIRECT)
+    for mesh in meshes:
+        vertices = mesh.vertices @ mesh.world_from_mesh[:3, :3].T + mesh.world_from_mesh[:3, 3]
+        color = (np.asarray(mesh.base_color) / 255.0).tolist()
+        shape = p.createVisualShape(
+            p.GEOM_MESH,
+            vertices=vertices.tolist(),
+            indices=mesh.faces.ravel().tolist(),
+            rgbaColor=color,
+            physicsClientId=client,
+        )
+        p.createMultiBody(baseVisualShapeIndex=shape, physicsClientId=client)
+    height, width = camera.resolution
+    view = np.linalg.inv(world_from_camera).T.ravel().tolist()  # column-major camera_from_world
+    vfov = math.degrees(2 * math.atan(math.tan(math.radians(camera.hfov) / 2) * height / width))
+    projection = p.computeProjectionMatrixFOV(vfov, width / height, camera.near, camera.far)
+
+    def render() -> np.ndarray:
+        _, _, _, depth_buffer, _ = p.getCameraImage(
+            width, height, view, projection, renderer=p.ER_TINY_RENDERER, physicsClientId=client
+        )
+        buffer = np.reshape(depth_buffer, (height, width))
+        n, f = camera.near, camera.far
+        z = f * n / (f - (f - n) * buffer)  # OpenGL depth buffer -> z-depth
+        return np.where(buffer < 1.0, z, 0.0)
+
+    return render
+
+
+def time_calls(function, repeats: int) -> tuple[float, object]:
+    """Median wall time (ms) of ``function()`` and its last result."""
+    result, times = function(), []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        times.append((time.perf_counter() - start) * 1e3)
+    return statistics.median(times), result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer repeats")
+    args = parser.parse_args()
+    repeats = 3 if args.quick else 10
+    camera = Camera(RESOLUTION, hfov=90.0)
+    scenes = [
+        ("sphere 1k", sphere_scene(1_000), look_at((0, 0.5, 3.0), (0, 0, 0))),
+        ("sphere 10k", sphere_scene(10_000), look_at((0, 0.5, 3.0), (0, 0, 0))),
+        ("sphere 100k", sphere_scene(100_000), look_at((0, 0.5, 3.0), (0, 0, 0))),
+        (
+            "plane + 5 boxes, full screen",
+            plane_and_boxes_scene(),
+            look_at((0, 1.0, 0.8), (0, 0, -1.5)),
+        ),
+    ]
+    print(f"render_frame at {RESOLUTION[1]}x{RESOLUTION[0]} (color + depth + ids), medians")
+    header = f"{'scene':30s} {'tris':>7s} {'covered':>8s} {'frags':>8s} {'ours ms':>8s} {'tiny ms':>8s} {'ratio':>6s} {'depth diff':>10s}"
+    print(header)
+    for name, meshes, pose in scenes:
+        result = bench_scene(meshes, camera, pose, repeats)
+        n_triangles = sum(len(m.faces) for m in meshes)
+        tiny = pybullet_renderer(meshes, camera, pose)
+        tiny_ms, ratio, diff = float("nan"), float("nan"), float("nan")
+        if tiny is not None:
+            tiny_ms, tiny_depth = time_calls(tiny, max(1, repeats // 2))
+            ratio = tiny_ms / result["ms"]
+            ours = result["frame"].depth
+            both = (ours > 0) & (tiny_depth > 0)
+            diff = (
+                float(np.median(np.abs(ours[both] - tiny_depth[both]) / ours[both]))
+                if both.any()
+                else diff
+            )
+        print(
+            f"{name:30s} {n_triangles:7d} {result['covered']:8d} {result['fragments']:8d} "
+            f"{result['ms']:8.1f} {tiny_ms:8.1f} {ratio:5.1f}x {diff:10.1e}"
+        )
+        stages = ", ".join(f"{k} {v:.1f}" for k, v in result["stages"].items())
+        print(f"{'':30s} stages (ms): {stages}")
+    print("ratio = TinyRenderer time / ours (> 1: we are faster); depth diff = median relative")
+
+
+if __name__ == "__main__":
+    main()
