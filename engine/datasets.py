@@ -17,7 +17,8 @@ Where: the ``path`` argument, else ``$RIGIDSIM_DATA_DIR``, else
 ``~/.cache/rigidsim/<DATASET_VERSION>/``; the function returns ``<that folder>/data``.
 Generation is deterministic (the same bytes every time), takes about a second, and is
 atomic: files are written into a temporary sibling folder that is renamed into place, so a
-crash never leaves half a dataset. A folder whose ``VERSION`` differs is rebuilt.
+crash never leaves half a dataset. A folder whose ``VERSION`` differs is rebuilt; a
+``data`` folder without a demo ``VERSION`` stamp is never touched (FileExistsError).
 """
 
 from __future__ import annotations
@@ -87,6 +88,11 @@ def demo_data_path(path: str | os.PathLike | None = None) -> Path:
     data = root / "data"
     if _is_current(data):
         return data
+    if data.exists() and not _is_ours(data):
+        raise FileExistsError(
+            f"{data} exists but is not a rigidsim demo dataset (no VERSION stamp); "
+            "pass another cache folder or remove it"
+        )
     root.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".data-building-", dir=root))
     try:
@@ -159,6 +165,12 @@ def _is_current(data: Path) -> bool:
     """True if ``data`` exists and carries this version's stamp."""
     stamp = data / "VERSION"
     return stamp.is_file() and stamp.read_text().strip() == DATASET_VERSION
+
+
+def _is_ours(data: Path) -> bool:
+    """True if ``data`` carries a demo-dataset stamp of any version (safe to replace)."""
+    stamp = data / "VERSION"
+    return stamp.is_file() and stamp.read_text().startswith(DATASET_VERSION.rsplit("-", 1)[0])
 
 
 def _swap_into_place(staging: Path, data: Path) -> None:

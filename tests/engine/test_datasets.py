@@ -128,6 +128,15 @@ def test_stale_or_partial_dataset_is_replaced(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["data"]
 
 
+def test_foreign_data_folder_is_never_replaced(tmp_path: Path) -> None:
+    foreign = tmp_path / "data"
+    foreign.mkdir()
+    (foreign / "my_thesis.txt").write_text("precious")
+    with pytest.raises(FileExistsError, match="not a rigidsim demo dataset"):
+        demo_data_path(tmp_path)
+    assert (foreign / "my_thesis.txt").read_text() == "precious"
+
+
 def test_failed_build_leaves_no_partial_dataset(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
