@@ -30,7 +30,7 @@ import fcl
 import numpy as np
 
 from . import settings
-from .quaternions import quat_to_matrix
+from .quaternions import cross, quat_to_matrix
 
 _REQUEST = fcl.CollisionRequest(num_max_contacts=settings.MAX_FCL_CONTACTS, enable_contact=True)
 _POLYHEDRA = ("box", "convex", "cylinder", "cone")
@@ -132,11 +132,16 @@ def generic_contacts(object_a, object_b):
     return _midpoint_contacts(mid, normals, depths)
 
 
-def stage_contacts(stage_shape, object_stage, shape_b, pose_b, object_b):
-    """Contacts of a body shape (B) with the static triangle mesh (A) (method 2)."""
-    mid, _, depths, tri_ids = fcl_contacts(object_stage, object_b)
+def stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
+    """Contacts of a body shape (B) with the static triangle mesh (A) (method 2).
+
+    ``probe_b`` is B's shape grown by ``STAGE_SPECULATIVE_DISTANCE``: fcl finds the triangles
+    near B, exact tests below make the (possibly speculative, negative-depth) contacts.
+    """
+    mid, _, depths, tri_ids = fcl_contacts(object_stage, probe_b)
     if len(depths) == 0:
         return None
+    depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
     tri_ids = np.unique(tri_ids[tri_ids >= 0])
     tris = stage_shape.ray_triangles[tri_ids]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
@@ -157,7 +162,7 @@ def stage_contacts(stage_shape, object_stage, shape_b, pose_b, object_b):
 
 def _triangle_normals_towards(tris, point):
     """Unit face normals ``(t, 3)`` flipped to point towards ``point`` (3,)."""
-    normal = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    normal = cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
     side = np.sum((point - tris[:, 0]) * normal, axis=1)
     return normal * np.where(side < 0, -1.0, 1.0)[:, None]
@@ -180,7 +185,7 @@ def _vertex_triangle_contacts(tris, normal, verts):
     """Hull vertices (m, 3) just below triangle planes and inside their prisms."""
     # signed height of vertex j above triangle i's plane: n_i . (v_j - p0_i)
     height = normal @ verts.T - np.sum(normal * tris[:, 0], axis=1)[:, None]
-    candidate = (height < settings.SPECULATIVE_DISTANCE) & _barycentric_inside(tris, verts)
+    candidate = (height < settings.STAGE_SPECULATIVE_DISTANCE) & _barycentric_inside(tris, verts)
     # a vertex far below a thin triangle is on the other side of it, not in contact
     candidate &= height > -0.5 * (verts.max(0) - verts.min(0)).max()
     if not np.any(candidate):
@@ -202,7 +207,7 @@ def _sphere_triangle_contacts(tris, normal, center, radius):
     offset = center - closest
     distance = np.linalg.norm(offset, axis=1)
     best = int(np.argmin(distance))
-    if distance[best] > radius + settings.SPECULATIVE_DISTANCE:
+    if distance[best] > radius + settings.STAGE_SPECULATIVE_DISTANCE:
         return None
     n = offset[best] / distance[best] if distance[best] > 1e-9 else normal[best]
     point_a = closest[best][None]
@@ -217,7 +222,7 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
     (segment point ``a + clamp(((p - a).(b - a)) / |b - a|^2, 0, 1) (b - a)``).
     """
     e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
-    n = np.cross(e0, e1)
+    n = cross(e0, e1)
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
     projected = point - np.sum((point - tris[:, 0]) * n, axis=1)[:, None] * n
     inside = np.diagonal(_barycentric_inside(tris, projected))
@@ -233,12 +238,15 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
     return best
 
 
-def pair_contacts(shape_a, pose_a, object_a, shape_b, pose_b, object_b):
-    """Dispatch to the right contact generator; None when the shapes do not touch."""
+def pair_contacts(shape_a, pose_a, object_a, shape_b, pose_b, object_b, probe_a, probe_b):
+    """Dispatch to the right contact generator; None when the shapes do not touch.
+
+    ``probe_a`` / ``probe_b`` are the grown fcl objects used against the stage mesh.
+    """
     if shape_a.kind == "mesh":
-        return stage_contacts(shape_a, object_a, shape_b, pose_b, object_b)
+        return stage_contacts(shape_a, object_a, shape_b, pose_b, probe_b)
     if shape_b.kind == "mesh":
-        flipped = stage_contacts(shape_b, object_b, shape_a, pose_a, object_a)
+        flipped = stage_contacts(shape_b, object_b, shape_a, pose_a, probe_a)
         return None if flipped is None else (flipped[1], flipped[0], -flipped[2])
     if shape_a.kind in _POLYHEDRA and shape_b.kind in _POLYHEDRA:
         return polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, object_a, object_b)

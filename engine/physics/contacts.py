@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import settings
+from .quaternions import cross
 
 
 class Manifold:
@@ -113,7 +114,7 @@ def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndar
     if count >= 3:
         edge = points[chosen[1]] - points[chosen[0]]
         # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
-        area = np.cross(edge, points - points[chosen[0]]) @ normal
+        area = cross(edge, points - points[chosen[0]]) @ normal
         third = int(np.argmax(np.abs(area)))
         chosen.append(third)
         if count >= 4:

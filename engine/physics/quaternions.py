@@ -2,37 +2,69 @@
 
 A unit quaternion q = (v, w) rotates a vector by ``R(q) p``; composition ``q1 * q2`` applies
 q2 first. Rotation by angle theta about unit axis u: ``q = (u sin(theta/2), cos(theta/2))``.
+
+Speed note: for the few-body arrays of a physics step, NumPy's per-call overhead dominates,
+so the bilinear maps (rotation matrix, Hamilton product, cross product) are written as one
+outer product and one matrix product with a constant coefficient table. For example
+``R_ij(q) = sum_ab q_a q_b A[a, b, ij]`` with ``A`` read off
+``R = (w^2 - v.v) I + 2 v v^T + 2 w [v]x``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+X, Y, Z, W = range(4)
+
+
+def _table(shape, entries) -> np.ndarray:
+    table = np.zeros(shape)
+    for index, value in entries:
+        table[index] += value
+    return table
+
+
+# R_ij = sum_ab q_a q_b MATRIX_TABLE[a*4 + b, i*3 + j]   (unit quaternions)
+_R = {
+    (0, 0): [(W, W, 1), (X, X, 1), (Y, Y, -1), (Z, Z, -1)],
+    (0, 1): [(X, Y, 2), (W, Z, -2)], (0, 2): [(X, Z, 2), (W, Y, 2)],
+    (1, 0): [(X, Y, 2), (W, Z, 2)], (1, 1): [(W, W, 1), (X, X, -1), (Y, Y, 1), (Z, Z, -1)],
+    (1, 2): [(Y, Z, 2), (W, X, -2)], (2, 0): [(X, Z, 2), (W, Y, -2)],
+    (2, 1): [(Y, Z, 2), (W, X, 2)], (2, 2): [(W, W, 1), (X, X, -1), (Y, Y, -1), (Z, Z, 1)],
+}
+MATRIX_TABLE = _table((16, 9), [((a * 4 + b, i * 3 + j), c)
+                                for (i, j), terms in _R.items() for a, b, c in terms])
+# (q1 * q2)_k = sum_ab q1_a q2_b PRODUCT_TABLE[a*4 + b, k]:
+# vector = w1 v2 + w2 v1 + v1 x v2, scalar = w1 w2 - v1 . v2
+_EPS = [(0, 1, 2, 1), (1, 2, 0, 1), (2, 0, 1, 1), (0, 2, 1, -1), (2, 1, 0, -1), (1, 0, 2, -1)]
+PRODUCT_TABLE = _table((16, 4), [((W * 4 + k, k), 1) for k in range(3)]
+                       + [((k * 4 + W, k), 1) for k in range(3)]
+                       + [((i * 4 + j, k), s) for i, j, k, s in _EPS]
+                       + [((W * 4 + W, W), 1)] + [((k * 4 + k, W), -1) for k in range(3)])
+# (a x b)_k = sum_ij a_i b_j eps_ijk
+CROSS_TABLE = _table((9, 3), [((i * 3 + j, k), s) for i, j, k, s in _EPS])
+
+
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Flattened outer products ``(..., len_a * len_b)``."""
+    return (a[..., :, None] * b[..., None, :]).reshape(a.shape[:-1] + (-1,))
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of ``(..., 3)`` arrays (faster than ``np.cross`` on small arrays)."""
+    if a.shape != b.shape:
+        a, b = np.broadcast_arrays(a, b)
+    return _outer(a, b) @ CROSS_TABLE
+
 
 def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
     """Hamilton product ``q1 * q2`` of ``(..., 4)`` arrays [x, y, z, w]."""
-    v1, w1 = q1[..., :3], q1[..., 3:]
-    v2, w2 = q2[..., :3], q2[..., 3:]
-    # (v, w) = (w1 v2 + w2 v1 + v1 x v2, w1 w2 - v1 . v2)
-    vector = w1 * v2 + w2 * v1 + np.cross(v1, v2)
-    scalar = w1 * w2 - np.sum(v1 * v2, axis=-1, keepdims=True)
-    return np.concatenate([vector, scalar], axis=-1)
+    return _outer(q1, q2) @ PRODUCT_TABLE
 
 
 def quat_to_matrix(q: np.ndarray) -> np.ndarray:
     """Rotation matrices ``(..., 3, 3)`` of unit quaternions ``(..., 4)`` [x, y, z, w]."""
-    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    m = np.empty(q.shape[:-1] + (3, 3))
-    m[..., 0, 0] = 1 - 2 * (y * y + z * z)
-    m[..., 0, 1] = 2 * (x * y - z * w)
-    m[..., 0, 2] = 2 * (x * z + y * w)
-    m[..., 1, 0] = 2 * (x * y + z * w)
-    m[..., 1, 1] = 1 - 2 * (x * x + z * z)
-    m[..., 1, 2] = 2 * (y * z - x * w)
-    m[..., 2, 0] = 2 * (x * z - y * w)
-    m[..., 2, 1] = 2 * (y * z + x * w)
-    m[..., 2, 2] = 1 - 2 * (x * x + y * y)
-    return m
+    return (_outer(q, q) @ MATRIX_TABLE).reshape(q.shape[:-1] + (3, 3))
 
 
 def matrix_to_quat(m: np.ndarray) -> np.ndarray:
@@ -60,16 +92,12 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
 
     ``exp(theta u / 2) = (u sin(theta / 2), cos(theta / 2))``; a zero vector gives identity.
     """
-    angle = np.linalg.norm(rotation_vector, axis=-1, keepdims=True)
-    safe = np.where(angle > 1e-300, angle, 1.0)
-    axis = rotation_vector / safe
-    # sin(theta/2) u, cos(theta/2); for theta = 0 the axis is irrelevant (sin 0 = 0)
-    return np.concatenate([axis * np.sin(angle / 2), np.cos(angle / 2)], axis=-1)
+    angle = np.sqrt(np.sum(rotation_vector * rotation_vector, axis=-1, keepdims=True))
+    # sin(theta/2) / theta -> 1/2 as theta -> 0 (the axis is irrelevant at zero angle)
+    scale = np.where(angle > 1e-12, np.sin(angle / 2) / np.where(angle > 1e-12, angle, 1.0), 0.5)
+    return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
 
 
 def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Rotate vectors ``(..., 3)`` by unit quaternions ``(..., 4)``: ``R(q) v``."""
-    u, w = q[..., :3], q[..., 3:]
-    # v' = v + 2 w (u x v) + 2 u x (u x v)
-    uv = np.cross(u, v)
-    return v + 2.0 * w * uv + 2.0 * np.cross(u, uv)
+    return (quat_to_matrix(q) @ v[..., None])[..., 0]

@@ -61,8 +61,12 @@ CONTACT_BREAKING_DISTANCE = 0.02
 CONTACT_DRIFT_DISTANCE = 0.02
 #: m, a new point closer than this to a cached one inherits its impulses (warm start).
 CONTACT_MATCH_DISTANCE = 0.02
-#: m, hull vertices up to this far above a stage triangle still make (speculative) contacts.
+#: m, polyhedron-polyhedron vertex contacts are kept up to this far outside the other body.
 SPECULATIVE_DISTANCE = 0.004
+#: m, bodies within this distance of the stage get speculative contacts (Box2D v3 uses 4 x
+#: its 5 mm slop): the solver lets a gap g close by at most g / h per step, so a falling
+#: body stops exactly on the surface instead of sinking in and being pushed back up.
+STAGE_SPECULATIVE_DISTANCE = 0.02
 #: points, the most points a manifold keeps (deepest + largest area, as Bullet does).
 MAX_MANIFOLD_POINTS = 4
 #: fcl contacts requested per shape pair.

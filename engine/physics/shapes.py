@@ -64,6 +64,31 @@ class Shape:
         return float(extent.min() / 2.0)
 
 
+def probe_geometry(shape: Shape, margin: float):
+    """fcl geometry of ``shape`` grown by ``margin`` meters (same frame as the shape).
+
+    Used only to *find* stage triangles within ``margin`` of the body (speculative contacts);
+    the contact points themselves are computed exactly. Hulls grow radially from their
+    centroid (a conservative approximation).
+    """
+    g = shape.geometry
+    if shape.kind == "box":
+        return fcl.Box(*(np.asarray(g.side, dtype=np.float64) + 2 * margin))
+    if shape.kind == "sphere":
+        return fcl.Sphere(shape.radius + margin)
+    if shape.kind in ("cylinder", "cone"):
+        extent = shape.hull_vertices.max(0) - shape.hull_vertices.min(0)
+        radius, length = extent[0] / 2 + margin, extent[1] + 2 * margin
+        return (fcl.Cylinder if shape.kind == "cylinder" else fcl.Cone)(radius, length)
+    if shape.kind == "capsule":
+        return fcl.Capsule(g.radius + margin, g.lz)
+    center = shape.hull_vertices.mean(0)
+    offset = shape.hull_vertices - center
+    grown = shape.hull_vertices + margin * offset / np.maximum(
+        np.linalg.norm(offset, axis=1, keepdims=True), 1e-12)
+    return convex_shape(grown, "probe").geometry
+
+
 def validate_mesh(vertices: np.ndarray, faces: np.ndarray, name: str) -> tuple:
     """Check a triangle mesh before it reaches fcl (empty meshes crash the interpreter).
 

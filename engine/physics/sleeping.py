@@ -65,3 +65,25 @@ def _island_labels(n: int, edges: list) -> np.ndarray:
     pairs = np.array(edges, dtype=np.int64)
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     return connected_components(graph, directed=False)[1]
+
+
+def wake_touched(bodies, manifolds) -> bool:
+    """Wake sleeping dynamic bodies touching an awake dynamic or a moving kinematic body.
+
+    Runs right after collision detection, so the solver already treats a body that was hit
+    this step as movable (otherwise it would act as a wall for one step). Returns True when a
+    body was woken.
+    """
+    woken = False
+    awake, motion = bodies.body_awake, bodies.body_motion_type
+    for (a, b), manifold in manifolds.items():
+        if len(manifold) == 0:
+            continue
+        for sleeper, other in ((a, b), (b, a)):
+            if motion[sleeper] != DYNAMIC or awake[sleeper]:
+                continue
+            if (motion[other] == DYNAMIC and awake[other]) or _moving_kinematic(bodies, other):
+                awake[sleeper] = True
+                bodies.body_sleep_time[sleeper] = 0.0
+                woken = True
+    return woken

@@ -40,10 +40,17 @@ def solve_stage(world, moving: np.ndarray, h: float):
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
     velocity = _velocity_array(b, n)
+    # restitution uses the approach speed at the start of the step (before this step's
+    # gravity): the impact happened during the previous step, not after one more h g
+    approach_velocity = velocity.copy()
+    start = getattr(world, "step_start_velocity", None)
+    if start is not None and len(start) == n:
+        dynamic = b.body_motion_type[:n] == DYNAMIC
+        approach_velocity[dynamic] = start[dynamic]
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(*arrays, body_a, body_b, b.body_position[:n], inv_mass, inv_inertia,
-                        friction, restitution, arrays_impulse(manifolds), velocity,
+                        friction, restitution, arrays_impulse(manifolds), approach_velocity,
                         color_slices)
     pseudo = solve_contacts(batch, velocity, h, world.settings)
     b.body_linear_velocity[moving] = velocity[moving, :3]

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import settings as constants
+from .quaternions import cross
 
 SLOTS = constants.MAX_MANIFOLD_POINTS
 
@@ -74,14 +75,14 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     axis = np.zeros_like(normal)
     axis[..., 0] = np.abs(normal[..., 0]) < 0.57
     axis[..., 1] = 1.0 - axis[..., 0]
-    t1 = np.cross(normal, axis)
+    t1 = cross(normal, axis)
     t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), 1e-300)
-    return t1, np.cross(normal, t1)
+    return t1, cross(normal, t1)
 
 
 def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
     """Jacobian rows ``(m, S, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, S, 3)``."""
-    ra_x_d, rb_x_d = np.cross(r_a, direction), np.cross(r_b, direction)
+    ra_x_d, rb_x_d = cross(r_a, direction), cross(r_b, direction)
     jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
     w = np.concatenate([-direction * inv_mass_a[:, None, None],

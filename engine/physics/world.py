@@ -36,16 +36,17 @@ from .contacts import Manifold
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .quaternions import matrix_to_quat, quat_to_matrix
 from .settings import SolverSettings
-from .shapes import mesh_shape
-from .sleeping import update_sleep
+from .shapes import mesh_shape, probe_geometry
+from .sleeping import update_sleep, wake_touched
 from .solve_stage import solve_stage
 from .sweep import sweep_fast_bodies
 from .world_api import WorldApiMixin
 
 #: object id of the stage (Habitat's ``RIGID_STAGE_ID`` in rigidsim's numbering).
 STAGE_ID = 0
-#: m, broad-phase AABB inflation so slightly separated manifolds keep being refreshed.
-AABB_MARGIN = 0.01
+#: m, broad-phase AABB inflation: covers the stage's speculative distance, and keeps
+#: slightly separated manifolds refreshed.
+AABB_MARGIN = constants.STAGE_SPECULATIVE_DISTANCE
 
 
 class PhysicsWorld(WorldApiMixin):
@@ -70,6 +71,7 @@ class PhysicsWorld(WorldApiMixin):
         self.bodies.body_collidable[STAGE_ID] = False
         self.bodies.body_motion_type[STAGE_ID] = STATIC
         self.fcl_objects: dict[int, list] = {}
+        self.probe_objects: dict[int, list] = {}
         self.manifolds: dict[tuple[int, int], Manifold] = {}
         self.nodes: dict[int, Any] = {}
         self.velocity_controls: dict[int, Any] = {}
@@ -123,6 +125,10 @@ class PhysicsWorld(WorldApiMixin):
         b.shapes[index] = shapes
         self.fcl_objects[index] = [fcl.CollisionObject(s.geometry, fcl.Transform())
                                    for s in shapes]
+        self.probe_objects[index] = [
+            None if s.kind == "mesh" else fcl.CollisionObject(
+                probe_geometry(s, constants.STAGE_SPECULATIVE_DISTANCE), fcl.Transform())
+            for s in shapes]
         points = np.concatenate([s.hull_vertices for s in shapes])
         lo, hi = points.min(0), points.max(0)
         b.body_shape_center[index] = 0.5 * (lo + hi)
@@ -137,9 +143,13 @@ class PhysicsWorld(WorldApiMixin):
         b = self.bodies
         r = quat_to_matrix(b.body_rotation[index]) if rotation is None else rotation
         x = b.body_position[index]
-        for shape, obj in zip(b.shapes[index], self.fcl_objects[index]):
+        for shape, obj, probe in zip(b.shapes[index], self.fcl_objects[index],
+                                     self.probe_objects[index]):
             offset = shape.body_from_shape
-            obj.setTransform(fcl.Transform(r @ offset[:3, :3], r @ offset[:3, 3] + x))
+            transform = fcl.Transform(r @ offset[:3, :3], r @ offset[:3, 3] + x)
+            obj.setTransform(transform)
+            if probe is not None:
+                probe.setTransform(transform)
 
     # ------------------------------------------------------------------------------------
     # stepping
@@ -175,10 +185,14 @@ class PhysicsWorld(WorldApiMixin):
         start = clock()
         # ---- 1. forces: v += h (g + F/m), w += h I^-1 tau, damping -------------------------
         moving = self._awake_dynamic()
+        self.step_start_velocity = np.hstack([b.body_linear_velocity[: b.count],
+                                              b.body_angular_velocity[: b.count]])
         integrate_velocities(b, moving, self._gravity, h)
         t_forces = clock()
         # ---- 2. collision: broad phase pairs, narrow phase contacts, persistent manifolds --
         self._update_contacts()
+        if wake_touched(b, self.manifolds):  # a body hit this step must be able to move
+            moving = self._awake_dynamic()
         t_collide = clock()
         # ---- 3. solve: warm start, sequential impulses by color, restitution, split impulses
         pseudo = solve_stage(self, moving, h)
@@ -244,9 +258,12 @@ class PhysicsWorld(WorldApiMixin):
         pose_a = (rotation[a], b.body_position[a])
         pose_c = (rotation[c], b.body_position[c])
         fresh = []
-        for shape_a, obj_a in zip(b.shapes[a], self.fcl_objects[a]):
-            for shape_c, obj_c in zip(b.shapes[c], self.fcl_objects[c]):
-                result = pair_contacts(shape_a, pose_a, obj_a, shape_c, pose_c, obj_c)
+        for shape_a, obj_a, probe_a in zip(b.shapes[a], self.fcl_objects[a],
+                                           self.probe_objects[a]):
+            for shape_c, obj_c, probe_c in zip(b.shapes[c], self.fcl_objects[c],
+                                               self.probe_objects[c]):
+                result = pair_contacts(shape_a, pose_a, obj_a, shape_c, pose_c, obj_c,
+                                       probe_a, probe_c)
                 if result is not None:
                     fresh.append(result)
         merged = None

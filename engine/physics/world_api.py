@@ -73,6 +73,7 @@ class WorldApiMixin:
         for key in [k for k in self.manifolds if index in k]:
             del self.manifolds[key]
         self.fcl_objects.pop(index, None)
+        self.probe_objects.pop(index, None)
         b.shapes[index] = []
         self.nodes.pop(index, None)
         self.velocity_controls.pop(index, None)
@@ -122,6 +123,18 @@ class WorldApiMixin:
         self._time = 0.0
         self._accumulator = 0.0
 
+    def get_stage_is_collidable(self) -> bool:
+        return bool(self.bodies.body_collidable[0] and self.bodies.shapes[0])
+
+    def set_stage_is_collidable(self, collidable: bool) -> None:
+        """Turn the stage's collisions (contacts, ray hits, contact tests) on or off."""
+        if not isinstance(collidable, bool | np.bool_):
+            raise TypeError(f"collidable must be a bool, got {collidable!r}")
+        self.bodies.body_collidable[0] = bool(collidable) and bool(self.bodies.shapes[0])
+        for key in [k for k in self.manifolds if 0 in k]:
+            self.wake(key[1])
+            del self.manifolds[key]
+
     # -- queries ---------------------------------------------------------------------------
     def cast_ray(self, ray, max_distance: float = 100.0) -> RaycastResults:
         """All hits of ``ray`` with collidable bodies up to ``max_distance`` (units of
@@ -143,10 +156,15 @@ class WorldApiMixin:
         return results
 
     def contact_test(self, index: int) -> bool:
-        """True when body ``index`` overlaps any other collidable body (or the stage)."""
+        """True when body ``index`` overlaps another collidable body it can collide with.
+
+        As in Bullet's collision filtering, STATIC and KINEMATIC bodies (and the stage) never
+        collide with each other, so a pair counts only if one of the two is DYNAMIC.
+        """
         b, n = self.bodies, self.bodies.count
         if not (b.body_alive[index] and b.body_collidable[index] and b.shapes[index]):
             return False
+        self_dynamic = b.body_motion_type[index] == DYNAMIC
         rotation = quat_to_matrix(b.body_rotation[:n])
         from .collide import world_aabbs
 
@@ -154,6 +172,8 @@ class WorldApiMixin:
                              b.body_position[:n], b.body_rotation[:n])
         overlap = np.all((lo <= hi[index]) & (hi >= lo[index]), axis=1)
         overlap &= b.body_alive[:n] & b.body_collidable[:n]
+        if not self_dynamic:
+            overlap &= b.body_motion_type[:n] == DYNAMIC
         overlap[index] = False
         self._update_fcl(index, rotation[index])
         for other in np.nonzero(overlap)[0].tolist():
