@@ -61,6 +61,10 @@ SECTIONS: list[tuple[str, Callable[[TutorialContext], SectionResult], float]] = 
 ]
 
 
+# progress in simulated world seconds, e.g. "basics  60%|######    | 0.90/1.50 world s [00:01]"
+BAR_FORMAT = "{desc:<24}{percentage:3.0f}%|{bar:30}| {n:.2f}/{total:.2f} world s [{elapsed}]"
+
+
 def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     """Command-line options of the tutorial job."""
     parser = argparse.ArgumentParser(prog="python -m engine.tutorial", description=__doc__)
@@ -110,12 +114,19 @@ def run_tutorial(
         context = TutorialContext(sim, data_path, None, random.Random(seed))
         results = []
         for label, section, world_seconds in SECTIONS:
-            with tqdm(total=world_seconds, desc=label, unit="s", disable=not progress) as bar:
+            bar = tqdm(total=world_seconds, desc=label, bar_format=BAR_FORMAT, disable=not progress)
+            with bar:
+                advance = partial(_advance_bar, bar)
                 context.new_recorder = partial(
-                    _new_recorder, sim, output_dir, make_video, keep_observations, bar.update
+                    _new_recorder, sim, output_dir, make_video, keep_observations, advance
                 )
                 results.append(section(context))
     return results
+
+
+def _advance_bar(bar: tqdm, world_dt: float) -> None:
+    """Advance a section's bar by simulated seconds (the last frame may overshoot: clamp)."""
+    bar.update(min(world_dt, max(bar.total - bar.n, 0.0)))
 
 
 def _new_recorder(

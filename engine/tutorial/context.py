@@ -112,8 +112,15 @@ def quat(value: mn.Quaternion) -> list[float]:
 
 
 def pose(obj: Any) -> dict[str, list[float]]:
-    """An object's translation (its center of mass, m) and rotation ``[x, y, z, w]``."""
-    return {"translation": vec(obj.translation), "rotation": quat(obj.rotation)}
+    """An object's translation (its center of mass, m), rotation ``[x, y, z, w]`` and the
+    half sizes of its local AABB (m, object axes: a sphere's radius, a can's radius and
+    half height)."""
+    half_extents = (np.asarray(obj.aabb.max, np.float64) - np.asarray(obj.aabb.min, np.float64)) / 2
+    return {
+        "translation": vec(obj.translation),
+        "rotation": quat(obj.rotation),
+        "half_extents": vec(half_extents),
+    }
 
 
 def world_y_extent(obj: Any) -> tuple[float, float]:

@@ -19,6 +19,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import imageio
@@ -136,16 +137,23 @@ class SectionRecorder:
         """Compose the frame exactly as ``make_video`` does and append it to the file."""
         start = time.perf_counter()
         if self._writer is None:
-            self._writer = imageio.get_writer(self.video_path, fps=self.video.fps)
+            # the encoder settings of render.video.save_video (H.264 in an mp4 container)
+            self._writer = imageio.get_writer(
+                self.video_path, mode="I", fps=self.video.fps, format="FFMPEG", macro_block_size=1
+            )
+        to_image = partial(vut.observation_to_image, depth_clip=self.video.depth_clip)
         frame = vut.make_video_frame(
             observation,
             self.video.primary_obs,
             self.video.primary_obs_type,
             None,
-            overlay_settings=self.video.overlay_settings,
-            depth_clip=self.video.depth_clip,
+            self.video.overlay_settings,
+            to_image,
         )
-        self._writer.append_data(np.asarray(frame)[..., :3])
+        rgb = np.asarray(frame)[..., :3]
+        even_h, even_w = rgb.shape[0] // 2 * 2, rgb.shape[1] // 2 * 2
+        # yuv420p needs even sides: crop a last odd row / column, as save_video does
+        self._writer.append_data(np.ascontiguousarray(rgb[:even_h, :even_w]))
         self.timings.encoding += time.perf_counter() - start
 
     def close(self) -> str | None:

@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import os
 
-import numpy as np
-
 import engine as habitat_sim
 from engine import mn
 from engine.tutorial.context import (
@@ -23,7 +21,6 @@ from engine.tutorial.context import (
     pose,
     simulate,
     vec,
-    world_y_extent,
 )
 from engine.tutorial.recording import VideoSpec
 from engine.tutorial.scene_setup import FRAME_DT
@@ -50,8 +47,7 @@ def basics(ctx: TutorialContext) -> SectionResult:
 
     outcomes = {
         "sphere": pose(sphere_obj),
-        "sphere_y_extent": world_y_extent(sphere_obj),
-        "sphere_speed": float(np.linalg.norm(vec(sphere_obj.linear_velocity))),
+        "sphere_linear_velocity": vec(sphere_obj.linear_velocity),
     }
     ctx.rigid_obj_mgr.remove_all_objects()
     return finish("basics", recorder, start_time, outcomes)
@@ -179,10 +175,8 @@ def kinematic_interactions(ctx: TutorialContext) -> SectionResult:
 
     outcomes = {
         "kinematic_can": pose(chefcan_obj),
-        "kinematic_can_y_extent": world_y_extent(chefcan_obj),
         "dynamic_cans_start": CAN_POSITIONS,
         "dynamic_cans": [pose(can) for can in dynamic_cans],
-        "dynamic_cans_y_extent": [world_y_extent(can) for can in dynamic_cans],
     }
     rigid_obj_mgr.remove_all_objects()
     return finish("kinematic_interactions", recorder, start_time, outcomes)
