@@ -9,7 +9,7 @@ writes them once into a cache folder, laid out like Habitat's ``data/`` folder::
       scene_datasets/demo/apartment.stage_config.json     up [0,1,0], front [0,0,-1]
       scene_datasets/demo/apartment.navmesh               when the navmesh package can build it
       test_assets/objects/sphere.object_config.json       + sphere.glb
-      objects/example_objects/{cheezit,chefcan,largeclamp}.object_config.json  + .glb
+      objects/example_objects/{cheezit,chefcan,largeclamp,banana,mug}.object_config.json
       objects/locobot_merged/locobot_merged.object_config.json                 + .glb
       VERSION                                             dataset version stamp
 
@@ -32,17 +32,19 @@ from pathlib import Path
 
 from engine.demo_geometry import Part, write_glb
 from engine.demo_objects import (
+    banana_object,
     cheezit_object,
     chefcan_object,
     largeclamp_object,
     locobot_object,
+    mug_object,
     sphere_object,
 )
 from engine.demo_scene import apartment_parts
 
 __all__ = ["DATASET_VERSION", "demo_data_path", "write_demo_dataset"]
 
-DATASET_VERSION = "rigidsim-demo-2"
+DATASET_VERSION = "rigidsim-demo-3"
 DATA_DIR_ENV = "RIGIDSIM_DATA_DIR"
 STAGE_DIR = Path("scene_datasets") / "demo"
 STAGE_NAME = "apartment"
@@ -53,6 +55,8 @@ OBJECTS: dict[str, tuple[Path, Callable[[], tuple[list[Part], dict]]]] = {
     "cheezit": (Path("objects") / "example_objects", cheezit_object),
     "chefcan": (Path("objects") / "example_objects", chefcan_object),
     "largeclamp": (Path("objects") / "example_objects", largeclamp_object),
+    "banana": (Path("objects") / "example_objects", banana_object),
+    "mug": (Path("objects") / "example_objects", mug_object),
     "locobot_merged": (Path("objects") / "locobot_merged", locobot_object),
 }
 

@@ -155,11 +155,47 @@ def merge_parts(parts: list[Part], name: str) -> Part:
     return Part(vertices, faces, colors=colors, name=name)
 
 
-def transform_parts(parts: list[Part], rotation: np.ndarray, offset: np.ndarray) -> list[Part]:
-    """Move parts rigidly: ``p' = R p + offset`` (``R`` a proper rotation, winding kept)."""
-    return [
-        dataclasses.replace(p, vertices=p.vertices @ np.asarray(rotation).T + offset) for p in parts
-    ]
+def tube(
+    spine: np.ndarray,
+    radii: np.ndarray,
+    plane_normal: tuple[float, float, float],
+    segments: int,
+    color: tuple[int, ...],
+    name: str = "tube",
+) -> Part:
+    """Closed tube of varying radius swept along a planar polyline.
+
+    Ring ``i`` is the circle ``p_i + r_i (cos(phi) n_i + sin(phi) b)`` where ``b`` is the unit
+    ``plane_normal`` of the spine's plane, ``t_i`` the spine tangent and ``n_i = t_i x b``.
+    The ends are closed by triangle fans around the end points.
+
+    Parameters
+    ----------
+    spine : (N, 3) float, points in the plane, N >= 2, meters.
+    radii : (N,) float, tube radius at each point, meters (> 0).
+    """
+    spine = np.asarray(spine, dtype=np.float64)
+    b = np.asarray(plane_normal, dtype=np.float64) / np.linalg.norm(plane_normal)
+    tangent = np.gradient(spine, axis=0)
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    normal = np.cross(tangent, b)  # n_i = t_i x b, in the plane
+    phi = 2.0 * np.pi * np.arange(segments) / segments
+    offsets = np.cos(phi)[None, :, None] * normal[:, None, :] + np.sin(phi)[None, :, None] * b
+    rings = spine[:, None, :] + np.asarray(radii)[:, None, None] * offsets  # (N, S, 3)
+    n_rings = len(spine)
+    vertices = np.concatenate([rings.reshape(-1, 3), spine[[0, -1]]])
+    j, j_next = np.arange(segments), (np.arange(segments) + 1) % segments
+    faces = []
+    for i in range(n_rings - 1):
+        lo, hi = i * segments, (i + 1) * segments
+        faces.append(np.stack([lo + j, hi + j, hi + j_next], 1))
+        faces.append(np.stack([lo + j, hi + j_next, lo + j_next], 1))
+    start, end = n_rings * segments, n_rings * segments + 1
+    last = (n_rings - 1) * segments
+    faces += [np.stack([np.full(segments, start), j_next, j], 1)]
+    faces += [np.stack([np.full(segments, end), last + j, last + j_next], 1)]
+    colors = np.tile(rgba(color), (len(vertices), 1))
+    return Part(vertices, np.concatenate(faces).astype(np.int64), colors=colors, name=name)
 
 
 def write_glb(parts: list[Part], path: Path) -> None:

@@ -12,6 +12,7 @@ Frames, as in Habitat's data:
   cereal box added without rotation lies on its back, and the tutorial stands it up with
   a 90 degree rotation about -X (local +Z becomes world +Y). Its printed front is the -Y
   face (world +Z after that rotation, towards the tutorial's camera).
+- ``banana`` and ``mug`` are extra YCB-like objects in the same Z-up convention.
 - ``sphere`` is a red icosphere of radius 0.25 m centered at its origin.
 - ``locobot_merged`` is Y-up with its forward (camera) along -Z, centered on the Y axis.
   In its mesh the lowest points of the wheels and casters are at ``y = 0`` and the camera
@@ -29,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine.demo_geometry import Part, box, cylinder, lathe_part, merge_parts
+from engine.demo_geometry import Part, box, cylinder, lathe_part, merge_parts, tube
 from engine.primitives import icosphere_solid
 
 CHEEZIT_SIZE = (0.16, 0.06, 0.21)  # x, y (thickness), z (height, YCB up) in meters
@@ -143,6 +144,37 @@ def largeclamp_object() -> tuple[list[Part], dict]:
     ]
     config = {"render_asset": "largeclamp.glb", "mass": 0.125, "friction_coefficient": 0.6}
     return parts, config
+
+
+def banana_object() -> tuple[list[Part], dict]:
+    """Yellow banana lying in the XY plane (Z-up): a tapered tube on a 100 degree arc of
+    radius 0.11 m (about 0.19 m long, 0.036 m thick), brown tips, 0.066 kg."""
+    angle = np.linspace(np.radians(-50.0), np.radians(50.0), 24)
+    spine = np.stack([0.11 * np.sin(angle), -0.11 * np.cos(angle), np.zeros_like(angle)], 1)
+    s = np.linspace(0.0, 1.0, len(angle))  # arc-length fraction along the banana
+    radii = 0.004 + 0.014 * np.sin(np.pi * s) ** 0.6  # thick middle, thin tips
+    body = tube(spine, radii, (0.0, 0.0, 1.0), 12, (232, 200, 52), name="banana")
+    tips = body.vertices[:, 0] ** 2 > (0.11 * np.sin(np.radians(44.0))) ** 2
+    body.colors[tips] = (96, 70, 36, 255)
+    config = {"render_asset": "banana.glb", "mass": 0.066, "friction_coefficient": 0.5}
+    return [body], config
+
+
+def mug_object() -> tuple[list[Part], dict]:
+    """Red mug (Z-up): open cylinder of radius 0.04 m, height 0.08 m, 4 mm wall, with a
+    handle on +X; 0.118 kg. Separate meshes (cup, handle) give two convex hulls."""
+    r, h, wall = 0.04, 0.04, 0.004
+    red = (196, 58, 48)
+    # Profile along the outside then the inside: bottom center, outer wall, rim, inner
+    # wall down to the inner floor (radius 0 ends are poles).
+    radii = [0.0, r, r, r - wall, r - wall, 0.0]
+    heights = [-h, -h, h, h, -h + wall, -h + wall]
+    cup = lathe_part(radii, heights, 32, red, axis="z", name="cup")
+    angle = np.linspace(-0.5 * np.pi, 0.5 * np.pi, 12)
+    spine = np.stack([r + 0.022 * np.cos(angle), np.zeros_like(angle), 0.024 * np.sin(angle)], 1)
+    handle = tube(spine, np.full(len(angle), 0.006), (0.0, 1.0, 0.0), 10, red, name="handle")
+    config = {"render_asset": "mug.glb", "mass": 0.118, "friction_coefficient": 0.5}
+    return [cup, handle], config
 
 
 def locobot_object() -> tuple[list[Part], dict]:

@@ -86,6 +86,8 @@ def test_dataset_has_habitat_layout(data: Path) -> None:
         "objects/example_objects/cheezit.object_config.json",
         "objects/example_objects/chefcan.object_config.json",
         "objects/example_objects/largeclamp.object_config.json",
+        "objects/example_objects/banana.object_config.json",
+        "objects/example_objects/mug.object_config.json",
         "objects/locobot_merged/locobot_merged.object_config.json",
     ]
     for relative in expected:
@@ -160,7 +162,7 @@ def _object_configs(data: Path) -> list[Path]:
 
 def test_every_config_is_json_and_its_meshes_load(data: Path) -> None:
     configs = _object_configs(data)
-    assert len(configs) == 5
+    assert len(configs) == 7
     for path in configs:
         config = json.loads(path.read_text())
         assert {"render_asset", "mass"} <= set(config)
@@ -182,7 +184,7 @@ def test_every_config_is_json_and_its_meshes_load(data: Path) -> None:
 def test_configs_load_as_habitat_templates(data: Path) -> None:
     manager = ObjectAttributesManager()
     ids = manager.load_configs(data / "objects" / "example_objects")
-    assert len(ids) == 3
+    assert len(ids) == 5  # cheezit, chefcan, largeclamp, banana, mug
     (handle,) = manager.get_template_handles("objects/example_objects/cheezit")
     assert manager.get_template_by_handle(handle).mass == pytest.approx(0.411)
     (robot_id,) = manager.load_configs(data / "objects" / "locobot_merged")
@@ -205,6 +207,11 @@ def test_object_sizes(data: Path) -> None:
     sphere = np.concatenate([m.vertices for m in load_meshes(
         data / "test_assets" / "objects" / "sphere.glb")])  # fmt: skip
     np.testing.assert_allclose(np.linalg.norm(sphere, axis=1), 0.25, atol=FLOAT32_TOL)
+    banana = mesh_aabb(load_meshes(examples / "banana.glb"))
+    assert 0.15 < (banana[1] - banana[0])[0] < 0.2 and (banana[1] - banana[0])[2] < 0.04
+    mug = load_meshes(examples / "mug.glb")
+    assert len(mug) == 2  # cup and handle: two collision hulls
+    np.testing.assert_allclose(mesh_aabb(mug)[:, 2], [-0.04, 0.04], atol=1e-3)
     robot = mesh_aabb(load_meshes(data / "objects" / "locobot_merged" / "locobot_merged.glb"))
     size = robot[1] - robot[0]
     assert 0.33 <= size[0] <= 0.37 and 0.33 <= size[2] <= 0.37  # about 0.35 m across
