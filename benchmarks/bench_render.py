@@ -29,6 +29,7 @@ import trimesh
 from render import Camera, RenderMesh, RenderScene, render_frame
 
 RESOLUTION = (544, 720)
+PYBULLET_CHUNK_FACES = 4000
 
 
 def bench_scene(
@@ -75,7 +76,7 @@ def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
 
 def sphere_scene(n_triangles: int) -> list[RenderMesh]:
     """A unit sphere of about ``n_triangles`` triangles with vertex colors, lit."""
-    count = max(4, int(round(math.sqrt(n_triangles / 2))))
+    count = max(4, int(round(math.sqrt(n_triangles / 4))))  # uv_sphere: ~4 count^2 faces
     mesh = trimesh.creation.uv_sphere(radius=1.0, count=[count, count])
     colors = ((mesh.vertices * 0.5 + 0.5) * 255).astype(np.uint8)
     return [RenderMesh(mesh.vertices, mesh.faces, vertex_colors=colors, lit=True, semantic_id=1)]
@@ -117,14 +118,18 @@ def pybullet_renderer(meshes: list[RenderMesh], camera: Camera, world_from_camer
     for mesh in meshes:
         vertices = mesh.vertices @ mesh.world_from_mesh[:3, :3].T + mesh.world_from_mesh[:3, 3]
         color = (np.asarray(mesh.base_color) / 255.0).tolist()
-        shape = p.createVisualShape(
-            p.GEOM_MESH,
-            vertices=vertices.tolist(),
-            indices=mesh.faces.ravel().tolist(),
-            rgbaColor=color,
-            physicsClientId=client,
-        )
-        p.createMultiBody(baseVisualShapeIndex=shape, physicsClientId=client)
+        # pybullet limits the size of one visual shape: split big meshes into chunks
+        for start in range(0, len(mesh.faces), PYBULLET_CHUNK_FACES):
+            faces = mesh.faces[start : start + PYBULLET_CHUNK_FACES]
+            used, local_faces = np.unique(faces, return_inverse=True)
+            shape = p.createVisualShape(
+                p.GEOM_MESH,
+                vertices=vertices[used].tolist(),
+                indices=local_faces.ravel().tolist(),
+                rgbaColor=color,
+                physicsClientId=client,
+            )
+            p.createMultiBody(baseVisualShapeIndex=shape, physicsClientId=client)
     height, width = camera.resolution
     view = np.linalg.inv(world_from_camera).T.ravel().tolist()  # column-major camera_from_world
     vfov = math.degrees(2 * math.atan(math.tan(math.radians(camera.hfov) / 2) * height / width))
@@ -169,8 +174,10 @@ def main() -> None:
         ),
     ]
     print(f"render_frame at {RESOLUTION[1]}x{RESOLUTION[0]} (color + depth + ids), medians")
-    header = f"{'scene':30s} {'tris':>7s} {'covered':>8s} {'frags':>8s} {'ours ms':>8s} {'tiny ms':>8s} {'ratio':>6s} {'depth diff':>10s}"
-    print(header)
+    print(
+        f"{'scene':30s} {'tris':>7s} {'covered':>8s} {'frags':>8s} {'ours ms':>8s} "
+        f"{'tiny ms':>8s} {'ratio':>6s} {'depth diff':>10s}"
+    )
     for name, meshes, pose in scenes:
         result = bench_scene(meshes, camera, pose, repeats)
         n_triangles = sum(len(m.faces) for m in meshes)

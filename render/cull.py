@@ -101,6 +101,8 @@ def clip_near(tri: np.ndarray, source: np.ndarray, near: float) -> tuple[np.ndar
     inside = tri[:, 2, :] <= -near  # (3, T): corner in front of the near plane
     n_inside = inside[0].astype(np.int8) + inside[1] + inside[2]
     all_in = np.flatnonzero(n_inside == 3)
+    if len(all_in) == len(source):
+        return tri, source  # the common case: nothing crosses the near plane
     pieces, sources = [tri[:, :, all_in]], [source[all_in]]
     for count in (1, 2):
         sel = np.flatnonzero(n_inside == count)

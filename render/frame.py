@@ -100,35 +100,26 @@ def render_frame(
     # --- 1. vertex stage: mesh-local -> world -> camera frame
     vertices_camera = scene.vertices_in_camera(camera_from_world)
     clock.lap("transform")
-    # --- 2. primitive assembly and culling (frustum outcodes, hidden meshes, back faces)
+    # --- 2. primitive assembly and frustum culling (vertex outcodes), hidden meshes
     outcodes = cull.vertex_outcodes(vertices_camera, camera)
     keep = cull.triangles_in_frustum(outcodes, scene.materials.faces)
     if not scene.visible.all():
         keep &= scene.visible[scene.materials.tri_mesh]
-    tri_index = np.flatnonzero(keep)
-    tri_camera = vertices_camera[:, scene.materials.faces[:, tri_index]].transpose(1, 0, 2)
-    if cull_back_faces:
-        facing = cull.front_facing(tri_camera, camera)
-        tri_index, tri_camera = tri_index[facing], tri_camera[:, :, facing]
-    clock.lap("cull")  # tri_camera: (3 corners, 3 coordinates, K) camera frame
-    # --- 3. near clipping: pieces remember their source triangle (index into tri_index)
-    pieces, piece_source = cull.clip_near(tri_camera, np.arange(len(tri_index)), camera.near)
-    clock.lap("clip")
-    # --- 4. triangle setup: plane functions of the source triangles, corners to pixels
-    planes, valid = raster.plane_coefficients(tri_camera, camera)
-    usable = valid[piece_source]
-    pieces, piece_source = pieces[:, :, usable], piece_source[usable]
-    screen = raster.project_triangles(pieces, camera)
-    clock.lap("setup")
-    # --- 5. scanline spans under the top-left fill rule
-    spans = raster.scanline_spans(screen, camera.height, camera.width)
-    clock.lap("spans")
-    # --- 6. fragments and depth test
+    tri_index = np.flatnonzero(keep)  # the K candidate triangles; z-buffer keys index them
+    clock.lap("cull")
+    # --- 3-6. per batch of triangles: back faces, near clipping, setup, spans, depth test
     out.zkey.fill(raster.EMPTY_KEY)
-    out.n_fragments = raster.depth_test_spans(spans, planes, piece_source, camera, out.zkey)
-    clock.lap("fragments")
-    # --- 7. per-triangle shading inputs: attribute planes, light factors
-    shading = _ShadingInputs.build(scene, camera, camera_from_world, tri_camera, tri_index, planes)
+    out.n_fragments = 0
+    drawn = np.zeros(len(tri_index), dtype=bool)  # candidates that produced fragments
+    for start in range(0, len(tri_index), TRIANGLE_BATCH):
+        source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
+        tri = _corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
+        out.n_fragments += _rasterize(tri, source, camera, cull_back_faces, out, drawn, clock)
+    # --- 7. shading inputs (attribute planes, light) of the triangles that drew fragments
+    used = np.flatnonzero(drawn)
+    shading = _ShadingInputs.build(
+        scene, camera, camera_from_world, vertices_camera, tri_index, used
+    )
     clock.lap("shade setup")
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
     for band in _row_bands(camera):
@@ -136,6 +127,48 @@ def render_frame(
         _write_band(out, scene, shading, visible, band)
     clock.lap("shade")
     return out
+
+
+def _corners(vertices_camera: np.ndarray, scene: RenderScene, triangles: np.ndarray) -> np.ndarray:
+    """Camera-frame corners of global triangles ``triangles``: ``(3 corners, 3 coords, n)``."""
+    return vertices_camera[:, scene.materials.faces[:, triangles]].transpose(1, 0, 2)
+
+
+def _rasterize(
+    tri: np.ndarray,
+    source: np.ndarray,
+    camera: Camera,
+    cull_back_faces: bool,
+    out: FrameBuffers,
+    drawn: np.ndarray,
+    clock: _StageClock,
+) -> int:
+    """Stages 3-6 for one batch: depth-test its fragments into ``out.zkey``.
+
+    ``tri`` (3, 3, n) camera-frame corners; ``source`` (n,) their candidate ids (stored in
+    the z-buffer keys); ``drawn`` (K,) bool is set for candidates that produced fragments.
+    Returns the number of fragments.
+    """
+    if cull_back_faces:
+        facing = cull.front_facing(tri, camera)
+        tri, source = tri[:, :, facing], source[facing]
+    # --- 3. near clipping: pieces remember their source (index into the batch)
+    pieces, piece_of = cull.clip_near(tri, np.arange(len(source)), camera.near)
+    clock.lap("assemble + clip")
+    # --- 4. triangle setup: plane functions of the source triangles, corners to pixels
+    planes, valid = raster.plane_coefficients(tri, camera)
+    usable = valid[piece_of]
+    pieces, piece_of = pieces[:, :, usable], piece_of[usable]
+    screen = raster.project_triangles(pieces, camera)
+    clock.lap("setup")
+    # --- 5. scanline spans under the top-left fill rule
+    spans = raster.scanline_spans(screen, camera.height, camera.width)
+    drawn[source[piece_of[spans.triangle]]] = True
+    clock.lap("spans")
+    # --- 6. fragments and depth test (keys carry the candidate id)
+    n_fragments = raster.depth_test_spans(spans, planes, piece_of, camera, out.zkey, source)
+    clock.lap("fragments")
+    return n_fragments
 
 
 def _prepare_buffers(buffers: FrameBuffers | None, camera: Camera) -> FrameBuffers:
@@ -148,8 +181,10 @@ def _prepare_buffers(buffers: FrameBuffers | None, camera: Camera) -> FrameBuffe
     return buffers
 
 
+#: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
+TRIANGLE_BATCH = 8_192
 #: pixels resolved and shaded per band (temporaries stay in the CPU cache)
-SHADE_BAND_PIXELS = 8_192
+SHADE_BAND_PIXELS = 16_384
 
 
 def _row_bands(camera: Camera) -> list[slice]:
@@ -170,26 +205,32 @@ class _ShadingInputs:
     tri_light: np.ndarray | None
 
     @classmethod
-    def build(cls, scene, camera, camera_from_world, tri_camera, tri_index, planes):
-        """From the K triangles that survived culling (``tri_camera`` (3, 3, K) etc.)."""
+    def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used):
+        """For the candidates ``used`` (indices into the K candidates ``tri_index``) that
+        drew fragments: attribute planes (recomputed for those only) and light factors."""
         materials = scene.materials
-        corners = materials.faces[:, tri_index]  # (3, K) global vertex ids
-        uv_planes = color_planes = tri_light = None
-        if materials.uvs is not None:  # corner values (3 corners, C, K)
-            uv_corners = materials.uvs[:, corners].transpose(1, 0, 2)
-            uv_planes = raster.AttributePlanes(planes, uv_corners, camera)
-        if materials.vertex_colors is not None:
-            color_corners = materials.vertex_colors[:, corners].transpose(1, 0, 2)
-            color_planes = raster.AttributePlanes(planes, color_corners, camera)
-        lit = scene.tri_lit[tri_index]
+        row_of = np.zeros(len(tri_index), dtype=np.int64)
+        row_of[used] = np.arange(len(used))  # candidate id -> row among the used triangles
+        tri = _corners(vertices_camera, scene, tri_index[used])  # (3, 3, k)
+        planes, _ = raster.plane_coefficients(tri, camera)
+        corners = materials.faces[:, tri_index[used]]  # (3, k) global vertex ids
+        interpolators = {}
+        for name in ("uvs", "vertex_colors"):
+            values = getattr(materials, name)  # (C, V) or None
+            if values is not None:
+                corner_values = values[:, corners].transpose(1, 0, 2)  # (3 corners, C, k)
+                interpolators[name] = raster.AttributePlanes(planes, corner_values, camera, row_of)
+        tri_light = None
+        lit = scene.tri_lit[tri_index[used]]
         if lit.any():
             # face normals, camera frame -> world frame: n_w = R_wc n_c = R_cw^T n_c
-            normal_camera = np.array(
-                cull.cross(tri_camera[1] - tri_camera[0], tri_camera[2] - tri_camera[0])
-            )
-            normal_world = (camera_from_world[:3, :3].T @ normal_camera).T  # (K, 3)
-            tri_light = np.where(lit, face_light_factors(normal_world), 1.0).astype(np.float32)
-        return cls(tri_index, uv_planes, color_planes, tri_light)
+            normal_camera = np.array(cull.cross(tri[1] - tri[0], tri[2] - tri[0]))
+            normal_world = (camera_from_world[:3, :3].T @ normal_camera).T  # (k, 3)
+            tri_light = np.ones(len(tri_index), dtype=np.float32)
+            tri_light[used] = np.where(lit, face_light_factors(normal_world), 1.0)
+        return cls(
+            tri_index, interpolators.get("uvs"), interpolators.get("vertex_colors"), tri_light
+        )
 
 
 def _write_band(
@@ -223,5 +264,5 @@ class _StageClock:
 
     def lap(self, stage: str) -> None:
         now = time.perf_counter()
-        self.timings[stage] = (now - self.last) * 1e3
+        self.timings[stage] = self.timings.get(stage, 0.0) + (now - self.last) * 1e3
         self.last = now

@@ -177,6 +177,7 @@ def depth_test_spans(
     key_triangle: np.ndarray,
     camera: Camera,
     zkey: np.ndarray,
+    key_id: np.ndarray | None = None,
 ) -> int:
     """Expand spans into fragments and depth-test them into ``zkey`` in place.
 
@@ -184,10 +185,11 @@ def depth_test_spans(
     ----------
     spans : runs from ``scanline_spans``; ``spans.triangle`` indexes ``key_triangle``.
     planes : (3, 3, S) plane coefficients of the source triangles.
-    key_triangle : (T,) int, source triangle of each rasterized triangle: indexes ``planes``
-        and is the triangle id stored in the z-buffer key.
+    key_triangle : (T,) int, source triangle of each rasterized triangle (indexes ``planes``).
     camera : the camera (pinhole: depth = 1 / w; ortho: depth = w).
     zkey : (H * W,) uint64, the z-buffer ``(float32 depth bits << 32) | triangle``.
+    key_id : (S,) int, the id stored in the key for each source triangle (default: its
+        index into ``planes``).
 
     Returns
     -------
@@ -201,7 +203,7 @@ def depth_test_spans(
     w_first = (w_a * xc + w_b * yc + w_c).astype(np.float32)  # w at the first pixel center
     w_step = w_a.astype(np.float32)  # dw / dpx along the row
     pixel_first = spans.row * width + spans.col_first
-    tri_key = source.astype(np.uint64)
+    tri_key = (source if key_id is None else key_id[source]).astype(np.uint64)
     ends = np.cumsum(spans.n_pixels)
     cuts = np.searchsorted(
         ends, np.arange(FRAGMENT_CHUNK, ends[-1] if len(ends) else 0, FRAGMENT_CHUNK)
@@ -286,20 +288,34 @@ class AttributePlanes:
     camera : the camera (pinhole or orthographic).
     """
 
-    def __init__(self, planes: np.ndarray, corner_values: np.ndarray, camera: Camera) -> None:
+    def __init__(
+        self,
+        planes: np.ndarray,
+        corner_values: np.ndarray,
+        camera: Camera,
+        row_of_triangle: np.ndarray | None = None,
+    ) -> None:
         a0, a1, a2 = (corner_values[k][:, None, :] for k in range(3))  # (C, 1, K)
         sum_plane = planes[2] if camera.is_pinhole else np.array([0.0, 0.0, 1.0])[:, None]
         attr = (a0 - a2) * planes[0] + (a1 - a2) * planes[1] + a2 * sum_plane  # (C, 3, K)
         # float32, each coefficient row contiguous for fast 1-D gathers
         self.coefficients = np.ascontiguousarray(attr, dtype=np.float32)
         self.multiply_by_depth = camera.is_pinhole
+        self.row_of_triangle = row_of_triangle
 
     def evaluate(self, visible: VisiblePixels) -> np.ndarray:
-        """Attribute values at the visible pixels, ``(n, C)`` float32."""
+        """Attribute values at the visible pixels, ``(n, C)`` float32.
+
+        ``visible.winner`` indexes the K triangles, or, when ``row_of_triangle`` was given
+        (planes built for a subset of triangles only), ``row_of_triangle[winner]`` does.
+        """
+        rows = (
+            visible.winner if self.row_of_triangle is None else self.row_of_triangle[visible.winner]
+        )
         n_channels = self.coefficients.shape[0]
-        out = np.empty((len(visible.pixel), n_channels), dtype=np.float32)
+        out = np.empty((len(rows), n_channels), dtype=np.float32)
         for c in range(n_channels):
-            a, b, k = (self.coefficients[c, j][visible.winner] for j in range(3))
+            a, b, k = (self.coefficients[c, j][rows] for j in range(3))
             out[:, c] = a * visible.xc + b * visible.yc + k  # a/z = A (px-cx) + B (py-cy) + C
         if self.multiply_by_depth:
             out *= visible.depth[:, None]  # a = (a / z) * z
