@@ -94,33 +94,37 @@ def rasterize_triangles(
     a = vertices[faces[:, 0]]
     edge_ab = vertices[faces[:, 1]] - a
     edge_ac = vertices[faces[:, 2]] - a
-    edge_bc = edge_ac - edge_ab
-    longest = np.max(np.linalg.norm(np.stack([edge_ab, edge_ac, edge_bc]), axis=2), axis=0)
-    # n divisions per edge so that lattice points are at most sample_spacing apart
-    n_div = np.maximum(1, np.ceil(longest / sample_spacing)).astype(np.int64)
-    n_samples = (n_div + 1) ** 2  # square lattice folded onto the triangle (see below)
+    # n_u, n_v divisions along edges ab and ac: lattice steps at most sample_spacing long
+    n_u = np.maximum(1, np.ceil(np.linalg.norm(edge_ab, axis=1) / sample_spacing))
+    n_v = np.maximum(1, np.ceil(np.linalg.norm(edge_ac, axis=1) / sample_spacing))
+    n_u, n_v = n_u.astype(np.int64), n_v.astype(np.int64)
+    n_samples = (n_u + 1) * (n_v + 1)  # a lattice on the parallelogram, folded (see below)
     chunk_of_triangle = np.cumsum(n_samples) // _SAMPLES_PER_CHUNK
     columns, heights, flags = [], [], []
     for chunk in np.unique(chunk_of_triangle):
         tri = np.flatnonzero(chunk_of_triangle == chunk)
-        col, y = _sample_triangles(a[tri], edge_ab[tri], edge_ac[tri], n_div[tri], grid)
+        col, y = _sample_triangles(a[tri], edge_ab[tri], edge_ac[tri], n_u[tri], n_v[tri], grid)
         columns.append(col)
         heights.append(y)
         flags.append(np.repeat(walkable_triangle[tri], n_samples[tri]))
     return np.concatenate(columns), np.concatenate(heights), np.concatenate(flags)
 
 
-def _sample_triangles(a, edge_ab, edge_ac, n_div, grid: GridSpec):
-    """Lattice samples ``p = a + u*(b-a) + v*(c-a)`` of k triangles -> (column, y)."""
-    count = (n_div + 1) ** 2
-    owner = np.repeat(np.arange(len(n_div)), count)
+def _sample_triangles(a, edge_ab, edge_ac, n_u, n_v, grid: GridSpec):
+    """Lattice samples ``p = a + u*(b-a) + v*(c-a)`` of k triangles -> (column, y).
+
+    ``u = i / n_u``, ``v = j / n_v`` cover the parallelogram a, b, b + c - a, c; points with
+    u + v > 1 are folded back onto the triangle by (u, v) -> (1 - u, 1 - v), which maps the
+    lattice onto itself, so every triangle point is within one lattice step of a sample.
+    """
+    count = (n_u + 1) * (n_v + 1)
+    owner = np.repeat(np.arange(len(n_u)), count)
     first = np.cumsum(count) - count
     local = np.arange(owner.size) - first[owner]
-    n = n_div[owner]
-    u = (local // (n + 1)) / n  # u = i / n, i in 0..n
-    v = (local % (n + 1)) / n  # v = j / n, j in 0..n
+    i, j = np.divmod(local, n_v[owner] + 1)
+    u = i / n_u[owner]  # u = i / n_u, i in 0..n_u
+    v = j / n_v[owner]  # v = j / n_v, j in 0..n_v
     outside = u + v > 1.0
-    # fold the upper half of the unit square onto the triangle: (u, v) -> (1 - u, 1 - v)
     u = np.where(outside, 1.0 - u, u)
     v = np.where(outside, 1.0 - v, v)
     points = a[owner] + u[:, None] * edge_ab[owner] + v[:, None] * edge_ac[owner]

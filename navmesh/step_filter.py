@@ -46,10 +46,11 @@ def try_step(grid: NavGrid, start, end, allow_sliding: bool) -> np.ndarray:
     end_node, _ = grid.nearest_node(end)
     if start_node < 0 or end_node < 0 or grid.island[start_node] != grid.island[end_node]:
         return start
-    if allow_sliding:
+    node, x, z, reached = _walk_straight(grid, start_node, start_pt, end)
+    if allow_sliding and not reached:
+        # an unobstructed segment is also what the disk search would find (end itself),
+        # so the flood runs only when the straight walk hits the boundary
         node, x, z = _slide(grid, start_node, start_pt, end)
-    else:
-        node, x, z = _walk_straight(grid, start_node, start_pt, end)
     return np.array([x, grid.floor[node], z])
 
 
@@ -80,12 +81,15 @@ def _clamp_to_square(grid: NavGrid, node: int, x: float, z: float) -> tuple[floa
 
 
 def _walk_straight(grid: NavGrid, start_node: int, start_pt: np.ndarray, end: np.ndarray):
-    """Follow start -> end until the segment leaves the navmesh (direction kept)."""
+    """Follow start -> end until the segment leaves the navmesh (direction kept).
+
+    Returns ``(node, x, z, reached)``.
+    """
     p0 = (start_pt[0], start_pt[2])
     node, t, reached = grid.walk_segment(start_node, p0, (end[0], end[2]))
     if reached:
-        return node, end[0], end[2]
+        return node, end[0], end[2], True
     length = math.hypot(end[0] - p0[0], end[2] - p0[1])
     # back off INSIDE_EPS along the segment so the point stays in the last navigable square
     t = max(0.0, t - INSIDE_EPS / length) if length > 0.0 else 0.0
-    return node, p0[0] + t * (end[0] - p0[0]), p0[1] + t * (end[2] - p0[1])
+    return node, p0[0] + t * (end[0] - p0[0]), p0[1] + t * (end[2] - p0[1]), False
