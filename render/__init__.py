@@ -9,21 +9,29 @@ Pipeline of ``render_frame`` (``render/frame.py``), stage by stage:
 
 1. Vertex stage: mesh-local vertices -> world (``world_from_mesh``) -> camera frame
    (inverse of ``world_from_camera``); ``RenderScene`` caches the static arrays.
-2. Primitive assembly and culling: triangles fully outside one frustum plane are dropped
-   (optionally back faces too) (``raster.frustum_keep_mask``).
-3. Near clipping against z = -near: 1 or 2 pieces per crossing triangle (``raster.clip_near``).
+2. Frustum culling with vertex outcodes (``cull.vertex_outcodes``,
+   ``cull.triangles_in_frustum``); hidden meshes dropped. The surviving triangles are then
+   processed in batches of ``frame.TRIANGLE_BATCH`` through stages 3-6.
+3. Optional back-face culling (``cull.front_facing``) and near clipping against z = -near:
+   1 or 2 pieces per crossing triangle (``cull.clip_near``).
 4. Triangle setup: per triangle, the affine screen functions b_k / z and 1 / z that make
    interpolation perspective-correct (``raster.plane_coefficients``); corners to pixels
-   (``camera.Camera.project``: px = cx + fx x / z, py = cy - fy y / z).
+   (px = cx + fx x / z, py = cy - fy y / z, ``raster.project_triangles``).
 5. Scanline spans: covered pixel runs per row under the top-left fill rule at pixel centers
    (``raster.scanline_spans``).
 6. Fragments and depth test: spans expanded in cache-sized chunks, nearest fragment per
    pixel kept with one ``np.minimum.at`` on 64-bit keys (depth bits << 32 | triangle)
    (``raster.depth_test_spans``).
-7. Resolve: per covered pixel the winning triangle and its depth (``raster.resolve_depth``).
-8. Deferred shading: base color x vertex colors x bilinear texture (perspective-correct
-   ``raster.AttributePlanes``) x Lambert light of Habitat's default 4-light setup for lit
-   meshes (``shade``); depth and semantic ids written alongside.
+7. Shading setup for the triangles that drew fragments: perspective-correct attribute
+   planes of uvs and vertex colors (``raster.AttributePlanes``), Lambert light factors of
+   Habitat's default 4-light setup for lit meshes (``shade.face_light_factors``).
+8. Resolve and deferred shading in bands of rows: per covered pixel the winning triangle
+   and its depth (``raster.resolve_depth``), then base color x vertex colors x bilinear
+   texture x light (``shade.shade_pixels``); depth and semantic ids written alongside.
+
+Known differences from Habitat's GPU renderer: no mipmaps (distant textures alias), flat
+face normals for lighting (no normal maps or smooth normals), no anti-aliasing, no
+transparency (drawn pixels are opaque), both faces drawn unless ``cull_back_faces=True``.
 
 ``video`` mirrors ``habitat_sim.utils.viz_utils`` (``make_video`` and helpers).
 """

@@ -197,12 +197,19 @@ def _row_bands(camera: Camera) -> list[slice]:
 
 @dataclass
 class _ShadingInputs:
-    """Per kept triangle (K of them): global ids, attribute planes and light factors."""
+    """Per candidate triangle (K of them): global ids, attribute planes and light factors.
+
+    ``tri_light`` (K,) is the flat light factor (1 for unlit and Gouraud triangles);
+    ``light_planes`` interpolates per-vertex light over the Gouraud triangles
+    (``is_smooth`` (K,) marks them).
+    """
 
     tri_index: np.ndarray
     uv_planes: raster.AttributePlanes | None
     color_planes: raster.AttributePlanes | None
     tri_light: np.ndarray | None
+    light_planes: raster.AttributePlanes | None
+    is_smooth: np.ndarray | None
 
     @classmethod
     def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used):
@@ -214,23 +221,45 @@ class _ShadingInputs:
         tri = _corners(vertices_camera, scene, tri_index[used])  # (3, 3, k)
         planes, _ = raster.plane_coefficients(tri, camera)
         corners = materials.faces[:, tri_index[used]]  # (3, k) global vertex ids
-        interpolators = {}
-        for name in ("uvs", "vertex_colors"):
-            values = getattr(materials, name)  # (C, V) or None
-            if values is not None:
-                corner_values = values[:, corners].transpose(1, 0, 2)  # (3 corners, C, k)
-                interpolators[name] = raster.AttributePlanes(planes, corner_values, camera, row_of)
-        tri_light = None
+
+        def interpolator(values: np.ndarray | None) -> raster.AttributePlanes | None:
+            if values is None:  # values: (C, V) per-vertex attribute
+                return None
+            corner_values = values[:, corners].transpose(1, 0, 2)  # (3 corners, C, k)
+            return raster.AttributePlanes(planes, corner_values, camera, row_of)
+
+        tri_light = light_planes = is_smooth = None
         lit = scene.tri_lit[tri_index[used]]
         if lit.any():
-            # face normals, camera frame -> world frame: n_w = R_wc n_c = R_cw^T n_c
+            smooth = scene.tri_smooth[tri_index[used]]
+            # flat: face normals, camera frame -> world frame: n_w = R_cw^T n_c
             normal_camera = np.array(cull.cross(tri[1] - tri[0], tri[2] - tri[0]))
             normal_world = (camera_from_world[:3, :3].T @ normal_camera).T  # (k, 3)
             tri_light = np.ones(len(tri_index), dtype=np.float32)
-            tri_light[used] = np.where(lit, face_light_factors(normal_world), 1.0)
+            tri_light[used] = np.where(lit & ~smooth, face_light_factors(normal_world), 1.0)
+            if smooth.any():  # Gouraud: light per vertex, interpolated
+                light_planes = interpolator(scene.vertex_light_factors())
+                is_smooth = np.zeros(len(tri_index), dtype=bool)
+                is_smooth[used] = smooth
         return cls(
-            tri_index, interpolators.get("uvs"), interpolators.get("vertex_colors"), tri_light
+            tri_index,
+            interpolator(materials.uvs),
+            interpolator(materials.vertex_colors),
+            tri_light,
+            light_planes,
+            is_smooth,
         )
+
+    def pixel_light(self, visible: raster.VisiblePixels) -> np.ndarray | None:
+        """Light factor of each visible pixel ``(n,)`` float32, or None if nothing is lit."""
+        if self.tri_light is None:
+            return None
+        light = self.tri_light[visible.winner]
+        if self.light_planes is not None:
+            sel = np.flatnonzero(self.is_smooth[visible.winner])
+            gouraud = self.light_planes.evaluate(visible.subset(sel))[:, 0]
+            light[sel] = np.clip(gouraud, 0.0, 1.0)
+        return light
 
 
 def _write_band(
@@ -242,7 +271,7 @@ def _write_band(
 ) -> None:
     """Shade the visible pixels of one band and write rgba, depth and ids there."""
     triangle = shading.tri_index[visible.winner]  # global triangle id of each covered pixel
-    light = None if shading.tri_light is None else shading.tri_light[visible.winner]
+    light = shading.pixel_light(visible)
     packed = shade_pixels(
         scene.materials, visible, triangle, shading.uv_planes, shading.color_planes, light
     )

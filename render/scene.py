@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from render.camera import check_pose
-from render.shade import MaterialTable, pack_rgba, pad_texture_wrap
+from render.shade import MaterialTable, face_light_factors, pack_rgba, pad_texture_wrap
 
 UV_ORIGINS = ("bottom", "top")
 
@@ -69,6 +69,9 @@ class RenderMesh:
     lit : False draws the color as is (Habitat's stage); True applies the default lights.
     semantic_id : int in [0, 2**32), written to the ids buffer.
     uv_origin : ``"bottom"`` (trimesh, default) or ``"top"`` (raw glTF), see module doc.
+    normals : (V, 3) float vertex normals in the mesh-local frame, or None. A lit mesh with
+        normals is Gouraud-shaded (light computed per vertex, interpolated: smooth spheres);
+        without, each face is lit by its own flat normal (right for boxes).
     """
 
     vertices: np.ndarray
@@ -81,6 +84,7 @@ class RenderMesh:
     lit: bool = False
     semantic_id: int = 0
     uv_origin: str = "bottom"
+    normals: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         self.vertices = _finite_array("vertices", self.vertices, (3,))
@@ -110,6 +114,10 @@ class RenderMesh:
         sid = self.semantic_id
         if isinstance(sid, bool) or not isinstance(sid, (int, np.integer)) or not 0 <= sid < 2**32:
             raise ValueError(f"semantic_id must be an int in [0, 2**32), got {sid!r}")
+        if self.normals is not None:
+            self.normals = _finite_array("normals", self.normals, (3,))
+            if len(self.normals) != n_vertices:
+                raise ValueError(f"normals must have one row per vertex ({n_vertices})")
         if self.uv_origin not in UV_ORIGINS:
             raise ValueError(f"uv_origin must be one of {UV_ORIGINS}, got {self.uv_origin!r}")
 
@@ -165,6 +173,8 @@ class RenderScene:
         faces = np.concatenate(faces or [np.zeros((0, 3), np.int64)])
         self.materials = _material_table(meshes, tri_mesh, np.ascontiguousarray(faces.T))
         self._vertices_camera = np.empty_like(self.vertices_local)
+        self.smooth_meshes = [i for i, m in enumerate(meshes) if m.lit and m.normals is not None]
+        self.tri_smooth = np.isin(tri_mesh, self.smooth_meshes)
 
     @property
     def n_triangles(self) -> int:
@@ -194,6 +204,19 @@ class RenderScene:
             np.matmul(camera_from_mesh[:3, :3], self.vertices_local[:, sl], out=out)  # R p
             out += camera_from_mesh[:3, 3:4]  # + t
         return self._vertices_camera
+
+    def vertex_light_factors(self) -> np.ndarray:
+        """Light factor of every vertex of the Gouraud-shaded meshes, ``(1, V)`` float32.
+
+        Normals go to the world frame with the normal matrix ``(R_wm^-1)^T`` (correct under
+        non-uniform scaling); other vertices get 1.
+        """
+        light = np.ones((1, self.vertices_local.shape[1]), dtype=np.float32)
+        for i in self.smooth_meshes:
+            normal_matrix = np.linalg.inv(self.world_from_mesh[i][:3, :3]).T
+            normals_world = self.meshes[i].normals @ normal_matrix.T  # n_w = N n_local
+            light[0, self.vertex_slices[i]] = face_light_factors(normals_world)
+        return light
 
 
 def _material_table(

@@ -18,7 +18,9 @@ Color of a pixel (all factors in [0, 1], RGBA)::
 * ``light = 1`` for unlit meshes (Habitat draws the stage flat). Lit meshes (Habitat's
   default object light setup: 4 directional lights travelling along
   ``d = (+-1, -0.5, 0)`` and ``(0, -0.5, +-1)`` (world frame, normalized) plus ambient)
-  use the Lambert term on the flat face normal ``n`` (world frame)::
+  use the Lambert term on the normal ``n`` (world frame): the flat face normal, or, for
+  meshes given vertex normals, the vertex normals (Gouraud shading: the light factor is
+  computed per vertex and interpolated perspective-correctly)::
 
       light = clamp(AMBIENT + DIFFUSE * sum_k max(0, n . l_k), 0, 1),  l_k = -d_k
 

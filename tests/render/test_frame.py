@@ -236,3 +236,36 @@ def test_bad_render_frame_arguments_raise():
     with pytest.raises(ValueError, match="world_from_mesh"):
         scene.set_world_from_mesh(0, np.zeros((4, 4)))
     np.testing.assert_array_equal(scene.world_from_mesh[0], np.eye(4))  # unchanged
+
+
+def test_lit_mesh_with_vertex_normals_is_gouraud_shaded_close_to_exact_lighting():
+    trimesh = pytest.importorskip("trimesh")
+    sphere = trimesh.creation.icosphere(subdivisions=4, radius=1.0)
+    base = np.array([250, 250, 250, 255], np.uint8)
+    pose = np.eye(4)
+    pose[:3, 3] = [0.0, 0.0, -4.0]
+    camera = Camera((H, W), hfov=60.0)
+    smooth = RenderMesh(
+        sphere.vertices, sphere.faces, pose, base_color=base, lit=True, normals=sphere.vertices
+    )
+    frame = render_frame([smooth], camera, np.eye(4))
+    drawn = np.argwhere(frame.depth > 0)
+    # exact lighting: the normal of the true sphere where each pixel's ray hits it
+    rays = camera.pixel_rays()[drawn[:, 0], drawn[:, 1]]
+    hit = rays * frame.depth[drawn[:, 0], drawn[:, 1], None]  # z-depth d: point = d * ray
+    normals = hit - pose[:3, 3]
+    exact = face_light_factors(normals)[:, None] * base[:3]
+    got = frame.rgba[drawn[:, 0], drawn[:, 1], :3].astype(float)
+    inner = np.linalg.norm(normals[:, :2], axis=1) < 0.9  # away from the silhouette
+    # Gouraud interpolation of a 2562-vertex sphere: within 1.5 % of full scale (measured
+    # 0.9 %; flat shading of the same mesh is off by 2.6 %)
+    np.testing.assert_allclose(got[inner], exact[inner], atol=0.015 * 255)
+    # flat shading of the same mesh shows facets: far fewer distinct colors
+    flat = render_frame(
+        [RenderMesh(sphere.vertices, sphere.faces, pose, base_color=base, lit=True)],
+        camera,
+        np.eye(4),
+    )
+    n_smooth = len({tuple(c) for c in frame.rgba[frame.depth > 0].tolist()})
+    n_flat = len({tuple(c) for c in flat.rgba[flat.depth > 0].tolist()})
+    assert n_smooth > n_flat
