@@ -23,6 +23,12 @@ import numpy as np
 from navmesh.build import build_navmesh
 from navmesh.navmesh_data import NavMeshData
 from navmesh.query import NavGrid
+from navmesh.regions import (
+    closest_boundary_point,
+    island_radii,
+    nodes_in_disk,
+    topdown_islands,
+)
 from navmesh.search import GridGraph, path_length, pull_string
 from navmesh.settings import NavMeshSettings
 from navmesh.step_filter import try_step
@@ -220,7 +226,7 @@ class PathFinder:
         if island < 0:
             return 0.0
         if self._island_radius is None:
-            self._island_radius = _island_radii(self._grid)
+            self._island_radius = island_radii(self._grid)
         return float(self._island_radius[island])
 
     def get_random_navigable_point(self, max_tries: int = 10, island_index: int = -1):
@@ -253,7 +259,7 @@ class PathFinder:
         node, _ = self._grid.nearest_node(center, island_index)
         if node < 0:
             return _nan3()
-        nodes = _nodes_in_disk(self._grid, center, radius, int(self._grid.island[node]))
+        nodes = nodes_in_disk(self._grid, center, radius, int(self._grid.island[node]))
         for _ in range(max(1, int(max_tries))):
             point = self._sample_in(nodes)
             if np.linalg.norm(point - center) < radius:
@@ -366,21 +372,11 @@ class PathFinder:
         node, snapped = grid.nearest_node(p)
         if node < 0:
             return HitRecord(np.zeros(3), np.zeros(3), math.inf)
-        best_dist, best_hit = float(max_search_radius), None
-        for near, square_dist in grid._expand(node, (snapped[0], snapped[2]), best_dist):
-            if square_dist >= best_dist:
-                break
-            for side in grid.boundary_sides(near):
-                dist, hx, hz = _point_segment(snapped[0], snapped[2], *side)
-                if dist < best_dist:
-                    best_dist, best_hit = dist, (hx, grid.floor[near], hz)
-        if best_hit is None:
+        hit = closest_boundary_point(grid, node, snapped, float(max_search_radius))
+        if hit is None:
             return HitRecord(_nan3(), _nan3(), float(max_search_radius))
-        hit = np.array(best_hit)
-        normal = np.array([snapped[0] - hit[0], 0.0, snapped[2] - hit[2]])
-        norm = np.linalg.norm(normal)
-        normal = normal / norm if norm > 0 else normal
-        return HitRecord(hit, normal, best_dist)
+        hit_pos, hit_normal, hit_dist = hit
+        return HitRecord(hit_pos, hit_normal, hit_dist)
 
     # -- maps --------------------------------------------------------------------------------
     def get_topdown_view(self, meters_per_pixel: float, height: float, eps: float = 0.5):
@@ -396,73 +392,4 @@ class PathFinder:
         if not math.isfinite(height):
             raise ValueError(f"height must be finite, got {height!r}")
         data = self._require()
-        return _topdown_islands(self._grid, data.bounds, float(meters_per_pixel), height, eps)
-
-
-def _point_segment(px, pz, ax, az, bx, bz):
-    """Distance from (px, pz) to segment a-b and the closest point (XZ plane)."""
-    ex, ez = bx - ax, bz - az
-    # t = clamp(((p - a) . e) / |e|^2, 0, 1), closest = a + t e
-    t = min(max(((px - ax) * ex + (pz - az) * ez) / (ex * ex + ez * ez), 0.0), 1.0)
-    hx, hz = ax + t * ex, az + t * ez
-    return math.hypot(px - hx, pz - hz), hx, hz
-
-
-def _island_radii(grid: NavGrid) -> np.ndarray:
-    """(n_islands,) max distance of cell centres from the island centroid, meters."""
-    nodes = np.flatnonzero(grid.island >= 0)
-    label = grid.island[nodes]
-    iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
-    centers = np.stack(
-        [grid.x0 + (ix + 0.5) * grid.cell_size, grid.floor[nodes],
-         grid.z0 + (iz + 0.5) * grid.cell_size], axis=1,
-    )
-    count = np.bincount(label, minlength=grid.n_islands)[:, None]
-    centroid = np.stack(
-        [np.bincount(label, weights=centers[:, k], minlength=grid.n_islands) for k in range(3)],
-        axis=1,
-    ) / np.maximum(count, 1)
-    dist = np.linalg.norm(centers - centroid[label], axis=1)
-    radius = np.zeros(grid.n_islands)
-    np.maximum.at(radius, label, dist)
-    return radius
-
-
-def _nodes_in_disk(grid: NavGrid, center: np.ndarray, radius: float, island: int) -> np.ndarray:
-    """Nodes of ``island`` whose square centre lies within ``radius`` (XZ) of ``center``."""
-    cs = grid.cell_size
-    lo_x = max(0, math.floor((center[0] - radius - grid.x0) / cs))
-    hi_x = min(grid.nx, math.ceil((center[0] + radius - grid.x0) / cs) + 1)
-    lo_z = max(0, math.floor((center[2] - radius - grid.z0) / cs))
-    hi_z = min(grid.nz, math.ceil((center[2] + radius - grid.z0) / cs) + 1)
-    iz, ix = np.mgrid[lo_z:hi_z, lo_x:hi_x]
-    cells = (iz * grid.nx + ix).ravel()
-    nodes = (np.arange(grid.n_layers)[:, None] * grid.n_cells + cells).ravel()
-    # |c - center|_xz <= radius for the cell centre c
-    dx = grid.x0 + (np.tile(ix.ravel(), grid.n_layers) + 0.5) * cs - center[0]
-    dz = grid.z0 + (np.tile(iz.ravel(), grid.n_layers) + 0.5) * cs - center[2]
-    inside = (dx * dx + dz * dz <= radius * radius) & (grid.island[nodes] == island)
-    return nodes[inside]
-
-
-def _topdown_islands(grid: NavGrid, bounds, mpp: float, height: float, eps: float):
-    """Island index at each top-down pixel (vectorized ``is_navigable`` over the image)."""
-    x_min, z_min = bounds[0][0], bounds[0][2]
-    x_res = int((bounds[1][0] - x_min) / mpp)
-    z_res = int((bounds[1][2] - z_min) / mpp)
-    xs = x_min + np.arange(x_res) * mpp
-    zs = z_min + np.arange(z_res) * mpp
-    ix = np.floor((xs - grid.x0) / grid.cell_size).astype(np.int64)
-    iz = np.floor((zs - grid.z0) / grid.cell_size).astype(np.int64)
-    ok_x, ok_z = (ix >= 0) & (ix < grid.nx), (iz >= 0) & (iz < grid.nz)
-    cells = np.clip(iz, 0, grid.nz - 1)[:, None] * grid.nx + np.clip(ix, 0, grid.nx - 1)[None]
-    result = np.full((z_res, x_res), -1, dtype=np.int32)
-    best_dy = np.full((z_res, x_res), np.inf)
-    for layer in range(grid.n_layers):
-        node = cells + layer * grid.n_cells
-        dy = np.abs(grid.floor[node] - height)
-        better = (grid.island[node] >= 0) & (dy <= eps) & (dy < best_dy)
-        result = np.where(better, grid.island[node], result)
-        best_dy = np.where(better, dy, best_dy)
-    result[~(ok_z[:, None] & ok_x[None])] = -1
-    return result
+        return topdown_islands(self._grid, data.bounds, float(meters_per_pixel), height, eps)

@@ -207,7 +207,7 @@ class NavGrid:
     def nodes_near(self, start: int, center, radius: float) -> list[int]:
         """Nodes connected to ``start`` through squares that intersect the XZ disk
         (center, radius), in best-first order of their distance to the centre."""
-        return [node for node, _ in self._expand(start, center, radius)]
+        return [node for node, _ in self.expand_best_first(start, center, radius)]
 
     def _square_distance(self, node: int, cx: float, cz: float) -> float:
         ix, iz = self.node_cell(node)
@@ -216,7 +216,7 @@ class NavGrid:
         ddz = max(lo_z - cz, 0.0, cz - lo_z - self.cell_size)
         return math.hypot(ddx, ddz)
 
-    def _expand(self, start: int, center, radius: float):
+    def expand_best_first(self, start: int, center, radius: float):
         """Best-first flood over side links inside a disk; yields (node, distance)."""
         cx, cz = float(center[0]), float(center[-1])
         heap = [(self._square_distance(start, cx, cz), start)]
