@@ -108,3 +108,32 @@ def test_find_path_rejects_bad_input(geometry):
         pf.find_path(ShortestPath(requested_start=[np.nan, 0, 0], requested_end=[1, 0, 1]))
     with pytest.raises(ValueError, match="requested_end"):
         pf.find_path(ShortestPath(requested_start=[1, 0, 1], requested_end=[1, 0]))
+
+
+def test_stairs_connect_two_floors_and_try_step_climbs_them(geometry):
+    """Ground floor (y = 0), an upper floor (top y = 3) over x in [6, 10], and 20 steps of
+    0.15 m x 0.25 m from x = 1 to x = 6: the cells under the upper floor hold two layers."""
+    parts = [geometry.box((0, -0.1, 0), (10, 0, 4)), geometry.box((6, 2.9, 0), (10, 3.0, 4))]
+    for k in range(20):
+        x0 = 1 + 0.25 * k
+        parts.append(geometry.box((x0, 0, 0), (x0 + 0.25, 0.15 * (k + 1), 1.5)))
+    pf = geometry.build(*parts)
+    below, above = np.array([8.0, 0.0, 3.0]), np.array([8.0, 3.0, 3.0])
+    assert pf.navmesh_data.shape[0] == 2
+    assert pf.get_island(below) == pf.get_island(above)
+    path = ShortestPath(requested_start=below, requested_end=above)
+    assert pf.find_path(path)
+    # lower bound: walk to the foot of the stairs (x = 1) and back up to x = 8 on top
+    assert path.geodesic_distance > (8.0 - 1.0) * 2
+    assert path.geodesic_distance < 8.0 * 2 + 2.0
+    pos = pf.snap_point(below)
+    for _ in range(200):  # follow the path with 0.25 m try_step moves
+        follow = ShortestPath(requested_start=pos, requested_end=above)
+        assert pf.find_path(follow)
+        if follow.geodesic_distance < 1e-6:
+            break
+        direction = follow.points[1] - pos
+        direction[1] = 0.0
+        dist = np.linalg.norm(direction)
+        pos = pf.try_step(pos, pos + direction / dist * min(0.25, dist))
+    np.testing.assert_allclose(pos, above, atol=1e-9)
