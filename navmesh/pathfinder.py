@@ -30,7 +30,7 @@ from navmesh.regions import (
     topdown_islands,
 )
 from navmesh.search import GridGraph, path_length, pull_string
-from navmesh.settings import NavMeshSettings
+from navmesh.settings import NAVIGABLE_XZ_TOLERANCE, NavMeshSettings
 from navmesh.step_filter import try_step
 
 
@@ -210,7 +210,7 @@ class PathFinder:
         if node < 0:
             return False
         horizontal = math.hypot(snapped[0] - p[0], snapped[2] - p[2])
-        return abs(snapped[1] - p[1]) <= max_y_delta and horizontal <= 1e-2
+        return abs(snapped[1] - p[1]) <= max_y_delta and horizontal <= NAVIGABLE_XZ_TOLERANCE
 
     def get_island(self, pt) -> int:
         """Island index of the navmesh point nearest ``pt``, -1 when nothing is near."""

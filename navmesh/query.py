@@ -19,11 +19,7 @@ import numpy as np
 
 from navmesh.layers import neighbour_node_ids
 from navmesh.navmesh_data import NavMeshData
-
-# Half extents (x, y, z) of Habitat's nearest-polygon search box, meters.
-SNAP_HALF_EXTENTS = (2.0, 4.0, 2.0)
-# Points clamped onto a cell side are pulled this far inside it (Habitat nudges by 0.1 mm).
-INSIDE_EPS = 1e-4
+from navmesh.settings import INSIDE_EPS, SNAP_HALF_EXTENTS
 
 
 class NavGrid:

@@ -44,6 +44,15 @@ _FIELD_SPECS: tuple[tuple[str, str, str], ...] = (
 # Habitat's __eq__ compares every parameter with this absolute tolerance.
 EQUALITY_EPS = 1e-5
 
+# Query constants (not build settings), in meters.
+# Half extents (x, y, z) of the box searched for the nearest navmesh point: Habitat's
+# ``projectToPoly`` passes (2, 4, 2) to Detour's findNearestPoly.
+SNAP_HALF_EXTENTS = (2.0, 4.0, 2.0)
+# Points clamped onto a square's side are pulled this far inside (Habitat nudges by 0.1 mm).
+INSIDE_EPS = 1e-4
+# is_navigable: largest horizontal snap displacement still counted as "on the mesh" (1 cm).
+NAVIGABLE_XZ_TOLERANCE = 1e-2
+
 
 @dataclass(eq=False)
 class NavMeshSettings:

@@ -25,7 +25,8 @@ import math
 
 import numpy as np
 
-from navmesh.query import INSIDE_EPS, NavGrid
+from navmesh.query import NavGrid
+from navmesh.settings import INSIDE_EPS
 
 
 def try_step(grid: NavGrid, start, end, allow_sliding: bool) -> np.ndarray:
