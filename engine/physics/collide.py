@@ -93,29 +93,41 @@ def _inside_hull(points_local, shape, tolerance):
 
 
 def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, object_a, object_b):
-    """Vertex contacts of two polyhedra (method 1 of the module docstring)."""
+    """Vertex contacts of two polyhedra (method 1 of the module docstring).
+
+    fcl's normal ``n`` (A -> B) picks the touching faces: A's face most aligned with ``n``
+    and B's face most aligned with ``-n``. Vertices of B inside A are measured against A's
+    face plane (normal ``n_A``), vertices of A inside B against B's (normal ``-n_B``), so a
+    tilted box on a flat one gets the right, uneven depths.
+    """
     mid, normals, depths, _ = fcl_contacts(object_a, object_b)
     if len(depths) == 0:
         return None
-    deepest = int(np.argmax(depths))
-    n, p, d = normals[deepest], mid[deepest], depths[deepest]
-    (ra, xa), (rb, xb) = pose_a, pose_b
+    n = normals[int(np.argmax(depths))]
     tol = settings.SPECULATIVE_DISTANCE
-    verts_b = shape_b.hull_vertices @ rb.T + xb
-    verts_a = shape_a.hull_vertices @ ra.T + xa
-    in_a = _inside_hull(_to_frame(verts_b, ra, xa), shape_a, tol)
-    in_b = _inside_hull(_to_frame(verts_a, rb, xb), shape_b, tol)
-    # A's surface plane n.x = n.p + d/2: depth of a B vertex = n.p + d/2 - n.v
-    depth_b = n @ p + d / 2 - verts_b[in_a] @ n
-    # B's surface plane n.x = n.p - d/2: depth of an A vertex = n.v - (n.p - d/2)
-    depth_a = verts_a[in_b] @ n - (n @ p - d / 2)
-    point_b = np.concatenate([verts_b[in_a], verts_a[in_b] - np.outer(depth_a, n)])
-    point_a = np.concatenate([verts_b[in_a] + np.outer(depth_b, n), verts_a[in_b]])
-    depth = np.concatenate([depth_b, depth_a])
-    keep = depth > -tol
-    if not np.any(keep):
+    parts = []
+    for ref, ref_pose, inc, inc_pose, sign in ((shape_a, pose_a, shape_b, pose_b, 1.0),
+                                               (shape_b, pose_b, shape_a, pose_a, -1.0)):
+        rotation, position = ref_pose
+        face_normals = ref.plane_normals @ rotation.T  # outward, world frame
+        face = int(np.argmax(sign * face_normals @ n))
+        if sign * face_normals[face] @ n < 0.7:  # no face of this body faces the other
+            continue
+        verts = inc.hull_vertices @ inc_pose[0].T + inc_pose[1]
+        inside = _inside_hull(_to_frame(verts, rotation, position), ref, tol)
+        verts, normal = verts[inside], face_normals[face]
+        # depth below the reference face plane n_f . x = c_f + n_f . x_ref
+        depth = ref.plane_offsets[face] + normal @ position - verts @ normal
+        keep = depth > -tol
+        on_face = verts[keep] + np.outer(depth[keep], normal)
+        contact_normal = np.tile(sign * normal, (int(keep.sum()), 1))  # always A -> B
+        if sign > 0:
+            parts.append((on_face, verts[keep], contact_normal))
+        else:
+            parts.append((verts[keep], on_face, contact_normal))
+    if not parts or sum(len(p[0]) for p in parts) == 0:
         return _midpoint_contacts(mid, normals, depths)
-    return point_a[keep], point_b[keep], np.tile(n, (int(keep.sum()), 1))
+    return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))
 
 
 def _midpoint_contacts(mid, normals, depths):

@@ -72,23 +72,30 @@ class Manifold:
                    & (drift_sq < settings.CONTACT_DRIFT_DISTANCE**2))
 
     def _merge(self, pose_a, pose_b, point_a, point_b, normal) -> None:
+        """Merge fresh points: dedupe them, match each to at most one cached point."""
         (ra, xa), (rb, xb) = pose_a, pose_b
+        depth = np.sum((point_a - point_b) * normal, axis=1)
+        fresh = _distinct_points(point_b, depth, settings.CONTACT_MATCH_DISTANCE)
+        point_a, point_b, normal = point_a[fresh], point_b[fresh], normal[fresh]
         new_local_a = (point_a - xa) @ ra  # R^T (p - x)
         new_local_b = (point_b - xb) @ rb
         new_impulse = np.zeros((len(point_a), 3))
-        if self.max_points == 1 or len(self) == 0:
-            keep_old = np.zeros(len(self), dtype=bool)
-            if len(self) and self.max_points == 1:
+        used = np.zeros(len(self), dtype=bool)
+        if self.max_points == 1:
+            if len(self):
                 new_impulse[:] = self.impulse[0]  # the single rolling point keeps its impulse
-        else:
-            # distance between every cached (row) and fresh (column) anchor on B
+            used[:] = True
+        elif len(self):
             dist_sq = np.sum((self.local_b[:, None] - new_local_b[None]) ** 2, axis=2)
-            nearest = np.argmin(dist_sq, axis=0)
-            matched = dist_sq[nearest, np.arange(len(point_a))] < settings.CONTACT_MATCH_DISTANCE**2
-            new_impulse[matched] = self.impulse[nearest[matched]]
-            keep_old = np.ones(len(self), dtype=bool)
-            keep_old[nearest[matched]] = False
-        self._keep(keep_old)
+            for j in range(len(point_a)):  # fresh points come deepest first
+                candidates = np.where(used, np.inf, dist_sq[:, j])
+                i = int(np.argmin(candidates))
+                if candidates[i] < settings.CONTACT_MATCH_DISTANCE**2:
+                    new_impulse[j] = self.impulse[i]
+                    used[i] = True
+        # a full fresh manifold (3+ points) replaces the cache; a partial one (GJK gives one
+        # point per step) is added to it, so the manifold builds up over a few steps
+        self._keep(~used if len(point_a) < 3 else np.zeros(len(self), dtype=bool))
         self.local_a = np.concatenate([self.local_a, new_local_a])
         self.local_b = np.concatenate([self.local_b, new_local_b])
         self.normal_local = np.concatenate([self.normal_local, normal @ ra])
@@ -98,6 +105,15 @@ class Manifold:
         point_a, point_b, normal = self.world_points(pose_a, pose_b)
         depth = np.sum((point_a - point_b) * normal, axis=1)
         self._keep(select_support_points(point_b, depth, normal[0], self.max_points))
+
+
+def _distinct_points(points: np.ndarray, depth: np.ndarray, radius: float) -> np.ndarray:
+    """Indices of points, deepest first, dropping any within ``radius`` of a kept one."""
+    kept: list[int] = []
+    for i in np.argsort(-depth, kind="stable").tolist():
+        if all(np.sum((points[i] - points[j]) ** 2) >= radius * radius for j in kept):
+            kept.append(i)
+    return np.array(kept, dtype=np.int64)
 
 
 def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,

@@ -51,7 +51,7 @@ def solve_stage(world, moving: np.ndarray, h: float):
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(*arrays, body_a, body_b, b.body_position[:n], inv_mass, inv_inertia,
                         friction, restitution, arrays_impulse(manifolds), approach_velocity,
-                        color_slices)
+                        color_slices, split_mass=world.settings.block_jacobi)
     pseudo = solve_contacts(batch, velocity, h, world.settings)
     b.body_linear_velocity[moving] = velocity[moving, :3]
     b.body_angular_velocity[moving] = velocity[moving, 3:]

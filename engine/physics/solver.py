@@ -67,6 +67,7 @@ class ContactBatch:
     approach_speed: np.ndarray
     impulse: np.ndarray
     color_slices: list
+    color_points: list
 
 
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -93,7 +94,8 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
 
 
 def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
-                inv_inertia, friction, restitution, impulse, velocity, color_slices):
+                inv_inertia, friction, restitution, impulse, velocity, color_slices,
+                split_mass: bool = False):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
 
     Parameters
@@ -115,8 +117,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
     r2 = (np.repeat(r_a, 2, axis=1), np.repeat(r_b, 2, axis=1))
     tangent_jac, tangent_w = _rows(tangents, *r2, *args[2:])
-    split = np.maximum(counts, 1)[:, None]
-    # m_eff = 1 / (n_points J M^-1 J^T)  (mass splitting), zero in empty slots
+    split = np.maximum(counts, 1)[:, None] if split_mass else np.ones((len(counts), 1))
+    # m_eff = 1 / (n_split J M^-1 J^T)  (n_split = points with mass splitting, else 1)
     k_normal = np.sum(normal_jac * normal_w, axis=-1)
     normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, 1e-300)), 0.0)
     k_tangent = np.sum(tangent_jac * tangent_w, axis=-1)
@@ -128,7 +130,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
                         normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
-                        approach, np.where(mask[..., None], impulse, 0.0), color_slices)
+                        approach, np.where(mask[..., None], impulse, 0.0), color_slices,
+                        [int(counts[a:b].max()) for a, b in color_slices])
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -152,32 +155,43 @@ def _apply(velocity, w, d_lambda, a, b):
     velocity[b] += dv[:, 6:]
 
 
-def _solve_normal_color(batch, s, velocity, bias, lam, accumulate):
+def _solve_normal_color(batch, s, velocity, bias, lam, accumulate, rows=slice(None)):
+    """One normal-impulse update of the point slots ``rows`` of the manifolds ``s``."""
     a, b = batch.body_a[s], batch.body_b[s]
-    vn = _relative(velocity, batch.normal_jac[s], a, b)
-    step = -batch.normal_mass[s] * (vn + bias[s])  # d_lambda = -m_eff (J V + b)
+    vn = _relative(velocity, batch.normal_jac[s, rows], a, b)
+    step = -batch.normal_mass[s, rows] * (vn + bias[s, rows])  # d_lambda = -m_eff (J V + b)
+    old = lam[s, rows]
     if accumulate:
-        new = np.maximum(lam[s] + step, 0.0)  # clamp the accumulated impulse
-        step = new - lam[s]
+        new = np.maximum(old + step, 0.0)  # clamp the accumulated impulse
+        step = new - old
     else:
         step = np.maximum(step, 0.0)  # clamp each increment (box2d-lite's toggle)
-        new = lam[s] + step
-    lam[s] = new
-    _apply(velocity, batch.normal_w[s], step, a, b)
+        new = old + step
+    lam[s, rows] = new
+    _apply(velocity, batch.normal_w[s, :, rows], step, a, b)
 
 
-def _solve_friction_color(batch, s, velocity, accumulate):
+def _solve_friction_color(batch, s, velocity, accumulate, rows=slice(None)):
+    """Friction update of point slots ``rows``: 2-D impulse clamped to the Coulomb circle."""
     a, b = batch.body_a[s], batch.body_b[s]
-    vt = _relative(velocity, batch.tangent_jac[s], a, b)
-    old = batch.impulse[s, :, 1:]
-    step = (-batch.tangent_mass[s] * vt).reshape(old.shape)
-    limit = batch.friction[s] * batch.impulse[s, :, 0]  # |lambda_t| <= mu lambda_n
+    tangent_rows = slice(None) if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
+    vt = _relative(velocity, batch.tangent_jac[s, tangent_rows], a, b)
+    old = batch.impulse[s, rows, 1:]
+    step = (-batch.tangent_mass[s, tangent_rows] * vt).reshape(old.shape)
+    limit = batch.friction[s] * batch.impulse[s, rows, 0]  # |lambda_t| <= mu lambda_n
     new = old + step if accumulate else step
-    norm = np.linalg.norm(new, axis=-1)
+    norm = np.sqrt(np.sum(new * new, axis=-1))
     new = new * np.minimum(1.0, limit / np.maximum(norm, 1e-300))[..., None]
     step = new - old if accumulate else new
-    batch.impulse[s, :, 1:] = old + step
-    _apply(velocity, batch.tangent_w[s], step.reshape(len(a), 2 * SLOTS), a, b)
+    batch.impulse[s, rows, 1:] = old + step
+    _apply(velocity, batch.tangent_w[s, :, tangent_rows], step.reshape(len(a), -1), a, b)
+
+
+def _slot_rows(batch, color, options):
+    """Row groups solved together: all slots (block Jacobi) or one slot at a time (GS)."""
+    if options.block_jacobi:
+        return [slice(None)]
+    return [slice(k, k + 1) for k in range(batch.color_points[color])]
 
 
 def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
@@ -186,31 +200,35 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
     bias = np.maximum(-batch.depth, 0.0) / h
     lam = batch.impulse[:, :, 0].copy()
     for _ in range(options.velocity_iterations):
-        for start, stop in batch.color_slices:
+        for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
-            _solve_normal_color(batch, s, velocity, bias, lam, options.accumulate_impulses)
-            batch.impulse[s, :, 0] = lam[s]
-            _solve_friction_color(batch, s, velocity, options.accumulate_impulses)
+            for rows in _slot_rows(batch, color, options):
+                _solve_normal_color(batch, s, velocity, bias, lam, options.accumulate_impulses,
+                                    rows)
+                batch.impulse[s, rows, 0] = lam[s, rows]
+                _solve_friction_color(batch, s, velocity, options.accumulate_impulses, rows)
     bounce = (batch.restitution > 0) & (batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD)
     bounce &= lam > 0
     if np.any(bounce):
         # target v_n = -e v_n0, i.e. bias b = e v_n0 on the loaded, fast-approaching points
         target = np.where(bounce, batch.restitution * batch.approach_speed, -np.inf)
-        for start, stop in batch.color_slices:
+        for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
-            _restitution_color(batch, s, velocity, target, lam)
+            for rows in _slot_rows(batch, color, options):
+                _restitution_color(batch, s, velocity, target, lam, rows)
     batch.impulse[:, :, 0] = lam
 
 
-def _restitution_color(batch, s, velocity, target, lam):
+def _restitution_color(batch, s, velocity, target, lam, rows):
     a, b = batch.body_a[s], batch.body_b[s]
-    active = np.isfinite(target[s])
-    vn = _relative(velocity, batch.normal_jac[s], a, b)
-    step = np.where(active, -batch.normal_mass[s] * (vn + np.where(active, target[s], 0)), 0)
-    new = np.maximum(lam[s] + step, 0.0)
-    step = new - lam[s]
-    lam[s] = new
-    _apply(velocity, batch.normal_w[s], step, a, b)
+    active = np.isfinite(target[s, rows])
+    vn = _relative(velocity, batch.normal_jac[s, rows], a, b)
+    goal = np.where(active, target[s, rows], 0.0)
+    step = np.where(active, -batch.normal_mass[s, rows] * (vn + goal), 0.0)
+    new = np.maximum(lam[s, rows] + step, 0.0)
+    step = new - lam[s, rows]
+    lam[s, rows] = new
+    _apply(velocity, batch.normal_w[s, :, rows], step, a, b)
 
 
 def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
@@ -223,9 +241,10 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
     target = np.minimum(constants.POSITION_BAUMGARTE * excess / h, constants.MAX_CORRECTION_SPEED)
     lam = np.zeros_like(batch.depth)
     for _ in range(options.position_iterations):
-        for start, stop in batch.color_slices:
+        for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
-            _solve_normal_color(batch, s, pseudo, -target, lam, True)
+            for rows in _slot_rows(batch, color, options):
+                _solve_normal_color(batch, s, pseudo, -target, lam, True, rows)
     return pseudo
 
 
@@ -245,22 +264,30 @@ def solve_contacts(batch: ContactBatch, velocity: np.ndarray, h: float, options)
 def solve_velocities_scalar(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
     """Reference path: the algebra of :func:`solve_velocities` with plain Python loops.
 
-    For every color, every manifold, every point slot (Jacobi inside a manifold: all slots
-    read the velocities from before the manifold's update)::
+    For every color, every manifold, every group of point slots (one slot at a time for
+    Gauss-Seidel; all four for block Jacobi, where each slot reads the velocities from
+    before the group's update)::
 
         v_n = J_i . V;  dl = -m_i (v_n + b_i);  l_i = max(l_i + dl, 0);  V += W_i dl
+
+    Manifolds of one color share no dynamic body, so visiting them one by one here gives
+    the same numbers as the vectorized batch over the whole color.
     """
     lam = batch.impulse[:, :, 0].tolist()
     bias = (np.maximum(-batch.depth, 0.0) / h).tolist()
+    groups = [list(range(SLOTS))] if options.block_jacobi else [[k] for k in range(SLOTS)]
     for _ in range(options.velocity_iterations):
         for start, stop in batch.color_slices:
             for m in range(start, stop):
-                _scalar_normal(batch, m, velocity, bias[m], lam[m], options.accumulate_impulses)
-                batch.impulse[m, :, 0] = lam[m]
-                _scalar_friction(batch, m, velocity, options.accumulate_impulses)
+                for group in groups:
+                    _scalar_normal(batch, m, group, velocity, bias[m], lam[m],
+                                   options.accumulate_impulses)
+                    batch.impulse[m, group, 0] = [lam[m][k] for k in group]
+                    _scalar_friction(batch, m, group, velocity, options.accumulate_impulses)
     for start, stop in batch.color_slices:
         for m in range(start, stop):
-            _scalar_restitution(batch, m, velocity, lam[m])
+            for group in groups:
+                _scalar_restitution(batch, m, group, velocity, lam[m])
     batch.impulse[:, :, 0] = lam
 
 
@@ -271,30 +298,29 @@ def _scalar_row_velocity(jac_row, velocity, a, b):
     return total
 
 
-def _scalar_apply(w, steps, velocity, a, b):
+def _scalar_apply(w, rows, steps, velocity, a, b):
+    """``V += sum_i W[:, row_i] step_i`` for the rows of one group."""
     for k in range(6):
-        da = sum(w[k, i] * steps[i] for i in range(len(steps)))
-        db = sum(w[6 + k, i] * steps[i] for i in range(len(steps)))
-        velocity[a, k] += da
-        velocity[b, k] += db
+        velocity[a, k] += sum(w[k, row] * step for row, step in zip(rows, steps))
+        velocity[b, k] += sum(w[6 + k, row] * step for row, step in zip(rows, steps))
 
 
-def _scalar_normal(batch, m, velocity, bias, lam, accumulate):
+def _scalar_normal(batch, m, group, velocity, bias, lam, accumulate):
     a, b = batch.body_a[m], batch.body_b[m]
-    steps = [0.0] * SLOTS
-    for slot in range(SLOTS):
+    steps = []
+    for slot in group:
         vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
         step = -batch.normal_mass[m, slot] * (vn + bias[slot])
         new = max(lam[slot] + step, 0.0) if accumulate else lam[slot] + max(step, 0.0)
-        steps[slot] = new - lam[slot]
+        steps.append(new - lam[slot])
         lam[slot] = new
-    _scalar_apply(batch.normal_w[m], steps, velocity, a, b)
+    _scalar_apply(batch.normal_w[m], group, steps, velocity, a, b)
 
 
-def _scalar_friction(batch, m, velocity, accumulate):
+def _scalar_friction(batch, m, group, velocity, accumulate):
     a, b = batch.body_a[m], batch.body_b[m]
-    steps = [0.0] * (2 * SLOTS)
-    for slot in range(SLOTS):
+    rows, steps = [], []
+    for slot in group:
         old = batch.impulse[m, slot, 1:].copy()
         new = [0.0, 0.0]
         for t in range(2):
@@ -306,23 +332,26 @@ def _scalar_friction(batch, m, velocity, accumulate):
         scale = min(1.0, limit / max(norm, 1e-300))
         for t in range(2):
             value = new[t] * scale
-            steps[2 * slot + t] = value - old[t] if accumulate else value
-            batch.impulse[m, slot, 1 + t] = old[t] + steps[2 * slot + t]
-    _scalar_apply(batch.tangent_w[m], steps, velocity, a, b)
+            step = value - old[t] if accumulate else value
+            batch.impulse[m, slot, 1 + t] = old[t] + step
+            rows.append(2 * slot + t)
+            steps.append(step)
+    _scalar_apply(batch.tangent_w[m], rows, steps, velocity, a, b)
 
 
-def _scalar_restitution(batch, m, velocity, lam):
-    """Bounce the loaded, fast-approaching points of manifold m to ``v_n = -e v_n0``."""
+def _scalar_restitution(batch, m, group, velocity, lam):
+    """Bounce the loaded, fast-approaching points to ``v_n = -e v_n0``."""
     a, b = batch.body_a[m], batch.body_b[m]
     e = batch.restitution[m, 0]
-    steps = [0.0] * SLOTS
-    for slot in range(SLOTS):
+    rows, steps = [], []
+    for slot in group:
         fast = batch.approach_speed[m, slot] < -constants.RESTITUTION_VELOCITY_THRESHOLD
         if not (e > 0 and fast and lam[slot] > 0):
             continue
         vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
         step = -batch.normal_mass[m, slot] * (vn + e * batch.approach_speed[m, slot])
         new = max(lam[slot] + step, 0.0)
-        steps[slot] = new - lam[slot]
+        rows.append(slot)
+        steps.append(new - lam[slot])
         lam[slot] = new
-    _scalar_apply(batch.normal_w[m], steps, velocity, a, b)
+    _scalar_apply(batch.normal_w[m], rows, steps, velocity, a, b)
