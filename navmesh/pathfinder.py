@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from navmesh.build import build_navmesh
 from navmesh.navmesh_data import NavMeshData
@@ -69,7 +70,7 @@ class HitRecord:
     hit_dist: float
 
 
-def as_point(value, name: str = "point") -> np.ndarray:
+def as_point(value: ArrayLike, name: str = "point") -> np.ndarray:
     """Return ``value`` as a finite ``(3,) float64`` array or raise naming ``name``."""
     if value is None:
         raise TypeError(f"{name} must be a 3-vector, got None")
@@ -95,7 +96,9 @@ class PathFinder:
         self._rng = np.random.default_rng(0)
 
     # -- building, loading, saving -----------------------------------------------------------
-    def build(self, vertices, faces, settings: NavMeshSettings | None = None) -> bool:
+    def build(
+        self, vertices: ArrayLike, faces: ArrayLike, settings: NavMeshSettings | None = None
+    ) -> bool:
         """Build the navmesh of a world-frame triangle mesh (rigidsim addition).
 
         ``vertices (V, 3) float64`` meters, Y up; ``faces (F, 3) int64``. Returns True on
@@ -193,7 +196,7 @@ class PathFinder:
             raise TypeError(f"seed must be an int, got {new_seed!r}")
         self._rng = np.random.default_rng(int(new_seed) & 0xFFFFFFFF)
 
-    def snap_point(self, point, island_index: int = -1) -> np.ndarray:
+    def snap_point(self, point: ArrayLike, island_index: int = -1) -> np.ndarray:
         """Closest navigable point (Detour's findNearestPoly box: 2 m, 4 m, 2 m); NaN if none."""
         p = as_point(point, "point")
         self._require()
@@ -201,7 +204,7 @@ class PathFinder:
         node, snapped = self._grid.nearest_node(p, island_index)
         return snapped if node >= 0 else _nan3()
 
-    def is_navigable(self, pt, max_y_delta: float = 0.5) -> bool:
+    def is_navigable(self, pt: ArrayLike, max_y_delta: float = 0.5) -> bool:
         """True when ``pt`` snaps onto the navmesh with no XZ motion (<= 1 cm) and at most
         ``max_y_delta`` meters vertically."""
         p = as_point(pt, "pt")
@@ -212,14 +215,14 @@ class PathFinder:
         horizontal = math.hypot(snapped[0] - p[0], snapped[2] - p[2])
         return abs(snapped[1] - p[1]) <= max_y_delta and horizontal <= NAVIGABLE_XZ_TOLERANCE
 
-    def get_island(self, pt) -> int:
+    def get_island(self, pt: ArrayLike) -> int:
         """Island index of the navmesh point nearest ``pt``, -1 when nothing is near."""
         p = as_point(pt, "pt")
         self._require()
         node, _ = self._grid.nearest_node(p)
         return int(self._grid.island[node]) if node >= 0 else -1
 
-    def island_radius(self, pt) -> float:
+    def island_radius(self, pt: ArrayLike) -> float:
         """Largest distance of the island's cell centres from their centroid (Habitat's
         island radius) for the island nearest ``pt``; 0 when nothing is near."""
         island = self.get_island(pt)
@@ -229,7 +232,9 @@ class PathFinder:
             self._island_radius = island_radii(self._grid)
         return float(self._island_radius[island])
 
-    def get_random_navigable_point(self, max_tries: int = 10, island_index: int = -1):
+    def get_random_navigable_point(
+        self, max_tries: int = 10, island_index: int = -1
+    ) -> np.ndarray:
         """Uniformly distributed (by XZ area) navigable point, optionally on one island.
 
         Sampling a node then a point in its square cannot fail, so ``max_tries`` (kept for
@@ -247,7 +252,7 @@ class PathFinder:
         return self._sample_in(nodes)
 
     def get_random_navigable_point_near(
-        self, circle_center, radius: float, max_tries: int = 100, island_index: int = -1
+        self, circle_center: ArrayLike, radius: float, max_tries: int = 100, island_index: int = -1
     ) -> np.ndarray:
         """Random navigable point within ``radius`` (3D) of ``circle_center`` on the island
         nearest the centre (or ``island_index``); NaN vector after ``max_tries`` failures."""
@@ -278,7 +283,7 @@ class PathFinder:
         return np.array([x, grid.floor[node], z])
 
     # -- paths -------------------------------------------------------------------------------
-    def find_path(self, path) -> bool:
+    def find_path(self, path: ShortestPath | MultiGoalShortestPath) -> bool:
         """Fill ``path.points`` and ``path.geodesic_distance``; True when a path exists.
 
         ``path`` is a ``ShortestPath`` or a ``MultiGoalShortestPath`` (which also gets
@@ -343,22 +348,24 @@ class PathFinder:
         return pull_string(grid, nodes, start_pt, end_pt)
 
     # -- stepping ----------------------------------------------------------------------------
-    def try_step(self, start, end) -> np.ndarray:
+    def try_step(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:
         """Move from ``start`` toward ``end``, sliding along walls (see ``step_filter``)."""
         self._require()
         return try_step(self._grid, as_point(start, "start"), as_point(end, "end"), True)
 
-    def try_step_no_sliding(self, start, end) -> np.ndarray:
+    def try_step_no_sliding(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:
         """Move from ``start`` toward ``end``, stopping at the first wall (direction kept)."""
         self._require()
         return try_step(self._grid, as_point(start, "start"), as_point(end, "end"), False)
 
     # -- obstacles ---------------------------------------------------------------------------
-    def distance_to_closest_obstacle(self, pt, max_search_radius: float = 2.0) -> float:
+    def distance_to_closest_obstacle(self, pt: ArrayLike, max_search_radius: float = 2.0) -> float:
         """Distance from the snapped ``pt`` to the navmesh boundary, capped at the radius."""
         return self.closest_obstacle_surface_point(pt, max_search_radius).hit_dist
 
-    def closest_obstacle_surface_point(self, pt, max_search_radius: float = 2.0) -> HitRecord:
+    def closest_obstacle_surface_point(
+        self, pt: ArrayLike, max_search_radius: float = 2.0
+    ) -> HitRecord:
         """Closest boundary point within ``max_search_radius`` of the snapped ``pt``.
 
         Off the mesh: ``hit_dist`` inf (positions zero), as Habitat. No wall in range:
@@ -379,13 +386,17 @@ class PathFinder:
         return HitRecord(hit_pos, hit_normal, hit_dist)
 
     # -- maps --------------------------------------------------------------------------------
-    def get_topdown_view(self, meters_per_pixel: float, height: float, eps: float = 0.5):
+    def get_topdown_view(
+        self, meters_per_pixel: float, height: float, eps: float = 0.5
+    ) -> np.ndarray:
         """Boolean map ``(int(zspan / mpp), int(xspan / mpp))``: pixel (h, w) is the point
         ``(x_min + w * mpp, height, z_min + h * mpp)`` and is True when a navigable surface
         lies within ``eps`` meters of ``height`` there."""
         return self.get_topdown_island_view(meters_per_pixel, height, eps) >= 0
 
-    def get_topdown_island_view(self, meters_per_pixel: float, height: float, eps: float = 0.5):
+    def get_topdown_island_view(
+        self, meters_per_pixel: float, height: float, eps: float = 0.5
+    ) -> np.ndarray:
         """Like ``get_topdown_view`` but ``int32`` island indices, -1 where not navigable."""
         if not (isinstance(meters_per_pixel, (int, float)) and meters_per_pixel > 0):
             raise ValueError(f"meters_per_pixel must be > 0, got {meters_per_pixel!r}")
