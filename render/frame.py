@@ -166,7 +166,10 @@ def _rasterize(
     drawn[source[piece_of[spans.triangle]]] = True
     clock.lap("spans")
     # --- 6. fragments and depth test (keys carry the candidate id)
-    n_fragments = raster.depth_test_spans(spans, planes, piece_of, camera, out.zkey, source)
+    far_test = bool(np.any(tri[:, 2] < -camera.far))  # some corner beyond the far plane
+    n_fragments = raster.depth_test_spans(
+        spans, planes, piece_of, camera, out.zkey, source, far_test
+    )
     clock.lap("fragments")
     return n_fragments
 

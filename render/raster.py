@@ -178,6 +178,7 @@ def depth_test_spans(
     camera: Camera,
     zkey: np.ndarray,
     key_id: np.ndarray | None = None,
+    far_test: bool = True,
 ) -> int:
     """Expand spans into fragments and depth-test them into ``zkey`` in place.
 
@@ -190,6 +191,8 @@ def depth_test_spans(
     zkey : (H * W,) uint64, the z-buffer ``(float32 depth bits << 32) | triangle``.
     key_id : (S,) int, the id stored in the key for each source triangle (default: its
         index into ``planes``).
+    far_test : discard fragments beyond ``camera.far``; pass False when no triangle reaches
+        past the far plane (saves two passes over the fragments).
 
     Returns
     -------
@@ -202,7 +205,7 @@ def depth_test_spans(
     yc = spans.row + 0.5 - camera.cy
     w_first = (w_a * xc + w_b * yc + w_c).astype(np.float32)  # w at the first pixel center
     w_step = w_a.astype(np.float32)  # dw / dpx along the row
-    pixel_first = spans.row * width + spans.col_first
+    pixel_first = (spans.row * width + spans.col_first).astype(np.int32)  # H W < 2^31
     tri_key = (source if key_id is None else key_id[source]).astype(np.uint64)
     ends = np.cumsum(spans.n_pixels)
     cuts = np.searchsorted(
@@ -213,16 +216,26 @@ def depth_test_spans(
         if s1 <= s0:
             continue
         counts = spans.n_pixels[s0:s1]
-        starts = ends[s0:s1] - counts - (ends[s0 - 1] if s0 > 0 else 0)
-        local = np.arange(int(counts.sum()), dtype=np.int64) - np.repeat(starts, counts)
-        pixel = np.repeat(pixel_first[s0:s1], counts) + local  # pixel = row W + col
-        w = np.repeat(w_step[s0:s1], counts) * local.astype(np.float32)  # float32 throughout
-        w += np.repeat(w_first[s0:s1], counts)  # w(col) = w(col_first) + dw/dpx (col - col_first)
-        depth = np.float32(1.0) / w if camera.is_pinhole else w  # z = 1 / w  or  z = w
-        ok = (depth > 0.0) & (depth <= camera.far)
-        key = depth.view(np.uint32).astype(np.uint64) << np.uint64(32)
+        starts = (ends[s0:s1] - counts - (ends[s0 - 1] if s0 > 0 else 0)).astype(np.int32)
+        # in-place int32 / float32 arithmetic: half the memory traffic of int64 / float64
+        local = np.arange(int(ends[s1 - 1] - (ends[s0 - 1] if s0 > 0 else 0)), dtype=np.int32)
+        local -= np.repeat(starts, counts)  # column offset inside the span
+        pixel = np.repeat(pixel_first[s0:s1], counts)
+        pixel += local  # pixel = row W + col
+        depth = local.astype(np.float32)
+        depth *= np.repeat(w_step[s0:s1], counts)
+        depth += np.repeat(
+            w_first[s0:s1], counts
+        )  # w(col) = w(col_first) + dw/dpx (col - col_first)
+        if camera.is_pinhole:
+            np.divide(np.float32(1.0), depth, out=depth)  # z = 1 / w  (ortho: z = w)
+        key = depth.view(np.uint32).astype(np.uint64)
+        key <<= np.uint64(32)
         key |= np.repeat(tri_key[s0:s1], counts)
-        np.minimum.at(zkey, pixel[ok], key[ok])  # z-test: keep the nearest per pixel
+        if far_test:
+            keep = depth <= camera.far
+            pixel, key = pixel[keep], key[keep]
+        np.minimum.at(zkey, pixel, key)  # z-test: keep the nearest per pixel
     return int(ends[-1]) if len(ends) else 0
 
 

@@ -21,7 +21,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from render.camera import check_pose
-from render.shade import MaterialTable, face_light_factors, pack_rgba, pad_texture_wrap
+from render.shade import (
+    FLAT,
+    TEXTURED,
+    VERTEX_COLOR,
+    MaterialTable,
+    face_light_factors,
+    pack_rgba,
+    pad_texture_wrap,
+)
 
 UV_ORIGINS = ("bottom", "top")
 
@@ -179,7 +187,7 @@ class RenderScene:
     @property
     def n_triangles(self) -> int:
         """Total number of triangles T."""
-        return len(self.materials.faces)
+        return self.materials.faces.shape[1]
 
     def set_world_from_mesh(self, index: int, world_from_mesh: np.ndarray) -> None:
         """Set mesh ``index``'s pose, a (4, 4) matrix (ValueError if malformed)."""
@@ -222,35 +230,46 @@ class RenderScene:
 def _material_table(
     meshes: list[RenderMesh], tri_mesh: np.ndarray, faces: np.ndarray
 ) -> MaterialTable:
-    """Concatenate the meshes' materials into one ``MaterialTable`` (``faces`` is (3, T))."""
+    """Concatenate the meshes' materials into one ``MaterialTable`` (``faces`` is (3, T)).
+
+    Vertex colors are premultiplied by their mesh's base color. A vertex-colored triangle
+    whose 3 corners have the same color is shaded like a flat one (one gather per pixel).
+    """
     base = np.array([m.base_color for m in meshes], dtype=np.uint8).reshape(-1, 4)
+    base_unit = base.astype(np.float32) / 255.0
     has_vc = np.array([m.vertex_colors is not None for m in meshes], dtype=bool)
-    textured = [m.texture is not None for m in meshes]
+    textured = np.array([m.texture is not None for m in meshes], dtype=bool)
+    tri_color = base[tri_mesh]  # (T, 4) uint8 flat color of each triangle
+    tri_kind = np.where(textured[tri_mesh], TEXTURED, FLAT).astype(np.int8)
     vertex_colors = uvs = None
     if has_vc.any():
         columns = [
-            m.vertex_colors / 255.0
-            if m.vertex_colors is not None
-            else np.ones((len(m.vertices), 4))
-            for m in meshes
+            m.vertex_colors * base_unit[i] if has_vc[i] else np.tile(base[i], (len(m.vertices), 1))
+            for i, m in enumerate(meshes)
         ]
-        vertex_colors = np.ascontiguousarray(np.concatenate(columns).T, dtype=np.float32)
-    if any(textured):
-        columns = [m.uvs if m.uvs is not None else np.zeros((len(m.vertices), 2)) for m in meshes]
+        vertex_colors = np.concatenate(columns).T.astype(np.float32) / 255.0  # (4, V) premultiplied
+        corner = [np.rint(vertex_colors[:, faces[k]] * 255.0).astype(np.uint8) for k in range(3)]
+        uniform = np.all((corner[0] == corner[1]) & (corner[1] == corner[2]), axis=0)
+        colored = has_vc[tri_mesh]
+        tri_color[colored] = corner[0][:, colored].T  # premultiplied corner color
+        tri_kind[colored & ~uniform & ~textured[tri_mesh]] = VERTEX_COLOR
+    if textured.any():
+        columns = [
+            m.uvs if textured[i] else np.zeros((len(m.vertices), 2)) for i, m in enumerate(meshes)
+        ]
         uvs = np.ascontiguousarray(np.concatenate(columns).T, dtype=np.float32)
-    textures = [
-        pad_texture_wrap(pack_rgba(m.texture)) if t else None
-        for m, t in zip(meshes, textured, strict=True)
-    ]
     return MaterialTable(
         tri_mesh=tri_mesh,
-        tri_base_packed=pack_rgba(base)[tri_mesh] if len(base) else np.zeros(0, np.uint32),
+        tri_base_packed=pack_rgba(tri_color),
+        tri_kind=tri_kind,
         faces=faces,
-        base_colors=base.astype(np.float32) / 255.0,
+        base_colors=base_unit,
         has_vertex_colors=has_vc,
         vertex_colors=vertex_colors,
         uvs=uvs,
-        textures=textures,
+        textures=[
+            pad_texture_wrap(pack_rgba(m.texture)) if m.texture is not None else None
+            for m in meshes
+        ],
         uv_origins=[m.uv_origin for m in meshes],
-        interpolated_meshes=[i for i, m in enumerate(meshes) if has_vc[i] or textured[i]],
     )

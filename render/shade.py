@@ -57,6 +57,10 @@ _U8 = np.uint32(8)
 _WHITE = np.array([1.0, 1.0, 1.0, 1.0], np.float32)
 
 
+#: how a triangle is shaded (``MaterialTable.tri_kind``)
+FLAT, VERTEX_COLOR, TEXTURED = 0, 1, 2
+
+
 @dataclass
 class MaterialTable:
     """Per-triangle and per-mesh material arrays of a scene (built by ``RenderScene``).
@@ -66,22 +70,24 @@ class MaterialTable:
     Attributes
     ----------
     tri_mesh : (T,) int64, mesh index of each triangle.
-    tri_base_packed : (T,) uint32, packed base color (RGBA) of each triangle's mesh.
+    tri_base_packed : (T,) uint32, packed RGBA of each ``FLAT`` triangle (base color, times
+        its vertex color when all 3 corners share one).
+    tri_kind : (T,) int8: ``FLAT`` (one gather per pixel), ``VERTEX_COLOR`` (interpolated
+        colors) or ``TEXTURED`` (texture sample times base / interpolated colors).
     faces : (3, T) int64, global vertex ids of each triangle's corners (corner-major).
     base_colors : (M, 4) float32 in [0, 1].
     has_vertex_colors : (M,) bool.
-    vertex_colors : (4, V) float32 in [0, 1] (ones for meshes without), or None if no mesh
-        has vertex colors.
+    vertex_colors : (4, V) float32 in [0, 1], premultiplied by the mesh's base color (the
+        base color itself for meshes without), or None if no mesh has vertex colors.
     uvs : (2, V) float32 (zeros for meshes without), or None if no mesh is textured.
     textures : M entries, ``(h + 2, w + 2)`` uint32 packed RGBA (row 0 = top) with the
         wrap border of ``pad_texture_wrap``, or None.
     uv_origins : M entries, ``"bottom"`` or ``"top"`` (see module docstring).
-    interpolated_meshes : indices of meshes with vertex colors or a texture (shaded per
-        pixel); the others are flat and shaded by one gather of ``tri_base_packed``.
     """
 
     tri_mesh: np.ndarray
     tri_base_packed: np.ndarray
+    tri_kind: np.ndarray
     faces: np.ndarray
     base_colors: np.ndarray
     has_vertex_colors: np.ndarray
@@ -89,7 +95,6 @@ class MaterialTable:
     uvs: np.ndarray | None
     textures: list
     uv_origins: list
-    interpolated_meshes: list
 
 
 def pack_rgba(rgba: np.ndarray) -> np.ndarray:
@@ -197,36 +202,42 @@ def shade_pixels(
         triangles, or None when no mesh is textured / vertex-colored.
     light : (n,) float32 light factor per pixel (1 = unlit), or None if nothing is lit.
     """
-    packed = materials.tri_base_packed[triangle]  # flat meshes: one gather
-    if materials.interpolated_meshes:
-        pixel_mesh = materials.tri_mesh[triangle]
-        for mesh in materials.interpolated_meshes:
-            sel = np.flatnonzero(pixel_mesh == mesh)
+    packed = materials.tri_base_packed[triangle]  # flat triangles: one gather
+    kind = materials.tri_kind[triangle]
+    blended = np.flatnonzero(kind == VERTEX_COLOR)
+    if len(blended):  # premultiplied base * sum_k b_k c_k
+        color = color_planes.evaluate(visible.subset(blended)) * np.float32(255.0)
+        packed[blended] = pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
+    textured = np.flatnonzero(kind == TEXTURED)
+    if len(textured):
+        textured_meshes = [i for i, t in enumerate(materials.textures) if t is not None]
+        mesh_of_pixel = materials.tri_mesh[triangle[textured]] if len(textured_meshes) > 1 else None
+        for mesh in textured_meshes:  # one texture at a time
+            sel = textured if mesh_of_pixel is None else textured[mesh_of_pixel == mesh]
             if len(sel):
                 subset = visible.subset(sel)
-                packed[sel] = _interpolated_colors(materials, mesh, subset, uv_planes, color_planes)
+                packed[sel] = _textured_colors(materials, mesh, subset, uv_planes, color_planes)
     if light is not None:
         lit = np.flatnonzero(light < 1.0)
         packed[lit] = modulate_packed(packed[lit], light[lit])
     return packed | _ALPHA  # alpha 255 where drawn
 
 
-def _interpolated_colors(
+def _textured_colors(
     materials: MaterialTable,
     mesh: int,
     visible: VisiblePixels,
-    uv_planes: AttributePlanes | None,
+    uv_planes: AttributePlanes,
     color_planes: AttributePlanes | None,
 ) -> np.ndarray:
-    """Packed colors of the pixels of one vertex-colored and/or textured mesh."""
-    factor = materials.base_colors[mesh]
+    """Packed colors of the pixels of one textured mesh: texture * base (* vertex color)."""
+    uv = uv_planes.evaluate(visible)
+    texel = sample_bilinear(materials.textures[mesh], uv, materials.uv_origins[mesh])
     if materials.has_vertex_colors[mesh]:
-        factor = factor * color_planes.evaluate(visible)  # base * sum_k b_k c_k, (n, 4)
-    texture = materials.textures[mesh]
-    if texture is None:
-        return pack_rgba(np.clip(np.rint(factor * 255.0), 0, 255).astype(np.uint8))
-    texel = sample_bilinear(texture, uv_planes.evaluate(visible), materials.uv_origins[mesh])
-    if factor.ndim == 1 and np.array_equal(factor, _WHITE):
+        factor = color_planes.evaluate(visible)  # premultiplied base * vertex color, (n, 4)
+    elif np.array_equal(materials.base_colors[mesh], _WHITE):
         return texel  # the common case: a plain textured mesh
+    else:
+        factor = materials.base_colors[mesh]
     color = unpack_rgba(texel).astype(np.float32) * factor  # texture * base * vertex color
     return pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))

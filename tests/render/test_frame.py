@@ -269,3 +269,15 @@ def test_lit_mesh_with_vertex_normals_is_gouraud_shaded_close_to_exact_lighting(
     n_smooth = len({tuple(c) for c in frame.rgba[frame.depth > 0].tolist()})
     n_flat = len({tuple(c) for c in flat.rgba[flat.depth > 0].tolist()})
     assert n_smooth > n_flat
+
+
+def test_uniform_vertex_colors_are_premultiplied_by_the_base_color():
+    camera = Camera((H, W))
+    vc = np.tile([50, 100, 150, 255], (4, 1)).astype(np.uint8)  # same color at every corner
+    base = np.array([255, 128, 255, 255], np.uint8)
+    mesh = RenderMesh(
+        pixel_quad(camera, 5, 5, 20, 10, 2.0), QUAD_FACES, vertex_colors=vc, base_color=base
+    )
+    frame = render_frame([mesh], camera, np.eye(4))
+    expected = np.rint(vc[0, :3] * base[:3] / 255.0)  # color = vertex color * base / 255
+    assert np.all(frame.rgba[frame.depth > 0][:, :3] == expected)
