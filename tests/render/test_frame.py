@@ -279,5 +279,5 @@ def test_uniform_vertex_colors_are_premultiplied_by_the_base_color():
         pixel_quad(camera, 5, 5, 20, 10, 2.0), QUAD_FACES, vertex_colors=vc, base_color=base
     )
     frame = render_frame([mesh], camera, np.eye(4))
-    expected = np.rint(vc[0, :3] * base[:3] / 255.0)  # color = vertex color * base / 255
+    expected = np.rint(vc[0, :3] * base[:3].astype(float) / 255.0)  # vertex color * base / 255
     assert np.all(frame.rgba[frame.depth > 0][:, :3] == expected)
