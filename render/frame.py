@@ -279,13 +279,15 @@ def _write_band(
         scene.materials, visible, triangle, shading.uv_planes, shading.color_planes, light
     )
     rgba_packed = out.rgba.reshape(-1, 4).view(np.uint32)[:, 0]  # one uint32 per pixel
-    rgba_packed[band] = _BACKGROUND_PACKED
-    rgba_packed[visible.pixel] = packed
     depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
-    depth_flat[band] = 0.0
+    ids = scene.tri_semantic[triangle]
+    if len(visible.pixel) == band.stop - band.start:  # fully covered band: plain copies
+        rgba_packed[band], depth_flat[band], ids_flat[band] = packed, visible.depth, ids
+        return
+    rgba_packed[band], depth_flat[band], ids_flat[band] = _BACKGROUND_PACKED, 0.0, 0
+    rgba_packed[visible.pixel] = packed
     depth_flat[visible.pixel] = visible.depth
-    ids_flat[band] = 0
-    ids_flat[visible.pixel] = scene.tri_semantic[triangle]
+    ids_flat[visible.pixel] = ids
 
 
 class _StageClock:

@@ -39,6 +39,7 @@ edge belongs to exactly one of them: no gaps, no pixel drawn twice.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -244,23 +245,27 @@ class VisiblePixels:
     """The resolved z-buffer: one entry per covered pixel.
 
     pixel : (n,) int64 flat index ``row * W + col``.
-    winner : (n,) int64 index of the nearest triangle (into the rasterized source list).
+    winner : (n,) int64 index of the nearest triangle (the id stored in its z-buffer key).
     depth : (n,) float32 z-depth in meters.
-    xc, yc : (n,) float32 pixel-center coordinates relative to the principal point,
-        ``col + 0.5 - cx`` and ``row + 0.5 - cy``.
+    camera : the camera (for pixel-center coordinates).
     """
 
     pixel: np.ndarray
     winner: np.ndarray
     depth: np.ndarray
-    xc: np.ndarray
-    yc: np.ndarray
+    camera: Camera
 
     def subset(self, sel: np.ndarray) -> VisiblePixels:
         """The entries ``sel`` (an index array)."""
-        return VisiblePixels(
-            *(getattr(self, f)[sel] for f in ("pixel", "winner", "depth", "xc", "yc"))
-        )
+        return VisiblePixels(self.pixel[sel], self.winner[sel], self.depth[sel], self.camera)
+
+    def centered_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """Pixel-center coordinates relative to the principal point, float32 ``(n,)`` each:
+        ``xc = col + 0.5 - cx`` and ``yc = row + 0.5 - cy``."""
+        row, col = np.divmod(self.pixel.astype(np.int32), np.int32(self.camera.width))
+        xc = col.astype(np.float32) + np.float32(0.5 - self.camera.cx)
+        yc = row.astype(np.float32) + np.float32(0.5 - self.camera.cy)
+        return xc, yc
 
 
 def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -> VisiblePixels:
@@ -272,14 +277,15 @@ def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -
     start = 0 if band is None else band.start
     keys = zkey if band is None else zkey[band]
     pixel = np.flatnonzero(keys != EMPTY_KEY)
-    key = keys[pixel]
+    if len(pixel) < len(keys):
+        keys = keys[pixel]
+    halves = keys.view(np.uint32).reshape(-1, 2)  # little endian: (low, high) words
+    if sys.byteorder == "big":
+        halves = halves[:, ::-1]
+    winner = halves[:, 0].astype(np.int64)  # the triangle id
+    depth = halves[:, 1].view(np.float32)  # the depth bits
     pixel += start
-    winner = (key & _LOW32).astype(np.int64)
-    depth = (key >> np.uint64(32)).astype(np.uint32).view(np.float32)
-    row, col = np.divmod(pixel.astype(np.int32), np.int32(camera.width))
-    xc = col.astype(np.float32) + np.float32(0.5 - camera.cx)  # px - cx at the pixel center
-    yc = row.astype(np.float32) + np.float32(0.5 - camera.cy)  # py - cy
-    return VisiblePixels(pixel, winner, depth, xc, yc)
+    return VisiblePixels(pixel, winner, depth, camera)
 
 
 class AttributePlanes:
@@ -325,11 +331,12 @@ class AttributePlanes:
         rows = (
             visible.winner if self.row_of_triangle is None else self.row_of_triangle[visible.winner]
         )
+        xc, yc = visible.centered_coordinates()
         n_channels = self.coefficients.shape[0]
         out = np.empty((len(rows), n_channels), dtype=np.float32)
         for c in range(n_channels):
             a, b, k = (self.coefficients[c, j][rows] for j in range(3))
-            out[:, c] = a * visible.xc + b * visible.yc + k  # a/z = A (px-cx) + B (py-cy) + C
+            out[:, c] = a * xc + b * yc + k  # a/z = A (px - cx) + B (py - cy) + C
         if self.multiply_by_depth:
             out *= visible.depth[:, None]  # a = (a / z) * z
         return out
