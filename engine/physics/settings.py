@@ -72,6 +72,8 @@ SPECULATIVE_DISTANCE = 0.004
 #: its 5 mm slop): the solver lets a gap g close by at most g / h per step, so a falling
 #: body stops exactly on the surface instead of sinking in and being pushed back up.
 STAGE_SPECULATIVE_DISTANCE = 0.02
+#: m, thickness given to a flat (planar) collision mesh so its hull has a volume.
+FLAT_HULL_THICKNESS = 0.01
 #: points, the most points a manifold keeps (deepest + largest area, as Bullet does).
 MAX_MANIFOLD_POINTS = 4
 #: fcl contacts requested per shape pair.

@@ -198,13 +198,28 @@ def convex_shape(points: np.ndarray, name: str) -> Shape:
         raise ValueError(f"{name}: need at least 4 points (n, 3) for a hull, got {points.shape}")
     if not np.all(np.isfinite(points)):
         raise ValueError(f"{name}: hull points contain NaN or inf")
+    points = _thicken_if_flat(points)
     hull = trimesh.convex.convex_hull(points)
     if hull.volume <= 1e-12 or len(hull.faces) < 4:
-        raise ValueError(f"{name}: degenerate (flat or empty) collision mesh, volume {hull.volume}")
+        raise ValueError(f"{name}: degenerate (empty or collinear) collision mesh, volume "
+                         f"{hull.volume}")
     vertices, faces = np.asarray(hull.vertices), np.asarray(hull.faces, dtype=np.int64)
     fcl_faces = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
     geometry = fcl.Convex(vertices, len(faces), fcl_faces)
     return Shape("convex", geometry, np.eye(4), vertices, vertices[faces])
+
+
+def _thicken_if_flat(points: np.ndarray) -> np.ndarray:
+    """A planar point set (a single quad face, as in ``transform_box.glb``) becomes a slab
+    ``FLAT_HULL_THICKNESS`` thick, like Bullet's collision margin gives it thickness."""
+    from .settings import FLAT_HULL_THICKNESS
+
+    centered = points - points.mean(0)
+    _, singular, axes = np.linalg.svd(centered, full_matrices=False)
+    if singular[0] <= 0 or singular[-1] > 1e-9 * singular[0]:
+        return points
+    offset = 0.5 * FLAT_HULL_THICKNESS * axes[-1]  # along the plane normal
+    return np.concatenate([points + offset, points - offset])
 
 
 def box_shape(half_extents: np.ndarray, center: np.ndarray) -> Shape:
