@@ -117,6 +117,8 @@ def render_frame(
         out.n_fragments += _rasterize(tri, source, camera, cull_back_faces, out, drawn, clock)
     # --- 7. shading inputs (attribute planes, light) of the triangles that drew fragments
     used = np.flatnonzero(drawn)
+    if len(used) > REFINE_USED_ABOVE:  # many small triangles: keep only the pixel winners
+        used = raster.winning_triangles(out.zkey, len(tri_index))
     shading = _ShadingInputs.build(
         scene, camera, camera_from_world, vertices_camera, tri_index, used
     )
@@ -186,6 +188,8 @@ def _prepare_buffers(buffers: FrameBuffers | None, camera: Camera) -> FrameBuffe
 
 #: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
 TRIANGLE_BATCH = 8_192
+#: above this many triangles with fragments, shading setup is limited to the pixel winners
+REFINE_USED_ABOVE = 8_192
 #: pixels resolved and shaded per band (temporaries stay in the CPU cache)
 SHADE_BAND_PIXELS = 16_384
 

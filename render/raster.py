@@ -208,36 +208,49 @@ def depth_test_spans(
     w_step = w_a.astype(np.float32)  # dw / dpx along the row
     pixel_first = (spans.row * width + spans.col_first).astype(np.int32)  # H W < 2^31
     tri_key = (source if key_id is None else key_id[source]).astype(np.uint64)
-    ends = np.cumsum(spans.n_pixels)
+    ends = np.cumsum(spans.n_pixels)  # fragment count up to and including each span
     cuts = np.searchsorted(
         ends, np.arange(FRAGMENT_CHUNK, ends[-1] if len(ends) else 0, FRAGMENT_CHUNK)
     )
     bounds = np.concatenate([[0], np.unique(cuts), [len(ends)]])
     for s0, s1 in zip(bounds[:-1], bounds[1:], strict=True):
-        if s1 <= s0:
-            continue
-        counts = spans.n_pixels[s0:s1]
-        starts = (ends[s0:s1] - counts - (ends[s0 - 1] if s0 > 0 else 0)).astype(np.int32)
-        # in-place int32 / float32 arithmetic: half the memory traffic of int64 / float64
-        local = np.arange(int(ends[s1 - 1] - (ends[s0 - 1] if s0 > 0 else 0)), dtype=np.int32)
-        local -= np.repeat(starts, counts)  # column offset inside the span
-        pixel = np.repeat(pixel_first[s0:s1], counts)
-        pixel += local  # pixel = row W + col
-        depth = local.astype(np.float32)
-        depth *= np.repeat(w_step[s0:s1], counts)
-        depth += np.repeat(
-            w_first[s0:s1], counts
-        )  # w(col) = w(col_first) + dw/dpx (col - col_first)
-        if camera.is_pinhole:
-            np.divide(np.float32(1.0), depth, out=depth)  # z = 1 / w  (ortho: z = w)
-        key = depth.view(np.uint32).astype(np.uint64)
-        key <<= np.uint64(32)
-        key |= np.repeat(tri_key[s0:s1], counts)
-        if far_test:
-            keep = depth <= camera.far
-            pixel, key = pixel[keep], key[keep]
-        np.minimum.at(zkey, pixel, key)  # z-test: keep the nearest per pixel
+        if s1 > s0:  # spans s0..s1-1 form one cache-sized chunk of fragments
+            chunk = slice(s0, s1)
+            pixel, depth = _chunk_fragments(
+                spans.n_pixels[chunk], pixel_first[chunk], w_first[chunk], w_step[chunk], camera
+            )
+            key = depth.view(np.uint32).astype(np.uint64)
+            key <<= np.uint64(32)
+            key |= np.repeat(tri_key[chunk], spans.n_pixels[chunk])  # (depth bits << 32) | id
+            if far_test:
+                keep = depth <= camera.far
+                pixel, key = pixel[keep], key[keep]
+            np.minimum.at(zkey, pixel, key)  # z-test: keep the nearest per pixel
     return int(ends[-1]) if len(ends) else 0
+
+
+def _chunk_fragments(
+    counts: np.ndarray,
+    pixel_first: np.ndarray,
+    w_first: np.ndarray,
+    w_step: np.ndarray,
+    camera: Camera,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Fragments of a run of spans: flat pixel index (int32) and z-depth (float32).
+
+    In-place int32 / float32 arithmetic: half the memory traffic of int64 / float64.
+    """
+    starts = (np.cumsum(counts) - counts).astype(np.int32)  # first fragment of each span
+    local = np.arange(int(counts.sum()), dtype=np.int32)
+    local -= np.repeat(starts, counts)  # column offset inside the span
+    pixel = np.repeat(pixel_first, counts)
+    pixel += local  # pixel = row W + col
+    depth = local.astype(np.float32)
+    depth *= np.repeat(w_step, counts)
+    depth += np.repeat(w_first, counts)  # w(col) = w(col_first) + dw/dpx (col - col_first)
+    if camera.is_pinhole:
+        np.divide(np.float32(1.0), depth, out=depth)  # z = 1 / w  (orthographic: z = w)
+    return pixel, depth
 
 
 @dataclass
@@ -340,3 +353,11 @@ class AttributePlanes:
         if self.multiply_by_depth:
             out *= visible.depth[:, None]  # a = (a / z) * z
         return out
+
+
+def winning_triangles(zkey: np.ndarray, n_triangles: int) -> np.ndarray:
+    """Sorted ids (``(k,)`` int64) of the triangles that won at least one pixel of ``zkey``."""
+    keys = zkey[zkey != EMPTY_KEY]
+    won = np.zeros(n_triangles, dtype=bool)
+    won[(keys & _LOW32).astype(np.int64)] = True
+    return np.flatnonzero(won)
