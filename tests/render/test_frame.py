@@ -16,8 +16,9 @@ QUAD_FACES = np.array([[0, 1, 2], [0, 2, 3]])
 def pixel_quad(camera: Camera, col0: int, row0: int, n_cols: int, n_rows: int, depth: float):
     """Corners (bottom-left, bottom-right, top-right, top-left) of a fronto-parallel quad
     whose edges lie exactly on pixel boundaries [col0, col0 + n_cols) x [row0, row0 + n_rows)."""
-    x0, x1 = ((c - camera.cx) * depth / camera.fx for c in (col0, col0 + n_cols))
-    y_top, y_bottom = (-(r - camera.cy) * depth / camera.fy for r in (row0, row0 + n_rows))
+    scale = depth if camera.is_pinhole else 1.0  # orthographic: no division by depth
+    x0, x1 = ((c - camera.cx) * scale / camera.fx for c in (col0, col0 + n_cols))
+    y_top, y_bottom = (-(r - camera.cy) * scale / camera.fy for r in (row0, row0 + n_rows))
     return np.array(
         [[x0, y_bottom, -depth], [x1, y_bottom, -depth], [x1, y_top, -depth], [x0, y_top, -depth]]
     )
@@ -35,9 +36,11 @@ def test_flat_unlit_triangle_renders_its_exact_color_and_alpha_255():
     assert frame.rgba.dtype == np.uint8 and frame.rgba.shape == (H, W, 4)
 
 
-@pytest.mark.parametrize("uv_origin", ["top", "bottom"])
-def test_texture_mapped_one_texel_per_pixel_is_reproduced_exactly(uv_origin):
-    camera = Camera((H, W))
+@pytest.mark.parametrize(
+    "uv_origin, subtype", [("top", "pinhole"), ("bottom", "pinhole"), ("top", "orthographic")]
+)
+def test_texture_mapped_one_texel_per_pixel_is_reproduced_exactly(uv_origin, subtype):
+    camera = Camera((H, W), subtype=subtype, ortho_scale=0.3)
     rng = np.random.default_rng(3)
     texture = rng.integers(0, 256, size=(16, 16, 3), dtype=np.uint8)
     v_bottom, v_top = (1.0, 0.0) if uv_origin == "top" else (0.0, 1.0)

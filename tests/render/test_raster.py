@@ -254,3 +254,42 @@ def test_camera_pose_moves_the_view():
     pose[:3, 3] = [0.0, 0.0, 1.5]  # camera 1.5 m back: the plane at z = -2 is 3.5 m away
     frame = render_frame([quad(-50, 50, -50, 50, -2.0)], camera, pose)
     np.testing.assert_allclose(frame.depth, 3.5, rtol=1e-6)
+
+
+def test_degenerate_and_empty_meshes_draw_nothing_and_do_not_fail():
+    camera = Camera((H, W))
+    collinear = RenderMesh(
+        np.array([[0, 0, -2.0], [1, 1, -2.0], [2, 2, -2.0]]), np.array([[0, 1, 2]])
+    )
+    repeated = RenderMesh(np.array([[0, 0, -2.0], [1, 0, -2.0]]), np.array([[0, 0, 1]]))
+    empty = RenderMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64))
+    edge_on = RenderMesh(
+        np.array([[0, -1, -1.0], [0, 1, -1.0], [0, 0, -3.0]]), np.array([[0, 1, 2]])
+    )
+    frame = render_frame([collinear, repeated, empty, edge_on], camera, np.eye(4))
+    assert not frame.depth.any()
+
+
+def test_huge_plane_far_beyond_the_screen_keeps_exact_depth():
+    camera = Camera((H, W), hfov=90.0, far=1e7)
+    frame = render_frame([quad(-1e6, 1e6, -1e6, 1e6, -5.0)], camera, np.eye(4))
+    np.testing.assert_allclose(frame.depth, 5.0, rtol=1e-6)
+
+
+def test_vertex_exactly_on_the_near_plane_is_kept():
+    camera = Camera((H, W), hfov=90.0, near=0.5)
+    vertices = np.array([[-1.0, -1.0, -0.5], [1.0, -1.0, -3.0], [0.0, 1.0, -3.0]])
+    frame = render_frame([RenderMesh(vertices, np.array([[0, 1, 2]]))], camera, np.eye(4))
+    assert frame.depth.any()
+    assert frame.depth[frame.depth > 0].min() >= 0.5 * (1 - 1e-6)
+
+
+def test_camera_inside_a_closed_box_sees_its_walls_at_the_right_depth():
+    camera = Camera((H, W), hfov=90.0)
+    pose = np.eye(4)
+    pose[:3, :3] *= 4.0  # the cube [-0.5, 0.5]^3 scaled to [-2, 2]^3 around the camera
+    frame = render_frame([cube_mesh(pose)], camera, np.eye(4))
+    # every pixel sees a wall; the center pixel sees the wall z = -2 at z-depth 2
+    assert np.all(frame.depth > 0)
+    assert frame.depth[H // 2, W // 2] == pytest.approx(2.0, rel=1e-6)
+    assert frame.depth.max() <= 2.0 * (1 + 1e-6)  # no wall is farther along the axis
