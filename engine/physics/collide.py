@@ -60,7 +60,8 @@ def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np
     """
     lo, hi = aabb_min[candidates], aabb_max[candidates]
     # overlap iff lo_a <= hi_b and lo_b <= hi_a on all three axes
-    overlap = np.all((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :]), axis=2)
+    overlap = np.all((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :]),
+                     axis=2)
     ia, ib = np.nonzero(np.triu(overlap, k=1))
     a, b = candidates[ia], candidates[ib]
     keep = active[a] | active[b]

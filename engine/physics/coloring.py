@@ -26,12 +26,11 @@ def color_manifolds(body_a: np.ndarray, body_b: np.ndarray, is_dynamic: np.ndarr
     colors: list[list[int]] = []
     used: list[set] = []
     dyn_a, dyn_b = is_dynamic[body_a].tolist(), is_dynamic[body_b].tolist()
-    for index, (a, b) in enumerate(zip(body_a.tolist(), body_b.tolist())):
-        for color, bodies in enumerate(used):
-            if not ((dyn_a[index] and a in bodies) or (dyn_b[index] and b in bodies)):
-                break
-        else:
-            color = len(used)
+    for index, (a, b) in enumerate(zip(body_a.tolist(), body_b.tolist(), strict=True)):
+        color = next((c for c, bodies in enumerate(used)
+                      if not ((dyn_a[index] and a in bodies) or (dyn_b[index] and b in bodies))),
+                     len(used))
+        if color == len(used):
             colors.append([])
             used.append(set())
         colors[color].append(index)

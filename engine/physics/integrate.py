@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .quaternions import cross, quat_multiply, quat_to_matrix, rotation_quat
+from .quaternions import quat_multiply, quat_to_matrix, rotation_quat
 
 
 def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarray:

@@ -19,10 +19,11 @@ import enum
 import re
 import warnings
 from pathlib import Path
+
 import numpy as np
 
-from .body_builder import describe_object
 from .bodies import DYNAMIC, KINEMATIC, STATIC
+from .body_builder import describe_object
 from .object_properties import ObjectPropertiesMixin
 
 

@@ -27,7 +27,8 @@ def update_sleep(bodies, manifolds, h: float) -> None:
     awake = dynamic & bodies.body_awake[:n]
     speed_sq = np.sum(bodies.body_linear_velocity[:n] ** 2, axis=1)
     spin_sq = np.sum(bodies.body_angular_velocity[:n] ** 2, axis=1)
-    slow = (speed_sq < settings.SLEEP_LINEAR_VELOCITY**2) & (spin_sq < settings.SLEEP_ANGULAR_VELOCITY**2)
+    slow = (speed_sq < settings.SLEEP_LINEAR_VELOCITY**2) & (
+        spin_sq < settings.SLEEP_ANGULAR_VELOCITY**2)
     time = bodies.body_sleep_time[:n]
     time[awake & slow] += h
     time[awake & ~slow] = 0.0

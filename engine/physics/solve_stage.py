@@ -32,7 +32,7 @@ def solve_stage(world, moving: np.ndarray, h: float):
     colors = color_manifolds(body_a, body_b, solvable)
     order = np.concatenate(colors)
     sizes = np.cumsum([0] + [len(c) for c in colors])
-    color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist()))
+    color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist(), strict=True))
     manifolds = [manifolds[i] for i in order]
     body_a, body_b = body_a[order], body_b[order]
     arrays = _padded_points(b, manifolds)

@@ -137,7 +137,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     """Apply the cached impulses: ``V += W lambda`` for all rows (duplicates summed)."""
     lam_t = batch.impulse[:, :, 1:].reshape(len(batch.body_a), 2 * SLOTS)
-    dv = (batch.normal_w @ batch.impulse[:, :, :1])[..., 0] + (batch.tangent_w @ lam_t[..., None])[..., 0]
+    dv = ((batch.normal_w @ batch.impulse[:, :, :1])[..., 0]
+          + (batch.tangent_w @ lam_t[..., None])[..., 0])
     np.add.at(velocity, batch.body_a, dv[:, :6])
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
@@ -207,7 +208,8 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
                                     rows)
                 batch.impulse[s, rows, 0] = lam[s, rows]
                 _solve_friction_color(batch, s, velocity, options.accumulate_impulses, rows)
-    bounce = (batch.restitution > 0) & (batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD)
+    fast = batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
+    bounce = (batch.restitution > 0) & fast
     bounce &= lam > 0
     if np.any(bounce):
         # target v_n = -e v_n0, i.e. bias b = e v_n0 on the loaded, fast-approaching points
@@ -301,8 +303,8 @@ def _scalar_row_velocity(jac_row, velocity, a, b):
 def _scalar_apply(w, rows, steps, velocity, a, b):
     """``V += sum_i W[:, row_i] step_i`` for the rows of one group."""
     for k in range(6):
-        velocity[a, k] += sum(w[k, row] * step for row, step in zip(rows, steps))
-        velocity[b, k] += sum(w[6 + k, row] * step for row, step in zip(rows, steps))
+        velocity[a, k] += sum(w[k, row] * step for row, step in zip(rows, steps, strict=True))
+        velocity[b, k] += sum(w[6 + k, row] * step for row, step in zip(rows, steps, strict=True))
 
 
 def _scalar_normal(batch, m, group, velocity, bias, lam, accumulate):

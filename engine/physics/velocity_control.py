@@ -23,7 +23,7 @@ from engine import mn
 
 
 class RigidState:
-    """A rigid pose: ``RigidState(rotation=Quaternion(), translation=(0, 0, 0))``, rotation first."""
+    """A rigid pose ``RigidState(rotation, translation)`` (rotation first, as Habitat)."""
 
     def __init__(self, rotation: Any = None, translation: Any = None) -> None:
         self.rotation = mn.Quaternion() if rotation is None else rotation

@@ -19,7 +19,6 @@ the call.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import time as timer
 from collections import defaultdict
@@ -144,7 +143,7 @@ class PhysicsWorld(WorldApiMixin):
         r = quat_to_matrix(b.body_rotation[index]) if rotation is None else rotation
         x = b.body_position[index]
         for shape, obj, probe in zip(b.shapes[index], self.fcl_objects[index],
-                                     self.probe_objects[index]):
+                                     self.probe_objects[index], strict=True):
             offset = shape.body_from_shape
             transform = fcl.Transform(r @ offset[:3, :3], r @ offset[:3, 3] + x)
             obj.setTransform(transform)
@@ -259,9 +258,9 @@ class PhysicsWorld(WorldApiMixin):
         pose_c = (rotation[c], b.body_position[c])
         fresh = []
         for shape_a, obj_a, probe_a in zip(b.shapes[a], self.fcl_objects[a],
-                                           self.probe_objects[a]):
+                                           self.probe_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(b.shapes[c], self.fcl_objects[c],
-                                               self.probe_objects[c]):
+                                               self.probe_objects[c], strict=True):
                 result = pair_contacts(shape_a, pose_a, obj_a, shape_c, pose_c, obj_c,
                                        probe_a, probe_c)
                 if result is not None:
@@ -319,7 +318,7 @@ class PhysicsWorld(WorldApiMixin):
     def _write_nodes(self) -> None:
         """Write the pose of every body that can have moved to its root scene node."""
         b = self.bodies
-        for index, node in self.nodes.items():
+        for index in list(self.nodes):
             if b.body_alive[index] and b.body_motion_type[index] != STATIC:
                 self._write_node(index)
 

@@ -17,7 +17,7 @@ from engine import mn
 
 from .bodies import DYNAMIC, STATIC
 from .quaternions import quat_to_matrix
-from .queries import ContactPointData, RayHitInfo, RaycastResults, cast_ray_bodies
+from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodies
 
 _TEST_REQUEST = fcl.CollisionRequest()
 
@@ -222,9 +222,9 @@ class WorldApiMixin:
         return self.n_overlapping_pairs
 
     def static_meshes_world(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        """``(vertices (V, 3), faces (F, 3))`` of every STATIC object's render meshes, world frame."""
+        """``(vertices (V, 3), faces (F, 3))`` of the STATIC objects' render meshes, world frame."""
         b, meshes = self.bodies, []
-        for index, node in sorted(self.nodes.items()):
+        for index in sorted(self.nodes):
             if not (b.body_alive[index] and b.body_motion_type[index] == STATIC):
                 continue
             rotation = quat_to_matrix(b.body_rotation[index])

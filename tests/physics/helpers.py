@@ -15,7 +15,8 @@ def floor_mesh(half: float = 10.0, height: float = 0.0, slope_deg: float = 0.0) 
     """A square floor (two triangles, CCW seen from +Y), optionally tilted about Z."""
     v = np.array([[-half, 0, -half], [half, 0, -half], [half, 0, half], [-half, 0, half]], float)
     angle = np.radians(slope_deg)
-    rot = np.array([[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0], [0, 0, 1]])
+    c, s = np.cos(angle), np.sin(angle)
+    rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
     v = v @ rot.T + [0, height, 0]
     return MeshData(vertices=v, faces=np.array([[0, 2, 1], [0, 3, 2]], dtype=np.int64))
 
