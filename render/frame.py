@@ -1,10 +1,13 @@
 """``render_frame``: the whole rendering pipeline of one camera image, on one screen.
 
-Stages: (1) vertices to the camera frame, (2) primitive assembly and frustum culling,
-(3) near-plane clipping, (4) triangle setup (perspective-correct plane functions) and
-projection, (5) scanline spans, (6) fragments and depth test into a 64-bit z-buffer,
-(7) resolve (depth and winning triangle per pixel), (8) deferred shading and semantic ids.
-See ``render.raster`` and ``render.shade`` for the equations.
+Stages: (1) vertices to the camera frame, (2) frustum culling with vertex outcodes; then,
+per batch of ``TRIANGLE_BATCH`` triangles, (3) back-face culling (optional) and near-plane
+clipping, (4) triangle setup (perspective-correct plane functions) and projection,
+(5) scanline spans, (6) fragments and depth test into a 64-bit z-buffer; finally
+(7) shading setup (attribute planes, light factors) for the triangles that drew fragments
+and (8) per band of rows: resolve (winning triangle and depth per pixel), deferred shading,
+semantic ids. See ``render.cull``, ``render.raster`` and ``render.shade`` for the equations;
+``FrameBuffers.timings`` reports the wall time of each stage.
 
 Outputs follow Habitat's sensors: ``rgba (H, W, 4) uint8`` (alpha 255 where drawn, the
 background ``BACKGROUND_RGBA`` = opaque black elsewhere), ``depth (H, W) float32`` z-depth
@@ -33,6 +36,12 @@ from render.shade import face_light_factors, pack_rgba, shade_pixels
 #: color of pixels where nothing is drawn (opaque black, like Habitat's default clear color)
 BACKGROUND_RGBA = (0, 0, 0, 255)
 _BACKGROUND_PACKED = pack_rgba(np.array(BACKGROUND_RGBA, np.uint8))
+#: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
+TRIANGLE_BATCH = 8_192
+#: above this many triangles with fragments, shading setup is limited to the pixel winners
+REFINE_USED_ABOVE = 8_192
+#: pixels resolved and shaded per band (temporaries stay in the CPU cache; 16k was fastest)
+SHADE_BAND_PIXELS = 16_384
 
 __all__ = ["BACKGROUND_RGBA", "FrameBuffers", "RenderMesh", "RenderScene", "render_frame"]
 
@@ -186,14 +195,6 @@ def _prepare_buffers(buffers: FrameBuffers | None, camera: Camera) -> FrameBuffe
     return buffers
 
 
-#: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
-TRIANGLE_BATCH = 8_192
-#: above this many triangles with fragments, shading setup is limited to the pixel winners
-REFINE_USED_ABOVE = 8_192
-#: pixels resolved and shaded per band (temporaries stay in the CPU cache)
-SHADE_BAND_PIXELS = 16_384
-
-
 def _row_bands(camera: Camera) -> list[slice]:
     """Flat-index slices of whole image rows, about ``SHADE_BAND_PIXELS`` each."""
     rows_per_band = max(1, SHADE_BAND_PIXELS // camera.width)
@@ -282,7 +283,7 @@ def _write_band(
     packed = shade_pixels(
         scene.materials, visible, triangle, shading.uv_planes, shading.color_planes, light
     )
-    rgba_packed = out.rgba.reshape(-1, 4).view(np.uint32)[:, 0]  # one uint32 per pixel
+    rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
     depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
     ids = scene.tri_semantic[triangle]
     if len(visible.pixel) == band.stop - band.start:  # fully covered band: plain copies

@@ -1,4 +1,4 @@
-"""Triangle rasterization with a z-buffer: culling, near clipping, scanline spans, depth test.
+"""Triangle rasterization with a z-buffer: setup, scanline spans, depth test, resolve.
 
 Stages (each a function below, called in this order by ``render.frame.render_frame``,
 after culling and near clipping in ``render.cull``; triangle batches use the corner-major
@@ -21,8 +21,9 @@ after culling and near clipping in ``render.cull``; triangle batches use the cor
 2. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
 3. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
    fragment's depth and keep, per pixel, the smallest key ``(depth bits << 32) | triangle``
-   with ``np.minimum.at`` (depth test and tie break in one pass: equal depths keep the
-   lower triangle index, so the result is deterministic).
+   with ``np.minimum.at`` (depth test and tie break in one pass: the bit patterns of
+   positive float32 numbers sort like the numbers, and equal depths keep the lower
+   triangle index, so the result is deterministic).
 4. ``resolve_depth`` and ``AttributePlanes``: the winning triangle and depth per pixel,
    then perspective-correct vertex attributes (uvs, colors) for deferred shading (each
    visible pixel is shaded exactly once).
