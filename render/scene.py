@@ -15,6 +15,7 @@ v, so that texel row = (1 - v) * h; use ``"top"`` for raw glTF uvs, row = v * h)
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -267,9 +268,29 @@ def _material_table(
         has_vertex_colors=has_vc,
         vertex_colors=vertex_colors,
         uvs=uvs,
-        textures=[
-            pad_texture_wrap(pack_rgba(m.texture)) if m.texture is not None else None
-            for m in meshes
-        ],
+        textures=[_packed_texture(m.texture) if m.texture is not None else None for m in meshes],
         uv_origins=[m.uv_origin for m in meshes],
     )
+
+
+#: packed, padded textures of recent scenes, keyed by the id of the source array (which the
+#: entry keeps alive, so the id cannot be reused): rebuilding a scene after an object is
+#: added does not repack the stage's textures
+_TEXTURE_CACHE: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
+_TEXTURE_CACHE_SIZE = 32
+
+
+def _packed_texture(texture: np.ndarray) -> np.ndarray:
+    """``pad_texture_wrap(pack_rgba(texture))``, cached by array identity.
+
+    The cache assumes textures are not modified in place after a scene was built from them.
+    """
+    entry = _TEXTURE_CACHE.get(id(texture))
+    if entry is not None and entry[0] is texture:
+        _TEXTURE_CACHE.move_to_end(id(texture))
+        return entry[1]
+    padded = pad_texture_wrap(pack_rgba(texture))
+    _TEXTURE_CACHE[id(texture)] = (texture, padded)
+    if len(_TEXTURE_CACHE) > _TEXTURE_CACHE_SIZE:
+        _TEXTURE_CACHE.popitem(last=False)  # forget the least recently used
+    return padded

@@ -284,3 +284,15 @@ def test_uniform_vertex_colors_are_premultiplied_by_the_base_color():
     frame = render_frame([mesh], camera, np.eye(4))
     expected = np.rint(vc[0, :3] * base[:3].astype(float) / 255.0)  # vertex color * base / 255
     assert np.all(frame.rgba[frame.depth > 0][:, :3] == expected)
+
+
+def test_rebuilding_a_scene_reuses_packed_textures_of_the_same_array():
+    texture = np.zeros((8, 8, 4), np.uint8)
+    uvs = np.zeros((3, 2))
+    mesh = RenderMesh(np.eye(3), np.array([[0, 1, 2]]), uvs=uvs, texture=texture)
+    first, second = RenderScene([mesh]), RenderScene([mesh])
+    assert first.materials.textures[0] is second.materials.textures[0]
+    other = RenderMesh(np.eye(3), np.array([[0, 1, 2]]), uvs=uvs, texture=texture + 1)
+    packed_other = RenderScene([other]).materials.textures[0]
+    assert packed_other is not first.materials.textures[0]
+    assert packed_other.shape == (10, 10)  # 8 x 8 texels plus the wrap border
