@@ -265,7 +265,7 @@ class _ShadingInputs:
         light = self.tri_light[visible.winner]
         if self.light_planes is not None:
             sel = np.flatnonzero(self.is_smooth[visible.winner])
-            gouraud = self.light_planes.evaluate(visible.subset(sel))[:, 0]
+            gouraud = self.light_planes.evaluate(visible.subset(sel))[0]
             light[sel] = np.clip(gouraud, 0.0, 1.0)
         return light
 

@@ -239,7 +239,8 @@ def _chunk_fragments(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Fragments of a run of spans: flat pixel index (int32) and z-depth (float32).
 
-    In-place int32 / float32 arithmetic: half the memory traffic of int64 / float64.
+    In-place int32 / float32 arithmetic: half the memory traffic of int64 / float64
+    (measured faster overall, although ``np.minimum.at`` converts int32 indices).
     """
     starts = (np.cumsum(counts) - counts).astype(np.int32)  # first fragment of each span
     local = np.arange(int(counts.sum()), dtype=np.int32)
@@ -337,22 +338,24 @@ class AttributePlanes:
         self.row_of_triangle = row_of_triangle
 
     def evaluate(self, visible: VisiblePixels) -> np.ndarray:
-        """Attribute values at the visible pixels, ``(n, C)`` float32.
+        """Attribute values at the visible pixels, ``(C, n)`` float32 (channel-major).
 
         ``visible.winner`` indexes the K triangles, or, when ``row_of_triangle`` was given
         (planes built for a subset of triangles only), ``row_of_triangle[winner]`` does.
         """
-        rows = (
-            visible.winner if self.row_of_triangle is None else self.row_of_triangle[visible.winner]
-        )
+        rows = visible.winner
+        if self.row_of_triangle is not None:
+            rows = self.row_of_triangle[rows]
         xc, yc = visible.centered_coordinates()
         n_channels = self.coefficients.shape[0]
-        out = np.empty((len(rows), n_channels), dtype=np.float32)
+        out = np.empty((n_channels, len(rows)), dtype=np.float32)
         for c in range(n_channels):
             a, b, k = (self.coefficients[c, j][rows] for j in range(3))
-            out[:, c] = a * xc + b * yc + k  # a/z = A (px - cx) + B (py - cy) + C
+            np.multiply(a, xc, out=out[c])
+            out[c] += b * yc
+            out[c] += k  # a/z = A (px - cx) + B (py - cy) + C
         if self.multiply_by_depth:
-            out *= visible.depth[:, None]  # a = (a / z) * z
+            out *= visible.depth  # a = (a / z) * z
         return out
 
 

@@ -149,29 +149,37 @@ def pad_texture_wrap(texture_packed: np.ndarray) -> np.ndarray:
     return np.pad(texture_packed, 1, mode="wrap")
 
 
-def sample_bilinear(texture_padded: np.ndarray, uv: np.ndarray, uv_origin: str) -> np.ndarray:
+def sample_bilinear(
+    texture_padded: np.ndarray, u: np.ndarray, v: np.ndarray, uv_origin: str
+) -> np.ndarray:
     """Bilinear texture lookup with wrap-around (REPEAT), returning packed RGBA ``(n,)``.
+
+    Texel-center coordinates ``col = u w - 1/2`` and ``row = v' h - 1/2`` are computed in
+    8-bit fixed point: ``(col + 1) * 256`` rounded to an int gives the padded column of the
+    left texel (``>> 8``) and the weight of the right one (``& 255``, in 1/256).
 
     Parameters
     ----------
     texture_padded : (h + 2, w + 2) uint32, packed RGBA texels (row 0 = top of the image)
         with the wrap border of ``pad_texture_wrap``.
-    uv : (n, 2) float32, texture coordinates (u right, v per ``uv_origin``).
+    u, v : (n,) float32 texture coordinates (u right, v per ``uv_origin``).
     uv_origin : ``"bottom"`` (v = 0 is the bottom row, trimesh/OpenGL) or ``"top"`` (glTF).
     """
     h, w = texture_padded.shape[0] - 2, texture_padded.shape[1] - 2
-    u = uv[:, 0] - np.floor(uv[:, 0])  # REPEAT: u mod 1 in [0, 1)
-    v_down = (np.float32(1.0) - uv[:, 1]) if uv_origin == "bottom" else uv[:, 1]
-    v_down = v_down - np.floor(v_down)
-    col = u * np.float32(w) - np.float32(0.5)  # texel-center coordinates in [-0.5, w - 0.5)
-    row = v_down * np.float32(h) - np.float32(0.5)
-    col0, row0 = np.floor(col), np.floor(row)  # in [-1, w - 1]: the padded border is -1
-    wc, wr = _fixed_weight(col - col0), _fixed_weight(row - row0)  # fractions, 8-bit fixed point
+    if uv_origin == "bottom":
+        v = np.float32(1.0) - v  # image rows go down
+    u, v = u - np.floor(u), v - np.floor(v)  # REPEAT: keep the fractional part, in [0, 1)
+    # (col + 1) 256 = u w 256 + 128, rounded to nearest (+ 0.5 before truncating)
+    col_fixed = (u * np.float32(256 * w) + np.float32(128.5)).astype(np.int32)
+    row_fixed = (v * np.float32(256 * h) + np.float32(128.5)).astype(np.int32)
     stride = w + 2
-    index = (row0.astype(np.int32) + 1) * stride + (col0.astype(np.int32) + 1)  # padded texel
+    # top-left texel in the padded image; intp indices: NumPy converts others before gathers
+    index = (row_fixed >> 8).astype(np.intp) * stride + (col_fixed >> 8)
+    wc, wr = (col_fixed & 255).astype(np.uint32), (row_fixed & 255).astype(np.uint32)
     flat = texture_padded.ravel()
-    top = _lerp_packed(flat[index], flat[index + 1], wc)  # along u on row0
-    bottom = _lerp_packed(flat[index + stride], flat[index + stride + 1], wc)  # on row0 + 1
+    top = _lerp_packed(flat[index], flat[index + 1], wc)  # along u on the upper row
+    below = index + stride
+    bottom = _lerp_packed(flat[below], flat[below + 1], wc)  # along u on the lower row
     return _lerp_packed(top, bottom, wr)  # along v
 
 
@@ -206,7 +214,7 @@ def shade_pixels(
     kind = materials.tri_kind[triangle]
     blended = np.flatnonzero(kind == VERTEX_COLOR)
     if len(blended):  # premultiplied base * sum_k b_k c_k
-        color = color_planes.evaluate(visible.subset(blended)) * np.float32(255.0)
+        color = color_planes.evaluate(visible.subset(blended)).T * np.float32(255.0)
         packed[blended] = pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
     textured = np.flatnonzero(kind == TEXTURED)
     if len(textured):
@@ -215,7 +223,7 @@ def shade_pixels(
         for mesh in textured_meshes:  # one texture at a time
             sel = textured if mesh_of_pixel is None else textured[mesh_of_pixel == mesh]
             if len(sel):
-                subset = visible.subset(sel)
+                subset = visible if len(sel) == len(triangle) else visible.subset(sel)
                 packed[sel] = _textured_colors(materials, mesh, subset, uv_planes, color_planes)
     if light is not None:
         lit = np.flatnonzero(light < 1.0)
@@ -231,10 +239,10 @@ def _textured_colors(
     color_planes: AttributePlanes | None,
 ) -> np.ndarray:
     """Packed colors of the pixels of one textured mesh: texture * base (* vertex color)."""
-    uv = uv_planes.evaluate(visible)
-    texel = sample_bilinear(materials.textures[mesh], uv, materials.uv_origins[mesh])
+    u, v = uv_planes.evaluate(visible)
+    texel = sample_bilinear(materials.textures[mesh], u, v, materials.uv_origins[mesh])
     if materials.has_vertex_colors[mesh]:
-        factor = color_planes.evaluate(visible)  # premultiplied base * vertex color, (n, 4)
+        factor = color_planes.evaluate(visible).T  # premultiplied base * vertex color, (n, 4)
     elif np.array_equal(materials.base_colors[mesh], _WHITE):
         return texel  # the common case: a plain textured mesh
     else:
