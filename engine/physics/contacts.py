@@ -75,6 +75,11 @@ class Manifold:
         """Merge fresh points: dedupe them, match each to at most one cached point."""
         (ra, xa), (rb, xb) = pose_a, pose_b
         depth = np.sum((point_a - point_b) * normal, axis=1)
+        if len(depth) > self.max_points:  # many vertex contacts: keep the support polygon
+            chosen = select_support_points(point_b, depth, normal[np.argmax(depth)],
+                                           self.max_points)
+            point_a, point_b, normal, depth = (point_a[chosen], point_b[chosen],
+                                               normal[chosen], depth[chosen])
         fresh = _distinct_points(point_b, depth, settings.CONTACT_MATCH_DISTANCE)
         point_a, point_b, normal = point_a[fresh], point_b[fresh], normal[fresh]
         new_local_a = (point_a - xa) @ ra  # R^T (p - x)

@@ -68,6 +68,7 @@ class ContactBatch:
     impulse: np.ndarray
     color_slices: list
     color_points: list
+    pair_index: np.ndarray
 
 
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +132,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
-                        [int(counts[a:b].max()) for a, b in color_slices])
+                        [int(counts[a:b].max()) for a, b in color_slices],
+                        np.stack([body_a, body_b], axis=1))
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -143,23 +145,22 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
 
-def _relative(velocity, jac, a, b):
-    """Row velocities ``J V`` ``(k, rows)`` of a color."""
-    vab = np.concatenate([velocity[a], velocity[b]], axis=1)
-    return (jac @ vab[:, :, None])[..., 0]
+def _gather(velocity, batch, s):
+    """Velocities ``(k, 12)`` = [v_a, w_a, v_b, w_b] of the manifolds ``s`` of one color.
+
+    The bodies of one color are distinct (static ones excepted, whose rows of W are zero),
+    so the color can be solved on this local copy and written back once (:func:`_scatter`).
+    """
+    return velocity[batch.pair_index[s]].reshape(-1, 12)
 
 
-def _apply(velocity, w, d_lambda, a, b):
-    """``V += W d_lambda`` for one color (bodies distinct; static rows of W are zero)."""
-    dv = (w @ d_lambda[:, :, None])[..., 0]
-    velocity[a] += dv[:, :6]
-    velocity[b] += dv[:, 6:]
+def _scatter(velocity, batch, s, vab):
+    velocity[batch.pair_index[s]] = vab.reshape(-1, 2, 6)
 
 
-def _solve_normal_color(batch, s, velocity, bias, lam, accumulate, rows=slice(None)):
-    """One normal-impulse update of the point slots ``rows`` of the manifolds ``s``."""
-    a, b = batch.body_a[s], batch.body_b[s]
-    vn = _relative(velocity, batch.normal_jac[s, rows], a, b)
+def _normal_rows(batch, s, vab, bias, lam, accumulate, rows):
+    """One normal-impulse update of point slots ``rows``; updates ``vab`` in place."""
+    vn = (batch.normal_jac[s, rows] @ vab[:, :, None])[..., 0]  # v_n = J V
     step = -batch.normal_mass[s, rows] * (vn + bias[s, rows])  # d_lambda = -m_eff (J V + b)
     old = lam[s, rows]
     if accumulate:
@@ -169,14 +170,13 @@ def _solve_normal_color(batch, s, velocity, bias, lam, accumulate, rows=slice(No
         step = np.maximum(step, 0.0)  # clamp each increment (box2d-lite's toggle)
         new = old + step
     lam[s, rows] = new
-    _apply(velocity, batch.normal_w[s, :, rows], step, a, b)
+    vab += (batch.normal_w[s, :, rows] @ step[:, :, None])[..., 0]  # V += W d_lambda
 
 
-def _solve_friction_color(batch, s, velocity, accumulate, rows=slice(None)):
+def _friction_rows(batch, s, vab, accumulate, rows):
     """Friction update of point slots ``rows``: 2-D impulse clamped to the Coulomb circle."""
-    a, b = batch.body_a[s], batch.body_b[s]
     tangent_rows = slice(None) if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
-    vt = _relative(velocity, batch.tangent_jac[s, tangent_rows], a, b)
+    vt = (batch.tangent_jac[s, tangent_rows] @ vab[:, :, None])[..., 0]
     old = batch.impulse[s, rows, 1:]
     step = (-batch.tangent_mass[s, tangent_rows] * vt).reshape(old.shape)
     limit = batch.friction[s] * batch.impulse[s, rows, 0]  # |lambda_t| <= mu lambda_n
@@ -185,7 +185,7 @@ def _solve_friction_color(batch, s, velocity, accumulate, rows=slice(None)):
     new = new * np.minimum(1.0, limit / np.maximum(norm, 1e-300))[..., None]
     step = new - old if accumulate else new
     batch.impulse[s, rows, 1:] = old + step
-    _apply(velocity, batch.tangent_w[s, :, tangent_rows], step.reshape(len(a), -1), a, b)
+    vab += (batch.tangent_w[s, :, tangent_rows] @ step.reshape(len(vab), -1, 1))[..., 0]
 
 
 def _slot_rows(batch, color, options):
@@ -200,37 +200,40 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
     bias = np.maximum(-batch.depth, 0.0) / h
     lam = batch.impulse[:, :, 0].copy()
+    groups = [_slot_rows(batch, c, options) for c in range(len(batch.color_slices))]
+    accumulate = options.accumulate_impulses
     for _ in range(options.velocity_iterations):
         for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
-            for rows in _slot_rows(batch, color, options):
-                _solve_normal_color(batch, s, velocity, bias, lam, options.accumulate_impulses,
-                                    rows)
+            vab = _gather(velocity, batch, s)
+            for rows in groups[color]:
+                _normal_rows(batch, s, vab, bias, lam, accumulate, rows)
                 batch.impulse[s, rows, 0] = lam[s, rows]
-                _solve_friction_color(batch, s, velocity, options.accumulate_impulses, rows)
+                _friction_rows(batch, s, vab, accumulate, rows)
+            _scatter(velocity, batch, s, vab)
     fast = batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
-    bounce = (batch.restitution > 0) & fast
-    bounce &= lam > 0
+    bounce = (batch.restitution > 0) & fast & (lam > 0)
     if np.any(bounce):
         # target v_n = -e v_n0, i.e. bias b = e v_n0 on the loaded, fast-approaching points
-        target = np.where(bounce, batch.restitution * batch.approach_speed, -np.inf)
+        target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)
         for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
-            for rows in _slot_rows(batch, color, options):
-                _restitution_color(batch, s, velocity, target, lam, rows)
+            vab = _gather(velocity, batch, s)
+            for rows in groups[color]:
+                _restitution_rows(batch, s, vab, target, lam, rows)
+            _scatter(velocity, batch, s, vab)
     batch.impulse[:, :, 0] = lam
 
 
-def _restitution_color(batch, s, velocity, target, lam, rows):
-    a, b = batch.body_a[s], batch.body_b[s]
-    active = np.isfinite(target[s, rows])
-    vn = _relative(velocity, batch.normal_jac[s, rows], a, b)
+def _restitution_rows(batch, s, vab, target, lam, rows):
+    active = ~np.isnan(target[s, rows])
+    vn = (batch.normal_jac[s, rows] @ vab[:, :, None])[..., 0]
     goal = np.where(active, target[s, rows], 0.0)
     step = np.where(active, -batch.normal_mass[s, rows] * (vn + goal), 0.0)
     new = np.maximum(lam[s, rows] + step, 0.0)
     step = new - lam[s, rows]
     lam[s, rows] = new
-    _apply(velocity, batch.normal_w[s, :, rows], step, a, b)
+    vab += (batch.normal_w[s, :, rows] @ step[:, :, None])[..., 0]
 
 
 def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
@@ -245,8 +248,10 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
     for _ in range(options.position_iterations):
         for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
+            vab = _gather(pseudo, batch, s)
             for rows in _slot_rows(batch, color, options):
-                _solve_normal_color(batch, s, pseudo, -target, lam, True, rows)
+                _normal_rows(batch, s, vab, -target, lam, True, rows)
+            _scatter(pseudo, batch, s, vab)
     return pseudo
 
 
