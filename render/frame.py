@@ -278,21 +278,21 @@ def _write_band(
     band: slice,
 ) -> None:
     """Shade the visible pixels of one band and write rgba, depth and ids there."""
+    rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
+    depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
+    n_covered = len(visible.pixel)
+    if n_covered < band.stop - band.start:  # background first where nothing is drawn
+        rgba_packed[band], depth_flat[band], ids_flat[band] = _BACKGROUND_PACKED, 0.0, 0
+        if n_covered == 0:
+            return
     triangle = shading.tri_index[visible.winner]  # global triangle id of each covered pixel
     light = shading.pixel_light(visible)
     packed = shade_pixels(
         scene.materials, visible, triangle, shading.uv_planes, shading.color_planes, light
     )
-    rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
-    depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
     ids = scene.tri_semantic[triangle]
-    if len(visible.pixel) == band.stop - band.start:  # fully covered band: plain copies
-        rgba_packed[band], depth_flat[band], ids_flat[band] = packed, visible.depth, ids
-        return
-    rgba_packed[band], depth_flat[band], ids_flat[band] = _BACKGROUND_PACKED, 0.0, 0
-    rgba_packed[visible.pixel] = packed
-    depth_flat[visible.pixel] = visible.depth
-    ids_flat[visible.pixel] = ids
+    where = band if n_covered == band.stop - band.start else visible.pixel  # slice: no scatter
+    rgba_packed[where], depth_flat[where], ids_flat[where] = packed, visible.depth, ids
 
 
 class _StageClock:
