@@ -33,3 +33,11 @@ def habitat_data() -> Path:
 @pytest.fixture(scope="session")
 def test_assets(habitat_data: Path) -> Path:
     return habitat_data / "test_assets"
+
+
+@pytest.fixture(scope="session")
+def demo_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The generated demo dataset, built once per test session into a temporary folder."""
+    from engine.datasets import demo_data_path
+
+    return demo_data_path(tmp_path_factory.mktemp("demo_dataset"))
