@@ -38,7 +38,8 @@ BACKGROUND_RGBA = (0, 0, 0, 255)
 _BACKGROUND_PACKED = pack_rgba(np.array(BACKGROUND_RGBA, np.uint8))
 #: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
 TRIANGLE_BATCH = 8_192
-#: above this many triangles with fragments, shading setup is limited to the pixel winners
+#: shading setup covers all candidate triangles up to this many; above, only those that drew
+#: fragments, and if those are still more, only the pixel winners
 REFINE_USED_ABOVE = 8_192
 #: pixels resolved and shaded per band (temporaries stay in the CPU cache; 16k was fastest)
 SHADE_BAND_PIXELS = 16_384
@@ -124,10 +125,13 @@ def render_frame(
         source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
         tri = _corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
         out.n_fragments += _rasterize(tri, source, camera, cull_back_faces, out, drawn, clock)
-    # --- 7. shading inputs (attribute planes, light) of the triangles that drew fragments
-    used = np.flatnonzero(drawn)
-    if len(used) > REFINE_USED_ABOVE:  # many small triangles: keep only the pixel winners
-        used = raster.winning_triangles(out.zkey, len(tri_index))
+    # --- 7. shading inputs (attribute planes, light) of the triangles that can own pixels
+    if len(tri_index) <= REFINE_USED_ABOVE:
+        used = np.arange(len(tri_index))  # few candidates: planes for all, no indirection
+    else:
+        used = np.flatnonzero(drawn)
+        if len(used) > REFINE_USED_ABOVE:  # many small triangles: only the pixel winners
+            used = raster.winning_triangles(out.zkey, len(tri_index))
     shading = _ShadingInputs.build(
         scene, camera, camera_from_world, vertices_camera, tri_index, used
     )
@@ -221,11 +225,13 @@ class _ShadingInputs:
 
     @classmethod
     def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used):
-        """For the candidates ``used`` (indices into the K candidates ``tri_index``) that
-        drew fragments: attribute planes (recomputed for those only) and light factors."""
+        """For the candidates ``used`` (indices into the K candidates ``tri_index``; all of
+        them, or those that can own pixels): attribute planes and light factors."""
         materials = scene.materials
-        row_of = np.zeros(len(tri_index), dtype=np.int64)
-        row_of[used] = np.arange(len(used))  # candidate id -> row among the used triangles
+        row_of = None  # candidate id -> row among the used triangles (None: identity)
+        if len(used) < len(tri_index):
+            row_of = np.zeros(len(tri_index), dtype=np.int64)
+            row_of[used] = np.arange(len(used))
         tri = _corners(vertices_camera, scene, tri_index[used])  # (3, 3, k)
         planes, _ = raster.plane_coefficients(tri, camera)
         corners = materials.faces[:, tri_index[used]]  # (3, k) global vertex ids
