@@ -296,3 +296,39 @@ def test_rebuilding_a_scene_reuses_packed_textures_of_the_same_array():
     packed_other = RenderScene([other]).materials.textures[0]
     assert packed_other is not first.materials.textures[0]
     assert packed_other.shape == (10, 10)  # 8 x 8 texels plus the wrap border
+
+
+def grid_mesh(n: int, z: float, semantic_id: int) -> RenderMesh:
+    """An n x n grid of quads (2 n^2 triangles) on [-1, 1]^2 at z, colored by position."""
+    xs, ys = np.meshgrid(np.linspace(-1, 1, n + 1), np.linspace(-1, 1, n + 1))
+    vertices = np.column_stack([xs.ravel(), ys.ravel(), np.full(xs.size, z)])
+    colors = np.column_stack(
+        [
+            (xs.ravel() + 1) * 127,
+            (ys.ravel() + 1) * 127,
+            np.full(xs.size, 60),
+            np.full(xs.size, 255),
+        ]
+    ).astype(np.uint8)
+    i, j = np.meshgrid(np.arange(n), np.arange(n))
+    v00 = (j * (n + 1) + i).ravel()
+    faces = np.concatenate(
+        [
+            np.column_stack([v00, v00 + 1, v00 + n + 2]),
+            np.column_stack([v00, v00 + n + 2, v00 + n + 1]),
+        ]
+    )
+    return RenderMesh(vertices, faces, vertex_colors=colors, semantic_id=semantic_id)
+
+
+def test_many_triangle_scenes_shade_the_same_with_or_without_the_winner_refinement(monkeypatch):
+    from render import frame as frame_module
+
+    camera = Camera((H, W), hfov=60.0)
+    meshes = [grid_mesh(70, -3.0, 1), grid_mesh(70, -4.0, 2)]  # 2 x 9800 triangles
+    refined = render_frame(meshes, camera, np.eye(4))
+    monkeypatch.setattr(frame_module, "REFINE_USED_ABOVE", 10**9)
+    plain = render_frame(meshes, camera, np.eye(4))
+    np.testing.assert_array_equal(refined.rgba, plain.rgba)
+    np.testing.assert_array_equal(refined.ids, plain.ids)
+    assert np.all(refined.ids[H // 2 - 5 : H // 2 + 5, W // 2 - 5 : W // 2 + 5] == 1)
