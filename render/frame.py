@@ -170,11 +170,17 @@ def _rasterize(
     # --- 3. near clipping: pieces remember their source (index into the batch)
     pieces, piece_of = cull.clip_near(tri, np.arange(len(source)), camera.near)
     clock.lap("assemble + clip")
-    # --- 4. triangle setup: plane functions of the source triangles, corners to pixels
+    # --- 4. triangle setup: corners to pixels, drop pieces whose bounding box holds no
+    #        pixel center, plane functions of the sources still in use
+    screen = raster.project_triangles(pieces, camera)
+    hit = raster.bounding_box_has_pixel_centers(screen, camera.height, camera.width)
+    screen, piece_of = screen[:, :, hit], piece_of[hit]
+    in_use = np.zeros(len(source), dtype=bool)
+    in_use[piece_of] = True
+    tri, source, piece_of = tri[:, :, in_use], source[in_use], (np.cumsum(in_use) - 1)[piece_of]
     planes, valid = raster.plane_coefficients(tri, camera)
     usable = valid[piece_of]
-    pieces, piece_of = pieces[:, :, usable], piece_of[usable]
-    screen = raster.project_triangles(pieces, camera)
+    screen, piece_of = screen[:, :, usable], piece_of[usable]
     clock.lap("setup")
     # --- 5. scanline spans under the top-left fill rule
     spans = raster.scanline_spans(screen, camera.height, camera.width)

@@ -109,6 +109,22 @@ def project_triangles(tri: np.ndarray, camera: Camera) -> np.ndarray:
     return np.stack([px, py], axis=1)
 
 
+def bounding_box_has_pixel_centers(screen: np.ndarray, height: int, width: int) -> np.ndarray:
+    """``(T,)`` bool: the triangle's bounding box, clipped to the image, holds a pixel center.
+
+    A cheap, conservative pre-test (a triangle may still miss every center): sub-pixel and
+    off-screen triangles skip the setup and span stages. Rows with centers in
+    ``[y_min, y_max)`` are ``ceil(y_min - 1/2) .. ceil(y_max - 1/2) - 1``; same for columns.
+    """
+    x, y = screen[:, 0], screen[:, 1]  # (3, T) each
+    ok = np.ones(screen.shape[2], dtype=bool)
+    for coord, size in ((y, height), (x, width)):
+        low = np.maximum(np.ceil(np.minimum(np.minimum(coord[0], coord[1]), coord[2]) - 0.5), 0)
+        high = np.minimum(np.ceil(np.maximum(np.maximum(coord[0], coord[1]), coord[2]) - 0.5), size)
+        ok &= low < high  # at least one row (column) center inside
+    return ok
+
+
 @dataclass
 class Spans:
     """Horizontal pixel runs: row ``row[i]`` covers columns ``[col_first[i], +n_pixels[i])``.
