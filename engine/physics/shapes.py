@@ -49,13 +49,17 @@ class Shape:
     plane_offsets: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        """Outward face planes ``n . x <= c`` of the hull (body frame), for containment."""
+        """Plain float64 arrays (trimesh's tracked arrays are slow to index), and the hull's
+        outward face planes ``n . x <= c`` (body frame), for containment tests."""
+        self.hull_vertices = np.array(self.hull_vertices, dtype=np.float64)
+        self.ray_triangles = np.array(self.ray_triangles, dtype=np.float64)
         if self.kind in ("mesh", "sphere", "capsule"):
             return
         hull = trimesh.convex.convex_hull(self.hull_vertices)
-        self.plane_normals = np.asarray(hull.face_normals)
+        self.plane_normals = np.array(hull.face_normals, dtype=np.float64)
         # c_f = n_f . (a vertex of face f)
-        self.plane_offsets = np.sum(self.plane_normals * hull.vertices[hull.faces[:, 0]], axis=1)
+        corner = np.array(hull.vertices, dtype=np.float64)[hull.faces[:, 0]]
+        self.plane_offsets = np.sum(self.plane_normals * corner, axis=1)
 
     @property
     def min_half_extent(self) -> float:
