@@ -33,6 +33,8 @@ Known differences from Habitat's GPU renderer: no mipmaps (distant textures alia
 face normals for lighting (no normal maps or smooth normals), no anti-aliasing, no
 transparency (drawn pixels are opaque), both faces drawn unless ``cull_back_faces=True``.
 
+``reference`` is the same rasterization written as textbook scalar loops (edge functions,
+Sutherland-Hodgman clipping), slow, used by the tests to check the vectorized pipeline.
 ``video`` mirrors ``habitat_sim.utils.viz_utils`` (``make_video`` and helpers).
 """
 
