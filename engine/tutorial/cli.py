@@ -67,14 +67,20 @@ BAR_FORMAT = "{desc:<24}{percentage:3.0f}%|{bar:30}| {n:.2f}/{total:.2f} world s
 
 def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     """Command-line options of the tutorial job."""
-    parser = argparse.ArgumentParser(prog="python -m engine.tutorial", description=__doc__)
-    parser.add_argument("--output-dir", default="./tutorial_output", help="videos + summary")
+    parser = argparse.ArgumentParser(
+        prog="python -m engine.tutorial",
+        description="Run Habitat's managed rigid object tutorial end to end on the demo "
+        "apartment: nine videos, summary.json and a timing table.",
+    )
+    parser.add_argument(
+        "--output-dir", default="./tutorial_output", help="folder for the videos and summary.json"
+    )
     parser.add_argument(
         "--no-make-video", dest="make_video", action="store_false", help="simulate only"
     )
-    parser.add_argument(
-        "--fast", action="store_true", help=f"render {FAST_RESOLUTION} instead of 544 x 720"
-    )
+    height, width = FAST_RESOLUTION
+    fast_help = f"render {height} x {width} instead of 544 x 720 (same simulated durations)"
+    parser.add_argument("--fast", action="store_true", help=fast_help)
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser.parse_args(argv)
