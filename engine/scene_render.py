@@ -11,6 +11,8 @@ arrays and camera poses. This module bridges the two, once per observation:
    (the tutorial's 1st-person color and depth cameras are one render).
 4. **Render and copy**: each group is rendered with :func:`render.render_frame`; each sensor
    gets a fresh copy of its buffer (COLOR -> rgba, DEPTH -> depth, SEMANTIC -> ids).
+   Back faces are culled, as GPU renderers do: closed meshes look the same and cost about a
+   third fewer fragments.
 """
 
 from __future__ import annotations
@@ -93,7 +95,7 @@ class SceneRenderer:
         for key, members in groups.items():
             camera_key = key[0]
             frame = render_frame(scene, self._camera(members[0]), poses[key],
-                                 buffers=self._buffers.get(camera_key))
+                                 buffers=self._buffers.get(camera_key), cull_back_faces=True)
             self._buffers[camera_key] = frame
             for sensor in members:
                 observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, frame)
