@@ -91,13 +91,17 @@ class Manifold:
                 new_impulse[:] = self.impulse[0]  # the single rolling point keeps its impulse
             used[:] = True
         elif len(self):
-            dist_sq = np.sum((self.local_b[:, None] - new_local_b[None]) ** 2, axis=2)
-            for j in range(len(point_a)):  # fresh points come deepest first
-                candidates = np.where(used, np.inf, dist_sq[:, j])
-                i = int(np.argmin(candidates))
-                if candidates[i] < settings.CONTACT_MATCH_DISTANCE**2:
-                    new_impulse[j] = self.impulse[i]
-                    used[i] = True
+            # |cached_i - fresh_j|^2, then a greedy one-to-one match (fresh deepest first)
+            dist_sq = np.sum((self.local_b[:, None] - new_local_b[None]) ** 2, axis=2).tolist()
+            limit = settings.CONTACT_MATCH_DISTANCE**2
+            for j in range(len(point_a)):
+                best, best_i = limit, -1
+                for i, row in enumerate(dist_sq):
+                    if not used[i] and row[j] < best:
+                        best, best_i = row[j], i
+                if best_i >= 0:
+                    new_impulse[j] = self.impulse[best_i]
+                    used[best_i] = True
         # a full fresh manifold (3+ points) replaces the cache; a partial one (GJK gives one
         # point per step) is added to it, so the manifold builds up over a few steps
         self._keep(~used if len(point_a) < 3 else np.zeros(len(self), dtype=bool))
@@ -114,9 +118,10 @@ class Manifold:
 
 def _distinct_points(points: np.ndarray, depth: np.ndarray, radius: float) -> np.ndarray:
     """Indices of points, deepest first, dropping any within ``radius`` of a kept one."""
+    dist_sq = np.sum((points[:, None] - points[None]) ** 2, axis=2).tolist()
     kept: list[int] = []
     for i in np.argsort(-depth, kind="stable").tolist():
-        if all(np.sum((points[i] - points[j]) ** 2) >= radius * radius for j in kept):
+        if all(dist_sq[i][j] >= radius * radius for j in kept):
             kept.append(i)
     return np.array(kept, dtype=np.int64)
 

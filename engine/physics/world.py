@@ -43,9 +43,8 @@ from .world_api import WorldApiMixin
 
 #: object id of the stage (Habitat's ``RIGID_STAGE_ID`` in rigidsim's numbering).
 STAGE_ID = 0
-#: m, broad-phase AABB inflation: covers the stage's speculative distance, and keeps
-#: slightly separated manifolds refreshed.
-AABB_MARGIN = constants.STAGE_SPECULATIVE_DISTANCE
+#: m, broad-phase AABB inflation of every body (keeps touching pairs found).
+AABB_MARGIN = 0.005
 
 
 class PhysicsWorld(WorldApiMixin):
@@ -229,6 +228,9 @@ class PhysicsWorld(WorldApiMixin):
         lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
                              b.body_position[:n], b.body_rotation[:n])
         b.body_aabb_min[:n], b.body_aabb_max[:n] = lo - AABB_MARGIN, hi + AABB_MARGIN
+        # the stage also covers the speculative distance of its contacts
+        b.body_aabb_min[STAGE_ID] -= constants.STAGE_SPECULATIVE_DISTANCE
+        b.body_aabb_max[STAGE_ID] += constants.STAGE_SPECULATIVE_DISTANCE
         dynamic = b.body_motion_type[:n] == DYNAMIC
         kinematic_moving = (b.body_motion_type[:n] == KINEMATIC) & (
             np.any(b.body_solver_velocity[:n] != 0, axis=1)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from helpers import add, make_world, register_primitive, run
 
 HALF = 0.1
@@ -86,7 +85,6 @@ def test_small_pile_settles_without_overlap_and_sleeps():
     _check_settled_pile(world, boxes)
 
 
-@pytest.mark.slow
 def test_hundred_box_pile_settles_within_ten_seconds():
     world, boxes = _pile(100, 10.0)
     _check_settled_pile(world, boxes)
