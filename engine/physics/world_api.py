@@ -100,10 +100,22 @@ class WorldApiMixin:
             self.bodies.body_sleep_time[index] = 0.0
 
     def wake_neighbors(self, index: int) -> None:
-        """Wake every body sharing a contact manifold with ``index``."""
+        """Wake the islands touching ``index``: every dynamic body connected to it through
+        contact manifolds (a support removed or moved lets the whole stack above move)."""
+        b = self.bodies
+        neighbors: dict[int, list[int]] = {}
         for a, c in self.manifolds:
-            if a == index or c == index:
-                self.wake(c if a == index else a)
+            neighbors.setdefault(a, []).append(c)
+            neighbors.setdefault(c, []).append(a)
+        frontier, seen = [index], {index}
+        while frontier:
+            current = frontier.pop()
+            for other in neighbors.get(current, []):
+                if other in seen or b.body_motion_type[other] != DYNAMIC:
+                    continue  # static and kinematic bodies do not join islands
+                seen.add(other)
+                self.wake(other)
+                frontier.append(other)
 
     def reset(self) -> None:
         """World time 0; every object back to its creation pose, at rest, awake."""
@@ -201,7 +213,7 @@ class WorldApiMixin:
             from .solver import tangent_basis
 
             t1, t2 = tangent_basis(normal)
-            active = bool(b.body_awake[a] or b.body_awake[c])
+            active = self._is_moving(a) or self._is_moving(c)
             for k in range(len(manifold)):
                 impulse = manifold.impulse[k]
                 points.append(ContactPointData(
@@ -212,10 +224,13 @@ class WorldApiMixin:
         return points
 
     def get_physics_num_active_contact_points(self) -> int:
-        """Number of manifold points touching at least one awake body."""
-        b = self.bodies
+        """Number of manifold points touching at least one awake dynamic body."""
         return sum(len(m) for (a, c), m in self.manifolds.items()
-                   if b.body_awake[a] or b.body_awake[c])
+                   if self._is_moving(a) or self._is_moving(c))
+
+    def _is_moving(self, index: int) -> bool:
+        b = self.bodies
+        return bool(b.body_awake[index] and b.body_motion_type[index] == DYNAMIC)
 
     def get_physics_num_active_overlapping_pairs(self) -> int:
         """Broad-phase pairs found by the last collision pass."""

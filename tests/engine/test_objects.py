@@ -259,3 +259,43 @@ def test_ray_cast_hits_a_cube_and_the_stage(test_assets):
         # one hit per body, nearest first: the cube's top face, then the stage
         assert [h.object_id for h in hits] == [cube.object_id, 0]
         np.testing.assert_allclose([h.ray_distance for h in hits], [2.4, 3.0], atol=1e-9)
+
+
+@pytest.mark.parametrize("remove_index", [1, 0])
+def test_habitat_removing_a_sleeping_support_wakes_the_stack(sim, remove_index):
+    """Port of Habitat's ``testRemoveSleepingSupport`` (stack of 4 cubes, bottom STATIC)."""
+    rom = sim.get_rigid_object_manager()
+    base = np.array([0.21964, 1.29183, -0.0897472])
+    cubes = []
+    for i in range(4):
+        cube = rom.add_object_by_template_handle("cubeSolid")
+        cube.translation = base + [0.0, 0.2 * i, 0.0]
+        cubes.append(cube)
+    cubes[0].motion_type = MotionType.STATIC
+    while sim.get_world_time() < 4.0:
+        sim.step_physics(0.1)
+    assert not any(c.awake for c in cubes)
+    assert sim.get_physics_num_active_contact_points() == 0
+    rom.remove_object_by_id(cubes[remove_index].object_id)
+    rest = [c for c in cubes if c.is_alive and c.motion_type == MotionType.DYNAMIC]
+    assert rest and all(c.awake for c in rest)
+    sim.step_physics(0.1)
+    assert sim.get_physics_num_active_contact_points() > 0 or remove_index == 0
+
+
+def test_a_resting_cube_reports_four_contact_points_with_its_weight(test_assets):
+    with make_sim(test_assets / "scenes" / "plane.glb") as sim:
+        cube = sim.get_rigid_object_manager().add_object_by_template_handle("cubeSolid")
+        cube.translation = [0.0, 0.5, 0.0]
+        sim.step_physics(1.0)
+        points = sim.get_physics_contact_points()
+        assert len(points) == 4
+        assert sim.get_physics_num_active_contact_points() == 0  # the cube fell asleep
+        cube.awake = True
+        assert sim.get_physics_num_active_contact_points() == 4
+        assert all(p.object_id_a == 0 and p.object_id_b == cube.object_id for p in points)
+        # the normal forces carry the weight m g (1 kg): 5 % covers damping and the slop
+        total = sum(p.normal_force for p in points)
+        assert total == pytest.approx(9.8, rel=0.05)
+        for p in points:  # Bullet's convention: the normal on B points from B to A (down)
+            np.testing.assert_allclose(p.contact_normal_on_b_in_ws, [0.0, -1.0, 0.0], atol=1e-9)
