@@ -76,8 +76,13 @@ class Manifold:
         (ra, xa), (rb, xb) = pose_a, pose_b
         depth = np.sum((point_a - point_b) * normal, axis=1)
         if len(depth) > self.max_points:  # many vertex contacts: keep the support polygon
+            preferred = np.zeros(len(depth), dtype=bool)
+            if len(self):  # hysteresis: among near-ties keep the points we already have
+                local = (point_b - xb) @ rb
+                gap_sq = np.sum((local[:, None] - self.local_b[None]) ** 2, axis=2)
+                preferred = gap_sq.min(axis=1) < settings.CONTACT_MATCH_DISTANCE**2
             chosen = select_support_points(point_b, depth, normal[np.argmax(depth)],
-                                           self.max_points)
+                                           self.max_points, preferred)
             point_a, point_b, normal, depth = (point_a[chosen], point_b[chosen],
                                                normal[chosen], depth[chosen])
         fresh = _distinct_points(point_b, depth, settings.CONTACT_MATCH_DISTANCE)
@@ -127,20 +132,26 @@ def _distinct_points(points: np.ndarray, depth: np.ndarray, radius: float) -> np
 
 
 def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
-                          count: int) -> np.ndarray:
+                          count: int, preferred: np.ndarray | None = None) -> np.ndarray:
     """Indices of ``count`` points: the deepest, then those spanning the largest area.
 
     Parameters
     ----------
     points : (k, 3) world contact points, depth : (k,) m, normal : (3,) unit.
+    preferred : (k,) bool, points matching cached ones; they win near-ties (1 mm of depth,
+        10 % of distance or area), so a flat face resting on many coplanar vertices keeps
+        the same four points from step to step instead of flickering between them.
     """
-    chosen = [int(np.argmax(depth))]
+    bonus = np.zeros(len(depth)) if preferred is None else preferred.astype(np.float64)
+    chosen = [int(np.argmax(depth + 1e-3 * bonus))]
+    scale = 1.0 + 0.1 * bonus
     if count >= 2:
-        chosen.append(int(np.argmax(np.sum((points - points[chosen[0]]) ** 2, axis=1))))
+        far = np.sum((points - points[chosen[0]]) ** 2, axis=1) * scale
+        chosen.append(int(np.argmax(far)))
     if count >= 3:
         edge = points[chosen[1]] - points[chosen[0]]
         # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
-        area = cross(edge, points - points[chosen[0]]) @ normal
+        area = cross(edge, points - points[chosen[0]]) @ normal * scale
         third = int(np.argmax(np.abs(area)))
         chosen.append(third)
         if count >= 4:

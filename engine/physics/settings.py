@@ -45,7 +45,7 @@ class SolverSettings:
     """
 
     velocity_iterations: int = 15
-    position_iterations: int = 4
+    position_iterations: int = 2
     substeps: int = 1
     warm_starting: bool = True
     accumulate_impulses: bool = True
@@ -56,9 +56,9 @@ class SolverSettings:
 
 # --- contact geometry -------------------------------------------------------------------
 #: m, penetration left uncorrected so resting contacts persist from step to step.
-PENETRATION_SLOP = 0.002
+PENETRATION_SLOP = 0.004
 #: 1, fraction of the penetration beyond the slop removed per step by the position solve.
-POSITION_BAUMGARTE = 0.4
+POSITION_BAUMGARTE = 0.2
 #: m/s, upper bound of the position-correction pseudo velocity (no launches).
 MAX_CORRECTION_SPEED = 2.0
 #: m, a manifold point whose bodies separate by more than this along the normal is dropped.

@@ -69,6 +69,7 @@ class ContactBatch:
     color_slices: list
     color_points: list
     pair_index: np.ndarray
+    split: np.ndarray
 
 
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -133,7 +134,7 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1))
+                        np.stack([body_a, body_b], axis=1), split)
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
