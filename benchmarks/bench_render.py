@@ -6,7 +6,9 @@ Run on demand (not a test)::
     .venv/bin/python benchmarks/bench_render.py --quick  # fewer repeats, smaller scenes
 
 Scenes: spheres of about 1k, 10k and 100k triangles (unlit vertex colors and lit), a
-full-screen close-up of a textured plane with 5 lit boxes. When ``import pybullet`` works,
+full-screen close-up of a textured plane with 5 lit boxes, and the demo apartment from the
+tutorial's 1st- and 3rd-person camera poses (TinyRenderer gets the same triangles with flat
+material colors: it does not sample our textures). When ``import pybullet`` works,
 pybullet's TinyRenderer (``p.getCameraImage(..., renderer=p.ER_TINY_RENDERER)``) renders the
 same triangles from the same camera in the same run; the table prints both medians and the
 ratio, plus where our time goes (per-stage medians from ``FrameBuffers.timings``) and a
@@ -161,6 +163,33 @@ def time_calls(function, repeats: int) -> tuple[float, object]:
     return statistics.median(times), result
 
 
+def apartment_scenes() -> list[tuple[str, list[RenderMesh], np.ndarray, bool]]:
+    """The demo apartment seen by the tutorial's 1st- and 3rd-person cameras (engine side).
+
+    Builds the tutorial's simulator (agent pose and sensors of ``place_agent`` and
+    ``make_configuration``), then takes the exact render meshes and camera poses the engine
+    renders, with back faces culled as the engine's sensors do.
+    """
+    from engine.datasets import demo_data_path
+    from engine.scene_render import _render_mesh
+    from engine.tutorial.scene_setup import make_configuration, place_agent
+
+    sim = __import__("engine").Simulator(make_configuration(str(demo_data_path())))
+    place_agent(sim)
+    meshes = []
+    for node in sim.root_node.descendants():
+        for drawable in node.drawables:
+            mesh = _render_mesh(drawable)
+            mesh.world_from_mesh = node.world_matrix()
+            meshes.append(mesh)
+    poses = {s.uuid: s.world_from_camera() for s in sim.agents[0].sensors}
+    sim.close()
+    return [
+        ("apartment, 1st person", meshes, poses["rgba_camera_1stperson"], True),
+        ("apartment, 3rd person", meshes, poses["rgba_camera_3rdperson"], True),
+    ]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats")
@@ -175,6 +204,7 @@ def main() -> None:
     scenes.append(("sphere 10k, cull back faces", scenes[1][1], scenes[1][2], True))
     boxes_pose = look_at((0, 1.0, 0.8), (0, 0, -1.5))
     scenes.append(("plane + 5 boxes, full screen", plane_and_boxes_scene(), boxes_pose, False))
+    scenes.extend(apartment_scenes())
     print(f"render_frame at {RESOLUTION[1]}x{RESOLUTION[0]} (color + depth + ids), medians")
     print(
         f"{'scene':30s} {'tris':>7s} {'covered':>8s} {'frags':>8s} {'ours ms':>8s} "
