@@ -76,6 +76,7 @@ class PhysicsWorld(WorldApiMixin):
         self.render_meshes: dict[int, list] = {}
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._node_pose: dict[int, np.ndarray] = {}
+        self._node_stamp: dict[int, tuple] = {}  # see _write_node
         self._time = 0.0
         self._accumulator = 0.0
         self.n_overlapping_pairs = 0
@@ -320,25 +321,58 @@ class PhysicsWorld(WorldApiMixin):
     def _write_nodes(self) -> None:
         """Write the pose of every body that can have moved to its root scene node."""
         b = self.bodies
+        parent_cache: dict[int, tuple] = {}  # id(parent) -> (parent, world, inverse, local)
         for index in list(self.nodes):
             if b.body_alive[index] and b.body_motion_type[index] != STATIC:
-                self._write_node(index)
+                self._write_node(index, parent_cache)
 
-    def _write_node(self, index: int) -> None:
+    def _write_node(self, index: int, parent_cache: dict | None = None) -> None:
+        """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.
+
+        ``parent_cache`` (optional) shares each parent's matrices across one pass over all
+        nodes; a node whose body, node state and parent are unchanged since its last write
+        is skipped (the write would assign the very same numbers).
+        """
         node = self.nodes.get(index)
         if node is None:
             return
         b = self.bodies
+        parent = node.parent
+        parent_world = parent_inv = parent_local = None
+        if parent is not None:
+            parent_world, parent_inv, parent_local = self._parent_matrices(parent, parent_cache)
+        stamp = (b.body_position[index].tobytes(), b.body_rotation[index].tobytes(), parent,
+                 node._translation, node._rotation, node._scaling, self._node_pose.get(index))
+        last = self._node_stamp.get(index)
+        if last is not None and _same_stamp(last, stamp, parent_world):
+            return
         world = np.eye(4)
         world[:3, :3] = quat_to_matrix(b.body_rotation[index])
         world[:3, 3] = b.body_position[index]
         if self._node_pose.get(index) is not None and np.array_equal(self._node_pose[index], world):
             return
-        parent = node.parent
-        local = world if parent is None else np.linalg.inv(parent.world_matrix()) @ world
+        local = world if parent is None else parent_inv @ world
         node.translation = local[:3, 3]
         node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
-        self._node_pose[index] = node.world_matrix().copy()
+        if parent is not None and parent._parent is None:
+            pose = parent_local @ node.local_matrix()  # what node.world_matrix() computes
+        else:
+            pose = node.world_matrix().copy()
+        self._node_pose[index] = pose
+        self._node_stamp[index] = stamp[:2] + (parent, node._translation, node._rotation,
+                                               node._scaling, pose,
+                                               None if parent_world is None else parent_world)
+
+    @staticmethod
+    def _parent_matrices(parent, cache: dict | None):
+        """``(world, world^-1, local)`` matrices of a parent node (cached within one pass)."""
+        if cache is not None and id(parent) in cache:
+            return cache[id(parent)][1:]
+        world = parent.world_matrix()
+        entry = (parent, world, np.linalg.inv(world), parent.local_matrix())
+        if cache is not None:
+            cache[id(parent)] = entry  # the parent is kept alive, so its id stays unique
+        return entry[1:]
 
     def _sync_from_nodes(self) -> None:
         """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies."""
@@ -355,3 +389,14 @@ class PhysicsWorld(WorldApiMixin):
             self._node_pose[index] = world.copy()
             self._update_fcl(index)
             self.wake_neighbors(index)
+
+
+def _same_stamp(last: tuple, stamp: tuple, parent_world) -> bool:
+    """True when a node write would repeat the last one exactly (same inputs, same node)."""
+    if last[0] != stamp[0] or last[1] != stamp[1] or last[2] is not stamp[2]:
+        return False
+    if any(a is not c for a, c in zip(last[3:7], stamp[3:7], strict=True)):
+        return False
+    if parent_world is None:
+        return last[7] is None
+    return last[7] is not None and np.array_equal(last[7], parent_world)
