@@ -193,6 +193,13 @@ class Simulator:
     def get_physics_num_active_overlapping_pairs(self) -> int:
         return self._world.get_physics_num_active_overlapping_pairs()
 
+    def get_stage_is_collidable(self) -> bool:
+        return self._world.get_stage_is_collidable()
+
+    def set_stage_is_collidable(self, collidable: bool) -> None:
+        """Turn the stage's collisions on or off (objects then fall through it)."""
+        self._world.set_stage_is_collidable(collidable)
+
     def get_physics_world(self) -> PhysicsWorld:
         """The physics world (rigidsim's; for teaching and the tests)."""
         return self._world

@@ -51,6 +51,17 @@ def test_z_up_plane_stage_lands_at_y_zero_and_a_cube_rests_on_it(test_assets):
         assert cube.translation.y == pytest.approx(0.1, abs=5e-3)
 
 
+def test_stage_collisions_can_be_turned_off(test_assets):
+    with make_sim(test_assets / "scenes/plane.glb") as sim:
+        assert sim.get_stage_is_collidable()
+        sim.set_stage_is_collidable(False)
+        cube = sim.get_rigid_object_manager().add_object_by_template_handle("cubeSolid")
+        cube.translation = [0.0, 0.5, 0.0]
+        while sim.get_world_time() < 1.0:
+            sim.step_physics(1.0 / 60.0)
+        assert cube.translation.y < -2.0  # fell through the plane: 1/2 g t^2 ~ 4.9 m
+
+
 def test_reset_restores_world_time_objects_and_agent(test_assets):
     with make_sim(test_assets / "scenes/plane.glb") as sim:
         agent = sim.initialize_agent(0, habitat_sim.AgentState([1.0, 0.0, 2.0]))
