@@ -296,12 +296,23 @@ def test_navmesh_robot_stays_on_the_navmesh(job: dict, sliding: str) -> None:
     assert result["navmesh_loaded"]
     assert all(result["end_on_navmesh"])
     start, target, end = (np.asarray(result[k]) for k in ("step_start", "step_target", "step_end"))
-    free = ~np.asarray(result["collided"])
-    # an unobstructed step goes where the controller asked (flat floor: same x, z)
-    np.testing.assert_allclose(end[free][:, [0, 2]], target[free][:, [0, 2]], atol=1e-6)
-    # each step moves at most |v| dt = 1/60 m horizontally
-    step_length = np.hypot(*(end - start)[:, [0, 2]].T)
-    assert np.all(step_length <= FRAME_DT + 1e-9)
+    collided = np.asarray(result["collided"])
+    # a step the navmesh left alone goes where the controller asked (flat floor: same x, z)
+    # and is not reported as a collision
+    reached = np.linalg.norm((end - target)[:, [0, 2]], axis=1) < 1e-6
+    assert not np.any(collided[reached])
+    # the demo scene keeps the floor within 1 m of the start clear but for the table: the
+    # first 20 steps (1/3 m) are free
+    assert np.all(reached[:20])
+    # the filter never ends farther from the target than the start is (the start is always
+    # reachable); navmesh points are float32-rounded, 1e-5 m covers that a few m from 0
+    to_target_after = np.linalg.norm((target - end)[:, [0, 2]], axis=1)
+    to_target_before = np.linalg.norm((target - start)[:, [0, 2]], axis=1)
+    assert np.all(to_target_after <= to_target_before + 1e-5)
+    if sliding == "no_sliding":
+        # stopping on the segment: at most the commanded |v| dt = 1/60 m
+        step_length = np.linalg.norm((end - start)[:, [0, 2]], axis=1)
+        assert np.all(step_length <= FRAME_DT + 1e-5), step_length.max() - FRAME_DT
 
 
 def test_navmesh_without_sliding_stops_along_the_commanded_direction(job: dict) -> None:
