@@ -60,8 +60,7 @@ def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np
     """
     lo, hi = aabb_min[candidates], aabb_max[candidates]
     # overlap iff lo_a <= hi_b and lo_b <= hi_a on all three axes
-    overlap = np.all((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :]),
-                     axis=2)
+    overlap = ((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :])).all(axis=2)
     ia, ib = np.nonzero(np.triu(overlap, k=1))
     a, b = candidates[ia], candidates[ib]
     keep = active[a] | active[b]
@@ -90,7 +89,7 @@ def _to_frame(points_world, rotation, position):
 def _inside_hull(points_local, shape, tolerance):
     """(m,) bool: points (shape's body frame) inside the hull planes inflated by tolerance."""
     # inside iff n_f . p - c_f <= tol for every face f
-    return np.all(points_local @ shape.plane_normals.T - shape.plane_offsets <= tolerance, axis=1)
+    return (points_local @ shape.plane_normals.T - shape.plane_offsets <= tolerance).all(axis=1)
 
 
 def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, object_a, object_b):
@@ -156,57 +155,86 @@ def stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
         return None
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
     tri_ids = np.unique(tri_ids[tri_ids >= 0])
+    table = _triangle_table(stage_shape)
     tris = stage_shape.ray_triangles[tri_ids]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
-    normal = _triangle_normals_towards(tris, center)
+    normal = _flip_towards(table["normal"][tri_ids], tris[:, 0], center)
     if shape_b.kind == "sphere":
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
     if shape_b.kind not in _POLYHEDRA:
         fcl_normal = normal[np.argmax(depths)]
         return _midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
     verts = shape_b.hull_vertices @ rb.T + xb
-    result = _vertex_triangle_contacts(tris, normal, verts)
+    result = _vertex_triangle_contacts(tris, normal, verts, table, tri_ids)
     if result is None:  # an edge crossing a face: fall back to fcl's points, face normal
         n = normal[0]
         return _midpoint_contacts(mid, np.tile(n, (len(mid), 1)), depths)
     return result
 
 
-def _triangle_normals_towards(tris, point):
-    """Unit face normals ``(t, 3)`` flipped to point towards ``point`` (3,)."""
-    normal = cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    side = np.sum((point - tris[:, 0]) * normal, axis=1)
+def _triangle_table(mesh_shape) -> dict:
+    """Per-triangle constants of a static mesh, computed once and kept on the shape.
+
+    ``normal (T, 3)`` unit face normals (winding order), ``e0, e1 (T, 3)`` edges from vertex
+    0, and the Gram entries ``d00, d01, d11 (T,)`` and ``denom (T,)`` of the barycentric
+    solve (see :func:`_barycentric_inside`).
+    """
+    table = getattr(mesh_shape, "_triangle_table", None)
+    if table is None:
+        tris = mesh_shape.ray_triangles
+        e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+        normal = cross(e0, e1)
+        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+        # Gram matrix [d00 d01; d01 d11] of the two edges: d_ij = e_i . e_j
+        d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
+        table = {"normal": normal, "e0": e0, "e1": e1, "d00": d00, "d01": d01, "d11": d11,
+                 "denom": d00 * d11 - d01 * d01}
+        mesh_shape._triangle_table = table
+    return table
+
+
+def _flip_towards(normal, origin, point):
+    """Unit normals ``(t, 3)`` of planes through ``origin (t, 3)`` flipped towards ``point``."""
+    side = ((point - origin) * normal).sum(1)  # (p - p0) . n
     return normal * np.where(side < 0, -1.0, 1.0)[:, None]
 
 
-def _barycentric_inside(tris, points, tolerance=1e-9):
-    """(t, m) bool: points (m, 3) projected into triangles (t, 3, 3) fall inside them."""
-    e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+def _barycentric_inside(tris, points, tolerance=1e-9, table=None, tri_ids=None):
+    """(t, m) bool: points (m, 3) projected into triangles (t, 3, 3) fall inside them.
+
+    ``table`` / ``tri_ids``: precomputed edge data of the triangles (:func:`_triangle_table`).
+    """
+    if table is None:
+        e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+        d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
+        denom = (d00 * d11 - d01 * d01)[:, None]
+    else:
+        e0, e1 = table["e0"][tri_ids], table["e1"][tri_ids]
+        d00, d01, d11 = table["d00"][tri_ids], table["d01"][tri_ids], table["d11"][tri_ids]
+        denom = table["denom"][tri_ids][:, None]
     rel = points[None, :, :] - tris[:, None, 0]
-    d00, d01, d11 = (np.sum(e0 * e0, 1), np.sum(e0 * e1, 1), np.sum(e1 * e1, 1))
     d20, d21 = rel @ e0[:, :, None], rel @ e1[:, :, None]
-    denom = (d00 * d11 - d01 * d01)[:, None]
     # barycentric (u, v) of the projection: solves [d00 d01; d01 d11] [v; w] = [d20; d21]
     v = (d11[:, None] * d20[..., 0] - d01[:, None] * d21[..., 0]) / denom
     w = (d00[:, None] * d21[..., 0] - d01[:, None] * d20[..., 0]) / denom
     return (v >= -tolerance) & (w >= -tolerance) & (v + w <= 1 + tolerance)
 
 
-def _vertex_triangle_contacts(tris, normal, verts):
+def _vertex_triangle_contacts(tris, normal, verts, table=None, tri_ids=None):
     """Hull vertices (m, 3) just below triangle planes and inside their prisms."""
     # signed height of vertex j above triangle i's plane: n_i . (v_j - p0_i)
-    height = normal @ verts.T - np.sum(normal * tris[:, 0], axis=1)[:, None]
-    candidate = (height < settings.STAGE_SPECULATIVE_DISTANCE) & _barycentric_inside(tris, verts)
+    height = normal @ verts.T - (normal * tris[:, 0]).sum(1)[:, None]
+    candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
+                 & _barycentric_inside(tris, verts, table=table, tri_ids=tri_ids))
     # a vertex far below a thin triangle is on the other side of it, not in contact
     candidate &= height > -0.5 * (verts.max(0) - verts.min(0)).max()
-    if not np.any(candidate):
+    if not candidate.any():
         return None
     # each vertex keeps its shallowest triangle (the surface it is really resting on)
     height_masked = np.where(candidate, height, -np.inf)
     tri_of_vertex = np.argmax(height_masked, axis=0)
-    has = np.any(candidate, axis=0)
+    has = candidate.any(axis=0)
     tri_index, vert_index = tri_of_vertex[has], np.nonzero(has)[0]
     n = normal[tri_index]
     depth = -height[tri_index, vert_index]
@@ -237,13 +265,13 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
     e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
     n = cross(e0, e1)
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    projected = point - np.sum((point - tris[:, 0]) * n, axis=1)[:, None] * n
+    projected = point - ((point - tris[:, 0]) * n).sum(axis=1)[:, None] * n
     inside = np.diagonal(_barycentric_inside(tris, projected))
     best = projected.copy()
     best_dist = np.where(inside, np.linalg.norm(point - projected, axis=1), np.inf)
     for i, j in ((0, 1), (1, 2), (2, 0)):
         a, ab = tris[:, i], tris[:, j] - tris[:, i]
-        s = np.clip(np.sum((point - a) * ab, 1) / np.maximum(np.sum(ab * ab, 1), 1e-300), 0, 1)
+        s = np.clip(((point - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-300), 0, 1)
         candidate = a + s[:, None] * ab
         dist = np.linalg.norm(point - candidate, axis=1)
         better = (dist < best_dist) & ~inside

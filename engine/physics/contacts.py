@@ -66,20 +66,22 @@ class Manifold:
             return
         point_a, point_b, normal = self.world_points(pose_a, pose_b)
         gap = point_a - point_b
-        depth = np.sum(gap * normal, axis=1)  # d = (p_a - p_b) . n
-        drift_sq = np.sum(gap * gap, axis=1) - depth**2  # |tangential part of the gap|^2
-        self._keep((depth > -settings.CONTACT_BREAKING_DISTANCE)
-                   & (drift_sq < settings.CONTACT_DRIFT_DISTANCE**2))
+        depth = (gap * normal).sum(axis=1)  # d = (p_a - p_b) . n
+        drift_sq = (gap * gap).sum(axis=1) - depth**2  # |tangential part of the gap|^2
+        keep = ((depth > -settings.CONTACT_BREAKING_DISTANCE)
+                & (drift_sq < settings.CONTACT_DRIFT_DISTANCE**2))
+        if not keep.all():  # (keeping every point would copy the arrays for nothing)
+            self._keep(keep)
 
     def _merge(self, pose_a, pose_b, point_a, point_b, normal) -> None:
         """Merge fresh points: dedupe them, match each to at most one cached point."""
         (ra, xa), (rb, xb) = pose_a, pose_b
-        depth = np.sum((point_a - point_b) * normal, axis=1)
+        depth = ((point_a - point_b) * normal).sum(axis=1)
         if len(depth) > self.max_points:  # many vertex contacts: keep the support polygon
             preferred = np.zeros(len(depth), dtype=bool)
             if len(self):  # hysteresis: among near-ties keep the points we already have
                 local = (point_b - xb) @ rb
-                gap_sq = np.sum((local[:, None] - self.local_b[None]) ** 2, axis=2)
+                gap_sq = ((local[:, None] - self.local_b[None]) ** 2).sum(axis=2)
                 preferred = gap_sq.min(axis=1) < settings.CONTACT_MATCH_DISTANCE**2
             chosen = select_support_points(point_b, depth, normal[np.argmax(depth)],
                                            self.max_points, preferred)
@@ -97,7 +99,7 @@ class Manifold:
             used[:] = True
         elif len(self):
             # |cached_i - fresh_j|^2, then a greedy one-to-one match (fresh deepest first)
-            dist_sq = np.sum((self.local_b[:, None] - new_local_b[None]) ** 2, axis=2).tolist()
+            dist_sq = ((self.local_b[:, None] - new_local_b[None]) ** 2).sum(axis=2).tolist()
             limit = settings.CONTACT_MATCH_DISTANCE**2
             for j in range(len(point_a)):
                 best, best_i = limit, -1
@@ -117,13 +119,13 @@ class Manifold:
 
     def _reduce(self, pose_a, pose_b) -> None:
         point_a, point_b, normal = self.world_points(pose_a, pose_b)
-        depth = np.sum((point_a - point_b) * normal, axis=1)
+        depth = ((point_a - point_b) * normal).sum(axis=1)
         self._keep(select_support_points(point_b, depth, normal[0], self.max_points))
 
 
 def _distinct_points(points: np.ndarray, depth: np.ndarray, radius: float) -> np.ndarray:
     """Indices of points, deepest first, dropping any within ``radius`` of a kept one."""
-    dist_sq = np.sum((points[:, None] - points[None]) ** 2, axis=2).tolist()
+    dist_sq = ((points[:, None] - points[None]) ** 2).sum(axis=2).tolist()
     kept: list[int] = []
     for i in np.argsort(-depth, kind="stable").tolist():
         if all(dist_sq[i][j] >= radius * radius for j in kept):
@@ -146,7 +148,7 @@ def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndar
     chosen = [int(np.argmax(depth + 1e-3 * bonus))]
     scale = 1.0 + 0.1 * bonus
     if count >= 2:
-        far = np.sum((points - points[chosen[0]]) ** 2, axis=1) * scale
+        far = ((points - points[chosen[0]]) ** 2).sum(axis=1) * scale
         chosen.append(int(np.argmax(far)))
     if count >= 3:
         edge = points[chosen[1]] - points[chosen[0]]
