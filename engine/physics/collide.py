@@ -67,6 +67,35 @@ def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np
     return np.stack([a[keep], b[keep]], axis=1)
 
 
+def boxes_separated(center_a: np.ndarray, rotation_a: np.ndarray, half_a: np.ndarray,
+                    center_b: np.ndarray, rotation_b: np.ndarray,
+                    half_b: np.ndarray) -> np.ndarray:
+    """(p,) bool: oriented boxes A and B are disjoint (separating axis test, 15 axes).
+
+    Ericson, Real-Time Collision Detection, 4.4.1 (Gottschalk's OBB test). Box k has world
+    center ``center_k (p, 3)``, axes = columns of ``rotation_k (p, 3, 3)`` and half extents
+    ``half_k (p, 3)``. With ``R = R_a^T R_b`` (B's axes in A's frame) and ``t = R_a^T (c_b -
+    c_a)``, the boxes are apart iff on some axis L the center distance exceeds the sum of
+    the projected radii: ``|t . L| > r_a(L) + r_b(L)``.
+    """
+    rel = np.swapaxes(rotation_a, 1, 2) @ rotation_b  # R_ij = a_i . b_j
+    t = (np.swapaxes(rotation_a, 1, 2) @ (center_b - center_a)[:, :, None])[..., 0]
+    abs_rel = np.abs(rel) + 1e-9  # guards the edge axes of (nearly) parallel edges
+    # axes a_i: |t_i| > h_a_i + sum_j h_b_j |R_ij|
+    apart = (np.abs(t) > half_a + (abs_rel @ half_b[:, :, None])[..., 0]).any(1)
+    # axes b_j: |t . R_:j| > sum_i h_a_i |R_ij| + h_b_j
+    t_b = (t[:, None, :] @ rel)[:, 0]
+    apart |= (np.abs(t_b) > (half_a[:, None, :] @ abs_rel)[:, 0] + half_b).any(1)
+    # axes a_i x b_j (i1, i2 = i+1, i+2 mod 3; same for j):
+    # |t_i2 R_i1j - t_i1 R_i2j| > h_a_i1 |R_i2j| + h_a_i2 |R_i1j| + h_b_j1 |R_ij2| + h_b_j2 |R_ij1|
+    n1, n2 = np.array([1, 2, 0]), np.array([2, 0, 1])  # i+1, i+2 mod 3
+    dist = np.abs(t[:, n2, None] * rel[:, n1, :] - t[:, n1, None] * rel[:, n2, :])
+    radius_a = half_a[:, n1, None] * abs_rel[:, n2, :] + half_a[:, n2, None] * abs_rel[:, n1, :]
+    radius_b = half_b[:, None, n1] * abs_rel[:, :, n2] + half_b[:, None, n2] * abs_rel[:, :, n1]
+    apart |= (dist > radius_a + radius_b).reshape(len(t), 9).any(1)
+    return apart
+
+
 def fcl_contacts(object_a, object_b) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """fcl's contacts of two collision objects: midpoints, normals A->B, depths, b1 ids."""
     result = fcl.CollisionResult()

@@ -30,7 +30,7 @@ from engine import mn
 
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
-from .collide import overlapping_pairs, pair_contacts, world_aabbs
+from .collide import boxes_separated, overlapping_pairs, pair_contacts, world_aabbs
 from .contacts import Manifold
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .quaternions import matrix_to_quat, quat_to_matrix
@@ -240,13 +240,16 @@ class PhysicsWorld(WorldApiMixin):
         pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
         pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
         self.n_overlapping_pairs = len(pairs)
+        apart = self._boxes_apart(pairs, rotation).tolist()
         self.profile["broad phase"] += timer.perf_counter() - start
         refreshed = set()
-        for a, c in pairs.tolist():
+        for (a, c), is_apart in zip(pairs.tolist(), apart, strict=True):
             for index in (a, c):
                 if index not in refreshed and index != STAGE_ID:
                     self._update_fcl(index, rotation[index])
                     refreshed.add(index)
+            if is_apart and (a, c) not in self.manifolds:
+                continue  # cannot touch, and there is no cached manifold to refresh
             self._refresh_manifold(a, c, rotation)
         current = {tuple(p) for p in pairs.tolist()}
         for key in list(self.manifolds):
@@ -254,6 +257,23 @@ class PhysicsWorld(WorldApiMixin):
             if key not in current and (active[a] or active[c] or not b.body_alive[a]
                                        or not b.body_alive[c]):
                 del self.manifolds[key]
+
+    def _boxes_apart(self, pairs: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+        """(p,) bool: body pairs (stage excluded) whose body-frame AABBs cannot touch.
+
+        Every body's shapes lie inside its body-frame AABB (center ``c``, half extents ``h``),
+        an oriented box in the world. Rotated boxes' world AABBs overlap long before the
+        boxes touch, so this exact oriented-box test skips many narrow-phase calls that could
+        only answer "no contact".
+        """
+        b = self.bodies
+        a, c = pairs[:, 0], pairs[:, 1]
+        # box center in the world: x + R c
+        center_a = b.body_position[a] + (rotation[a] @ b.body_shape_center[a][:, :, None])[..., 0]
+        center_c = b.body_position[c] + (rotation[c] @ b.body_shape_center[c][:, :, None])[..., 0]
+        apart = boxes_separated(center_a, rotation[a], b.body_shape_half[a] + AABB_MARGIN,
+                                center_c, rotation[c], b.body_shape_half[c] + AABB_MARGIN)
+        return apart & (a != STAGE_ID)
 
     def _refresh_manifold(self, a: int, c: int, rotation: np.ndarray) -> None:
         b = self.bodies
@@ -269,7 +289,9 @@ class PhysicsWorld(WorldApiMixin):
                 if result is not None:
                     fresh.append(result)
         merged = None
-        if fresh:
+        if len(fresh) == 1:
+            merged = fresh[0]
+        elif fresh:
             merged = tuple(np.concatenate([f[i] for f in fresh]) for i in range(3))
         manifold = self.manifolds.get((a, c))
         if manifold is None:
