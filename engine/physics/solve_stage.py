@@ -69,15 +69,22 @@ def _padded_points(b, manifolds):
     normals = np.zeros((m, SLOTS, 3))
     normals[..., 1] = 1.0  # harmless unit normal in empty slots
     counts = np.zeros(m, dtype=np.int64)
+    poses: dict[int, tuple] = {}  # body -> (R, x), built once per body
     for i, manifold in enumerate(manifolds):
         a, c = manifold.body_a, manifold.body_b
-        pose_a = (quat_to_matrix(b.body_rotation[a]), b.body_position[a])
-        pose_c = (quat_to_matrix(b.body_rotation[c]), b.body_position[c])
-        pa, pc, nrm = manifold.world_points(pose_a, pose_c)
+        for index in (a, c):
+            if index not in poses:
+                poses[index] = _pose(b, index)
+        pa, pc, nrm = manifold.world_points(poses[a], poses[c])
         k = len(manifold)
         points_a[i, :k], points_b[i, :k], normals[i, :k] = pa, pc, nrm
         counts[i] = k
     return points_a, points_b, normals, counts
+
+
+def _pose(b, index: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(R (3, 3), x (3,))`` of body ``index``."""
+    return quat_to_matrix(b.body_rotation[index]), b.body_position[index]
 
 
 def arrays_impulse(manifolds) -> np.ndarray:

@@ -121,14 +121,14 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     tangent_jac, tangent_w = _rows(tangents, *r2, *args[2:])
     split = np.maximum(counts, 1)[:, None] if split_mass else np.ones((len(counts), 1))
     # m_eff = 1 / (n_split J M^-1 J^T)  (n_split = points with mass splitting, else 1)
-    k_normal = np.sum(normal_jac * normal_w, axis=-1)
+    k_normal = (normal_jac * normal_w).sum(axis=-1)
     normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, 1e-300)), 0.0)
-    k_tangent = np.sum(tangent_jac * tangent_w, axis=-1)
+    k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
     tangent_mass = np.where(np.repeat(mask, 2, axis=1),
                             1.0 / (split * np.maximum(k_tangent, 1e-300)), 0.0)
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
-    depth = np.sum((points_a - points_b) * normals, axis=-1)
+    depth = ((points_a - points_b) * normals).sum(axis=-1)
     return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
                         normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
@@ -182,7 +182,7 @@ def _friction_rows(batch, s, vab, accumulate, rows):
     step = (-batch.tangent_mass[s, tangent_rows] * vt).reshape(old.shape)
     limit = batch.friction[s] * batch.impulse[s, rows, 0]  # |lambda_t| <= mu lambda_n
     new = old + step if accumulate else step
-    norm = np.sqrt(np.sum(new * new, axis=-1))
+    norm = np.sqrt((new * new).sum(axis=-1))
     new = new * np.minimum(1.0, limit / np.maximum(norm, 1e-300))[..., None]
     step = new - old if accumulate else new
     batch.impulse[s, rows, 1:] = old + step
@@ -214,7 +214,7 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
             _scatter(velocity, batch, s, vab)
     fast = batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
     bounce = (batch.restitution > 0) & fast & (lam > 0)
-    if np.any(bounce):
+    if bounce.any():
         # target v_n = -e v_n0, i.e. bias b = e v_n0 on the loaded, fast-approaching points
         target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)
         for color, (start, stop) in enumerate(batch.color_slices):
