@@ -148,14 +148,17 @@ def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, object_a, object_b):
         # depth below the reference face plane n_f . x = c_f + n_f . x_ref
         depth = ref.plane_offsets[face] + normal @ position - verts @ normal
         keep = depth > -tol
-        on_face = verts[keep] + np.outer(depth[keep], normal)
-        contact_normal = np.tile(sign * normal, (int(keep.sum()), 1))  # always A -> B
+        kept = verts[keep]
+        on_face = kept + depth[keep][:, None] * normal  # x + d n_f
+        contact_normal = np.repeat((sign * normal)[None], len(kept), axis=0)  # always A -> B
         if sign > 0:
-            parts.append((on_face, verts[keep], contact_normal))
+            parts.append((on_face, kept, contact_normal))
         else:
-            parts.append((verts[keep], on_face, contact_normal))
+            parts.append((kept, on_face, contact_normal))
     if not parts or sum(len(p[0]) for p in parts) == 0:
         return _midpoint_contacts(mid, normals, depths)
+    if len(parts) == 1:
+        return parts[0]
     return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))
 
 

@@ -92,30 +92,45 @@ class Manifold:
         new_local_a = (point_a - xa) @ ra  # R^T (p - x)
         new_local_b = (point_b - xb) @ rb
         new_impulse = np.zeros((len(point_a), 3))
-        used = np.zeros(len(self), dtype=bool)
+        used = [False] * len(self)
         if self.max_points == 1:
             if len(self):
                 new_impulse[:] = self.impulse[0]  # the single rolling point keeps its impulse
-            used[:] = True
+            used = [True] * len(self)
         elif len(self):
-            # |cached_i - fresh_j|^2, then a greedy one-to-one match (fresh deepest first)
-            dist_sq = ((self.local_b[:, None] - new_local_b[None]) ** 2).sum(axis=2).tolist()
-            limit = settings.CONTACT_MATCH_DISTANCE**2
-            for j in range(len(point_a)):
-                best, best_i = limit, -1
-                for i, row in enumerate(dist_sq):
-                    if not used[i] and row[j] < best:
-                        best, best_i = row[j], i
-                if best_i >= 0:
-                    new_impulse[j] = self.impulse[best_i]
-                    used[best_i] = True
+            fresh_index, cached_index = self._match(new_local_b, used)
+            new_impulse[fresh_index] = self.impulse[cached_index]
         # a full fresh manifold (3+ points) replaces the cache; a partial one (GJK gives one
         # point per step) is added to it, so the manifold builds up over a few steps
-        self._keep(~used if len(point_a) < 3 else np.zeros(len(self), dtype=bool))
+        if len(point_a) >= 3:
+            self.local_a, self.local_b = new_local_a, new_local_b
+            self.normal_local, self.impulse = normal @ ra, new_impulse
+            return
+        self._keep(~np.array(used, dtype=bool))
         self.local_a = np.concatenate([self.local_a, new_local_a])
         self.local_b = np.concatenate([self.local_b, new_local_b])
         self.normal_local = np.concatenate([self.normal_local, normal @ ra])
         self.impulse = np.concatenate([self.impulse, new_impulse])
+
+    def _match(self, new_local_b, used: list) -> tuple[list, list]:
+        """Greedy one-to-one match of fresh points (deepest first) to cached ones.
+
+        Returns the matched fresh and cached indices; marks matched cached points in ``used``.
+        """
+        # |cached_i - fresh_j|^2 in B's frame; a match needs < CONTACT_MATCH_DISTANCE^2
+        dist_sq = ((self.local_b[:, None] - new_local_b[None]) ** 2).sum(axis=2).tolist()
+        limit = settings.CONTACT_MATCH_DISTANCE**2
+        fresh_index, cached_index = [], []
+        for j in range(len(new_local_b)):
+            best, best_i = limit, -1
+            for i, row in enumerate(dist_sq):
+                if not used[i] and row[j] < best:
+                    best, best_i = row[j], i
+            if best_i >= 0:
+                fresh_index.append(j)
+                cached_index.append(best_i)
+                used[best_i] = True
+        return fresh_index, cached_index
 
     def _reduce(self, pose_a, pose_b) -> None:
         point_a, point_b, normal = self.world_points(pose_a, pose_b)
