@@ -33,13 +33,17 @@ def update_sleep(bodies, manifolds, h: float) -> None:
     time[awake & slow] += h
     time[awake & ~slow] = 0.0
     edges = []
+    is_dynamic, pushing = dynamic.tolist(), None
     for (a, b), manifold in manifolds.items():
         if len(manifold) == 0:
             continue
-        if dynamic[a] and dynamic[b]:
+        if is_dynamic[a] and is_dynamic[b]:
             edges.append((a, b))
-        elif _moving_kinematic(bodies, a) or _moving_kinematic(bodies, b):
-            time[a if dynamic[a] else b] = 0.0
+            continue
+        if pushing is None:  # built on first need: most steps have no kinematic contact
+            pushing = _moving_kinematic_mask(bodies, n).tolist()
+        if pushing[a] or pushing[b]:
+            time[a if is_dynamic[a] else b] = 0.0
     labels = _island_labels(n, edges)
     island_rest = np.full(n, np.inf)
     np.minimum.at(island_rest, labels[dynamic], time[dynamic])
@@ -52,11 +56,11 @@ def update_sleep(bodies, manifolds, h: float) -> None:
     bodies.body_awake[:n] = np.where(dynamic, ~asleep, bodies.body_awake[:n])
 
 
-def _moving_kinematic(bodies, index: int) -> bool:
-    if bodies.body_motion_type[index] != KINEMATIC:
-        return False
-    return bool(np.any(bodies.body_solver_velocity[index]) or
-                np.any(bodies.body_solver_angular_velocity[index]))
+def _moving_kinematic_mask(bodies, n: int) -> np.ndarray:
+    """(n,) bool: KINEMATIC bodies with a non-zero velocity-control velocity."""
+    moving = (bodies.body_solver_velocity[:n] != 0).any(1) | (
+        bodies.body_solver_angular_velocity[:n] != 0).any(1)
+    return (bodies.body_motion_type[:n] == KINEMATIC) & moving
 
 
 def _island_labels(n: int, edges: list) -> np.ndarray:
@@ -76,14 +80,19 @@ def wake_touched(bodies, manifolds) -> bool:
     body was woken.
     """
     woken = False
-    awake, motion = bodies.body_awake, bodies.body_motion_type
+    awake = bodies.body_awake
+    n = bodies.count
+    is_dynamic = (bodies.body_motion_type[:n] == DYNAMIC).tolist()
+    pushing = None
     for (a, b), manifold in manifolds.items():
         if len(manifold) == 0:
             continue
         for sleeper, other in ((a, b), (b, a)):
-            if motion[sleeper] != DYNAMIC or awake[sleeper]:
+            if not is_dynamic[sleeper] or awake[sleeper]:
                 continue
-            if (motion[other] == DYNAMIC and awake[other]) or _moving_kinematic(bodies, other):
+            if pushing is None:  # built on first need (a sleeper touches something)
+                pushing = _moving_kinematic_mask(bodies, n).tolist()
+            if (is_dynamic[other] and awake[other]) or pushing[other]:
                 awake[sleeper] = True
                 bodies.body_sleep_time[sleeper] = 0.0
                 woken = True
