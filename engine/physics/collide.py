@@ -34,6 +34,8 @@ from .quaternions import cross, quat_to_matrix
 
 _REQUEST = fcl.CollisionRequest(num_max_contacts=settings.MAX_FCL_CONTACTS, enable_contact=True)
 _POLYHEDRA = ("box", "convex", "cylinder", "cone")
+#: triangle subsets kept per static mesh before the cache is emptied (bounds its memory).
+_SUBSET_CACHE_SIZE = 4096
 
 
 def world_aabbs(center_local: np.ndarray, half_local: np.ndarray, position: np.ndarray,
@@ -187,31 +189,49 @@ def stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
         return None
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
     tri_ids = np.unique(tri_ids[tri_ids >= 0])
-    table = _triangle_table(stage_shape)
-    tris = stage_shape.ray_triangles[tri_ids]  # (t, 3, 3) world (the stage frame is world)
+    table = _triangle_subset(stage_shape, tri_ids)
+    tris = table["tris"]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
-    normal = _flip_towards(table["normal"][tri_ids], tris[:, 0], center)
+    normal = _flip_towards(table["normal"], tris[:, 0], center)
     if shape_b.kind == "sphere":
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
     if shape_b.kind not in _POLYHEDRA:
         fcl_normal = normal[np.argmax(depths)]
         return _midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
     verts = shape_b.hull_vertices @ rb.T + xb
-    result = _vertex_triangle_contacts(tris, normal, verts, table, tri_ids)
+    result = _vertex_triangle_contacts(tris, normal, verts, table)
     if result is None:  # an edge crossing a face: fall back to fcl's points, face normal
         n = normal[0]
         return _midpoint_contacts(mid, np.tile(n, (len(mid), 1)), depths)
     return result
 
 
-def _triangle_table(mesh_shape) -> dict:
-    """Per-triangle constants of a static mesh, computed once and kept on the shape.
+def _triangle_subset(mesh_shape, tri_ids: np.ndarray) -> dict:
+    """Per-triangle constants of the triangles ``tri_ids`` of a static mesh.
 
-    ``normal (T, 3)`` unit face normals (winding order), ``e0, e1 (T, 3)`` edges from vertex
-    0, and the Gram entries ``d00, d01, d11 (T,)`` and ``denom (T,)`` of the barycentric
-    solve (see :func:`_barycentric_inside`).
+    ``tris (t, 3, 3)``, ``normal (t, 3)`` unit face normals (winding order), ``e0, e1 (t, 3)``
+    edges from vertex 0, and the Gram entries ``d00, d01, d11 (t,)`` and ``denom (t, 1)`` of
+    the barycentric solve (see :func:`_barycentric_inside`). A resting body touches the same
+    few triangles step after step, so each subset is built once and kept on the shape
+    (read-only arrays; the cache is emptied when it grows past ``_SUBSET_CACHE_SIZE``).
     """
+    cache = getattr(mesh_shape, "_triangle_subsets", None)
+    if cache is None or len(cache) > _SUBSET_CACHE_SIZE:
+        cache = mesh_shape._triangle_subsets = {}
+    key = tri_ids.tobytes()
+    subset = cache.get(key)
+    if subset is None:
+        full = _triangle_table(mesh_shape)
+        subset = {name: values[tri_ids] for name, values in full.items()}
+        subset["tris"] = mesh_shape.ray_triangles[tri_ids]
+        subset["denom"] = subset["denom"][:, None]
+        cache[key] = subset
+    return subset
+
+
+def _triangle_table(mesh_shape) -> dict:
+    """Constants of all triangles of a static mesh (see :func:`_triangle_subset`)."""
     table = getattr(mesh_shape, "_triangle_table", None)
     if table is None:
         tris = mesh_shape.ray_triangles
@@ -232,19 +252,18 @@ def _flip_towards(normal, origin, point):
     return normal * np.where(side < 0, -1.0, 1.0)[:, None]
 
 
-def _barycentric_inside(tris, points, tolerance=1e-9, table=None, tri_ids=None):
+def _barycentric_inside(tris, points, tolerance=1e-9, table=None):
     """(t, m) bool: points (m, 3) projected into triangles (t, 3, 3) fall inside them.
 
-    ``table`` / ``tri_ids``: precomputed edge data of the triangles (:func:`_triangle_table`).
+    ``table``: precomputed edge data of these triangles (:func:`_triangle_subset`).
     """
     if table is None:
         e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
         d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
         denom = (d00 * d11 - d01 * d01)[:, None]
     else:
-        e0, e1 = table["e0"][tri_ids], table["e1"][tri_ids]
-        d00, d01, d11 = table["d00"][tri_ids], table["d01"][tri_ids], table["d11"][tri_ids]
-        denom = table["denom"][tri_ids][:, None]
+        e0, e1, denom = table["e0"], table["e1"], table["denom"]
+        d00, d01, d11 = table["d00"], table["d01"], table["d11"]
     rel = points[None, :, :] - tris[:, None, 0]
     d20, d21 = rel @ e0[:, :, None], rel @ e1[:, :, None]
     # barycentric (u, v) of the projection: solves [d00 d01; d01 d11] [v; w] = [d20; d21]
@@ -253,21 +272,21 @@ def _barycentric_inside(tris, points, tolerance=1e-9, table=None, tri_ids=None):
     return (v >= -tolerance) & (w >= -tolerance) & (v + w <= 1 + tolerance)
 
 
-def _vertex_triangle_contacts(tris, normal, verts, table=None, tri_ids=None):
+def _vertex_triangle_contacts(tris, normal, verts, table=None):
     """Hull vertices (m, 3) just below triangle planes and inside their prisms."""
     # signed height of vertex j above triangle i's plane: n_i . (v_j - p0_i)
     height = normal @ verts.T - (normal * tris[:, 0]).sum(1)[:, None]
     candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
-                 & _barycentric_inside(tris, verts, table=table, tri_ids=tri_ids))
+                 & _barycentric_inside(tris, verts, table=table))
     # a vertex far below a thin triangle is on the other side of it, not in contact
     candidate &= height > -0.5 * (verts.max(0) - verts.min(0)).max()
     if not candidate.any():
         return None
     # each vertex keeps its shallowest triangle (the surface it is really resting on)
     height_masked = np.where(candidate, height, -np.inf)
-    tri_of_vertex = np.argmax(height_masked, axis=0)
+    tri_of_vertex = height_masked.argmax(axis=0)
     has = candidate.any(axis=0)
-    tri_index, vert_index = tri_of_vertex[has], np.nonzero(has)[0]
+    tri_index, vert_index = tri_of_vertex[has], has.nonzero()[0]
     n = normal[tri_index]
     depth = -height[tri_index, vert_index]
     point_b = verts[vert_index]
