@@ -150,6 +150,26 @@ def _distinct_points(points: np.ndarray, depth: np.ndarray, radius: float) -> np
 
 def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
                           count: int, preferred: np.ndarray | None = None) -> np.ndarray:
+    """Indices of up to ``count`` points: the supporting ones spanning the largest area.
+
+    Supporting points lie within ``SUPPORT_DEPTH_BAND`` of the deepest; among them
+    :func:`spread_points` picks the deepest and those spanning the largest area. Slots left
+    over take the remaining (speculative) points, nearest first.
+    """
+    supporting = np.flatnonzero(depth >= depth.max() - settings.SUPPORT_DEPTH_BAND)
+    pref = None if preferred is None else preferred[supporting]
+    chosen = supporting[spread_points(points[supporting], depth[supporting], normal, count,
+                                      pref)].tolist()
+    for index in np.argsort(-depth, kind="stable").tolist():
+        if len(chosen) >= count:
+            break
+        if index not in chosen:
+            chosen.append(index)
+    return np.array(sorted(chosen), dtype=np.int64)
+
+
+def spread_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
+                  count: int, preferred: np.ndarray | None = None) -> np.ndarray:
     """Indices of ``count`` points: the deepest, then those spanning the largest area.
 
     Parameters

@@ -77,6 +77,13 @@ STAGE_SPECULATIVE_DISTANCE = 0.02
 FLAT_HULL_THICKNESS = 0.01
 #: points, the most points a manifold keeps (deepest + largest area, as Bullet does).
 MAX_MANIFOLD_POINTS = 4
+# m: with mass splitting, only manifold points closer than this count as sharing the load
+# (a speculative point 1 cm away carries no impulse, so it must not dilute the others)
+SPLIT_TOUCH_DISTANCE = 0.004
+#: m, manifold reduction spreads its points over those within this depth of the deepest one
+#: (the supporting points); farther, speculative points only fill the slots left over, so a
+#: can lying on its side keeps both ends of its bottom line rather than its far sides.
+SUPPORT_DEPTH_BAND = 0.004
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
 

@@ -119,8 +119,12 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
     r2 = (np.repeat(r_a, 2, axis=1), np.repeat(r_b, 2, axis=1))
     tangent_jac, tangent_w = _rows(tangents, *r2, *args[2:])
-    split = np.maximum(counts, 1)[:, None] if split_mass else np.ones((len(counts), 1))
-    # m_eff = 1 / (n_split J M^-1 J^T)  (n_split = points with mass splitting, else 1)
+    depth = ((points_a - points_b) * normals).sum(axis=-1)
+    # n_split = touching points (gap < SPLIT_TOUCH_DISTANCE) with mass splitting, else 1
+    touching = mask & (depth > -constants.SPLIT_TOUCH_DISTANCE)
+    n_touching = np.maximum(touching.sum(axis=1), 1)[:, None]
+    split = n_touching if split_mass else np.ones((len(counts), 1))
+    # m_eff = 1 / (n_split J M^-1 J^T)
     k_normal = (normal_jac * normal_w).sum(axis=-1)
     normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, 1e-300)), 0.0)
     k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
@@ -128,7 +132,6 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                             1.0 / (split * np.maximum(k_tangent, 1e-300)), 0.0)
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
-    depth = ((points_a - points_b) * normals).sum(axis=-1)
     return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
                         normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
