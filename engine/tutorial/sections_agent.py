@@ -49,7 +49,12 @@ def _add_locobot(ctx: TutorialContext) -> Any:
 # [embodied_agent]: a dynamic robot driven by its own VelocityControl.
 # ------------------------------------------------------------------------------------------
 def embodied_agent(ctx: TutorialContext) -> SectionResult:
-    recorder = ctx.new_recorder(VideoSpec("robot_control"))
+    # rigidsim: recorded from the 3rd-person camera with the 1st-person color and depth
+    # overlays, as the tutorial's published robot_control video shows (the script's
+    # make_video call names the 1st-person camera)
+    recorder = ctx.new_recorder(
+        VideoSpec("robot_control", "rgba_camera_3rdperson", "color", _overlay_settings(ctx.sim))
+    )
     start_time = ctx.sim.get_world_time()
     locobot = _add_locobot(ctx)
     locobot.translation = ROBOT_START
