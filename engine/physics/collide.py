@@ -193,7 +193,11 @@ def stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     tris = table["tris"]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
-    normal = _flip_towards(table["normal"], tris[:, 0], center)
+    # triangle normals face the body's inside: the sphere's center, or the hull's vertex
+    # centroid (inside any convex hull; the body origin is the COM, which a config may put
+    # on the hull's bottom face, where it would tell the two sides of the floor apart badly)
+    inside = center if shape_b.kind == "sphere" else rb @ shape_b.hull_vertices.mean(0) + xb
+    normal = _flip_towards(table["normal"], tris[:, 0], inside)
     if shape_b.kind == "sphere":
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
     if shape_b.kind not in _POLYHEDRA:
