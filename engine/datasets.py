@@ -44,7 +44,7 @@ from engine.demo_scene import apartment_parts
 
 __all__ = ["DATASET_VERSION", "demo_data_path", "write_demo_dataset"]
 
-DATASET_VERSION = "rigidsim-demo-3"
+DATASET_VERSION = "rigidsim-demo-4"
 DATA_DIR_ENV = "RIGIDSIM_DATA_DIR"
 STAGE_DIR = Path("scene_datasets") / "demo"
 STAGE_NAME = "apartment"

@@ -16,14 +16,10 @@ Frames, as in Habitat's data:
 - ``sphere`` is a red icosphere of radius 0.25 m centered at its origin.
 - ``locobot_merged`` is Y-up with its forward (camera) along -Z, centered on the Y axis.
   In its mesh the lowest points of the wheels and casters are at ``y = 0`` and the camera
-  head tops out at 0.56 m. The config sets ``COM = [0, 0.05, 0]``: the center of mass is
-  on the axis, at the height of the wheel axles (``LOCOBOT_COM_HEIGHT``), like a robot's
-  ``base_link``. Since an object's translation is its COM, the robot stands on a floor at
-  ``y_floor`` when its translation is ``(x, y_floor + 0.05, z)``; a translation snapped to
-  a navmesh point (floor height) shows it 5 cm low. (A COM on the very bottom of the hull
-  would make the two coincide, but then the COM dips below the floor while contacts are
-  being resolved, which rigid-body engines handle badly.) The tutorial's first-person
-  camera, 0.6 m above the translation, sits just above the head.
+  head tops out at 0.56 m. The config sets ``COM = [0, 0, 0]``: the center of mass is on
+  the axis, at the bottom of the base, like Habitat's locobot, so the robot's translation is
+  the point it stands on: a navmesh point (floor height) puts its wheels on the floor. The
+  tutorial's first-person camera, 0.6 m above the translation, sits just above the head.
 """
 
 from __future__ import annotations
@@ -39,7 +35,7 @@ CHEF_CAN_HEIGHT = 0.14
 SPHERE_RADIUS = 0.25
 LOCOBOT_RADIUS = 0.175
 LOCOBOT_HEIGHT = 0.56
-LOCOBOT_COM_HEIGHT = 0.05  # COM above the wheels' floor contact (the wheel axle height)
+LOCOBOT_COM_HEIGHT = 0.0  # COM at the wheels' floor contact: translation = footprint
 
 
 def sphere_object() -> tuple[list[Part], dict]:
@@ -178,7 +174,7 @@ def mug_object() -> tuple[list[Part], dict]:
 
 
 def locobot_object() -> tuple[list[Part], dict]:
-    """Small wheeled robot, 0.35 m across and 0.56 m tall, COM at its wheel axles."""
+    """Small wheeled robot, 0.35 m across and 0.56 m tall, COM at the bottom of its base."""
     dark, black, grey, metal = (46, 46, 52), (24, 24, 26), (120, 120, 126), (172, 172, 178)
     parts = [
         cylinder((0.0, 0.075, 0.0), LOCOBOT_RADIUS, 0.045, dark, segments=32, name="base"),

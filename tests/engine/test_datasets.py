@@ -189,8 +189,8 @@ def test_configs_load_as_habitat_templates(data: Path) -> None:
     assert manager.get_template_by_handle(handle).mass == pytest.approx(0.411)
     (robot_id,) = manager.load_configs(data / "objects" / "locobot_merged")
     robot = manager.get_template_by_id(robot_id)
-    assert not robot.compute_COM_from_shape  # COM given: at the wheel axles, 5 cm up
-    np.testing.assert_array_equal(np.asarray(robot.com), [0.0, 0.05, 0.0])
+    assert not robot.compute_COM_from_shape  # COM given: the bottom of the base
+    np.testing.assert_array_equal(np.asarray(robot.com), [0.0, 0.0, 0.0])
     stage = StageAttributesManager().load_configs(data / "scene_datasets" / "demo")
     assert len(stage) == 1
 
