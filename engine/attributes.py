@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.primitives import is_primitive_handle
 from engine.user_config import Configuration
 
 __all__ = [
@@ -33,15 +34,6 @@ __all__ = [
     "StageAttributes",
     "is_primitive_handle",
 ]
-
-# The primitive asset handle prefixes of Magnum's primitives (see attributes_managers).
-_PRIMITIVE_PREFIXES = ("capsule3D", "cone", "cube", "cylinder", "icosphere", "uvSphere")
-
-
-def is_primitive_handle(handle: str) -> bool:
-    """True for built-in primitive asset handles such as ``cubeSolid``."""
-    return any(handle.startswith(p) for p in _PRIMITIVE_PREFIXES) and "/" not in handle
-
 
 @dataclass(frozen=True)
 class Field:

@@ -28,6 +28,7 @@ from engine.attributes import (
     PrimitiveAssetAttributes,
     StageAttributes,
 )
+from engine.primitives import PRIMITIVE_ASSET_HANDLES
 
 __all__ = [
     "PRIMITIVE_ASSET_HANDLES",
@@ -36,24 +37,6 @@ __all__ = [
     "PhysicsAttributesManager",
     "StageAttributesManager",
 ]
-
-# Habitat's 12 default primitive asset handles (Magnum primitives with their parameters).
-PRIMITIVE_ASSET_HANDLES = (
-    "capsule3DSolid_hemiRings_4_cylRings_1_segments_12_halfLen_0.75"
-    "_useTexCoords_false_useTangents_false",
-    "capsule3DWireframe_hemiRings_8_cylRings_1_segments_16_halfLen_1",
-    "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true",
-    "coneWireframe_segments_32_halfLen_1.25",
-    "cubeSolid",
-    "cubeWireframe",
-    "cylinderSolid_rings_1_segments_12_halfLen_1_useTexCoords_false_useTangents_false"
-    "_capEnds_true",
-    "cylinderWireframe_rings_1_segments_32_halfLen_1",
-    "icosphereSolid_subdivs_1",
-    "icosphereWireframe_subdivs_1",
-    "uvSphereSolid_rings_8_segments_16_useTexCoords_false_useTangents_false",
-    "uvSphereWireframe_rings_16_segments_32",
-)
 
 # Scale of the primitive-based object templates: a cube object is 0.2 m across.
 PRIMITIVE_OBJECT_SCALE = 0.1
