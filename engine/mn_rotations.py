@@ -1,0 +1,220 @@
+"""Rotations of :mod:`engine.mn`: Magnum's ``Quaternion`` and the quaternion formulas.
+
+Stored as a ``(4,)`` float64 array ``[x, y, z, w]`` (scalar last). Rotating a vector:
+``v' = q v q*``; the matrix of a unit ``q`` is ``R = (w^2 - |u|^2) I + 2 u u^T + 2 w [u]x``
+with ``u = (x, y, z)``. ``to_quaternion`` converts every accepted input (a ``Quaternion``,
+numpy-quaternion-like objects with ``w, x, y, z`` attributes, ``[x, y, z, w]`` lists).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from engine.mn_matrices import Matrix3x3
+from engine.mn_vectors import Rad, Vector3, finite_array, radians
+
+__all__ = [
+    "Quaternion",
+    "matrix_to_quaternion",
+    "quaternion_multiply",
+    "quaternion_to_matrix",
+    "to_quaternion",
+]
+
+
+def to_quaternion(value: Any, name: str = "rotation") -> Quaternion:
+    """Convert any quaternion-like value to a unit :class:`Quaternion`.
+
+    Accepted: a :class:`Quaternion`; a numpy-quaternion-like object with attributes
+    ``w, x, y, z`` (``np.quaternion(w, x, y, z)``); a 4-sequence read as ``[x, y, z, w]``
+    (Habitat's "coeffs" order). A zero, non-finite or wrongly shaped value raises ValueError.
+    """
+    if isinstance(value, Quaternion):
+        xyzw = value.xyzw
+    elif all(hasattr(value, attr) for attr in ("w", "x", "y", "z")):
+        xyzw = np.array([value.x, value.y, value.z, value.w], dtype=np.float64)
+    else:
+        xyzw = finite_array(value, 4, name)
+    xyzw = finite_array(xyzw, 4, name)
+    norm = float(np.linalg.norm(xyzw))
+    if norm < 1e-12:
+        raise ValueError(f"{name} must be a non-zero quaternion, got {xyzw.tolist()}")
+    return Quaternion.from_xyzw(xyzw / norm)
+
+
+# --------------------------------------------------------------------------------------------
+# Quaternions
+# --------------------------------------------------------------------------------------------
+def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product ``a * b`` of two ``[x, y, z, w]`` arrays (``a`` applied after ``b``)."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return np.array(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    )
+
+
+def quaternion_to_matrix(xyzw: np.ndarray) -> np.ndarray:
+    """3x3 rotation matrix of a unit ``[x, y, z, w]`` quaternion (see the module docstring)."""
+    x, y, z, w = xyzw
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def matrix_to_quaternion(matrix: np.ndarray) -> np.ndarray:
+    """``[x, y, z, w]`` of a 3x3 rotation matrix (Shepperd's method, stable for every angle)."""
+    m = np.asarray(matrix, dtype=np.float64)
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    if trace > 0.0:
+        s = 2.0 * math.sqrt(trace + 1.0)
+        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
+    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+        q = [s / 4, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s, (m[2, 1] - m[1, 2]) / s]
+    elif m[1, 1] > m[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+        q = [(m[0, 1] + m[1, 0]) / s, s / 4, (m[1, 2] + m[2, 1]) / s, (m[0, 2] - m[2, 0]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+        q = [(m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, s / 4, (m[1, 0] - m[0, 1]) / s]
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+class Quaternion:
+    """A rotation quaternion, Magnum style: ``Quaternion((x, y, z), w)``; identity by default."""
+
+    __slots__ = ("_xyzw",)
+
+    def __init__(self, vector: Iterable[float] = (0.0, 0.0, 0.0), scalar: float = 1.0) -> None:
+        xyz = np.array(vector, dtype=np.float64).reshape(-1)
+        if xyz.shape != (3,):
+            raise ValueError(f"Quaternion vector part needs 3 components, got {vector!r}")
+        self._xyzw = np.append(xyz, float(scalar))
+
+    # -- constructors ---------------------------------------------------------------------------
+    @classmethod
+    def from_xyzw(cls, xyzw: Iterable[float]) -> Quaternion:
+        """From an ``[x, y, z, w]`` array (rigidsim's internal order)."""
+        q = cls.__new__(cls)
+        q._xyzw = np.array(xyzw, dtype=np.float64).reshape(4)
+        return q
+
+    @classmethod
+    def identity_init(cls) -> Quaternion:
+        return cls()
+
+    @classmethod
+    def rotation(cls, angle: Any, axis: Any) -> Quaternion:
+        """Rotation by ``angle`` (:class:`Deg` or :class:`Rad`) about ``axis`` (normalized here)."""
+        axis_array = finite_array(axis, 3, "axis")
+        axis_length = np.linalg.norm(axis_array)
+        if axis_length < 1e-12:
+            raise ValueError(f"rotation axis must be non-zero, got {axis_array.tolist()}")
+        half = 0.5 * radians(angle)
+        return cls(axis_array / axis_length * math.sin(half), math.cos(half))
+
+    @classmethod
+    def from_matrix(cls, matrix: Any) -> Quaternion:
+        """From a 3x3 rotation matrix (the rotation part of a 4x4 is accepted too)."""
+        m = np.asarray(matrix, dtype=np.float64)
+        if m.shape == (4, 4):
+            m = m[:3, :3]
+        if m.shape != (3, 3):
+            raise ValueError(f"from_matrix needs a 3x3 matrix, got shape {m.shape}")
+        return cls.from_xyzw(matrix_to_quaternion(m))
+
+    # -- accessors ------------------------------------------------------------------------------
+    @property
+    def vector(self) -> Vector3:
+        return Vector3(self._xyzw[:3])
+
+    @property
+    def scalar(self) -> float:
+        return float(self._xyzw[3])
+
+    @property
+    def xyzw(self) -> np.ndarray:
+        """A copy as ``[x, y, z, w]`` (rigidsim's internal order)."""
+        return self._xyzw.copy()
+
+    def __repr__(self) -> str:
+        x, y, z, w = self._xyzw
+        return f"Quaternion(({x:g}, {y:g}, {z:g}), {w:g})"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Quaternion) and bool(np.array_equal(self._xyzw, other._xyzw))
+
+    def __hash__(self) -> int:
+        return hash(tuple(self._xyzw.tolist()))
+
+    # -- algebra --------------------------------------------------------------------------------
+    def __mul__(self, other: Any) -> Quaternion:
+        if isinstance(other, Quaternion):
+            return Quaternion.from_xyzw(quaternion_multiply(self._xyzw, other._xyzw))
+        return Quaternion.from_xyzw(self._xyzw * float(other))
+
+    __rmul__ = __mul__
+
+    def __add__(self, other: Quaternion) -> Quaternion:
+        return Quaternion.from_xyzw(self._xyzw + other._xyzw)
+
+    def __neg__(self) -> Quaternion:
+        return Quaternion.from_xyzw(-self._xyzw)
+
+    def dot(self, other: Quaternion | None = None) -> float:
+        """Dot product; with no argument the squared length (as :meth:`Vector3.dot`)."""
+        other_xyzw = self._xyzw if other is None else other._xyzw
+        return float(self._xyzw @ other_xyzw)
+
+    def length(self) -> float:
+        return float(np.linalg.norm(self._xyzw))
+
+    def is_normalized(self) -> bool:
+        return abs(self.dot() - 1.0) < 1e-6
+
+    def normalized(self) -> Quaternion:
+        return Quaternion.from_xyzw(self._xyzw / self.length())
+
+    def conjugated(self) -> Quaternion:
+        x, y, z, w = self._xyzw
+        return Quaternion.from_xyzw([-x, -y, -z, w])
+
+    def inverted(self) -> Quaternion:
+        """``q^-1 = q* / |q|^2``."""
+        return Quaternion.from_xyzw(self.conjugated()._xyzw / self.dot())
+
+    def angle(self) -> Rad:
+        """Rotation angle in [0, 2 pi] of a unit quaternion: ``2 acos(w)``."""
+        return Rad(2.0 * math.acos(max(-1.0, min(1.0, self.scalar))))
+
+    def axis(self) -> Vector3:
+        """Rotation axis of a unit quaternion (NaN for the identity, like Magnum)."""
+        sin_half = math.sqrt(max(0.0, 1.0 - self.scalar**2))
+        if sin_half < 1e-12:
+            return Vector3(np.full(3, np.nan))
+        return Vector3(self._xyzw[:3] / sin_half)
+
+    def to_matrix(self) -> Matrix3x3:
+        return Matrix3x3(quaternion_to_matrix(self._xyzw))
+
+    def transform_vector(self, vector: Any) -> Vector3:
+        """Rotate ``vector`` by this quaternion: ``q v q^-1``."""
+        return Vector3(quaternion_to_matrix(self._xyzw) @ np.asarray(vector, dtype=np.float64))
+
+    transform_vector_normalized = transform_vector
+
