@@ -14,6 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
+# one rotation matrix -> [x, y, z, w] (Shepperd's method): the scalar path lives in engine.mn
+from engine.mn_rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
+
 X, Y, Z, W = range(4)
 
 
@@ -65,26 +68,6 @@ def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
 def quat_to_matrix(q: np.ndarray) -> np.ndarray:
     """Rotation matrices ``(..., 3, 3)`` of unit quaternions ``(..., 4)`` [x, y, z, w]."""
     return (_outer(q, q) @ MATRIX_TABLE).reshape(q.shape[:-1] + (3, 3))
-
-
-def matrix_to_quat(m: np.ndarray) -> np.ndarray:
-    """Unit quaternion [x, y, z, w] of one rotation matrix ``(3, 3)`` (Shepperd's method)."""
-    m = np.asarray(m, dtype=np.float64)
-    trace = m[0, 0] + m[1, 1] + m[2, 2]
-    if trace > 0:
-        s = 2.0 * np.sqrt(trace + 1.0)
-        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
-    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
-        q = [s / 4, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s, (m[2, 1] - m[1, 2]) / s]
-    elif m[1, 1] > m[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
-        q = [(m[0, 1] + m[1, 0]) / s, s / 4, (m[1, 2] + m[2, 1]) / s, (m[0, 2] - m[2, 0]) / s]
-    else:
-        s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
-        q = [(m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, s / 4, (m[1, 0] - m[0, 1]) / s]
-    q = np.array(q)
-    return q / np.linalg.norm(q)
 
 
 def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
