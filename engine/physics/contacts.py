@@ -1,199 +1,398 @@
 """Persistent contact manifolds: up to four points per body pair, kept across steps.
 
-Each manifold point stores its two anchors in the body frames (``local_a``, ``local_b``),
+Every manifold point stores its two anchors in the body frames (``local_a``, ``local_b``),
 its normal in A's frame, and the impulses accumulated by the solver ``(normal, tangent1,
-tangent2)`` in N s. Every step (Bullet's ``btPersistentManifold`` idea):
+tangent2)`` in N s. :class:`ManifoldStore` keeps all manifolds of the world in padded
+arrays, one row per body pair and ``S = 4`` point slots per row, so every step updates all
+of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` idea):
 
 1. refresh: recompute the world anchors; drop points whose bodies separated more than
    ``CONTACT_BREAKING_DISTANCE`` along the normal or slid apart more than
    ``CONTACT_DRIFT_DISTANCE`` tangentially;
-2. merge: a fresh point within ``CONTACT_MATCH_DISTANCE`` of a cached one replaces it and
-   inherits its impulses (this is what makes warm starting work), others are appended;
+2. merge: too many fresh points are cut to the supporting polygon (:func:`select_support`);
+   fresh points closer than ``CONTACT_MATCH_DISTANCE`` to a kept one are dropped (deepest
+   wins); a fresh point within ``CONTACT_MATCH_DISTANCE`` of a cached one inherits its
+   impulses (this is what makes warm starting work). Three or more fresh points replace the
+   cache; fewer are added to it (GJK gives one point per step, so a manifold builds up);
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
 Normals point from body A to body B; depth ``(p_a - p_b) . n`` is positive when overlapping.
+Padded arrays: a row's first ``count`` slots hold its points, in no particular order; the
+other slots are zero. Per-row choices ("the deepest point of each row") are masked
+``argmax`` over the slot axis.
 """
 
 from __future__ import annotations
+
+from collections.abc import Iterator, MutableMapping
 
 import numpy as np
 
 from . import settings
 from .quaternions import cross
 
+#: point slots per manifold row.
+SLOTS = settings.MAX_MANIFOLD_POINTS
 
-class Manifold:
-    """Contact points of one body pair ``(body_a, body_b)``, ``body_a < body_b``.
 
-    Attributes
-    ----------
-    local_a, local_b : (k, 3) anchors in the body frames of A and B, m.
-    normal_local : (k, 3) unit normal in A's body frame (from A to B).
-    impulse : (k, 3) accumulated impulses (normal, tangent 1, tangent 2), N s.
-    max_points : int, 1 for pairs with a sphere (a rolling point must not persist).
-    """
+class ManifoldView:
+    """One body pair's manifold, read from the store (``len`` = its number of points)."""
 
-    def __init__(self, body_a: int, body_b: int, max_points: int) -> None:
-        self.body_a, self.body_b, self.max_points = body_a, body_b, max_points
-        self.local_a = np.zeros((0, 3))
-        self.local_b = np.zeros((0, 3))
-        self.normal_local = np.zeros((0, 3))
-        self.impulse = np.zeros((0, 3))
+    def __init__(self, store: ManifoldStore, row: int) -> None:
+        self._store, self.row = store, row
+        self.body_a, self.body_b = (int(i) for i in store.bodies[row])
 
     def __len__(self) -> int:
-        return len(self.local_a)
+        return int(self._store.count[self.row])
+
+    def _slots(self, array: np.ndarray) -> np.ndarray:
+        return array[self.row, : len(self)].copy()
+
+    local_a = property(lambda self: self._slots(self._store.local_a))
+    local_b = property(lambda self: self._slots(self._store.local_b))
+    normal_local = property(lambda self: self._slots(self._store.normal_local))
+    impulse = property(lambda self: self._slots(self._store.impulse))
 
     def world_points(self, pose_a, pose_b):
         """World anchors ``(k, 3)`` of A and B and world normals ``(k, 3)``."""
         (ra, xa), (rb, xb) = pose_a, pose_b
         return self.local_a @ ra.T + xa, self.local_b @ rb.T + xb, self.normal_local @ ra.T
 
-    def update(self, pose_a, pose_b, fresh) -> None:
-        """Refresh cached points, merge the fresh ``(point_a, point_b, normal)`` arrays, reduce."""
-        self._refresh(pose_a, pose_b)
-        if fresh is not None:
-            self._merge(pose_a, pose_b, *fresh)
-        if len(self) > self.max_points:
-            self._reduce(pose_a, pose_b)
 
-    def _keep(self, mask) -> None:
-        self.local_a, self.local_b = self.local_a[mask], self.local_b[mask]
-        self.normal_local, self.impulse = self.normal_local[mask], self.impulse[mask]
+class ManifoldStore(MutableMapping):
+    """All manifolds of a world: a mapping ``(body_a, body_b) -> ManifoldView`` over rows.
 
-    def _refresh(self, pose_a, pose_b) -> None:
-        if len(self) == 0:
+    Arrays (``R`` rows of capacity, grown by doubling; freed rows are reused lowest first):
+    ``bodies (R, 2)``, ``count (R,)`` points in use, ``max_points (R,)`` (1 for pairs with
+    a sphere: a rolling point must not persist), ``local_a, local_b, normal_local, impulse
+    (R, S, 3)``. Iteration follows insertion order, so solving order is deterministic.
+    """
+
+    def __init__(self, capacity: int = 64) -> None:
+        self._rows: dict[tuple[int, int], int] = {}
+        self._free: list[int] = []
+        self.bodies = np.zeros((0, 2), dtype=np.int64)
+        self.count = np.zeros(0, dtype=np.int64)
+        self.max_points = np.zeros(0, dtype=np.int64)
+        self.local_a = self.local_b = self.normal_local = self.impulse = np.zeros((0, SLOTS, 3))
+        self._grow(capacity)
+
+    def _grow(self, capacity: int) -> None:
+        old = len(self.count)
+        for name in ("bodies", "count", "max_points", "local_a", "local_b", "normal_local",
+                     "impulse"):
+            array = getattr(self, name)
+            grown = np.zeros((capacity,) + array.shape[1:], dtype=array.dtype)
+            grown[:old] = array
+            setattr(self, name, grown)
+        self._free = sorted(self._free + list(range(old, capacity)))
+
+    # -- mapping protocol ------------------------------------------------------------------
+    def __getitem__(self, key: tuple[int, int]) -> ManifoldView:
+        return ManifoldView(self, self._rows[key])
+
+    def __setitem__(self, key, value) -> None:
+        raise TypeError("manifolds are created by ManifoldStore.add, not assigned")
+
+    def __delitem__(self, key: tuple[int, int]) -> None:
+        row = self._rows.pop(key)
+        self._clear_rows(np.array([row]))
+        self._free.append(row)
+        self._free.sort()
+
+    def __iter__(self) -> Iterator[tuple[int, int]]:
+        return iter(list(self._rows))
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def __contains__(self, key) -> bool:
+        return key in self._rows
+
+    def clear(self) -> None:
+        for key in list(self._rows):
+            del self[key]
+
+    # -- rows --------------------------------------------------------------------------------
+    def add(self, key: tuple[int, int], max_points: int) -> int:
+        """Row of a new, empty manifold for body pair ``key``."""
+        if not self._free:
+            self._grow(2 * len(self.count))
+        row = self._free.pop(0)
+        self._rows[key] = row
+        self.bodies[row] = key
+        self.max_points[row] = max_points
+        return row
+
+    def row(self, key: tuple[int, int]) -> int | None:
+        return self._rows.get(key)
+
+    def rows(self) -> np.ndarray:
+        """Rows of all manifolds, in insertion order."""
+        return np.fromiter(self._rows.values(), dtype=np.int64, count=len(self._rows))
+
+    def _clear_rows(self, rows: np.ndarray) -> None:
+        self.count[rows] = 0
+        for array in (self.local_a, self.local_b, self.normal_local, self.impulse):
+            array[rows] = 0.0
+
+    def world_points(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray):
+        """World anchors of A and B and world normals ``(r, S, 3)`` of ``rows``.
+
+        ``rotation (n, 3, 3)`` and ``position (n, 3)`` are all bodies' poses.
+        """
+        a, b = self.bodies[rows, 0], self.bodies[rows, 1]
+        # p = R local + x for every slot: einsum over the (r, 3, 3) rotations of each row
+        point_a = np.einsum("rij,rsj->rsi", rotation[a], self.local_a[rows]) + position[a, None]
+        point_b = np.einsum("rij,rsj->rsi", rotation[b], self.local_b[rows]) + position[b, None]
+        normal = np.einsum("rij,rsj->rsi", rotation[a], self.normal_local[rows])
+        return point_a, point_b, normal
+
+    # -- the per-step update ---------------------------------------------------------------
+    def update(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
+               fresh: FreshPoints) -> None:
+        """Refresh, merge the fresh points into and reduce the manifolds ``rows``.
+
+        ``fresh`` holds this step's narrow-phase points, padded per row (same row order).
+        """
+        if len(rows) == 0:
             return
-        point_a, point_b, normal = self.world_points(pose_a, pose_b)
+        a, b = self.bodies[rows, 0], self.bodies[rows, 1]
+        frame_a = (rotation[a], position[a])
+        frame_b = (rotation[b], position[b])
+        cached = self._refreshed(rows, frame_a, frame_b)
+        max_points = self.max_points[rows]
+        points = _select_fresh(fresh, cached, frame_b, max_points)
+        points = _distinct(points, settings.CONTACT_MATCH_DISTANCE)
+        local = _to_local(points, frame_a, frame_b)
+        used = _inherit_impulses(local, cached, max_points)
+        merged = _combine(local, cached, used)
+        merged = _reduce(merged, frame_a, frame_b, max_points)
+        self._clear_rows(rows)
+        width = min(SLOTS, merged.valid.shape[1])
+        valid = merged.valid[:, :width, None]
+        self.count[rows] = merged.valid.sum(axis=1)
+        for name in ("local_a", "local_b", "normal_local", "impulse"):  # empty slots stay 0
+            getattr(self, name)[rows, :width] = np.where(valid, getattr(merged, name)[:, :width],
+                                                         0.0)
+
+    def _refreshed(self, rows, frame_a, frame_b) -> LocalPoints:
+        """Cached points of ``rows`` that are still in contact (see step 1), compacted."""
+        (ra, xa), (rb, xb) = frame_a, frame_b
+        cached = LocalPoints(self.local_a[rows], self.local_b[rows], self.normal_local[rows],
+                             self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
+        point_a = np.einsum("rij,rsj->rsi", ra, cached.local_a) + xa[:, None]
+        point_b = np.einsum("rij,rsj->rsi", rb, cached.local_b) + xb[:, None]
+        normal = np.einsum("rij,rsj->rsi", ra, cached.normal_local)
         gap = point_a - point_b
-        depth = (gap * normal).sum(axis=1)  # d = (p_a - p_b) . n
-        drift_sq = (gap * gap).sum(axis=1) - depth**2  # |tangential part of the gap|^2
+        depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
+        drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
         keep = ((depth > -settings.CONTACT_BREAKING_DISTANCE)
                 & (drift_sq < settings.CONTACT_DRIFT_DISTANCE**2))
-        if not keep.all():  # (keeping every point would copy the arrays for nothing)
-            self._keep(keep)
-
-    def _merge(self, pose_a, pose_b, point_a, point_b, normal) -> None:
-        """Merge fresh points: dedupe them, match each to at most one cached point."""
-        (ra, xa), (rb, xb) = pose_a, pose_b
-        depth = ((point_a - point_b) * normal).sum(axis=1)
-        if len(depth) > self.max_points:  # many vertex contacts: keep the support polygon
-            preferred = np.zeros(len(depth), dtype=bool)
-            if len(self):  # hysteresis: among near-ties keep the points we already have
-                local = (point_b - xb) @ rb
-                gap_sq = ((local[:, None] - self.local_b[None]) ** 2).sum(axis=2)
-                preferred = gap_sq.min(axis=1) < settings.CONTACT_MATCH_DISTANCE**2
-            chosen = select_support_points(point_b, depth, normal[np.argmax(depth)],
-                                           self.max_points, preferred)
-            point_a, point_b, normal, depth = (point_a[chosen], point_b[chosen],
-                                               normal[chosen], depth[chosen])
-        fresh = _distinct_points(point_b, depth, settings.CONTACT_MATCH_DISTANCE)
-        point_a, point_b, normal = point_a[fresh], point_b[fresh], normal[fresh]
-        new_local_a = (point_a - xa) @ ra  # R^T (p - x)
-        new_local_b = (point_b - xb) @ rb
-        new_impulse = np.zeros((len(point_a), 3))
-        used = [False] * len(self)
-        if self.max_points == 1:
-            if len(self):
-                new_impulse[:] = self.impulse[0]  # the single rolling point keeps its impulse
-            used = [True] * len(self)
-        elif len(self):
-            fresh_index, cached_index = self._match(new_local_b, used)
-            new_impulse[fresh_index] = self.impulse[cached_index]
-        # a full fresh manifold (3+ points) replaces the cache; a partial one (GJK gives one
-        # point per step) is added to it, so the manifold builds up over a few steps
-        if len(point_a) >= 3:
-            self.local_a, self.local_b = new_local_a, new_local_b
-            self.normal_local, self.impulse = normal @ ra, new_impulse
-            return
-        self._keep(~np.array(used, dtype=bool))
-        self.local_a = np.concatenate([self.local_a, new_local_a])
-        self.local_b = np.concatenate([self.local_b, new_local_b])
-        self.normal_local = np.concatenate([self.normal_local, normal @ ra])
-        self.impulse = np.concatenate([self.impulse, new_impulse])
-
-    def _match(self, new_local_b, used: list) -> tuple[list, list]:
-        """Greedy one-to-one match of fresh points (deepest first) to cached ones.
-
-        Returns the matched fresh and cached indices; marks matched cached points in ``used``.
-        """
-        # |cached_i - fresh_j|^2 in B's frame; a match needs < CONTACT_MATCH_DISTANCE^2
-        dist_sq = ((self.local_b[:, None] - new_local_b[None]) ** 2).sum(axis=2).tolist()
-        limit = settings.CONTACT_MATCH_DISTANCE**2
-        fresh_index, cached_index = [], []
-        for j in range(len(new_local_b)):
-            best, best_i = limit, -1
-            for i, row in enumerate(dist_sq):
-                if not used[i] and row[j] < best:
-                    best, best_i = row[j], i
-            if best_i >= 0:
-                fresh_index.append(j)
-                cached_index.append(best_i)
-                used[best_i] = True
-        return fresh_index, cached_index
-
-    def _reduce(self, pose_a, pose_b) -> None:
-        point_a, point_b, normal = self.world_points(pose_a, pose_b)
-        depth = ((point_a - point_b) * normal).sum(axis=1)
-        self._keep(select_support_points(point_b, depth, normal[0], self.max_points))
+        return cached.where(cached.valid & keep)
 
 
-def _distinct_points(points: np.ndarray, depth: np.ndarray, radius: float) -> np.ndarray:
-    """Indices of points, deepest first, dropping any within ``radius`` of a kept one."""
-    dist_sq = ((points[:, None] - points[None]) ** 2).sum(axis=2).tolist()
-    kept: list[int] = []
-    for i in np.argsort(-depth, kind="stable").tolist():
-        if all(dist_sq[i][j] >= radius * radius for j in kept):
-            kept.append(i)
-    return np.array(kept, dtype=np.int64)
+class FreshPoints:
+    """Narrow-phase points padded per manifold row: ``(r, F, 3)`` arrays and ``valid (r, F)``.
 
-
-def select_support_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
-                          count: int, preferred: np.ndarray | None = None) -> np.ndarray:
-    """Indices of up to ``count`` points: the supporting ones spanning the largest area.
-
-    Supporting points lie within ``SUPPORT_DEPTH_BAND`` of the deepest; among them
-    :func:`spread_points` picks the deepest and those spanning the largest area. Slots left
-    over take the remaining (speculative) points, nearest first.
+    Built from flat arrays ``row_position (q,)`` (index into the rows being updated, sorted
+    ascending) and ``point_a, point_b, normal (q, 3)``.
     """
-    supporting = np.flatnonzero(depth >= depth.max() - settings.SUPPORT_DEPTH_BAND)
-    pref = None if preferred is None else preferred[supporting]
-    chosen = supporting[spread_points(points[supporting], depth[supporting], normal, count,
-                                      pref)].tolist()
-    for index in np.argsort(-depth, kind="stable").tolist():
-        if len(chosen) >= count:
-            break
-        if index not in chosen:
-            chosen.append(index)
-    return np.array(sorted(chosen), dtype=np.int64)
+
+    def __init__(self, n_rows: int, row_position: np.ndarray, point_a: np.ndarray,
+                 point_b: np.ndarray, normal: np.ndarray) -> None:
+        counts = np.bincount(row_position, minlength=n_rows)
+        width = max(int(counts.max(initial=0)), 1)
+        # slot of each point inside its row: its rank among the points of the same row
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        slot = np.arange(len(row_position)) - starts[row_position]
+        self.valid = np.zeros((n_rows, width), dtype=bool)
+        self.valid[row_position, slot] = True
+        self.point_a, self.point_b = np.zeros((n_rows, width, 3)), np.zeros((n_rows, width, 3))
+        self.normal = np.zeros((n_rows, width, 3))
+        self.point_a[row_position, slot] = point_a
+        self.point_b[row_position, slot] = point_b
+        self.normal[row_position, slot] = normal
+
+    def depth(self) -> np.ndarray:
+        return ((self.point_a - self.point_b) * self.normal).sum(axis=2)
+
+    def take(self, index: np.ndarray, valid: np.ndarray) -> FreshPoints:
+        """Points ``index (r, k)`` of every row, flagged ``valid (r, k)``."""
+        out = object.__new__(FreshPoints)
+        for name in ("point_a", "point_b", "normal"):
+            setattr(out, name, np.take_along_axis(getattr(self, name), index[..., None], 1))
+        out.valid = valid
+        return out
 
 
-def spread_points(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
-                  count: int, preferred: np.ndarray | None = None) -> np.ndarray:
-    """Indices of ``count`` points: the deepest, then those spanning the largest area.
+class LocalPoints:
+    """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
+
+    def __init__(self, local_a, local_b, normal_local, impulse, valid) -> None:
+        self.local_a, self.local_b = local_a, local_b
+        self.normal_local, self.impulse, self.valid = normal_local, impulse, valid
+
+    def where(self, keep: np.ndarray) -> LocalPoints:
+        """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
+        order = np.argsort(~keep, axis=1, kind="stable")
+        return LocalPoints(*(np.take_along_axis(array, order[..., None], 1)
+                             for array in (self.local_a, self.local_b, self.normal_local,
+                                           self.impulse)),
+                           np.take_along_axis(keep, order, 1))
+
+    def world(self, frame_a, frame_b):
+        (ra, xa), (rb, xb) = frame_a, frame_b
+        point_a = np.einsum("rij,rsj->rsi", ra, self.local_a) + xa[:, None]
+        point_b = np.einsum("rij,rsj->rsi", rb, self.local_b) + xb[:, None]
+        return point_a, point_b, np.einsum("rij,rsj->rsi", ra, self.normal_local)
+
+
+def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points) -> FreshPoints:
+    """Rows with more fresh points than they may keep: the supporting polygon only.
+
+    Among near-ties the points matching cached ones win (hysteresis), so a flat face
+    resting on many coplanar vertices keeps the same four points from step to step.
+    """
+    rb, xb = frame_b
+    depth = fresh.depth()
+    too_many = fresh.valid.sum(axis=1) > max_points
+    chosen = fresh.valid.copy()
+    if too_many.any():
+        # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
+        local_b = np.einsum("rji,rsj->rsi", rb, fresh.point_b - xb[:, None])
+        gap_sq = ((local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
+        gap_sq = np.where(cached.valid[:, None, :], gap_sq, np.inf)
+        preferred = gap_sq.min(axis=2) < settings.CONTACT_MATCH_DISTANCE**2
+        deepest = _masked_argmax(depth, fresh.valid)
+        normal = fresh.normal[np.arange(len(depth)), deepest]
+        support = select_support(fresh.point_b, depth, normal, max_points, fresh.valid,
+                                 preferred)
+        chosen = np.where(too_many[:, None], support, fresh.valid)
+    order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
+    return fresh.take(order, np.take_along_axis(chosen, order, 1))
+
+
+def _distinct(points: FreshPoints, radius: float) -> FreshPoints:
+    """Each row's points, deepest first, dropping any within ``radius`` of a kept one."""
+    depth = np.where(points.valid, points.depth(), -np.inf)
+    by_depth = np.argsort(-depth, axis=1, kind="stable")
+    points = points.take(by_depth, np.take_along_axis(points.valid, by_depth, 1))
+    # |p_i - p_j|^2 between the (at most four) points of each row, in B's world anchors
+    dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
+    kept = np.zeros_like(points.valid)
+    for k in range(points.valid.shape[1]):  # greedy, deepest first: k sees the kept j < k
+        near_kept = (kept & (dist_sq[:, k] < radius * radius)).any(axis=1)
+        kept[:, k] = points.valid[:, k] & ~near_kept
+    order = np.argsort(~kept, axis=1, kind="stable")
+    return points.take(order, np.take_along_axis(kept, order, 1))
+
+
+def _to_local(points: FreshPoints, frame_a, frame_b) -> LocalPoints:
+    """Fresh world points -> body-frame anchors ``R^T (p - x)``, normals in A's frame."""
+    (ra, xa), (rb, xb) = frame_a, frame_b
+    local_a = np.einsum("rji,rsj->rsi", ra, points.point_a - xa[:, None])
+    local_b = np.einsum("rji,rsj->rsi", rb, points.point_b - xb[:, None])
+    normal = np.einsum("rji,rsj->rsi", ra, points.normal)
+    return LocalPoints(local_a, local_b, normal, np.zeros(local_a.shape), points.valid)
+
+
+def _inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points) -> np.ndarray:
+    """Give matched fresh points their cached impulses; returns the used cached slots.
+
+    Greedy one-to-one matching, deepest fresh point first: each takes the nearest unused
+    cached point (in B's frame) closer than ``CONTACT_MATCH_DISTANCE``. A single rolling
+    point (``max_points == 1``) always keeps the impulse of the cached one.
+    """
+    rows = np.arange(len(max_points))
+    used = np.zeros_like(cached.valid)
+    limit = settings.CONTACT_MATCH_DISTANCE**2
+    # |cached_i - fresh_j|^2 in B's frame, (r, fresh j, cached i)
+    dist_sq = ((fresh.local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
+    for j in range(fresh.valid.shape[1]):
+        candidates = np.where(cached.valid & ~used, dist_sq[:, j], np.inf)
+        nearest = candidates.argmin(axis=1)
+        matched = fresh.valid[:, j] & (candidates[rows, nearest] < limit)
+        fresh.impulse[matched, j] = cached.impulse[matched, nearest[matched]]
+        used[matched, nearest[matched]] = True
+    rolling = max_points == 1
+    fresh.impulse[rolling] = np.where(cached.valid[rolling, :1, None],
+                                      cached.impulse[rolling, :1], 0.0)
+    used[rolling] = cached.valid[rolling]
+    return used
+
+
+def _combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> LocalPoints:
+    """Three or more fresh points replace a row's cache; fewer join its unused points."""
+    replace = fresh.valid.sum(axis=1) >= 3
+    keep_cached = cached.valid & ~used & ~replace[:, None]
+    joined = [np.concatenate([getattr(cached, name), getattr(fresh, name)], axis=1)
+              for name in ("local_a", "local_b", "normal_local", "impulse")]
+    valid = np.concatenate([keep_cached, fresh.valid], axis=1)
+    return LocalPoints(*joined, valid).where(valid)
+
+
+def _reduce(points: LocalPoints, frame_a, frame_b, max_points) -> LocalPoints:
+    """Rows holding more than ``max_points``: keep the supporting polygon's points."""
+    over = points.valid.sum(axis=1) > max_points
+    if not over.any():
+        return points
+    point_a, point_b, normal = points.world(frame_a, frame_b)
+    depth = ((point_a - point_b) * normal).sum(axis=2)
+    chosen = select_support(point_b, depth, normal[:, 0], max_points, points.valid)
+    return points.where(np.where(over[:, None], chosen, points.valid))
+
+
+def _masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """Per row, the first slot holding the largest valid value (0 for empty rows)."""
+    return np.where(valid, values, -np.inf).argmax(axis=1)
+
+
+def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
+                   count: np.ndarray, valid: np.ndarray,
+                   preferred: np.ndarray | None = None) -> np.ndarray:
+    """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
 
     Parameters
     ----------
-    points : (k, 3) world contact points, depth : (k,) m, normal : (3,) unit.
-    preferred : (k,) bool, points matching cached ones; they win near-ties (1 mm of depth,
-        10 % of distance or area), so a flat face resting on many coplanar vertices keeps
-        the same four points from step to step instead of flickering between them.
+    points : (r, k, 3) world points, depth : (r, k) m, normal : (r, 3) unit.
+    count : (r,) int, how many to keep. valid : (r, k) bool, slots holding points.
+    preferred : (r, k) bool, points matching cached ones; they win near-ties (1 mm of depth,
+        10 % of distance or area).
+
+    Supporting points lie within ``SUPPORT_DEPTH_BAND`` of the row's deepest point. Among
+    them: the deepest, the farthest from it, the one spanning the largest triangle with
+    those two, then the largest on the other side of that edge. Slots left over take the
+    remaining (speculative) points, deepest first.
     """
-    bonus = np.zeros(len(depth)) if preferred is None else preferred.astype(np.float64)
-    chosen = [int(np.argmax(depth + 1e-3 * bonus))]
+    rows = np.arange(len(count))
+    deepest_depth = np.where(valid, depth, -np.inf).max(axis=1, initial=-np.inf)
+    supporting = valid & (depth >= deepest_depth[:, None] - settings.SUPPORT_DEPTH_BAND)
+    bonus = np.zeros(depth.shape) if preferred is None else preferred.astype(np.float64)
     scale = 1.0 + 0.1 * bonus
-    if count >= 2:
-        far = ((points - points[chosen[0]]) ** 2).sum(axis=1) * scale
-        chosen.append(int(np.argmax(far)))
-    if count >= 3:
-        edge = points[chosen[1]] - points[chosen[0]]
-        # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
-        area = cross(edge, points - points[chosen[0]]) @ normal * scale
-        third = int(np.argmax(np.abs(area)))
-        chosen.append(third)
-        if count >= 4:
-            # the fourth point lies on the other side of edge p0-p1 with the largest area
-            opposite = -np.sign(area[third]) * area
-            opposite[chosen] = -np.inf
-            chosen.append(int(np.argmax(opposite)))
-    return np.array(sorted(set(chosen)), dtype=np.int64)
+    chosen = np.zeros_like(valid)
+    first = _masked_argmax(depth + 1e-3 * bonus, supporting)
+    chosen[rows, first] = valid[rows, first]
+    p0 = points[rows, first]
+    far = ((points - p0[:, None]) ** 2).sum(axis=2) * scale  # |p - p0|^2
+    second = _masked_argmax(far, supporting)
+    chosen[rows, second] |= (count >= 2) & valid[rows, second]
+    edge = points[rows, second] - p0
+    # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
+    area = (cross(edge[:, None], points - p0[:, None]) * normal[:, None]).sum(axis=2) * scale
+    third = _masked_argmax(np.abs(area), supporting)
+    chosen[rows, third] |= (count >= 3) & valid[rows, third]
+    # the fourth point lies on the other side of edge p0-p1 with the largest area
+    opposite = np.where(supporting & ~chosen, -np.sign(area[rows, third])[:, None] * area,
+                        -np.inf)
+    fourth = opposite.argmax(axis=1)
+    chosen[rows, fourth] |= (count >= 4) & np.isfinite(opposite[rows, fourth])
+    # fill the slots left over with the deepest remaining points
+    remaining = count - chosen.sum(axis=1)
+    rest = np.where(valid & ~chosen, depth, -np.inf)
+    rank = np.argsort(-rest, axis=1, kind="stable")
+    take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(
+        np.take_along_axis(rest, rank, 1))
+    np.put_along_axis(chosen, rank, np.take_along_axis(chosen, rank, 1) | take, 1)
+    return chosen

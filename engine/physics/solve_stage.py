@@ -19,23 +19,25 @@ from .solver import SLOTS, build_batch, solve_contacts
 
 def solve_stage(world, moving: np.ndarray, h: float):
     """Solve all contacts that touch an awake dynamic body; returns pseudo velocities or None."""
-    b, n = world.bodies, world.bodies.count
+    b, n, store = world.bodies, world.bodies.count, world.manifolds
     solvable = np.zeros(n, dtype=bool)
     solvable[moving] = True
-    manifolds = [m for m in world.manifolds.values()
-                 if len(m) and (solvable[m.body_a] or solvable[m.body_b])]
+    rows = store.rows()
+    a, c = store.bodies[rows, 0], store.bodies[rows, 1]
+    rows = rows[(store.count[rows] > 0) & (solvable[a] | solvable[c])]
     world.last_batch = None
-    if not manifolds:
+    if len(rows) == 0:
         return None
-    body_a = np.array([m.body_a for m in manifolds], dtype=np.int64)
-    body_b = np.array([m.body_b for m in manifolds], dtype=np.int64)
-    colors = color_manifolds(body_a, body_b, solvable)
-    order = np.concatenate(colors)
-    sizes = np.cumsum([0] + [len(c) for c in colors])
+    colors = color_manifolds(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
+    sizes = np.cumsum([0] + [len(color) for color in colors])
     color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist(), strict=True))
-    manifolds = [manifolds[i] for i in order]
-    body_a, body_b = body_a[order], body_b[order]
-    arrays = _padded_points(b, manifolds)
+    rows = rows[np.concatenate(colors)]
+    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
+    counts = store.count[rows]
+    rotation = quat_to_matrix(b.body_rotation[:n])
+    points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:n])
+    empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
+    normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], 1e-300), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
@@ -49,50 +51,17 @@ def solve_stage(world, moving: np.ndarray, h: float):
         approach_velocity[dynamic] = start[dynamic]
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
-    batch = build_batch(*arrays, body_a, body_b, b.body_position[:n], inv_mass, inv_inertia,
-                        friction, restitution, arrays_impulse(manifolds), approach_velocity,
-                        color_slices, split_mass=world.settings.block_jacobi)
+    batch = build_batch(points_a, points_b, normals, counts, body_a, body_b,
+                        b.body_position[:n], inv_mass, inv_inertia, friction, restitution,
+                        store.impulse[rows], approach_velocity, color_slices,
+                        split_mass=world.settings.block_jacobi)
     pseudo = solve_contacts(batch, velocity, h, world.settings)
     b.body_linear_velocity[moving] = velocity[moving, :3]
     b.body_angular_velocity[moving] = velocity[moving, 3:]
-    for i, manifold in enumerate(manifolds):
-        manifold.impulse = batch.impulse[i, : len(manifold)].copy()
+    store.impulse[rows] = batch.impulse  # zero in empty slots (for warm starting)
     world.last_batch = batch
     world.last_h = h
     return pseudo
-
-
-def _padded_points(b, manifolds):
-    """World anchors and normals ``(m, S, 3)`` and point counts ``(m,)``."""
-    m = len(manifolds)
-    points_a, points_b = np.zeros((m, SLOTS, 3)), np.zeros((m, SLOTS, 3))
-    normals = np.zeros((m, SLOTS, 3))
-    normals[..., 1] = 1.0  # harmless unit normal in empty slots
-    counts = np.zeros(m, dtype=np.int64)
-    poses: dict[int, tuple] = {}  # body -> (R, x), built once per body
-    for i, manifold in enumerate(manifolds):
-        a, c = manifold.body_a, manifold.body_b
-        for index in (a, c):
-            if index not in poses:
-                poses[index] = _pose(b, index)
-        pa, pc, nrm = manifold.world_points(poses[a], poses[c])
-        k = len(manifold)
-        points_a[i, :k], points_b[i, :k], normals[i, :k] = pa, pc, nrm
-        counts[i] = k
-    return points_a, points_b, normals, counts
-
-
-def _pose(b, index: int) -> tuple[np.ndarray, np.ndarray]:
-    """``(R (3, 3), x (3,))`` of body ``index``."""
-    return quat_to_matrix(b.body_rotation[index]), b.body_position[index]
-
-
-def arrays_impulse(manifolds) -> np.ndarray:
-    """Cached impulses ``(m, S, 3)`` of the manifolds (zero-padded)."""
-    impulse = np.zeros((len(manifolds), SLOTS, 3))
-    for i, manifold in enumerate(manifolds):
-        impulse[i, : len(manifold)] = manifold.impulse
-    return impulse
 
 
 def _velocity_array(b, n: int) -> np.ndarray:

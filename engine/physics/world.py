@@ -30,9 +30,10 @@ from engine import mn
 
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
-from .collide import boxes_separated, overlapping_pairs, pair_contacts, world_aabbs
-from .contacts import Manifold
+from .collide import boxes_separated, overlapping_pairs, world_aabbs
+from .contacts import FreshPoints, ManifoldStore
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
+from .narrow_phase import narrow_phase
 from .quaternions import matrix_to_quat, quat_to_matrix
 from .settings import SolverSettings
 from .shapes import mesh_shape, probe_geometry
@@ -72,7 +73,7 @@ class PhysicsWorld(WorldApiMixin):
         self.bodies.body_motion_type[STAGE_ID] = STATIC
         self.fcl_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
-        self.manifolds: dict[tuple[int, int], Manifold] = {}
+        self.manifolds = ManifoldStore()
         self.nodes: dict[int, Any] = {}
         self.velocity_controls: dict[int, Any] = {}
         self.render_meshes: dict[int, list] = {}
@@ -246,13 +247,13 @@ class PhysicsWorld(WorldApiMixin):
         apart = self._apart_without_manifold(pairs, pair_list, rotation)
         self.profile["broad phase"] += timer.perf_counter() - start
         refreshed = set()
-        for k, (a, c) in enumerate(pair_list):
+        touching = [pair for k, pair in enumerate(pair_list) if k not in apart]
+        for a, c in touching:
             for index in (a, c):
                 if index not in refreshed and index != STAGE_ID:
                     self._update_fcl(index, rotation[index])
                     refreshed.add(index)
-            if k not in apart:  # apart pairs cannot touch and have no manifold to refresh
-                self._refresh_manifold(a, c, rotation)
+        self._update_manifolds(touching, rotation)
         current = {tuple(p) for p in pairs.tolist()}
         for key in list(self.manifolds):
             a, c = key
@@ -291,32 +292,31 @@ class PhysicsWorld(WorldApiMixin):
                                 center_c, rotation[c], b.body_shape_half[c] + AABB_MARGIN)
         return apart & (a != STAGE_ID)
 
-    def _refresh_manifold(self, a: int, c: int, rotation: np.ndarray) -> None:
+    def _update_manifolds(self, pairs: list, rotation: np.ndarray) -> None:
+        """Narrow phase for ``pairs``, then refresh/merge/reduce their manifolds in one batch.
+
+        A pair gets a manifold row when it first has contact points; pairs with a sphere
+        keep a single (rolling) point.
+        """
         b = self.bodies
-        pose_a = (rotation[a], b.body_position[a])
-        pose_c = (rotation[c], b.body_position[c])
-        fresh = []
-        for shape_a, obj_a, probe_a in zip(b.shapes[a], self.fcl_objects[a],
-                                           self.probe_objects[a], strict=True):
-            for shape_c, obj_c, probe_c in zip(b.shapes[c], self.fcl_objects[c],
-                                               self.probe_objects[c], strict=True):
-                result = pair_contacts(shape_a, pose_a, obj_a, shape_c, pose_c, obj_c,
-                                       probe_a, probe_c)
-                if result is not None:
-                    fresh.append(result)
-        merged = None
-        if len(fresh) == 1:
-            merged = fresh[0]
-        elif fresh:
-            merged = tuple(np.concatenate([f[i] for f in fresh]) for i in range(3))
-        manifold = self.manifolds.get((a, c))
-        if manifold is None:
-            if merged is None:
-                return
-            rolling = any(s.kind == "sphere" for s in b.shapes[a] + b.shapes[c])
-            manifold = Manifold(a, c, 1 if rolling else constants.MAX_MANIFOLD_POINTS)
-            self.manifolds[(a, c)] = manifold
-        manifold.update(pose_a, pose_c, merged)
+        pair_position, point_a, point_b, normal = narrow_phase(self, pairs, rotation)
+        has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
+        rows, updated = [], []
+        for k, key in enumerate(pairs):
+            row = self.manifolds.row(tuple(key))
+            if row is None:
+                if not has_points[k]:
+                    continue
+                rolling = any(s.kind == "sphere" for s in b.shapes[key[0]] + b.shapes[key[1]])
+                row = self.manifolds.add(tuple(key),
+                                         1 if rolling else constants.MAX_MANIFOLD_POINTS)
+            rows.append(row)
+            updated.append(k)
+        row_position = np.full(len(pairs), -1, dtype=np.int64)
+        row_position[updated] = np.arange(len(updated))  # pair position -> row position
+        fresh = FreshPoints(len(rows), row_position[pair_position], point_a, point_b, normal)
+        self.manifolds.update(np.array(rows, dtype=np.int64), rotation, b.body_position,
+                              fresh)
 
     def perform_discrete_collision_detection(self) -> None:
         """Run the collision stage without stepping (refreshes contact points)."""

@@ -1,0 +1,210 @@
+"""Batched narrow phase: one fcl query per shape pair, then NumPy batches make the contacts.
+
+:mod:`collide` explains the contact rules; this module applies them to all pairs of a step
+at once. A Python loop asks python-fcl about every shape pair (that call is the only
+per-pair work) and sorts the pairs into *jobs* of equal array sizes:
+
+* stage vs polyhedron, grouped by the polyhedron's hull vertex count ``V``: the body's hull
+  vertices lying in the prism of a touched triangle, just below its plane (method 2);
+* polyhedron vs polyhedron, grouped by ``(V_a, F_a, V_b, F_b)`` vertex and face counts: the
+  vertices of one body inside the other, measured against the reference face picked by
+  fcl's normal (method 1);
+* anything else (spheres, capsules) goes through the scalar :func:`collide.pair_contacts`.
+
+Each group is a handful of ``(g, ...)`` array operations, whatever its size ``g``. The
+result is flat: ``pair_position (q,)`` (index into the pair list, ascending) and world
+``point_a, point_b, normal (q, 3)``, normals from A to B, in the order the scalar code
+would produce them (shape pairs in body order, A's reference points before B's).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+import numpy as np
+
+from . import settings
+from .collide import _POLYHEDRA, _midpoint_contacts, _triangle_table, fcl_contacts, pair_contacts
+
+_EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
+
+
+class _Contacts:
+    """Collects contact chunks tagged with (shape-pair sequence number, order in the pair)."""
+
+    def __init__(self) -> None:
+        self.chunks: list[tuple] = []
+
+    def add(self, seq, local, point_a, point_b, normal) -> None:
+        if len(seq):
+            self.chunks.append((seq, local, point_a, point_b, normal))
+
+    def add_one(self, seq: int, result) -> None:
+        if result is not None and len(result[0]):
+            k = len(result[0])
+            self.add(np.full(k, seq), np.arange(k), *result)
+
+    def sorted(self, pair_of_seq: np.ndarray):
+        """Flat ``(pair_position, point_a, point_b, normal)`` in sequence order."""
+        if not self.chunks:
+            return _EMPTY
+        seq, local, point_a, point_b, normal = (np.concatenate(part)
+                                                for part in zip(*self.chunks, strict=True))
+        order = np.lexsort((local, seq))  # by shape pair, then by order inside the pair
+        return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
+
+
+def narrow_phase(world, pairs: list, rotation: np.ndarray):
+    """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring)."""
+    b = world.bodies
+    stage_jobs: dict = defaultdict(list)
+    polyhedron_jobs: dict = defaultdict(list)
+    contacts, pair_of_seq = _Contacts(), []
+    for position, (a, c) in enumerate(pairs):
+        pose_a, pose_c = (rotation[a], b.body_position[a]), (rotation[c], b.body_position[c])
+        for shape_a, obj_a, probe_a in zip(b.shapes[a], world.fcl_objects[a],
+                                           world.probe_objects[a], strict=True):
+            for shape_c, obj_c, probe_c in zip(b.shapes[c], world.fcl_objects[c],
+                                               world.probe_objects[c], strict=True):
+                seq = len(pair_of_seq)
+                pair_of_seq.append(position)
+                if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
+                    found = fcl_contacts(obj_a, probe_c)  # the triangles near C's hull
+                    if len(found[2]):
+                        key = len(shape_c.hull_vertices)
+                        stage_jobs[key].append((seq, shape_a, shape_c, c, found))
+                elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
+                    found = fcl_contacts(obj_a, obj_c)
+                    if len(found[2]):
+                        key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
+                               len(shape_c.hull_vertices), len(shape_c.plane_normals))
+                        polyhedron_jobs[key].append((seq, shape_a, a, shape_c, c, found))
+                else:
+                    contacts.add_one(seq, pair_contacts(shape_a, pose_a, obj_a, shape_c,
+                                                        pose_c, obj_c, probe_a, probe_c))
+    position = b.body_position
+    for jobs in stage_jobs.values():
+        _stage_group(jobs, rotation, position, contacts)
+    for jobs in polyhedron_jobs.values():
+        _polyhedron_group(jobs, rotation, position, contacts)
+    return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
+
+
+def _pose(jobs, index_field: int, rotation, position):
+    """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of the jobs' bodies."""
+    bodies = np.array([job[index_field] for job in jobs], dtype=np.int64)
+    return rotation[bodies], position[bodies]
+
+
+def _to_world(rotation, position, points):
+    """World points ``(g, k, 3)``: ``R p + x`` for body-frame points ``(g, k, 3)``."""
+    return np.einsum("gij,gkj->gki", rotation, points) + position[:, None]
+
+
+def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage."""
+    stage = jobs[0][1]
+    table = _triangle_table(stage)
+    seq = np.array([job[0] for job in jobs], dtype=np.int64)
+    # the touched triangles of each job, padded by repeating one (a duplicate changes nothing)
+    touched = [np.unique(job[4][3][job[4][3] >= 0]) for job in jobs]
+    width = max(len(t) for t in touched)
+    ids = np.stack([np.pad(t, (0, width - len(t)), mode="edge") for t in touched])
+    tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
+    r, x = _pose(jobs, 3, rotation, position)
+    hull = np.stack([job[2].hull_vertices for job in jobs])
+    verts = _to_world(r, x, hull)  # (g, V, 3)
+    # triangle normals face the hull's vertex centroid (inside any convex hull)
+    inside = verts.mean(axis=1)
+    normal = table["normal"][ids]
+    side = ((inside[:, None] - tris[:, :, 0]) * normal).sum(axis=2)  # (c - p0) . n
+    normal = normal * np.where(side < 0, -1.0, 1.0)[..., None]
+    # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
+    height = (np.einsum("gti,gvi->gtv", normal, verts)
+              - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
+    extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
+    # a vertex far below a thin triangle is on the other side of it, not in contact
+    candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
+                 & (height > -0.5 * extent[:, None, None])
+                 & _in_prisms(table, ids, tris, verts))
+    # each vertex keeps its shallowest triangle (the surface it is really resting on)
+    best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
+    g, v = np.nonzero(candidate.any(axis=1))
+    t = best[g, v]
+    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
+    contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
+    for k in np.flatnonzero(~candidate.any(axis=(1, 2))).tolist():
+        # an edge crossing a face: fcl's points with the first triangle's normal
+        mid, _, depths, _ = jobs[k][4]
+        depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+        contacts.add_one(seq[k], _midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)),
+                                                    depths))
+
+
+def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray) -> np.ndarray:
+    """(g, T, V) bool: vertex v projected on triangle t's plane falls inside the triangle."""
+    e0, e1, denom = table["e0"][ids], table["e1"][ids], table["denom"][ids]
+    d00, d01, d11 = table["d00"][ids], table["d01"][ids], table["d11"][ids]
+    rel = verts[:, None, :, :] - tris[:, :, None, 0]  # x_v - p0_t, (g, T, V, 3)
+    d20 = (rel * e0[:, :, None]).sum(axis=3)
+    d21 = (rel * e1[:, :, None]).sum(axis=3)
+    # barycentric (v, w) of the projection: [d00 d01; d01 d11] [v; w] = [d20; d21]
+    bary_v = (d11[..., None] * d20 - d01[..., None] * d21) / denom[..., None]
+    bary_w = (d00[..., None] * d21 - d01[..., None] * d20) / denom[..., None]
+    tolerance = 1e-9
+    return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)
+
+
+def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
+    """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts."""
+    seq = np.array([job[0] for job in jobs], dtype=np.int64)
+    # fcl's deepest normal (A -> B) picks the touching faces
+    n = np.stack([job[5][1][np.argmax(job[5][2])] for job in jobs])
+    frame_a, frame_b = _pose(jobs, 2, rotation, position), _pose(jobs, 4, rotation, position)
+    shapes_a, shapes_b = [job[1] for job in jobs], [job[3] for job in jobs]
+    found = np.zeros(len(jobs), dtype=bool)
+    # A's face against B's vertices (sign +1), then B's face against A's vertices (sign -1)
+    for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
+            ((shapes_a, frame_a, shapes_b, frame_b, 1.0),
+             (shapes_b, frame_b, shapes_a, frame_a, -1.0))):
+        g, v, on_face, verts, face_normal = _reference_face_contacts(
+            ref, ref_frame, _to_world(*inc_frame, np.stack([s.hull_vertices for s in inc])),
+            sign * n)
+        found[g] = True
+        local = direction * verts.shape[1] + v  # A's reference points first
+        contact_normal = sign * face_normal[g]  # always A -> B
+        if sign > 0:
+            contacts.add(seq[g], local, on_face, verts[g, v], contact_normal)
+        else:
+            contacts.add(seq[g], local, verts[g, v], on_face, contact_normal)
+    for k in np.flatnonzero(~found).tolist():  # no face faces the other body: fcl's points
+        mid, normals, depths, _ = jobs[k][5]
+        contacts.add_one(seq[k], _midpoint_contacts(mid, normals, depths))
+
+
+def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
+    """Vertices ``verts (g, V, 3)`` inside the reference hulls, on their face facing ``towards``.
+
+    Returns the job and vertex indices of the contacts, their points on the reference face,
+    all vertices and the reference face normals ``(g, 3)`` (world, outward).
+    """
+    rotation, position = ref_frame
+    planes = np.stack([s.plane_normals for s in ref_shapes])  # (g, F, 3) body frame
+    offsets = np.stack([s.plane_offsets for s in ref_shapes])  # (g, F)
+    face_normals = np.einsum("gij,gfj->gfi", rotation, planes)  # outward, world frame
+    alignment = (face_normals * towards[:, None]).sum(axis=2)
+    face = alignment.argmax(axis=1)
+    jobs = np.arange(len(face))
+    facing = alignment[jobs, face] >= 0.7  # else no face of this body faces the other
+    normal = face_normals[jobs, face]
+    tolerance = settings.SPECULATIVE_DISTANCE
+    # inside the hull planes n_f . p <= c_f + tol, p in the reference body frame R^T (x - x_r)
+    local = np.einsum("gji,gvj->gvi", rotation, verts - position[:, None])
+    inside = (np.einsum("gvj,gfj->gvf", local, planes) - offsets[:, None]
+              <= tolerance).all(axis=2)
+    # depth below the reference face plane n_f . x = c_f + n_f . x_ref
+    depth = ((offsets[jobs, face] + (normal * position).sum(axis=1))[:, None]
+             - np.einsum("gvi,gi->gv", verts, normal))
+    g, v = np.nonzero(inside & (depth > -tolerance) & facing[:, None])
+    on_face = verts[g, v] + depth[g, v][:, None] * normal[g]  # x + d n_f
+    return g, v, on_face, verts, normal
