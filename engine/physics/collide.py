@@ -11,7 +11,8 @@ Narrow phase returns, per pair, world-frame arrays
 * ``normal (k, 3)``: unit, **from A to B**,
 
 so the penetration depth is ``(point_a - point_b) . normal`` (positive = overlapping).
-Contacts are generated three ways:
+Contacts are generated three ways (methods 1 and 2 for polyhedra run batched over all pairs
+of a step in :mod:`narrow_phase`):
 
 1. polyhedron vs polyhedron (boxes, hulls, tessellated cylinders/cones): python-fcl gives
    the normal and depth; we then keep every vertex of one body that lies inside the other
@@ -34,8 +35,6 @@ from .quaternions import cross, quat_to_matrix
 
 _REQUEST = fcl.CollisionRequest(num_max_contacts=settings.MAX_FCL_CONTACTS, enable_contact=True)
 _POLYHEDRA = ("box", "convex", "cylinder", "cone")
-#: triangle subsets kept per static mesh before the cache is emptied (bounds its memory).
-_SUBSET_CACHE_SIZE = 4096
 
 
 def world_aabbs(center_local: np.ndarray, half_local: np.ndarray, position: np.ndarray,
@@ -112,58 +111,6 @@ def fcl_contacts(object_a, object_b) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return pos, normal, depth, ids
 
 
-def _to_frame(points_world, rotation, position):
-    """Body-frame coordinates ``R^T (p - x)`` of world points ``(m, 3)``."""
-    return (points_world - position) @ rotation
-
-
-def _inside_hull(points_local, shape, tolerance):
-    """(m,) bool: points (shape's body frame) inside the hull planes inflated by tolerance."""
-    # inside iff n_f . p - c_f <= tol for every face f
-    return (points_local @ shape.plane_normals.T - shape.plane_offsets <= tolerance).all(axis=1)
-
-
-def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, object_a, object_b):
-    """Vertex contacts of two polyhedra (method 1 of the module docstring).
-
-    fcl's normal ``n`` (A -> B) picks the touching faces: A's face most aligned with ``n``
-    and B's face most aligned with ``-n``. Vertices of B inside A are measured against A's
-    face plane (normal ``n_A``), vertices of A inside B against B's (normal ``-n_B``), so a
-    tilted box on a flat one gets the right, uneven depths.
-    """
-    mid, normals, depths, _ = fcl_contacts(object_a, object_b)
-    if len(depths) == 0:
-        return None
-    n = normals[int(np.argmax(depths))]
-    tol = settings.SPECULATIVE_DISTANCE
-    parts = []
-    for ref, ref_pose, inc, inc_pose, sign in ((shape_a, pose_a, shape_b, pose_b, 1.0),
-                                               (shape_b, pose_b, shape_a, pose_a, -1.0)):
-        rotation, position = ref_pose
-        face_normals = ref.plane_normals @ rotation.T  # outward, world frame
-        face = int(np.argmax(sign * face_normals @ n))
-        if sign * face_normals[face] @ n < 0.7:  # no face of this body faces the other
-            continue
-        verts = inc.hull_vertices @ inc_pose[0].T + inc_pose[1]
-        inside = _inside_hull(_to_frame(verts, rotation, position), ref, tol)
-        verts, normal = verts[inside], face_normals[face]
-        # depth below the reference face plane n_f . x = c_f + n_f . x_ref
-        depth = ref.plane_offsets[face] + normal @ position - verts @ normal
-        keep = depth > -tol
-        kept = verts[keep]
-        on_face = kept + depth[keep][:, None] * normal  # x + d n_f
-        contact_normal = np.repeat((sign * normal)[None], len(kept), axis=0)  # always A -> B
-        if sign > 0:
-            parts.append((on_face, kept, contact_normal))
-        else:
-            parts.append((kept, on_face, contact_normal))
-    if not parts or sum(len(p[0]) for p in parts) == 0:
-        return _midpoint_contacts(mid, normals, depths)
-    if len(parts) == 1:
-        return parts[0]
-    return tuple(np.concatenate([p[i] for p in parts]) for i in range(3))
-
-
 def _midpoint_contacts(mid, normals, depths):
     """fcl midpoints -> (point_a, point_b, normal): A's point is half a depth along +n."""
     half = 0.5 * depths[:, None] * normals
@@ -178,64 +125,35 @@ def generic_contacts(object_a, object_b):
     return _midpoint_contacts(mid, normals, depths)
 
 
-def stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
-    """Contacts of a body shape (B) with the static triangle mesh (A) (method 2).
+def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
+    """Contacts of a round body shape B (sphere, capsule) with the stage mesh A (method 2).
 
     ``probe_b`` is B's shape grown by ``STAGE_SPECULATIVE_DISTANCE``: fcl finds the triangles
-    near B, exact tests below make the (possibly speculative, negative-depth) contacts.
+    near B; a sphere then gets the exact closest point, other round shapes fcl's points with
+    the deepest triangle's normal. (Polyhedra are batched in :mod:`narrow_phase`.)
     """
     mid, _, depths, tri_ids = fcl_contacts(object_stage, probe_b)
     if len(depths) == 0:
         return None
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
     tri_ids = np.unique(tri_ids[tri_ids >= 0])
-    table = _triangle_subset(stage_shape, tri_ids)
-    tris = table["tris"]  # (t, 3, 3) world (the stage frame is world)
+    tris = stage_shape.ray_triangles[tri_ids]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
-    # triangle normals face the body's inside: the sphere's center, or the hull's vertex
-    # centroid (inside any convex hull; the body origin is the COM, which a config may put
-    # on the hull's bottom face, where it would tell the two sides of the floor apart badly)
-    inside = center if shape_b.kind == "sphere" else rb @ shape_b.hull_vertices.mean(0) + xb
-    normal = _flip_towards(table["normal"], tris[:, 0], inside)
+    # triangle normals face the shape's center
+    normal = _flip_towards(_triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], center)
     if shape_b.kind == "sphere":
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
-    if shape_b.kind not in _POLYHEDRA:
-        fcl_normal = normal[np.argmax(depths)]
-        return _midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
-    verts = shape_b.hull_vertices @ rb.T + xb
-    result = _vertex_triangle_contacts(tris, normal, verts, table)
-    if result is None:  # an edge crossing a face: fall back to fcl's points, face normal
-        n = normal[0]
-        return _midpoint_contacts(mid, np.tile(n, (len(mid), 1)), depths)
-    return result
-
-
-def _triangle_subset(mesh_shape, tri_ids: np.ndarray) -> dict:
-    """Per-triangle constants of the triangles ``tri_ids`` of a static mesh.
-
-    ``tris (t, 3, 3)``, ``normal (t, 3)`` unit face normals (winding order), ``e0, e1 (t, 3)``
-    edges from vertex 0, and the Gram entries ``d00, d01, d11 (t,)`` and ``denom (t, 1)`` of
-    the barycentric solve (see :func:`_barycentric_inside`). A resting body touches the same
-    few triangles step after step, so each subset is built once and kept on the shape
-    (read-only arrays; the cache is emptied when it grows past ``_SUBSET_CACHE_SIZE``).
-    """
-    cache = getattr(mesh_shape, "_triangle_subsets", None)
-    if cache is None or len(cache) > _SUBSET_CACHE_SIZE:
-        cache = mesh_shape._triangle_subsets = {}
-    key = tri_ids.tobytes()
-    subset = cache.get(key)
-    if subset is None:
-        full = _triangle_table(mesh_shape)
-        subset = {name: values[tri_ids] for name, values in full.items()}
-        subset["tris"] = mesh_shape.ray_triangles[tri_ids]
-        subset["denom"] = subset["denom"][:, None]
-        cache[key] = subset
-    return subset
+    fcl_normal = normal[np.argmax(depths)]
+    return _midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
 
 
 def _triangle_table(mesh_shape) -> dict:
-    """Constants of all triangles of a static mesh (see :func:`_triangle_subset`)."""
+    """Constants of all triangles of a static mesh, computed once and kept on the shape.
+
+    ``normal (t, 3)`` unit face normals (winding order), ``e0, e1 (t, 3)`` edges from vertex
+    0, and the Gram entries ``d00, d01, d11, denom (t,)`` of the barycentric solve.
+    """
     table = getattr(mesh_shape, "_triangle_table", None)
     if table is None:
         tris = mesh_shape.ray_triangles
@@ -256,45 +174,17 @@ def _flip_towards(normal, origin, point):
     return normal * np.where(side < 0, -1.0, 1.0)[:, None]
 
 
-def _barycentric_inside(tris, points, tolerance=1e-9, table=None):
-    """(t, m) bool: points (m, 3) projected into triangles (t, 3, 3) fall inside them.
-
-    ``table``: precomputed edge data of these triangles (:func:`_triangle_subset`).
-    """
-    if table is None:
-        e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
-        d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
-        denom = (d00 * d11 - d01 * d01)[:, None]
-    else:
-        e0, e1, denom = table["e0"], table["e1"], table["denom"]
-        d00, d01, d11 = table["d00"], table["d01"], table["d11"]
-    rel = points[None, :, :] - tris[:, None, 0]
-    d20, d21 = rel @ e0[:, :, None], rel @ e1[:, :, None]
-    # barycentric (u, v) of the projection: solves [d00 d01; d01 d11] [v; w] = [d20; d21]
-    v = (d11[:, None] * d20[..., 0] - d01[:, None] * d21[..., 0]) / denom
-    w = (d00[:, None] * d21[..., 0] - d01[:, None] * d20[..., 0]) / denom
+def _barycentric_inside(tris, points, tolerance=1e-9):
+    """(t,) bool: point ``points[i] (3,)`` projected into triangle ``tris[i] (3, 3)`` is inside."""
+    e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
+    rel = points - tris[:, 0]
+    d20, d21 = (rel * e0).sum(1), (rel * e1).sum(1)
+    # barycentric (v, w) of the projection: solves [d00 d01; d01 d11] [v; w] = [d20; d21]
+    denom = d00 * d11 - d01 * d01
+    v = (d11 * d20 - d01 * d21) / denom
+    w = (d00 * d21 - d01 * d20) / denom
     return (v >= -tolerance) & (w >= -tolerance) & (v + w <= 1 + tolerance)
-
-
-def _vertex_triangle_contacts(tris, normal, verts, table=None):
-    """Hull vertices (m, 3) just below triangle planes and inside their prisms."""
-    # signed height of vertex j above triangle i's plane: n_i . (v_j - p0_i)
-    height = normal @ verts.T - (normal * tris[:, 0]).sum(1)[:, None]
-    candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
-                 & _barycentric_inside(tris, verts, table=table))
-    # a vertex far below a thin triangle is on the other side of it, not in contact
-    candidate &= height > -0.5 * (verts.max(0) - verts.min(0)).max()
-    if not candidate.any():
-        return None
-    # each vertex keeps its shallowest triangle (the surface it is really resting on)
-    height_masked = np.where(candidate, height, -np.inf)
-    tri_of_vertex = height_masked.argmax(axis=0)
-    has = candidate.any(axis=0)
-    tri_index, vert_index = tri_of_vertex[has], has.nonzero()[0]
-    n = normal[tri_index]
-    depth = -height[tri_index, vert_index]
-    point_b = verts[vert_index]
-    return point_b + n * depth[:, None], point_b, n
 
 
 def _sphere_triangle_contacts(tris, normal, center, radius):
@@ -321,7 +211,7 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
     n = cross(e0, e1)
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
     projected = point - ((point - tris[:, 0]) * n).sum(axis=1)[:, None] * n
-    inside = np.diagonal(_barycentric_inside(tris, projected))
+    inside = _barycentric_inside(tris, projected)
     best = projected.copy()
     best_dist = np.where(inside, np.linalg.norm(point - projected, axis=1), np.inf)
     for i, j in ((0, 1), (1, 2), (2, 0)):
@@ -334,16 +224,11 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
     return best
 
 
-def pair_contacts(shape_a, pose_a, object_a, shape_b, pose_b, object_b, probe_a, probe_b):
-    """Dispatch to the right contact generator; None when the shapes do not touch.
+def round_contacts(shape_a, object_a, shape_b, pose_b, object_b, probe_b):
+    """Contacts of a pair that is not two polyhedra (scalar path); None when apart.
 
-    ``probe_a`` / ``probe_b`` are the grown fcl objects used against the stage mesh.
+    The stage (body 0, the only mesh shape) is always A; ``probe_b`` is B's grown fcl object.
     """
     if shape_a.kind == "mesh":
-        return stage_contacts(shape_a, object_a, shape_b, pose_b, probe_b)
-    if shape_b.kind == "mesh":
-        flipped = stage_contacts(shape_b, object_b, shape_a, pose_a, probe_a)
-        return None if flipped is None else (flipped[1], flipped[0], -flipped[2])
-    if shape_a.kind in _POLYHEDRA and shape_b.kind in _POLYHEDRA:
-        return polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, object_a, object_b)
+        return round_stage_contacts(shape_a, object_a, shape_b, pose_b, probe_b)
     return generic_contacts(object_a, object_b)

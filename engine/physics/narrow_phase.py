@@ -9,7 +9,7 @@ per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 * polyhedron vs polyhedron, grouped by ``(V_a, F_a, V_b, F_b)`` vertex and face counts: the
   vertices of one body inside the other, measured against the reference face picked by
   fcl's normal (method 1);
-* anything else (spheres, capsules) goes through the scalar :func:`collide.pair_contacts`.
+* anything else (spheres, capsules) goes through the scalar :func:`collide.round_contacts`.
 
 Each group is a handful of ``(g, ...)`` array operations, whatever its size ``g``. The
 result is flat: ``pair_position (q,)`` (index into the pair list, ascending) and world
@@ -24,7 +24,7 @@ from collections import defaultdict
 import numpy as np
 
 from . import settings
-from .collide import _POLYHEDRA, _midpoint_contacts, _triangle_table, fcl_contacts, pair_contacts
+from .collide import _POLYHEDRA, _midpoint_contacts, _triangle_table, fcl_contacts, round_contacts
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
 
@@ -57,13 +57,10 @@ class _Contacts:
 def narrow_phase(world, pairs: list, rotation: np.ndarray):
     """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring)."""
     b = world.bodies
-    stage_jobs: dict = defaultdict(list)
-    polyhedron_jobs: dict = defaultdict(list)
+    jobs = {"stage": defaultdict(list), "polyhedra": defaultdict(list)}
     contacts, pair_of_seq = _Contacts(), []
     for position, (a, c) in enumerate(pairs):
-        pose_a, pose_c = (rotation[a], b.body_position[a]), (rotation[c], b.body_position[c])
-        for shape_a, obj_a, probe_a in zip(b.shapes[a], world.fcl_objects[a],
-                                           world.probe_objects[a], strict=True):
+        for shape_a, obj_a in zip(b.shapes[a], world.fcl_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(b.shapes[c], world.fcl_objects[c],
                                                world.probe_objects[c], strict=True):
                 seq = len(pair_of_seq)
@@ -72,21 +69,21 @@ def narrow_phase(world, pairs: list, rotation: np.ndarray):
                     found = fcl_contacts(obj_a, probe_c)  # the triangles near C's hull
                     if len(found[2]):
                         key = len(shape_c.hull_vertices)
-                        stage_jobs[key].append((seq, shape_a, shape_c, c, found))
+                        jobs["stage"][key].append((seq, shape_a, shape_c, c, found))
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     found = fcl_contacts(obj_a, obj_c)
                     if len(found[2]):
                         key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
                                len(shape_c.hull_vertices), len(shape_c.plane_normals))
-                        polyhedron_jobs[key].append((seq, shape_a, a, shape_c, c, found))
+                        jobs["polyhedra"][key].append((seq, shape_a, a, shape_c, c, found))
                 else:
-                    contacts.add_one(seq, pair_contacts(shape_a, pose_a, obj_a, shape_c,
-                                                        pose_c, obj_c, probe_a, probe_c))
-    position = b.body_position
-    for jobs in stage_jobs.values():
-        _stage_group(jobs, rotation, position, contacts)
-    for jobs in polyhedron_jobs.values():
-        _polyhedron_group(jobs, rotation, position, contacts)
+                    pose_c = (rotation[c], b.body_position[c])
+                    contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
+                                                         probe_c))
+    for group in jobs["stage"].values():
+        _stage_group(group, rotation, b.body_position, contacts)
+    for group in jobs["polyhedra"].values():
+        _polyhedron_group(group, rotation, b.body_position, contacts)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
 
 
