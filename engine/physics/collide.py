@@ -57,15 +57,23 @@ def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np
     ----------
     aabb_min, aabb_max : (n, 3) world AABBs of all bodies.
     candidates : (c,) int, collidable bodies to test.
-    active : (n,) bool, bodies that can move this step; a pair needs at least one.
+    active : (n,) bool, bodies that can move this step; a pair needs at least one, so only
+        the ``k`` active candidates are compared with all ``c`` (a ``(k, c)`` test).
+
+    Pairs come sorted by ``(a, b)``, so their order does not depend on who is active.
     """
+    movers = candidates[active[candidates]]
     lo, hi = aabb_min[candidates], aabb_max[candidates]
-    # overlap iff lo_a <= hi_b and lo_b <= hi_a on all three axes
-    overlap = ((lo[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi[:, None, :])).all(axis=2)
-    ia, ib = np.nonzero(np.triu(overlap, k=1))
-    a, b = candidates[ia], candidates[ib]
-    keep = active[a] | active[b]
-    return np.stack([a[keep], b[keep]], axis=1)
+    lo_m, hi_m = aabb_min[movers], aabb_max[movers]
+    # overlap iff lo_m <= hi_c and lo_c <= hi_m on all three axes
+    overlap = ((lo_m[:, None, :] <= hi[None, :, :]) & (lo[None, :, :] <= hi_m[:, None, :])).all(2)
+    im, ic = np.nonzero(overlap)
+    a, b = movers[im], candidates[ic]
+    # each pair once: two movers meet twice, keep the one seen from the lower index
+    keep = (a != b) & (~active[b] | (a < b))
+    first, second = np.minimum(a[keep], b[keep]), np.maximum(a[keep], b[keep])
+    order = np.lexsort((second, first))
+    return np.stack([first[order], second[order]], axis=1)
 
 
 def boxes_separated(center_a: np.ndarray, rotation_a: np.ndarray, half_a: np.ndarray,

@@ -103,10 +103,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     stage = jobs[0][1]
     table = _triangle_table(stage)
     seq = np.array([job[0] for job in jobs], dtype=np.int64)
-    # the touched triangles of each job, padded by repeating one (a duplicate changes nothing)
-    touched = [np.unique(job[4][3][job[4][3] >= 0]) for job in jobs]
-    width = max(len(t) for t in touched)
-    ids = np.stack([np.pad(t, (0, width - len(t)), mode="edge") for t in touched])
+    ids = _touched_triangles([job[4][3] for job in jobs], len(stage.ray_triangles))
     tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
     r, x = _pose(jobs, 3, rotation, position)
     hull = np.stack([job[2].hull_vertices for job in jobs])
@@ -136,6 +133,22 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts.add_one(seq[k], _midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)),
                                                     depths))
+
+
+def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:
+    """(g, T) ids of the distinct triangles each job touches, ascending.
+
+    Rows are padded by repeating their last id (a duplicate triangle changes no result).
+    """
+    job = np.repeat(np.arange(len(triangle_ids)), [len(ids) for ids in triangle_ids])
+    tri = np.concatenate(triangle_ids)
+    # one key per (job, triangle): unique keys are sorted by job, then by triangle
+    key = np.unique((job * n_triangles + tri)[tri >= 0])
+    job, tri = np.divmod(key, n_triangles)
+    counts = np.bincount(job, minlength=len(triangle_ids))
+    starts = np.cumsum(counts) - counts
+    slot = np.minimum(np.arange(counts.max()), counts[:, None] - 1)
+    return tri[starts[:, None] + slot]
 
 
 def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray) -> np.ndarray:

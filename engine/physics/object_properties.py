@@ -15,6 +15,7 @@ import numpy as np
 
 from engine import mn
 
+from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .integrate import world_inverse_inertia
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
@@ -380,6 +381,7 @@ class ObjectPropertiesMixin:
             self._world.wake(index)
         elif b.body_motion_type[index] == DYNAMIC:
             b.body_awake[index] = False
+            b.body_sleep_time[index] = constants.TIME_TO_SLEEP  # rested long enough: stays asleep
             b.body_linear_velocity[index] = 0.0
             b.body_angular_velocity[index] = 0.0
 

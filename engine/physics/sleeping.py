@@ -29,21 +29,18 @@ def update_sleep(bodies, manifolds, h: float) -> None:
     spin_sq = np.sum(bodies.body_angular_velocity[:n] ** 2, axis=1)
     slow = (speed_sq < settings.SLEEP_LINEAR_VELOCITY**2) & (
         spin_sq < settings.SLEEP_ANGULAR_VELOCITY**2)
+    if not awake.any():
+        return  # nothing moves: every dynamic body sleeps and stays asleep
     time = bodies.body_sleep_time[:n]
     time[awake & slow] += h
     time[awake & ~slow] = 0.0
-    edges = []
-    is_dynamic, pushing = dynamic.tolist(), None
-    for (a, b), manifold in manifolds.items():
-        if len(manifold) == 0:
-            continue
-        if is_dynamic[a] and is_dynamic[b]:
-            edges.append((a, b))
-            continue
-        if pushing is None:  # built on first need: most steps have no kinematic contact
-            pushing = _moving_kinematic_mask(bodies, n).tolist()
-        if pushing[a] or pushing[b]:
-            time[a if is_dynamic[a] else b] = 0.0
+    a, b = _touching_pairs(manifolds)
+    joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
+    edges = np.stack([a[joined], b[joined]], axis=1)
+    # a dynamic body touching a moving kinematic one is being pushed: it is not resting
+    pushing = _moving_kinematic_mask(bodies, n)
+    time[a[dynamic[a] & pushing[b]]] = 0.0
+    time[b[dynamic[b] & pushing[a]]] = 0.0
     labels = _island_labels(n, edges)
     island_rest = np.full(n, np.inf)
     np.minimum.at(island_rest, labels[dynamic], time[dynamic])
@@ -63,11 +60,17 @@ def _moving_kinematic_mask(bodies, n: int) -> np.ndarray:
     return (bodies.body_motion_type[:n] == KINEMATIC) & moving
 
 
-def _island_labels(n: int, edges: list) -> np.ndarray:
-    """Connected-component label ``(n,)`` of every body in the contact graph."""
-    if not edges:
+def _touching_pairs(manifolds) -> tuple[np.ndarray, np.ndarray]:
+    """Bodies ``a, b (m,)`` of the manifolds holding at least one point."""
+    rows = manifolds.rows()
+    rows = rows[manifolds.count[rows] > 0]
+    return manifolds.bodies[rows, 0], manifolds.bodies[rows, 1]
+
+
+def _island_labels(n: int, pairs: np.ndarray) -> np.ndarray:
+    """Connected-component label ``(n,)`` of every body; ``pairs (e, 2)`` are the edges."""
+    if len(pairs) == 0:
         return np.arange(n)
-    pairs = np.array(edges, dtype=np.int64)
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     return connected_components(graph, directed=False)[1]
 
@@ -79,21 +82,15 @@ def wake_touched(bodies, manifolds) -> bool:
     this step as movable (otherwise it would act as a wall for one step). Returns True when a
     body was woken.
     """
-    woken = False
-    awake = bodies.body_awake
     n = bodies.count
-    is_dynamic = (bodies.body_motion_type[:n] == DYNAMIC).tolist()
-    pushing = None
-    for (a, b), manifold in manifolds.items():
-        if len(manifold) == 0:
-            continue
-        for sleeper, other in ((a, b), (b, a)):
-            if not is_dynamic[sleeper] or awake[sleeper]:
-                continue
-            if pushing is None:  # built on first need (a sleeper touches something)
-                pushing = _moving_kinematic_mask(bodies, n).tolist()
-            if (is_dynamic[other] and awake[other]) or pushing[other]:
-                awake[sleeper] = True
-                bodies.body_sleep_time[sleeper] = 0.0
-                woken = True
-    return woken
+    a, b = _touching_pairs(manifolds)
+    dynamic = bodies.body_motion_type[:n] == DYNAMIC
+    sleeping = dynamic & ~bodies.body_awake[:n]
+    if not (sleeping[a].any() or sleeping[b].any()):
+        return False
+    # a sleeper wakes when its partner is an awake dynamic body or a moving kinematic one
+    disturbing = (dynamic & bodies.body_awake[:n]) | _moving_kinematic_mask(bodies, n)
+    woken = np.concatenate([a[sleeping[a] & disturbing[b]], b[sleeping[b] & disturbing[a]]])
+    bodies.body_awake[woken] = True
+    bodies.body_sleep_time[woken] = 0.0
+    return len(woken) > 0

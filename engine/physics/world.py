@@ -254,12 +254,19 @@ class PhysicsWorld(WorldApiMixin):
                     self._update_fcl(index, rotation[index])
                     refreshed.add(index)
         self._update_manifolds(touching, rotation)
-        current = {tuple(p) for p in pairs.tolist()}
-        for key in list(self.manifolds):
-            a, c = key
-            if key not in current and (active[a] or active[c] or not b.body_alive[a]
-                                       or not b.body_alive[c]):
-                del self.manifolds[key]
+        self._drop_stale_manifolds(pairs, active)
+
+    def _drop_stale_manifolds(self, pairs: np.ndarray, active: np.ndarray) -> None:
+        """Delete the manifolds of pairs that left the broad phase while one of them moved
+        (or died); a sleeping pair keeps its manifold for when it wakes."""
+        b, n, store = self.bodies, self.bodies.count, self.manifolds
+        rows = store.rows()
+        a, c = store.bodies[rows, 0], store.bodies[rows, 1]
+        # a pair (a, c) as the single integer a n + c, to test membership in one call
+        listed = np.isin(a * n + c, pairs[:, 0] * n + pairs[:, 1])
+        moved = active[a] | active[c] | ~b.body_alive[a] | ~b.body_alive[c]
+        for key in store.bodies[rows[~listed & moved]].tolist():
+            del store[tuple(key)]
 
     def _apart_without_manifold(self, pairs: np.ndarray, pair_list: list,
                                 rotation: np.ndarray) -> set:
