@@ -48,6 +48,7 @@ STAGE_ID = 0
 AABB_MARGIN = 0.005
 #: pairs, fewest candidate pairs for which the oriented-box pre-test pays for its NumPy calls.
 MIN_PAIRS_FOR_BOX_TEST = 8
+_IDENTITY = np.eye(4)
 
 
 class PhysicsWorld(WorldApiMixin):
@@ -80,6 +81,7 @@ class PhysicsWorld(WorldApiMixin):
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._node_pose: dict[int, np.ndarray] = {}
         self._node_stamp: dict[int, tuple] = {}  # see _write_node
+        self._node_written_pose = np.zeros((0, 7))  # see _written_pose
         self._time = 0.0
         self._accumulator = 0.0
         self.n_overlapping_pairs = 0
@@ -365,11 +367,68 @@ class PhysicsWorld(WorldApiMixin):
 
     def _write_nodes(self) -> None:
         """Write the pose of every body that can have moved to its root scene node."""
-        b = self.bodies
+        b, n = self.bodies, self.bodies.count
         parent_cache: dict[int, tuple] = {}  # id(parent) -> (parent, world, inverse, local)
-        for index in list(self.nodes):
-            if b.body_alive[index] and b.body_motion_type[index] != STATIC:
+        pose = np.hstack([b.body_position[:n], b.body_rotation[:n]])
+        moved = (pose != self._written_pose(n)).any(axis=1).tolist()  # since its last write
+        under_root = []  # nodes whose parent is a scene root at the origin
+        for index, node in list(self.nodes.items()):
+            if not b.body_alive[index] or b.body_motion_type[index] == STATIC:
+                continue
+            if not moved[index] and self._node_unchanged(index, parent_cache):
+                continue
+            parent = node.parent
+            if parent is not None and parent._parent is None and np.array_equal(
+                    self._parent_matrices(parent, parent_cache)[0], _IDENTITY):
+                under_root.append(index)
+            else:
                 self._write_node(index, parent_cache)
+        if under_root:
+            self._write_root_children(np.array(under_root, dtype=np.int64))
+
+    def _write_root_children(self, indices: np.ndarray) -> None:
+        """:meth:`_write_node` for nodes whose parent is an identity root, all at once.
+
+        Their local transform is the body pose itself (``local = I^-1 world``), so the
+        node gets the body's translation and quaternion, and its world matrix is
+        ``[R diag(s) | x]`` for its own scaling ``s``.
+        """
+        b = self.bodies
+        position, rotation = b.body_position[indices], b.body_rotation[indices]
+        scaling = np.array([self.nodes[index]._scaling for index in indices.tolist()])
+        pose = np.zeros((len(indices), 4, 4))
+        pose[:, :3, :3] = quat_to_matrix(rotation) * scaling[:, None, :]  # R diag(s)
+        pose[:, :3, 3], pose[:, 3, 3] = position, 1.0
+        self._written_pose(int(indices.max()) + 1)[indices] = np.hstack([position, rotation])
+        for k, index in enumerate(indices.tolist()):
+            node = self.nodes[index]
+            node._translation, node._rotation = position[k], rotation[k]
+            self._node_pose[index] = pose[k]
+            self._node_stamp[index] = (position[k].tobytes(), rotation[k].tobytes(), node.parent,
+                                       node._translation, node._rotation, node._scaling,
+                                       pose[k], _IDENTITY)
+
+    def _written_pose(self, n: int) -> np.ndarray:
+        """``(n, 7)`` body pose [x, q] at each node's last write (NaN: never written)."""
+        if len(self._node_written_pose) < n:
+            grown = np.full((max(n, 2 * len(self._node_written_pose)), 7), np.nan)
+            grown[: len(self._node_written_pose)] = self._node_written_pose
+            self._node_written_pose = grown
+        return self._node_written_pose[:n]
+
+    def _node_unchanged(self, index: int, parent_cache: dict) -> bool:
+        """True when body ``index``'s node, its parent and the parent's pose are as they were
+        at the node's last write (checked by identity: setters replace the stored objects)."""
+        last, node = self._node_stamp.get(index), self.nodes[index]
+        if last is None or node.parent is not last[2]:
+            return False
+        if any(a is not c for a, c in zip(last[3:7], (node._translation, node._rotation,
+                                                      node._scaling, self._node_pose.get(index)),
+                                          strict=True)):
+            return False
+        if node.parent is None:
+            return last[7] is None
+        return np.array_equal(last[7], self._parent_matrices(node.parent, parent_cache)[0])
 
     def _write_node(self, index: int, parent_cache: dict | None = None) -> None:
         """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.
@@ -404,6 +463,8 @@ class PhysicsWorld(WorldApiMixin):
         else:
             pose = node.world_matrix().copy()
         self._node_pose[index] = pose
+        self._written_pose(index + 1)[index] = np.concatenate([b.body_position[index],
+                                                              b.body_rotation[index]])
         self._node_stamp[index] = stamp[:2] + (parent, node._translation, node._rotation,
                                                node._scaling, pose,
                                                None if parent_world is None else parent_world)
