@@ -222,7 +222,7 @@ class FreshPoints:
         """Points ``index (r, k)`` of every row, flagged ``valid (r, k)``."""
         out = object.__new__(FreshPoints)
         for name in ("point_a", "point_b", "normal"):
-            setattr(out, name, np.take_along_axis(getattr(self, name), index[..., None], 1))
+            setattr(out, name, per_row(getattr(self, name), index))
         out.valid = valid
         return out
 
@@ -237,10 +237,10 @@ class LocalPoints:
     def where(self, keep: np.ndarray) -> LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
         order = np.argsort(~keep, axis=1, kind="stable")
-        return LocalPoints(*(np.take_along_axis(array, order[..., None], 1)
+        return LocalPoints(*(per_row(array, order)
                              for array in (self.local_a, self.local_b, self.normal_local,
                                            self.impulse)),
-                           np.take_along_axis(keep, order, 1))
+                           per_row(keep, order))
 
     def world(self, frame_a, frame_b):
         (ra, xa), (rb, xb) = frame_a, frame_b
@@ -271,14 +271,14 @@ def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points) 
                                  preferred)
         chosen = np.where(too_many[:, None], support, fresh.valid)
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
-    return fresh.take(order, np.take_along_axis(chosen, order, 1))
+    return fresh.take(order, per_row(chosen, order))
 
 
 def _distinct(points: FreshPoints, radius: float) -> FreshPoints:
     """Each row's points, deepest first, dropping any within ``radius`` of a kept one."""
     depth = np.where(points.valid, points.depth(), -np.inf)
     by_depth = np.argsort(-depth, axis=1, kind="stable")
-    points = points.take(by_depth, np.take_along_axis(points.valid, by_depth, 1))
+    points = points.take(by_depth, per_row(points.valid, by_depth))
     # |p_i - p_j|^2 between the (at most four) points of each row, in B's world anchors
     dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
     kept = np.zeros_like(points.valid)
@@ -286,7 +286,7 @@ def _distinct(points: FreshPoints, radius: float) -> FreshPoints:
         near_kept = (kept & (dist_sq[:, k] < radius * radius)).any(axis=1)
         kept[:, k] = points.valid[:, k] & ~near_kept
     order = np.argsort(~kept, axis=1, kind="stable")
-    return points.take(order, np.take_along_axis(kept, order, 1))
+    return points.take(order, per_row(kept, order))
 
 
 def _to_local(points: FreshPoints, frame_a, frame_b) -> LocalPoints:
@@ -344,6 +344,11 @@ def _reduce(points: LocalPoints, frame_a, frame_b, max_points) -> LocalPoints:
     return points.where(np.where(over[:, None], chosen, points.valid))
 
 
+def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``array[r, index[r, k]]`` for every row r: reorders ``(r, k, ...)`` slots per row."""
+    return array[np.arange(len(index))[:, None], index]
+
+
 def _masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Per row, the first slot holding the largest valid value (0 for empty rows)."""
     return np.where(valid, values, -np.inf).argmax(axis=1)
@@ -392,7 +397,6 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     remaining = count - chosen.sum(axis=1)
     rest = np.where(valid & ~chosen, depth, -np.inf)
     rank = np.argsort(-rest, axis=1, kind="stable")
-    take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(
-        np.take_along_axis(rest, rank, 1))
-    np.put_along_axis(chosen, rank, np.take_along_axis(chosen, rank, 1) | take, 1)
+    take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(per_row(rest, rank))
+    chosen[np.arange(len(rank))[:, None], rank] |= take
     return chosen
