@@ -108,12 +108,23 @@ def ray_sphere(origin: np.ndarray, direction: np.ndarray, center: np.ndarray, ra
 
 
 def ray_shape(origin_body, direction_body, shape):
-    """Nearest hit ``(t, normal_body)`` of a ray with one shape, in the body frame."""
+    """Hits ``(t (k,), normals_body (k, 3))`` of a ray with one shape, in the body frame.
+
+    Like Bullet's all-hits ray callback: a triangle mesh (the stage) reports every triangle
+    the ray crosses (a crossing through a shared edge counts once), a convex shape only
+    its nearest hit.
+    """
     if shape.kind == "sphere":
-        return ray_sphere(origin_body, direction_body, shape.body_from_shape[:3, 3], shape.radius)
+        t, normal = ray_sphere(origin_body, direction_body, shape.body_from_shape[:3, 3],
+                               shape.radius)
+        return np.array([t]), normal[None]
     t, normal = ray_triangles(origin_body, direction_body, shape.ray_triangles)
-    best = int(np.argmin(t))
-    return t[best], normal[best]
+    if shape.kind != "mesh":
+        best = int(np.argmin(t))
+        return t[best:best + 1], normal[best:best + 1]
+    hit = np.flatnonzero(np.isfinite(t))
+    _, first = np.unique(t[hit], return_index=True)  # sorted by t, one per distance
+    return t[hit[first]], normal[hit[first]]
 
 
 def cast_ray_bodies(bodies, candidates, origin, direction, max_distance):
@@ -130,13 +141,10 @@ def cast_ray_bodies(bodies, candidates, origin, direction, max_distance):
         position = bodies.body_position[index]
         origin_body = (origin - position) @ rotation  # R^T (o - x)
         direction_body = direction @ rotation
-        best_t, best_normal = np.inf, None
         for shape in bodies.shapes[index]:
-            t, normal = ray_shape(origin_body, direction_body, shape)
-            if t < best_t:
-                best_t, best_normal = t, normal
-        if best_t <= max_distance:
-            hits.append((float(best_t), int(index), origin + best_t * direction,
-                         rotation @ best_normal))
+            distances, normals = ray_shape(origin_body, direction_body, shape)
+            for t, normal in zip(distances.tolist(), normals, strict=True):
+                if t <= max_distance:
+                    hits.append((t, int(index), origin + t * direction, rotation @ normal))
     hits.sort(key=lambda hit: (hit[0], hit[1]))
     return hits

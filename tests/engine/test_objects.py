@@ -256,7 +256,7 @@ def test_ray_cast_hits_a_cube_and_the_stage(test_assets):
         assert down.hits[0].object_id == 0  # the stage
         assert down.hits[0].ray_distance == pytest.approx(1.5)
         hits = sim.cast_ray(Ray([2.0, 3.0, 2.0], [0.0, -1.0, 0.0])).hits
-        # one hit per body, nearest first: the cube's top face, then the stage
+        # nearest first: the cube's top face (a convex body reports one hit), then the stage
         assert [h.object_id for h in hits] == [cube.object_id, 0]
         np.testing.assert_allclose([h.ray_distance for h in hits], [2.4, 3.0], atol=1e-9)
 
