@@ -98,6 +98,9 @@ SLEEP_LINEAR_VELOCITY = 0.05
 SLEEP_ANGULAR_VELOCITY = 0.1
 #: s, an island sleeps after all its bodies have rested this long.
 TIME_TO_SLEEP = 0.5
+#: m, a body with a contact deeper than this is still being pushed apart by the position
+#: solve (whose pseudo velocities the rest test cannot see), so it does not count as resting.
+SLEEP_MAX_PENETRATION = 0.01
 
 # --- robustness -------------------------------------------------------------------------
 #: m/s, linear speeds are clamped to this (keeps a bad impulse from launching a body).

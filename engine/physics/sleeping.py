@@ -4,7 +4,8 @@ A dynamic body is *resting* while ``|v| < SLEEP_LINEAR_VELOCITY`` and
 ``|w| < SLEEP_ANGULAR_VELOCITY``; its ``body_sleep_time`` counts how long. Bodies joined by
 contact manifolds form islands (connected components of the contact graph between dynamic
 bodies; static and kinematic bodies do not join islands). An island falls asleep when its
-least-rested body has rested ``TIME_TO_SLEEP`` seconds: velocities are zeroed and the solver
+least-rested body has rested ``TIME_TO_SLEEP`` seconds (a body still overlapping another by
+more than ``SLEEP_MAX_PENETRATION`` is not resting): velocities are zeroed and the solver
 treats its bodies as static until woken. A sleeping body in an island that also holds an
 awake, non-resting body is woken, so a moving body wakes whatever it touches; touching a
 moving kinematic body resets the rest timer.
@@ -20,8 +21,12 @@ from . import settings
 from .bodies import DYNAMIC, KINEMATIC
 
 
-def update_sleep(bodies, manifolds, h: float) -> None:
-    """Advance rest timers, then put resting islands to sleep and wake disturbed ones."""
+def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = None) -> None:
+    """Advance rest timers, then put resting islands to sleep and wake disturbed ones.
+
+    ``overlapping``: bodies with a contact deeper than ``SLEEP_MAX_PENETRATION``; they do
+    not count as resting while the position solve separates them.
+    """
     n = bodies.count
     dynamic = bodies.body_alive[:n] & (bodies.body_motion_type[:n] == DYNAMIC)
     awake = dynamic & bodies.body_awake[:n]
@@ -34,6 +39,8 @@ def update_sleep(bodies, manifolds, h: float) -> None:
     time = bodies.body_sleep_time[:n]
     time[awake & slow] += h
     time[awake & ~slow] = 0.0
+    if overlapping is not None:
+        time[overlapping] = 0.0
     a, b = _touching_pairs(manifolds)
     joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
     edges = np.stack([a[joined], b[joined]], axis=1)

@@ -209,12 +209,20 @@ class PhysicsWorld(WorldApiMixin):
         integrate_positions(b, moving, h, extra_lin, extra_ang)
         sweep_fast_bodies(self, moving, old_position)
         # ---- 5. sleep: resting islands fall asleep, disturbed ones wake --------------------
-        update_sleep(b, self.manifolds, h)
+        update_sleep(b, self.manifolds, h, self._overlapping_bodies())
         end = clock()
         for name, t0, t1 in (("forces", start, t_forces), ("collide", t_forces, t_collide),
                              ("solve", t_collide, t_solve), ("integrate+sleep", t_solve, end)):
             self.profile[name] += t1 - t0
         self.last_step = end - start
+
+    def _overlapping_bodies(self) -> np.ndarray | None:
+        """Bodies of this step's solved contacts deeper than ``SLEEP_MAX_PENETRATION``."""
+        batch = getattr(self, "last_batch", None)
+        if batch is None:
+            return None
+        deep = batch.depth.max(axis=1) > constants.SLEEP_MAX_PENETRATION
+        return batch.pair_index[deep].ravel()
 
     def _awake_dynamic(self) -> np.ndarray:
         b, n = self.bodies, self.bodies.count
