@@ -18,8 +18,13 @@ manifolds of one color touch distinct dynamic bodies and are solved by one NumPy
 colors remain Gauss-Seidel. The (up to) four points of one manifold share their bodies: they
 are solved together as a Jacobi block with *mass splitting* (Tonge et al. 2012): each point
 sees ``n_points x`` the inverse mass, i.e. ``m_eff / n_points``, which keeps the block
-convergent. :func:`solve_contacts_scalar` runs the very same algebra with plain loops; a
-test checks both agree.
+convergent. :func:`solve_velocities_scalar` runs the very same algebra with plain loops; a
+test checks both agree (to rounding: the sums run in a different order).
+
+The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the inner loop
+is kept to few calls: each color's :class:`RowBlock` views are made once per batch, body
+velocities are gathered with one flat index, and the normal clamp is written as
+``d_lambda = max(d_lambda, -lambda)``, the same as clamping ``lambda + d_lambda >= 0``.
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
 pushes penetrations deeper than ``PENETRATION_SLOP`` apart at ``beta (depth - slop) / h``;
@@ -30,7 +35,7 @@ faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -49,7 +54,10 @@ class ContactBatch:
     ``tangent_jac (m, 2S, 12)``, ``tangent_w (m, 12, 2S)``, ``tangent_mass (m, 2S)``;
     ``friction (m, 1)``, ``restitution (m, 1)``; ``depth``, ``approach_speed (m, S)``;
     ``impulse (m, S, 3)`` accumulated (normal, t1, t2) in N s; ``color_slices`` list of
-    ``(start, stop)`` into the manifold axis.
+    ``(start, stop)`` into the manifold axis. For the vectorized loop: ``neg_normal_mass
+    (m, S, 1)``, ``neg_tangent_mass (m, 2S, 1)`` (``-m_eff``), ``point_friction (m, S, 1)``
+    (``friction`` per slot) and ``colors``, the :class:`ColorBlocks` of each color, keyed by
+    ``block_jacobi`` (filled on first use).
     """
 
     body_a: np.ndarray
@@ -70,6 +78,42 @@ class ContactBatch:
     color_points: list
     pair_index: np.ndarray
     split: np.ndarray
+    neg_normal_mass: np.ndarray
+    neg_tangent_mass: np.ndarray
+    point_friction: np.ndarray
+    colors: dict = field(default_factory=dict)
+
+
+@dataclass
+class RowBlock:
+    """One NumPy batch of the solver loop: ``k`` manifolds of one color, ``r`` point slots.
+
+    ``normal_index = (manifolds, slots)`` slices the ``(m, S, ...)`` arrays,
+    ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
+    are views made once per batch (not per iteration), so the inner loop only does algebra.
+    Shapes: ``normal_jac (k, r, 12)``, ``normal_w (k, 12, r)``, ``neg_normal_mass (k, r, 1)``
+    (``-m_eff``), ``friction (k, r, 1)``, ``tangent_jac (k, 2r, 12)``,
+    ``tangent_w (k, 12, 2r)``, ``neg_tangent_mass (k, 2r, 1)``.
+    """
+
+    normal_index: tuple[slice, slice]
+    tangent_index: tuple[slice, slice]
+    normal_jac: np.ndarray
+    normal_w: np.ndarray
+    neg_normal_mass: np.ndarray
+    friction: np.ndarray
+    tangent_jac: np.ndarray
+    tangent_w: np.ndarray
+    neg_tangent_mass: np.ndarray
+
+
+@dataclass
+class ColorBlocks:
+    """One graph color: ``gather (k, 12, 1)`` indices of [v_a, w_a, v_b, w_b] into the
+    flattened ``(n * 6,)`` velocities, and its row blocks (one, or one per slot)."""
+
+    gather: np.ndarray
+    blocks: list[RowBlock]
 
 
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -88,10 +132,11 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
     ra_x_d, rb_x_d = cross(r_a, direction), cross(r_b, direction)
     jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
+    # (I^-1 x)^T = x^T I^-T for the S rows of each manifold: one stacked matmul
     w = np.concatenate([-direction * inv_mass_a[:, None, None],
-                        -np.einsum("mij,msj->msi", inv_inertia_a, ra_x_d),
+                        -ra_x_d @ np.swapaxes(inv_inertia_a, 1, 2),
                         direction * inv_mass_b[:, None, None],
-                        np.einsum("mij,msj->msi", inv_inertia_b, rb_x_d)], axis=-1)
+                        rb_x_d @ np.swapaxes(inv_inertia_b, 1, 2)], axis=-1)
     return jac, w
 
 
@@ -137,7 +182,9 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1), split)
+                        np.stack([body_a, body_b], axis=1), split,
+                        -normal_mass[..., None], -tangent_mass[..., None],
+                        np.repeat(friction[:, None, None], SLOTS, axis=1))
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -149,95 +196,125 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
 
-def _gather(velocity, batch, s):
-    """Velocities ``(k, 12)`` = [v_a, w_a, v_b, w_b] of the manifolds ``s`` of one color.
+def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
+    """The colors of the batch as :class:`ColorBlocks`, made once and cached on the batch.
+
+    Block Jacobi solves all slots of a color at once (one block); Gauss-Seidel over the
+    slots makes one block per used slot, solved in slot order.
+    """
+    if block_jacobi not in batch.colors:
+        colors = []
+        for color, (start, stop) in enumerate(batch.color_slices):
+            s = slice(start, stop)
+            slots = ([slice(None)] if block_jacobi
+                     else [slice(k, k + 1) for k in range(batch.color_points[color])])
+            # flat index of component c of body b: 6 b + c
+            gather = 6 * batch.pair_index[s, :, None] + np.arange(6)
+            colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
+                                      [_row_block(batch, s, rows) for rows in slots]))
+        batch.colors[block_jacobi] = colors
+    return batch.colors[block_jacobi]
+
+
+def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
+    """Views of the manifolds ``s``, point slots ``rows`` and their tangent rows."""
+    t_rows = rows if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
+    return RowBlock((s, rows), (s, t_rows), batch.normal_jac[s, rows],
+                    batch.normal_w[s, :, rows], batch.neg_normal_mass[s, rows],
+                    batch.point_friction[s, rows], batch.tangent_jac[s, t_rows],
+                    batch.tangent_w[s, :, t_rows], batch.neg_tangent_mass[s, t_rows])
+
+
+def _gather(flat_velocity, color):
+    """Velocities ``(k, 12, 1)`` = [v_a, w_a, v_b, w_b] of the manifolds of one color.
 
     The bodies of one color are distinct (static ones excepted, whose rows of W are zero),
     so the color can be solved on this local copy and written back once (:func:`_scatter`).
     """
-    return velocity[batch.pair_index[s]].reshape(-1, 12)
+    return flat_velocity[color.gather]
 
 
-def _scatter(velocity, batch, s, vab):
-    velocity[batch.pair_index[s]] = vab.reshape(-1, 2, 6)
+def _scatter(flat_velocity, color, vab):
+    flat_velocity[color.gather] = vab
 
 
-def _normal_rows(batch, s, vab, bias, lam, accumulate, rows):
-    """One normal-impulse update of point slots ``rows``; updates ``vab`` in place."""
-    vn = (batch.normal_jac[s, rows] @ vab[:, :, None])[..., 0]  # v_n = J V
-    step = -batch.normal_mass[s, rows] * (vn + bias[s, rows])  # d_lambda = -m_eff (J V + b)
-    old = lam[s, rows]
+def _normal_rows(block, vab, bias, lam, accumulate):
+    """One normal-impulse update of a block; updates ``vab (k, 12, 1)`` and ``lam`` in place."""
+    vn = block.normal_jac @ vab  # v_n = J V, (k, r, 1)
+    step = block.neg_normal_mass * (vn + bias)  # d_lambda = -m_eff (J V + b)
     if accumulate:
-        new = np.maximum(old + step, 0.0)  # clamp the accumulated impulse
-        step = new - old
+        step = np.maximum(step, -lam)  # clamp: the accumulated lam + d_lambda stays >= 0
     else:
         step = np.maximum(step, 0.0)  # clamp each increment (box2d-lite's toggle)
-        new = old + step
-    lam[s, rows] = new
-    vab += (batch.normal_w[s, :, rows] @ step[:, :, None])[..., 0]  # V += W d_lambda
+    lam += step
+    vab += block.normal_w @ step  # V += W d_lambda
 
 
-def _friction_rows(batch, s, vab, accumulate, rows):
-    """Friction update of point slots ``rows``: 2-D impulse clamped to the Coulomb circle."""
-    tangent_rows = slice(None) if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
-    vt = (batch.tangent_jac[s, tangent_rows] @ vab[:, :, None])[..., 0]
-    old = batch.impulse[s, rows, 1:]
-    step = (-batch.tangent_mass[s, tangent_rows] * vt).reshape(old.shape)
-    limit = batch.friction[s] * batch.impulse[s, rows, 0]  # |lambda_t| <= mu lambda_n
-    new = old + step if accumulate else step
-    norm = np.sqrt((new * new).sum(axis=-1))
-    new = new * np.minimum(1.0, limit / np.maximum(norm, 1e-300))[..., None]
-    step = new - old if accumulate else new
-    batch.impulse[s, rows, 1:] = old + step
-    vab += (batch.tangent_w[s, :, tangent_rows] @ step.reshape(len(vab), -1, 1))[..., 0]
+def _friction_rows(block, vab, lam_n, lam_t, accumulate):
+    """Friction update of a block; ``lam_t (k, 2r, 1)`` holds (t1, t2) of each slot.
 
-
-def _slot_rows(batch, color, options):
-    """Row groups solved together: all slots (block Jacobi) or one slot at a time (GS)."""
-    if options.block_jacobi:
-        return [slice(None)]
-    return [slice(k, k + 1) for k in range(batch.color_points[color])]
+    The 2-D impulse of a slot is clamped to the Coulomb circle ``|lambda_t| <= mu lambda_n``.
+    """
+    step = block.neg_tangent_mass * (block.tangent_jac @ vab)  # d_lambda = -m_t J_t V
+    new = lam_t + step if accumulate else step
+    limit = block.friction * lam_n  # mu lambda_n, (k, r, 1)
+    norm = np.hypot(new[:, 0::2], new[:, 1::2])  # |lambda_t| = sqrt(t1^2 + t2^2), (k, r, 1)
+    scale = np.minimum(1.0, limit / np.maximum(norm, 1e-300))  # back onto the circle
+    new *= scale.repeat(2, axis=1)  # the same scale for t1 and t2
+    step = new - lam_t if accumulate else new
+    lam_t += step
+    vab += block.tangent_w @ step  # V += W_t d_lambda
 
 
 def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
     """Velocity iterations (normal then friction per color), then the restitution pass."""
+    flat = velocity.reshape(-1)  # (n * 6,), a view when velocity is contiguous
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
-    bias = np.maximum(-batch.depth, 0.0) / h
-    lam = batch.impulse[:, :, 0].copy()
-    groups = [_slot_rows(batch, c, options) for c in range(len(batch.color_slices))]
+    bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
+    lam_n = batch.impulse[..., :1].copy()  # (m, S, 1) normal impulses
+    lam_t = batch.impulse[..., 1:].reshape(len(lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy: t1, t2
+    colors = _color_blocks(batch, options.block_jacobi)
+    work = [[(block, bias[block.normal_index], lam_n[block.normal_index],
+              lam_t[block.tangent_index]) for block in color.blocks] for color in colors]
     accumulate = options.accumulate_impulses
     for _ in range(options.velocity_iterations):
-        for color, (start, stop) in enumerate(batch.color_slices):
-            s = slice(start, stop)
-            vab = _gather(velocity, batch, s)
-            for rows in groups[color]:
-                _normal_rows(batch, s, vab, bias, lam, accumulate, rows)
-                batch.impulse[s, rows, 0] = lam[s, rows]
-                _friction_rows(batch, s, vab, accumulate, rows)
-            _scatter(velocity, batch, s, vab)
+        for color, blocks in zip(colors, work, strict=True):
+            vab = _gather(flat, color)
+            for block, b, ln, lt in blocks:
+                _normal_rows(block, vab, b, ln, accumulate)
+                _friction_rows(block, vab, ln, lt, accumulate)
+            _scatter(flat, color, vab)
+    _restitution(batch, flat, colors, lam_n)
+    batch.impulse[..., :1] = lam_n
+    batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
+    velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
+
+
+def _restitution(batch, flat, colors, lam_n):
+    """Bounce pass: target ``v_n = -e v_n0`` on the loaded, fast-approaching points."""
     fast = batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
-    bounce = (batch.restitution > 0) & fast & (lam > 0)
-    if bounce.any():
-        # target v_n = -e v_n0, i.e. bias b = e v_n0 on the loaded, fast-approaching points
-        target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)
-        for color, (start, stop) in enumerate(batch.color_slices):
-            s = slice(start, stop)
-            vab = _gather(velocity, batch, s)
-            for rows in groups[color]:
-                _restitution_rows(batch, s, vab, target, lam, rows)
-            _scatter(velocity, batch, s, vab)
-    batch.impulse[:, :, 0] = lam
+    bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
+    if not bounce.any():
+        return
+    # bias b = e v_n0 where bouncing, NaN marks the other points
+    target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)[..., None]
+    for color in colors:
+        vab = _gather(flat, color)
+        for block in color.blocks:
+            index = block.normal_index
+            _restitution_rows(block, vab, target[index], lam_n[index])
+        _scatter(flat, color, vab)
 
 
-def _restitution_rows(batch, s, vab, target, lam, rows):
-    active = ~np.isnan(target[s, rows])
-    vn = (batch.normal_jac[s, rows] @ vab[:, :, None])[..., 0]
-    goal = np.where(active, target[s, rows], 0.0)
-    step = np.where(active, -batch.normal_mass[s, rows] * (vn + goal), 0.0)
-    new = np.maximum(lam[s, rows] + step, 0.0)
-    step = new - lam[s, rows]
-    lam[s, rows] = new
-    vab += (batch.normal_w[s, :, rows] @ step[:, :, None])[..., 0]
+def _restitution_rows(block, vab, target, lam):
+    active = ~np.isnan(target)
+    vn = block.normal_jac @ vab
+    goal = np.where(active, target, 0.0)
+    step = np.where(active, block.neg_normal_mass * (vn + goal), 0.0)
+    new = np.maximum(lam + step, 0.0)
+    step = new - lam
+    lam[...] = new
+    vab += block.normal_w @ step
 
 
 def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
@@ -245,17 +322,21 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
     pseudo = np.zeros((n_bodies, 6))
     if not options.position_correction or options.position_iterations == 0:
         return pseudo
+    flat = pseudo.reshape(-1)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
     excess = np.maximum(batch.depth - constants.PENETRATION_SLOP, 0.0)
     target = np.minimum(constants.POSITION_BAUMGARTE * excess / h, constants.MAX_CORRECTION_SPEED)
-    lam = np.zeros_like(batch.depth)
+    bias = -target[..., None]  # b = -target: drive v_n towards +target
+    lam = np.zeros_like(bias)
+    colors = _color_blocks(batch, options.block_jacobi)
+    work = [[(block, bias[block.normal_index], lam[block.normal_index])
+             for block in color.blocks] for color in colors]
     for _ in range(options.position_iterations):
-        for color, (start, stop) in enumerate(batch.color_slices):
-            s = slice(start, stop)
-            vab = _gather(pseudo, batch, s)
-            for rows in _slot_rows(batch, color, options):
-                _normal_rows(batch, s, vab, -target, lam, True, rows)
-            _scatter(pseudo, batch, s, vab)
+        for color, blocks in zip(colors, work, strict=True):
+            vab = _gather(flat, color)
+            for block, b, block_lam in blocks:
+                _normal_rows(block, vab, b, block_lam, True)
+            _scatter(flat, color, vab)
     return pseudo
 
 
