@@ -155,6 +155,31 @@ class PhysicsWorld(WorldApiMixin):
             if probe is not None:
                 probe.setTransform(transform)
 
+    def _update_fcl_many(self, indices: np.ndarray, rotation: np.ndarray) -> None:
+        """:meth:`_update_fcl` for many bodies: all shape poses in one batch, then fcl."""
+        b = self.bodies
+        owners, objects, offsets = [], [], []
+        for index in indices.tolist():
+            for shape, obj, probe in zip(b.shapes[index], self.fcl_objects[index],
+                                         self.probe_objects[index], strict=True):
+                owners.append(index)
+                objects.append((obj, probe))
+                offsets.append(shape.body_from_shape)
+        if not owners:
+            return
+        offset = np.array(offsets)
+        r = rotation[owners]
+        # world_from_shape = [R R_off | R t_off + x] for every shape at once
+        shape_rotation = r @ offset[:, :3, :3]
+        shape_position = (r @ offset[:, :3, 3:])[..., 0] + b.body_position[owners]
+        for (obj, probe), rot, pos in zip(objects, shape_rotation, shape_position,
+                                          strict=True):
+            obj.setRotation(rot)
+            obj.setTranslation(pos)
+            if probe is not None:
+                probe.setRotation(rot)
+                probe.setTranslation(pos)
+
     # ------------------------------------------------------------------------------------
     # stepping
     # ------------------------------------------------------------------------------------
@@ -256,13 +281,10 @@ class PhysicsWorld(WorldApiMixin):
         pair_list = pairs.tolist()
         apart = self._apart_without_manifold(pairs, pair_list, rotation)
         self.profile["broad phase"] += timer.perf_counter() - start
-        refreshed = set()
         touching = [pair for k, pair in enumerate(pair_list) if k not in apart]
-        for a, c in touching:
-            for index in (a, c):
-                if index not in refreshed and index != STAGE_ID:
-                    self._update_fcl(index, rotation[index])
-                    refreshed.add(index)
+        if touching:
+            involved = np.unique(np.array(touching))
+            self._update_fcl_many(involved[involved != STAGE_ID], rotation)
         self._update_manifolds(touching, rotation)
         self._drop_stale_manifolds(pairs, active)
 
