@@ -105,18 +105,29 @@ def boxes_separated(center_a: np.ndarray, rotation_a: np.ndarray, half_a: np.nda
     return apart
 
 
-def fcl_contacts(object_a, object_b) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """fcl's contacts of two collision objects: midpoints, normals A->B, depths, b1 ids."""
+def fcl_raw_contacts(object_a, object_b) -> list:
+    """fcl's contact records of two collision objects (empty list when apart)."""
     result = fcl.CollisionResult()
     if fcl.collide(object_a, object_b, _REQUEST, result) == 0:
+        return []
+    return result.contacts
+
+
+def contact_arrays(contacts: list) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """fcl contact records as arrays: midpoints, normals A->B, depths, b1 (triangle) ids."""
+    if not contacts:
         empty = np.zeros((0, 3))
         return empty, empty, np.zeros(0), np.zeros(0, dtype=np.int64)
-    contacts = result.contacts
     pos = np.array([c.pos for c in contacts])
     normal = np.array([c.normal for c in contacts])
     depth = np.abs(np.array([c.penetration_depth for c in contacts]))
     ids = np.array([c.b1 for c in contacts], dtype=np.int64)
     return pos, normal, depth, ids
+
+
+def fcl_contacts(object_a, object_b) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """fcl's contacts of two collision objects: midpoints, normals A->B, depths, b1 ids."""
+    return contact_arrays(fcl_raw_contacts(object_a, object_b))
 
 
 def _midpoint_contacts(mid, normals, depths):

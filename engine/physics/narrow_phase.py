@@ -20,11 +20,19 @@ would produce them (shape pairs in body order, A's reference points before B's).
 from __future__ import annotations
 
 from collections import defaultdict
+from itertools import chain
 
 import numpy as np
 
 from . import settings
-from .collide import _POLYHEDRA, _midpoint_contacts, _triangle_table, fcl_contacts, round_contacts
+from .collide import (
+    _POLYHEDRA,
+    _midpoint_contacts,
+    _triangle_table,
+    contact_arrays,
+    fcl_raw_contacts,
+    round_contacts,
+)
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
 
@@ -66,13 +74,13 @@ def narrow_phase(world, pairs: list, rotation: np.ndarray):
                 seq = len(pair_of_seq)
                 pair_of_seq.append(position)
                 if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
-                    found = fcl_contacts(obj_a, probe_c)  # the triangles near C's hull
-                    if len(found[2]):
+                    found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
+                    if found:
                         key = len(shape_c.hull_vertices)
                         jobs["stage"][key].append((seq, shape_a, shape_c, c, found))
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
-                    found = fcl_contacts(obj_a, obj_c)
-                    if len(found[2]):
+                    found = fcl_raw_contacts(obj_a, obj_c)
+                    if found:
                         key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
                                len(shape_c.hull_vertices), len(shape_c.plane_normals))
                         jobs["polyhedra"][key].append((seq, shape_a, a, shape_c, c, found))
@@ -103,7 +111,8 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     stage = jobs[0][1]
     table = _triangle_table(stage)
     seq = np.array([job[0] for job in jobs], dtype=np.int64)
-    ids = _touched_triangles([job[4][3] for job in jobs], len(stage.ray_triangles))
+    ids = _touched_triangles([[c.b1 for c in job[4]] for job in jobs],
+                             len(stage.ray_triangles))
     tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
     r, x = _pose(jobs, 3, rotation, position)
     hull = np.stack([job[2].hull_vertices for job in jobs])
@@ -129,7 +138,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
     for k in np.flatnonzero(~candidate.any(axis=(1, 2))).tolist():
         # an edge crossing a face: fcl's points with the first triangle's normal
-        mid, _, depths, _ = jobs[k][4]
+        mid, _, depths, _ = contact_arrays(jobs[k][4])
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts.add_one(seq[k], _midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)),
                                                     depths))
@@ -140,8 +149,9 @@ def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:
 
     Rows are padded by repeating their last id (a duplicate triangle changes no result).
     """
-    job = np.repeat(np.arange(len(triangle_ids)), [len(ids) for ids in triangle_ids])
-    tri = np.concatenate(triangle_ids)
+    lengths = [len(ids) for ids in triangle_ids]
+    job = np.repeat(np.arange(len(triangle_ids)), lengths)
+    tri = np.fromiter(chain.from_iterable(triangle_ids), dtype=np.int64, count=sum(lengths))
     # one key per (job, triangle): unique keys are sorted by job, then by triangle
     key = np.unique((job * n_triangles + tri)[tri >= 0])
     job, tri = np.divmod(key, n_triangles)
@@ -169,7 +179,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts."""
     seq = np.array([job[0] for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces
-    n = np.stack([job[5][1][np.argmax(job[5][2])] for job in jobs])
+    n = np.array([max(job[5], key=lambda c: abs(c.penetration_depth)).normal for job in jobs])
     frame_a, frame_b = _pose(jobs, 2, rotation, position), _pose(jobs, 4, rotation, position)
     shapes_a, shapes_b = [job[1] for job in jobs], [job[3] for job in jobs]
     found = np.zeros(len(jobs), dtype=bool)
@@ -188,7 +198,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
         else:
             contacts.add(seq[g], local, verts[g, v], on_face, contact_normal)
     for k in np.flatnonzero(~found).tolist():  # no face faces the other body: fcl's points
-        mid, normals, depths, _ = jobs[k][5]
+        mid, normals, depths, _ = contact_arrays(jobs[k][5])
         contacts.add_one(seq[k], _midpoint_contacts(mid, normals, depths))
 
 
