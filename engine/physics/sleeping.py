@@ -42,13 +42,14 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
     if overlapping is not None:
         time[overlapping] = 0.0
     a, b = _touching_pairs(manifolds)
-    joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
-    edges = np.stack([a[joined], b[joined]], axis=1)
     # a dynamic body touching a moving kinematic one is being pushed: it is not resting
     pushing = _moving_kinematic_mask(bodies, n)
     time[a[dynamic[a] & pushing[b]]] = 0.0
     time[b[dynamic[b] & pushing[a]]] = 0.0
-    labels = _island_labels(n, edges)
+    if not (awake & (time >= settings.TIME_TO_SLEEP)).any() and awake.sum() == dynamic.sum():
+        return  # no body rested long enough and none sleeps: the islands change nothing
+    joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
+    labels = _island_labels(n, np.stack([a[joined], b[joined]], axis=1))
     island_rest = np.full(n, np.inf)
     np.minimum.at(island_rest, labels[dynamic], time[dynamic])
     asleep = dynamic & (island_rest[labels] >= settings.TIME_TO_SLEEP)
