@@ -117,14 +117,14 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     r, x = _pose(jobs, 3, rotation, position)
     hull = np.stack([job[2].hull_vertices for job in jobs])
     verts = _to_world(r, x, hull)  # (g, V, 3)
-    # triangle normals face the hull's vertex centroid (inside any convex hull)
-    inside = verts.mean(axis=1)
     normal = table["normal"][ids]
-    side = ((inside[:, None] - tris[:, :, 0]) * normal).sum(axis=2)  # (c - p0) . n
-    normal = normal * np.where(side < 0, -1.0, 1.0)[..., None]
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = (np.einsum("gti,gvi->gtv", normal, verts)
               - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
+    # each normal faces the side holding the middle of the hull's extent along it (robust
+    # for any vertex distribution and COM, and for bodies sunk in by less than half)
+    side = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)  # (g, T)
+    normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
     candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
