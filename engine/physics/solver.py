@@ -54,10 +54,8 @@ class ContactBatch:
     ``tangent_jac (m, 2S, 12)``, ``tangent_w (m, 12, 2S)``, ``tangent_mass (m, 2S)``;
     ``friction (m, 1)``, ``restitution (m, 1)``; ``depth``, ``approach_speed (m, S)``;
     ``impulse (m, S, 3)`` accumulated (normal, t1, t2) in N s; ``color_slices`` list of
-    ``(start, stop)`` into the manifold axis. For the vectorized loop: ``neg_normal_mass
-    (m, S, 1)``, ``neg_tangent_mass (m, 2S, 1)`` (``-m_eff``), ``point_friction (m, S, 1)``
-    (``friction`` per slot) and ``colors``, the :class:`ColorBlocks` of each color, keyed by
-    ``block_jacobi`` (filled on first use).
+    ``(start, stop)`` into the manifold axis. For the vectorized loop: ``colors``, the
+    :class:`ColorBlocks` of each color, keyed by ``block_jacobi`` (filled on first use).
     """
 
     body_a: np.ndarray
@@ -78,9 +76,6 @@ class ContactBatch:
     color_points: list
     pair_index: np.ndarray
     split: np.ndarray
-    neg_normal_mass: np.ndarray
-    neg_tangent_mass: np.ndarray
-    point_friction: np.ndarray
     colors: dict = field(default_factory=dict)
 
 
@@ -90,9 +85,9 @@ class RowBlock:
 
     ``normal_index = (manifolds, slots)`` slices the ``(m, S, ...)`` arrays,
     ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
-    are views made once per batch (not per iteration), so the inner loop only does algebra.
-    Shapes: ``normal_jac (k, r, 12)``, ``normal_w (k, 12, r)``, ``neg_normal_mass (k, r, 1)``
-    (``-m_eff``), ``friction (k, r, 1)``, ``tangent_jac (k, 2r, 12)``,
+    are views (or small copies) made once per batch, not per iteration, so the inner loop
+    only does algebra. Shapes: ``normal_jac (k, r, 12)``, ``normal_w (k, 12, r)``,
+    ``neg_normal_mass (k, r, 1)`` (``-m_eff``), ``friction (k, 1, 1)``, ``tangent_jac (k, 2r, 12)``,
     ``tangent_w (k, 12, 2r)``, ``neg_tangent_mass (k, 2r, 1)``.
     """
 
@@ -182,9 +177,7 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1), split,
-                        -normal_mass[..., None], -tangent_mass[..., None],
-                        np.repeat(friction[:, None, None], SLOTS, axis=1))
+                        np.stack([body_a, body_b], axis=1), split)
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -220,9 +213,9 @@ def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
     """Views of the manifolds ``s``, point slots ``rows`` and their tangent rows."""
     t_rows = rows if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
     return RowBlock((s, rows), (s, t_rows), batch.normal_jac[s, rows],
-                    batch.normal_w[s, :, rows], batch.neg_normal_mass[s, rows],
-                    batch.point_friction[s, rows], batch.tangent_jac[s, t_rows],
-                    batch.tangent_w[s, :, t_rows], batch.neg_tangent_mass[s, t_rows])
+                    batch.normal_w[s, :, rows], -batch.normal_mass[s, rows][..., None],
+                    batch.friction[s][:, :, None], batch.tangent_jac[s, t_rows],
+                    batch.tangent_w[s, :, t_rows], -batch.tangent_mass[s, t_rows][..., None])
 
 
 def _gather(flat_velocity, color):
