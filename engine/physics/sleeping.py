@@ -43,7 +43,7 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
         time[overlapping] = 0.0
     a, b = _touching_pairs(manifolds)
     # a dynamic body touching a moving kinematic one is being pushed: it is not resting
-    pushing = _moving_kinematic_mask(bodies, n)
+    pushing = moving_kinematic_mask(bodies, n)
     time[a[dynamic[a] & pushing[b]]] = 0.0
     time[b[dynamic[b] & pushing[a]]] = 0.0
     if not (awake & (time >= settings.TIME_TO_SLEEP)).any() and awake.sum() == dynamic.sum():
@@ -61,7 +61,7 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
     bodies.body_awake[:n] = np.where(dynamic, ~asleep, bodies.body_awake[:n])
 
 
-def _moving_kinematic_mask(bodies, n: int) -> np.ndarray:
+def moving_kinematic_mask(bodies, n: int) -> np.ndarray:
     """(n,) bool: KINEMATIC bodies with a non-zero velocity-control velocity."""
     moving = (bodies.body_solver_velocity[:n] != 0).any(1) | (
         bodies.body_solver_angular_velocity[:n] != 0).any(1)
@@ -97,7 +97,7 @@ def wake_touched(bodies, manifolds) -> bool:
     if not (sleeping[a].any() or sleeping[b].any()):
         return False
     # a sleeper wakes when its partner is an awake dynamic body or a moving kinematic one
-    disturbing = (dynamic & bodies.body_awake[:n]) | _moving_kinematic_mask(bodies, n)
+    disturbing = (dynamic & bodies.body_awake[:n]) | moving_kinematic_mask(bodies, n)
     woken = np.concatenate([a[sleeping[a] & disturbing[b]], b[sleeping[b] & disturbing[a]]])
     bodies.body_awake[woken] = True
     bodies.body_sleep_time[woken] = 0.0

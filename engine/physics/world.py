@@ -37,7 +37,7 @@ from .narrow_phase import narrow_phase
 from .quaternions import matrix_to_quat, quat_to_matrix
 from .settings import SolverSettings
 from .shapes import mesh_shape, probe_geometry
-from .sleeping import update_sleep, wake_touched
+from .sleeping import moving_kinematic_mask, update_sleep, wake_touched
 from .solve_stage import solve_stage
 from .sweep import sweep_fast_bodies
 from .world_api import WorldApiMixin
@@ -86,6 +86,7 @@ class PhysicsWorld(WorldApiMixin):
         self._accumulator = 0.0
         self.n_overlapping_pairs = 0
         self.last_step = 0.0
+        self.last_batch = None  # the solver's last ContactBatch (see solve_stage)
         self.profile: dict[str, float] = defaultdict(float)
         self.rigid_object_manager = RigidObjectManager(self, object_template_manager, root_node)
 
@@ -141,37 +142,28 @@ class PhysicsWorld(WorldApiMixin):
         self._update_fcl(index)
 
     def _update_fcl(self, index: int, rotation: np.ndarray | None = None) -> None:
-        """Move body ``index``'s fcl objects to its pose (world_from_shape = pose @ offset)."""
-        import fcl
+        """Move body ``index``'s fcl objects to its pose (``rotation``: its matrix, if known)."""
+        r = quat_to_matrix(self.bodies.body_rotation[index]) if rotation is None else rotation
+        self._update_fcl_many(np.array([index]), r[None])
 
-        b = self.bodies
-        r = quat_to_matrix(b.body_rotation[index]) if rotation is None else rotation
-        x = b.body_position[index]
-        for shape, obj, probe in zip(b.shapes[index], self.fcl_objects[index],
-                                     self.probe_objects[index], strict=True):
-            offset = shape.body_from_shape
-            transform = fcl.Transform(r @ offset[:3, :3], r @ offset[:3, 3] + x)
-            obj.setTransform(transform)
-            if probe is not None:
-                probe.setTransform(transform)
-
-    def _update_fcl_many(self, indices: np.ndarray, rotation: np.ndarray) -> None:
-        """:meth:`_update_fcl` for many bodies: all shape poses in one batch, then fcl."""
+    def _update_fcl_many(self, indices: np.ndarray, rotations: np.ndarray) -> None:
+        """Move the fcl objects of bodies ``indices`` (rotation matrices ``(k, 3, 3)``):
+        all shape poses ``world_from_shape = pose @ body_from_shape`` in one batch."""
         b = self.bodies
         owners, objects, offsets = [], [], []
-        for index in indices.tolist():
+        for k, index in enumerate(indices.tolist()):
             for shape, obj, probe in zip(b.shapes[index], self.fcl_objects[index],
                                          self.probe_objects[index], strict=True):
-                owners.append(index)
+                owners.append(k)
                 objects.append((obj, probe))
                 offsets.append(shape.body_from_shape)
         if not owners:
             return
         offset = np.array(offsets)
-        r = rotation[owners]
+        r = rotations[owners]
         # world_from_shape = [R R_off | R t_off + x] for every shape at once
         shape_rotation = r @ offset[:, :3, :3]
-        shape_position = (r @ offset[:, :3, 3:])[..., 0] + b.body_position[owners]
+        shape_position = (r @ offset[:, :3, 3:])[..., 0] + b.body_position[indices[owners]]
         for (obj, probe), rot, pos in zip(objects, shape_rotation, shape_position,
                                           strict=True):
             obj.setRotation(rot)
@@ -243,7 +235,7 @@ class PhysicsWorld(WorldApiMixin):
 
     def _overlapping_bodies(self) -> np.ndarray | None:
         """Bodies of this step's solved contacts deeper than ``SLEEP_MAX_PENETRATION``."""
-        batch = getattr(self, "last_batch", None)
+        batch = self.last_batch
         if batch is None:
             return None
         deep = batch.depth.max(axis=1) > constants.SLEEP_MAX_PENETRATION
@@ -271,10 +263,7 @@ class PhysicsWorld(WorldApiMixin):
         b.body_aabb_min[STAGE_ID] -= constants.STAGE_SPECULATIVE_DISTANCE
         b.body_aabb_max[STAGE_ID] += constants.STAGE_SPECULATIVE_DISTANCE
         dynamic = b.body_motion_type[:n] == DYNAMIC
-        kinematic_moving = (b.body_motion_type[:n] == KINEMATIC) & (
-            np.any(b.body_solver_velocity[:n] != 0, axis=1)
-            | np.any(b.body_solver_angular_velocity[:n] != 0, axis=1))
-        active = (dynamic & b.body_awake[:n]) | kinematic_moving
+        active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
         pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
         pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
         self.n_overlapping_pairs = len(pairs)
@@ -284,7 +273,8 @@ class PhysicsWorld(WorldApiMixin):
         touching = [pair for k, pair in enumerate(pair_list) if k not in apart]
         if touching:
             involved = np.unique(np.array(touching))
-            self._update_fcl_many(involved[involved != STAGE_ID], rotation)
+            involved = involved[involved != STAGE_ID]
+            self._update_fcl_many(involved, rotation[involved])
         self._update_manifolds(touching, rotation)
         self._drop_stale_manifolds(pairs, active)
 
