@@ -14,7 +14,7 @@ stepSimulation``: it accumulates ``dt`` and runs whole fixed steps of ``timestep
 default), so world time lags the requested time by less than one step; ``dt <= 0`` runs
 one step. Velocity control acts once per call; applied forces act on every fixed step of
 the call and are cleared at its end. Object poses are written to their scene nodes after
-the call.
+the call (:mod:`node_sync`).
 """
 
 from __future__ import annotations
@@ -34,7 +34,8 @@ from .collide import boxes_separated, overlapping_pairs, world_aabbs
 from .contacts import FreshPoints, ManifoldStore
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .narrow_phase import narrow_phase
-from .quaternions import matrix_to_quat, quat_to_matrix
+from .node_sync import NodeSyncMixin
+from .quaternions import quat_to_matrix
 from .settings import SolverSettings
 from .shapes import mesh_shape, probe_geometry
 from .sleeping import moving_kinematic_mask, update_sleep, wake_touched
@@ -48,10 +49,9 @@ STAGE_ID = 0
 AABB_MARGIN = 0.005
 #: pairs, fewest candidate pairs for which the oriented-box pre-test pays for its NumPy calls.
 MIN_PAIRS_FOR_BOX_TEST = 8
-_IDENTITY = np.eye(4)
 
 
-class PhysicsWorld(WorldApiMixin):
+class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
     """The rigid-body world behind ``Simulator`` (see the module docstring)."""
 
     def __init__(self, physics_attributes, root_node, object_template_manager,
@@ -79,9 +79,7 @@ class PhysicsWorld(WorldApiMixin):
         self.velocity_controls: dict[int, Any] = {}
         self.render_meshes: dict[int, list] = {}
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._node_pose: dict[int, np.ndarray] = {}
-        self._node_stamp: dict[int, tuple] = {}  # see _write_node
-        self._node_written_pose = np.zeros((0, 7))  # see _written_pose
+        self._init_node_sync()
         self._time = 0.0
         self._accumulator = 0.0
         self.n_overlapping_pairs = 0
@@ -353,7 +351,7 @@ class PhysicsWorld(WorldApiMixin):
         self._update_contacts()
 
     # ------------------------------------------------------------------------------------
-    # velocity control, scene nodes
+    # velocity control
     # ------------------------------------------------------------------------------------
     def _apply_velocity_control(self, dt: float) -> None:
         """Kinematic: integrate the pose once by ``dt``; dynamic: overwrite the velocity."""
@@ -384,145 +382,3 @@ class PhysicsWorld(WorldApiMixin):
                 if angular is not None:
                     b.body_angular_velocity[index] = angular
                 self.wake(index)
-
-    def _write_nodes(self) -> None:
-        """Write the pose of every body that can have moved to its root scene node."""
-        b, n = self.bodies, self.bodies.count
-        parent_cache: dict[int, tuple] = {}  # id(parent) -> (parent, world, inverse, local)
-        pose = np.hstack([b.body_position[:n], b.body_rotation[:n]])
-        moved = (pose != self._written_pose(n)).any(axis=1).tolist()  # since its last write
-        under_root = []  # nodes whose parent is a scene root at the origin
-        for index, node in list(self.nodes.items()):
-            if not b.body_alive[index] or b.body_motion_type[index] == STATIC:
-                continue
-            if not moved[index] and self._node_unchanged(index, parent_cache):
-                continue
-            parent = node.parent
-            if parent is not None and parent._parent is None and np.array_equal(
-                    self._parent_matrices(parent, parent_cache)[0], _IDENTITY):
-                under_root.append(index)
-            else:
-                self._write_node(index, parent_cache)
-        if under_root:
-            self._write_root_children(np.array(under_root, dtype=np.int64))
-
-    def _write_root_children(self, indices: np.ndarray) -> None:
-        """:meth:`_write_node` for nodes whose parent is an identity root, all at once.
-
-        Their local transform is the body pose itself (``local = I^-1 world``), so the
-        node gets the body's translation and quaternion, and its world matrix is
-        ``[R diag(s) | x]`` for its own scaling ``s``.
-        """
-        b = self.bodies
-        position, rotation = b.body_position[indices], b.body_rotation[indices]
-        scaling = np.array([self.nodes[index]._scaling for index in indices.tolist()])
-        pose = np.zeros((len(indices), 4, 4))
-        pose[:, :3, :3] = quat_to_matrix(rotation) * scaling[:, None, :]  # R diag(s)
-        pose[:, :3, 3], pose[:, 3, 3] = position, 1.0
-        self._written_pose(int(indices.max()) + 1)[indices] = np.hstack([position, rotation])
-        for k, index in enumerate(indices.tolist()):
-            node = self.nodes[index]
-            node._translation, node._rotation = position[k], rotation[k]
-            self._node_pose[index] = pose[k]
-            self._node_stamp[index] = (position[k].tobytes(), rotation[k].tobytes(), node.parent,
-                                       node._translation, node._rotation, node._scaling,
-                                       pose[k], _IDENTITY)
-
-    def _written_pose(self, n: int) -> np.ndarray:
-        """``(n, 7)`` body pose [x, q] at each node's last write (NaN: never written)."""
-        if len(self._node_written_pose) < n:
-            grown = np.full((max(n, 2 * len(self._node_written_pose)), 7), np.nan)
-            grown[: len(self._node_written_pose)] = self._node_written_pose
-            self._node_written_pose = grown
-        return self._node_written_pose[:n]
-
-    def _node_unchanged(self, index: int, parent_cache: dict) -> bool:
-        """True when body ``index``'s node, its parent and the parent's pose are as they were
-        at the node's last write (checked by identity: setters replace the stored objects)."""
-        last, node = self._node_stamp.get(index), self.nodes[index]
-        if last is None or node.parent is not last[2]:
-            return False
-        if any(a is not c for a, c in zip(last[3:7], (node._translation, node._rotation,
-                                                      node._scaling, self._node_pose.get(index)),
-                                          strict=True)):
-            return False
-        if node.parent is None:
-            return last[7] is None
-        return np.array_equal(last[7], self._parent_matrices(node.parent, parent_cache)[0])
-
-    def _write_node(self, index: int, parent_cache: dict | None = None) -> None:
-        """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.
-
-        ``parent_cache`` (optional) shares each parent's matrices across one pass over all
-        nodes; a node whose body, node state and parent are unchanged since its last write
-        is skipped (the write would assign the very same numbers).
-        """
-        node = self.nodes.get(index)
-        if node is None:
-            return
-        b = self.bodies
-        parent = node.parent
-        parent_world = parent_inv = parent_local = None
-        if parent is not None:
-            parent_world, parent_inv, parent_local = self._parent_matrices(parent, parent_cache)
-        stamp = (b.body_position[index].tobytes(), b.body_rotation[index].tobytes(), parent,
-                 node._translation, node._rotation, node._scaling, self._node_pose.get(index))
-        last = self._node_stamp.get(index)
-        if last is not None and _same_stamp(last, stamp, parent_world):
-            return
-        world = np.eye(4)
-        world[:3, :3] = quat_to_matrix(b.body_rotation[index])
-        world[:3, 3] = b.body_position[index]
-        if self._node_pose.get(index) is not None and np.array_equal(self._node_pose[index], world):
-            return
-        local = world if parent is None else parent_inv @ world
-        node.translation = local[:3, 3]
-        node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
-        if parent is not None and parent._parent is None:
-            pose = parent_local @ node.local_matrix()  # what node.world_matrix() computes
-        else:
-            pose = node.world_matrix().copy()
-        self._node_pose[index] = pose
-        self._written_pose(index + 1)[index] = np.concatenate([b.body_position[index],
-                                                              b.body_rotation[index]])
-        self._node_stamp[index] = stamp[:2] + (parent, node._translation, node._rotation,
-                                               node._scaling, pose,
-                                               None if parent_world is None else parent_world)
-
-    @staticmethod
-    def _parent_matrices(parent, cache: dict | None):
-        """``(world, world^-1, local)`` matrices of a parent node (cached within one pass)."""
-        if cache is not None and id(parent) in cache:
-            return cache[id(parent)][1:]
-        world = parent.world_matrix()
-        entry = (parent, world, np.linalg.inv(world), parent.local_matrix())
-        if cache is not None:
-            cache[id(parent)] = entry  # the parent is kept alive, so its id stays unique
-        return entry[1:]
-
-    def _sync_from_nodes(self) -> None:
-        """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies."""
-        b = self.bodies
-        for index, node in self.nodes.items():
-            if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
-                continue
-            world = node.world_matrix()
-            if np.array_equal(world, self._node_pose.get(index)):
-                continue
-            rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
-            b.body_position[index] = world[:3, 3]
-            b.body_rotation[index] = matrix_to_quat(rotation)
-            self._node_pose[index] = world.copy()
-            self._update_fcl(index)
-            self.wake_neighbors(index)
-
-
-def _same_stamp(last: tuple, stamp: tuple, parent_world) -> bool:
-    """True when a node write would repeat the last one exactly (same inputs, same node)."""
-    if last[0] != stamp[0] or last[1] != stamp[1] or last[2] is not stamp[2]:
-        return False
-    if any(a is not c for a, c in zip(last[3:7], stamp[3:7], strict=True)):
-        return False
-    if parent_world is None:
-        return last[7] is None
-    return last[7] is not None and np.array_equal(last[7], parent_world)

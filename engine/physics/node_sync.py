@@ -1,0 +1,192 @@
+"""Scene nodes and bodies: body poses go to the nodes after a step, user moves come back.
+
+Habitat keeps a rigid object's pose in two places, the physics body and its scene node
+(which the renderer and any child nodes such as an agent's sensors read). rigidsim does the
+same, with the physics world as the truth for DYNAMIC objects:
+
+* after every ``step_physics`` call, each moved body's pose is written to its root node as
+  ``local = parent_world^-1 world`` (:meth:`NodeSyncMixin._write_nodes`);
+* before every call, a KINEMATIC or STATIC object whose node the user moved (for example an
+  agent node carrying an embodied robot) gets the node's world pose
+  (:meth:`NodeSyncMixin._sync_from_nodes`).
+
+A write is skipped when it would assign the very same numbers: the body has not moved since
+the node's last write, and the node, its parent and the parent's pose are unchanged. Node
+setters replace the stored arrays, so "unchanged" is checked by identity
+(:class:`NodeStamp`). Nodes whose parent is a scene root at the origin (every object not
+attached to another node) are written in one NumPy batch.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from engine import mn
+
+from .bodies import DYNAMIC, STATIC
+from .quaternions import matrix_to_quat, quat_to_matrix
+
+_IDENTITY = np.eye(4)
+
+
+class NodeStamp(NamedTuple):
+    """What a node write used: the node's parent and transform arrays (by identity), the
+    node world matrix it produced and the parent's world matrix (None without a parent)."""
+
+    parent: Any
+    translation: np.ndarray
+    rotation: np.ndarray
+    scaling: np.ndarray
+    pose: np.ndarray
+    parent_world: np.ndarray | None
+
+
+class NodeSyncMixin:
+    """The scene-node half of :class:`PhysicsWorld` (see the module docstring).
+
+    State: ``_node_pose[index]`` the node world matrix last written or read back,
+    ``_node_stamp[index]`` its :class:`NodeStamp`, ``_node_written_pose (n, 7)`` the body
+    pose ``[x, q]`` of each node's last write (NaN: never written).
+    """
+
+    def _init_node_sync(self) -> None:
+        self._node_pose: dict[int, np.ndarray] = {}
+        self._node_stamp: dict[int, NodeStamp] = {}
+        self._node_written_pose = np.zeros((0, 7))
+
+    # -- bodies -> nodes -------------------------------------------------------------------
+    def _write_nodes(self) -> None:
+        """Write the pose of every body that can have moved to its root scene node."""
+        b, n = self.bodies, self.bodies.count
+        parent_cache: dict[int, tuple] = {}  # id(parent) -> (parent, world, inverse, local)
+        pose = np.hstack([b.body_position[:n], b.body_rotation[:n]])
+        moved = (pose != self._written_pose(n)).any(axis=1).tolist()  # since its last write
+        under_root = []  # nodes whose parent is a scene root at the origin
+        for index, node in list(self.nodes.items()):
+            if not b.body_alive[index] or b.body_motion_type[index] == STATIC:
+                continue
+            if not moved[index] and self._node_unchanged(index, parent_cache):
+                continue
+            parent = node.parent
+            if parent is not None and parent._parent is None and np.array_equal(
+                    self._parent_matrices(parent, parent_cache)[0], _IDENTITY):
+                under_root.append(index)
+            else:
+                self._write_node(index, parent_cache)
+        if under_root:
+            self._write_root_children(np.array(under_root, dtype=np.int64))
+
+    def _write_root_children(self, indices: np.ndarray) -> None:
+        """:meth:`_write_node` for nodes whose parent is an identity root, all at once.
+
+        Their local transform is the body pose itself (``local = I^-1 world``), so the
+        node gets the body's translation and quaternion, and its world matrix is
+        ``[R diag(s) | x]`` for its own scaling ``s``.
+        """
+        b = self.bodies
+        position, rotation = b.body_position[indices], b.body_rotation[indices]
+        scaling = np.array([self.nodes[index]._scaling for index in indices.tolist()])
+        pose = np.zeros((len(indices), 4, 4))
+        pose[:, :3, :3] = quat_to_matrix(rotation) * scaling[:, None, :]  # R diag(s)
+        pose[:, :3, 3], pose[:, 3, 3] = position, 1.0
+        self._written_pose(int(indices.max()) + 1)[indices] = np.hstack([position, rotation])
+        for k, index in enumerate(indices.tolist()):
+            node = self.nodes[index]
+            node._translation, node._rotation = position[k], rotation[k]
+            self._node_pose[index] = pose[k]
+            self._node_stamp[index] = NodeStamp(node.parent, node._translation, node._rotation,
+                                                node._scaling, pose[k], _IDENTITY)
+
+    def _write_node(self, index: int, parent_cache: dict | None = None) -> None:
+        """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.
+
+        ``parent_cache`` (optional) shares each parent's matrices across one pass over all
+        nodes; a write that would repeat the last one is skipped (module docstring).
+        """
+        node = self.nodes.get(index)
+        if node is None:
+            return
+        b = self.bodies
+        if self._body_unmoved(index) and self._node_unchanged(index, parent_cache):
+            return
+        parent = node.parent
+        parent_world = parent_inv = parent_local = None
+        if parent is not None:
+            parent_world, parent_inv, parent_local = self._parent_matrices(parent, parent_cache)
+        world = np.eye(4)
+        world[:3, :3] = quat_to_matrix(b.body_rotation[index])
+        world[:3, 3] = b.body_position[index]
+        if self._node_pose.get(index) is not None and np.array_equal(self._node_pose[index], world):
+            return
+        local = world if parent is None else parent_inv @ world
+        node.translation = local[:3, 3]
+        node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
+        if parent is not None and parent._parent is None:
+            pose = parent_local @ node.local_matrix()  # what node.world_matrix() computes
+        else:
+            pose = node.world_matrix().copy()
+        self._node_pose[index] = pose
+        self._written_pose(index + 1)[index] = np.concatenate([b.body_position[index],
+                                                              b.body_rotation[index]])
+        self._node_stamp[index] = NodeStamp(parent, node._translation, node._rotation,
+                                            node._scaling, pose, parent_world)
+
+    def _written_pose(self, n: int) -> np.ndarray:
+        """``(n, 7)`` body pose [x, q] at each node's last write (NaN: never written)."""
+        if len(self._node_written_pose) < n:
+            grown = np.full((max(n, 2 * len(self._node_written_pose)), 7), np.nan)
+            grown[: len(self._node_written_pose)] = self._node_written_pose
+            self._node_written_pose = grown
+        return self._node_written_pose[:n]
+
+    def _body_unmoved(self, index: int) -> bool:
+        """True when body ``index`` has the pose of its node's last write."""
+        b = self.bodies
+        written = self._written_pose(index + 1)[index]
+        return bool(np.all(written[:3] == b.body_position[index])
+                    and np.all(written[3:] == b.body_rotation[index]))
+
+    def _node_unchanged(self, index: int, parent_cache: dict | None) -> bool:
+        """True when body ``index``'s node, its parent and the parent's pose are as they were
+        at the node's last write (checked by identity: setters replace the stored objects)."""
+        last, node = self._node_stamp.get(index), self.nodes[index]
+        if last is None or node.parent is not last.parent:
+            return False
+        if (node._translation is not last.translation or node._rotation is not last.rotation
+                or node._scaling is not last.scaling
+                or self._node_pose.get(index) is not last.pose):
+            return False
+        if node.parent is None:
+            return last.parent_world is None
+        return last.parent_world is not None and np.array_equal(
+            last.parent_world, self._parent_matrices(node.parent, parent_cache)[0])
+
+    @staticmethod
+    def _parent_matrices(parent, cache: dict | None):
+        """``(world, world^-1, local)`` matrices of a parent node (cached within one pass)."""
+        if cache is not None and id(parent) in cache:
+            return cache[id(parent)][1:]
+        world = parent.world_matrix()
+        entry = (parent, world, np.linalg.inv(world), parent.local_matrix())
+        if cache is not None:
+            cache[id(parent)] = entry  # the parent is kept alive, so its id stays unique
+        return entry[1:]
+
+    # -- nodes -> bodies -------------------------------------------------------------------
+    def _sync_from_nodes(self) -> None:
+        """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies."""
+        b = self.bodies
+        for index, node in self.nodes.items():
+            if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
+                continue
+            world = node.world_matrix()
+            if np.array_equal(world, self._node_pose.get(index)):
+                continue
+            rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
+            b.body_position[index] = world[:3, 3]
+            b.body_rotation[index] = matrix_to_quat(rotation)
+            self._node_pose[index] = world.copy()
+            self._update_fcl(index)
+            self.wake_neighbors(index)
