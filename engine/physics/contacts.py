@@ -54,11 +54,6 @@ class ManifoldView:
     normal_local = property(lambda self: self._slots(self._store.normal_local))
     impulse = property(lambda self: self._slots(self._store.impulse))
 
-    def world_points(self, pose_a, pose_b):
-        """World anchors ``(k, 3)`` of A and B and world normals ``(k, 3)``."""
-        (ra, xa), (rb, xb) = pose_a, pose_b
-        return self.local_a @ ra.T + xa, self.local_b @ rb.T + xb, self.normal_local @ ra.T
-
 
 class ManifoldStore(MutableMapping):
     """All manifolds of a world: a mapping ``(body_a, body_b) -> ManifoldView`` over rows.
@@ -143,11 +138,12 @@ class ManifoldStore(MutableMapping):
         ``rotation (n, 3, 3)`` and ``position (n, 3)`` are all bodies' poses.
         """
         a, b = self.bodies[rows, 0], self.bodies[rows, 1]
-        # p = R local + x for every slot: einsum over the (r, 3, 3) rotations of each row
-        point_a = np.einsum("rij,rsj->rsi", rotation[a], self.local_a[rows]) + position[a, None]
-        point_b = np.einsum("rij,rsj->rsi", rotation[b], self.local_b[rows]) + position[b, None]
-        normal = np.einsum("rij,rsj->rsi", rotation[a], self.normal_local[rows])
-        return point_a, point_b, normal
+        return self._points(rows).world((rotation[a], position[a]), (rotation[b], position[b]))
+
+    def _points(self, rows: np.ndarray) -> LocalPoints:
+        """The points of ``rows`` (copies), valid in their first ``count`` slots."""
+        return LocalPoints(self.local_a[rows], self.local_b[rows], self.normal_local[rows],
+                           self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
 
     # -- the per-step update ---------------------------------------------------------------
     def update(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
@@ -179,12 +175,8 @@ class ManifoldStore(MutableMapping):
 
     def _refreshed(self, rows, frame_a, frame_b) -> LocalPoints:
         """Cached points of ``rows`` that are still in contact (see step 1), compacted."""
-        (ra, xa), (rb, xb) = frame_a, frame_b
-        cached = LocalPoints(self.local_a[rows], self.local_b[rows], self.normal_local[rows],
-                             self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
-        point_a = np.einsum("rij,rsj->rsi", ra, cached.local_a) + xa[:, None]
-        point_b = np.einsum("rij,rsj->rsi", rb, cached.local_b) + xb[:, None]
-        normal = np.einsum("rij,rsj->rsi", ra, cached.normal_local)
+        cached = self._points(rows)
+        point_a, point_b, normal = cached.world(frame_a, frame_b)
         gap = point_a - point_b
         depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
         drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
@@ -243,7 +235,10 @@ class LocalPoints:
                            per_row(keep, order))
 
     def world(self, frame_a, frame_b):
+        """World anchors of A and B and world normals ``(r, k, 3)``; ``frame_x`` holds each
+        row's body rotations ``(r, 3, 3)`` and positions ``(r, 3)``."""
         (ra, xa), (rb, xb) = frame_a, frame_b
+        # p = R local + x for every slot: einsum over the (r, 3, 3) rotations of each row
         point_a = np.einsum("rij,rsj->rsi", ra, self.local_a) + xa[:, None]
         point_b = np.einsum("rij,rsj->rsi", rb, self.local_b) + xb[:, None]
         return point_a, point_b, np.einsum("rij,rsj->rsi", ra, self.normal_local)

@@ -201,21 +201,21 @@ class WorldApiMixin:
 
     def get_physics_contact_points(self) -> list[ContactPointData]:
         """Contact points of every manifold (last step's impulses as forces)."""
-        h = getattr(self, "last_h", self._timestep)
-        points = []
-        b = self.bodies
-        for (a, c), manifold in sorted(self.manifolds.items()):
-            if not len(manifold):
-                continue
-            pose_a = (quat_to_matrix(b.body_rotation[a]), b.body_position[a])
-            pose_c = (quat_to_matrix(b.body_rotation[c]), b.body_position[c])
-            pa, pc, normal = manifold.world_points(pose_a, pose_c)
-            from .solver import tangent_basis
+        from .solver import tangent_basis
 
+        h = getattr(self, "last_h", self._timestep)
+        b, n, store = self.bodies, self.bodies.count, self.manifolds
+        rows = np.array([store.row(key) for key in sorted(store)], dtype=np.int64)
+        rows = rows[store.count[rows] > 0]
+        points_a, points_c, normals = store.world_points(rows, quat_to_matrix(
+            b.body_rotation[:n]), b.body_position[:n])
+        points = []
+        for row, pa, pc, normal in zip(rows.tolist(), points_a, points_c, normals, strict=True):
+            a, c = store.bodies[row].tolist()
             t1, t2 = tangent_basis(normal)
             active = self._is_moving(a) or self._is_moving(c)
-            for k in range(len(manifold)):
-                impulse = manifold.impulse[k]
+            for k in range(store.count[row]):
+                impulse = store.impulse[row, k]
                 points.append(ContactPointData(
                     a, c, 0, 0, mn.Vector3(pa[k]), mn.Vector3(pc[k]), mn.Vector3(-normal[k]),
                     float(-(pa[k] - pc[k]) @ normal[k]), float(impulse[0] / h),
