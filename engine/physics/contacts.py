@@ -127,6 +127,11 @@ class ManifoldStore(MutableMapping):
         """Rows of all manifolds, in insertion order."""
         return np.fromiter(self._rows.values(), dtype=np.int64, count=len(self._rows))
 
+    def rows_with_points(self) -> np.ndarray:
+        """Rows of the manifolds holding at least one point, in insertion order."""
+        rows = self.rows()
+        return rows[self.count[rows] > 0]
+
     def _clear_rows(self, rows: np.ndarray) -> None:
         self.count[rows] = 0
         for array in (self.local_a, self.local_b, self.normal_local, self.impulse):

@@ -70,8 +70,7 @@ def moving_kinematic_mask(bodies, n: int) -> np.ndarray:
 
 def _touching_pairs(manifolds) -> tuple[np.ndarray, np.ndarray]:
     """Bodies ``a, b (m,)`` of the manifolds holding at least one point."""
-    rows = manifolds.rows()
-    rows = rows[manifolds.count[rows] > 0]
+    rows = manifolds.rows_with_points()
     return manifolds.bodies[rows, 0], manifolds.bodies[rows, 1]
 
 

@@ -22,9 +22,8 @@ def solve_stage(world, moving: np.ndarray, h: float):
     b, n, store = world.bodies, world.bodies.count, world.manifolds
     solvable = np.zeros(n, dtype=bool)
     solvable[moving] = True
-    rows = store.rows()
-    a, c = store.bodies[rows, 0], store.bodies[rows, 1]
-    rows = rows[(store.count[rows] > 0) & (solvable[a] | solvable[c])]
+    rows = store.rows_with_points()
+    rows = rows[solvable[store.bodies[rows, 0]] | solvable[store.bodies[rows, 1]]]
     world.last_batch = None
     if len(rows) == 0:
         return None
