@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from itertools import chain
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -35,6 +36,18 @@ from .collide import (
 )
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
+
+
+class Job(NamedTuple):
+    """One shape pair for a batch: its sequence number, the two shapes and their bodies
+    (A is the stage for stage jobs) and fcl's contact records of the pair."""
+
+    seq: int
+    shape_a: Any
+    body_a: int
+    shape_b: Any
+    body_b: int
+    contacts: list
 
 
 class _Contacts:
@@ -77,13 +90,13 @@ def narrow_phase(world, pairs: list, rotation: np.ndarray):
                     found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
                     if found:
                         key = len(shape_c.hull_vertices)
-                        jobs["stage"][key].append((seq, shape_a, shape_c, c, found))
+                        jobs["stage"][key].append(Job(seq, shape_a, a, shape_c, c, found))
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, obj_c)
                     if found:
                         key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
                                len(shape_c.hull_vertices), len(shape_c.plane_normals))
-                        jobs["polyhedra"][key].append((seq, shape_a, a, shape_c, c, found))
+                        jobs["polyhedra"][key].append(Job(seq, shape_a, a, shape_c, c, found))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
@@ -95,9 +108,9 @@ def narrow_phase(world, pairs: list, rotation: np.ndarray):
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
 
 
-def _pose(jobs, index_field: int, rotation, position):
-    """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of the jobs' bodies."""
-    bodies = np.array([job[index_field] for job in jobs], dtype=np.int64)
+def _pose(bodies: list, rotation, position):
+    """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of ``bodies``."""
+    bodies = np.array(bodies, dtype=np.int64)
     return rotation[bodies], position[bodies]
 
 
@@ -108,14 +121,14 @@ def _to_world(rotation, position, points):
 
 def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage."""
-    stage = jobs[0][1]
+    stage = jobs[0].shape_a
     table = _triangle_table(stage)
-    seq = np.array([job[0] for job in jobs], dtype=np.int64)
-    ids = _touched_triangles([[c.b1 for c in job[4]] for job in jobs],
+    seq = np.array([job.seq for job in jobs], dtype=np.int64)
+    ids = _touched_triangles([[c.b1 for c in job.contacts] for job in jobs],
                              len(stage.ray_triangles))
     tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
-    r, x = _pose(jobs, 3, rotation, position)
-    hull = np.stack([job[2].hull_vertices for job in jobs])
+    r, x = _pose([job.body_b for job in jobs], rotation, position)
+    hull = np.stack([job.shape_b.hull_vertices for job in jobs])
     verts = _to_world(r, x, hull)  # (g, V, 3)
     normal = table["normal"][ids]
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
@@ -138,7 +151,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
     for k in np.flatnonzero(~candidate.any(axis=(1, 2))).tolist():
         # an edge crossing a face: fcl's points with the first triangle's normal
-        mid, _, depths, _ = contact_arrays(jobs[k][4])
+        mid, _, depths, _ = contact_arrays(jobs[k].contacts)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts.add_one(seq[k], _midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)),
                                                     depths))
@@ -177,11 +190,13 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
 
 def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts."""
-    seq = np.array([job[0] for job in jobs], dtype=np.int64)
+    seq = np.array([job.seq for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces
-    n = np.array([max(job[5], key=lambda c: abs(c.penetration_depth)).normal for job in jobs])
-    frame_a, frame_b = _pose(jobs, 2, rotation, position), _pose(jobs, 4, rotation, position)
-    shapes_a, shapes_b = [job[1] for job in jobs], [job[3] for job in jobs]
+    n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
+                  for job in jobs])
+    frame_a = _pose([job.body_a for job in jobs], rotation, position)
+    frame_b = _pose([job.body_b for job in jobs], rotation, position)
+    shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]
     found = np.zeros(len(jobs), dtype=bool)
     # A's face against B's vertices (sign +1), then B's face against A's vertices (sign -1)
     for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
@@ -198,7 +213,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
         else:
             contacts.add(seq[g], local, verts[g, v], on_face, contact_normal)
     for k in np.flatnonzero(~found).tolist():  # no face faces the other body: fcl's points
-        mid, normals, depths, _ = contact_arrays(jobs[k][5])
+        mid, normals, depths, _ = contact_arrays(jobs[k].contacts)
         contacts.add_one(seq[k], _midpoint_contacts(mid, normals, depths))
 
 
