@@ -27,7 +27,7 @@ from engine import mn
 if TYPE_CHECKING:  # pragma: no cover
     from engine.assets import MeshData
 
-__all__ = ["Drawable", "SceneNode"]
+__all__ = ["Drawable", "SceneGraph", "SceneNode"]
 
 
 @dataclass
@@ -79,6 +79,17 @@ class SceneNode:
     @property
     def children(self) -> list[SceneNode]:
         return list(self._children)
+
+    def create_child(self, name: str = "") -> SceneNode:
+        """A new child node at the identity local transform (Habitat's ``create_child``)."""
+        return SceneNode(self, name=name)
+
+    def get_root_node(self) -> SceneNode:
+        """The root of the graph this node belongs to (itself when it has no parent)."""
+        node = self
+        while node._parent is not None:
+            node = node._parent
+        return node
 
     def descendants(self) -> list[SceneNode]:
         """This node and every node below it, depth first (children in insertion order)."""
@@ -211,6 +222,23 @@ class SceneNode:
     def __repr__(self) -> str:
         label = f" {self.name!r}" if self.name else ""
         return f"<SceneNode{label} at {self.translation!r}>"
+
+
+class SceneGraph:
+    """Habitat's ``SceneGraph``: owns a root node; ``get_root_node().create_child()`` adds one.
+
+    ``Simulator.get_active_scene_graph()`` returns the simulator's graph; a standalone
+    ``SceneGraph()`` is what Habitat's agent tests build agents on.
+    """
+
+    def __init__(self, root: SceneNode | None = None) -> None:
+        self._root = SceneNode(name="root") if root is None else root
+
+    def get_root_node(self) -> SceneNode:
+        return self._root
+
+    def __repr__(self) -> str:
+        return f"<SceneGraph with {len(self._root.descendants())} nodes>"
 
 
 def _normalize(xyzw: np.ndarray) -> np.ndarray:

@@ -81,8 +81,14 @@ class SceneRenderer:
         return Camera((height, width), hfov=hfov, near=near, far=far, subtype=kind,
                       ortho_scale=ortho_scale)
 
-    def observe(self, sensors: list[CameraSensor]) -> dict[str, np.ndarray]:
-        """Stages 3-4: one observation per sensor, keyed by uuid (fresh arrays)."""
+    def observe(self, sensors: list[CameraSensor] | dict[str, CameraSensor]
+                ) -> dict[str, np.ndarray]:
+        """Stages 3-4: one observation per sensor, keyed by uuid (fresh arrays).
+
+        ``sensors`` is a list of sensors or an agent's ``sensors`` dict (uuid -> sensor).
+        """
+        if isinstance(sensors, dict):
+            sensors = list(sensors.values())
         scene = self._update_scene()
         groups: dict[tuple, list[CameraSensor]] = {}
         poses: dict[tuple, np.ndarray] = {}

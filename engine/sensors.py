@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.fixed_fields import FixedFields
 from engine.scene_node import SceneNode
 
 __all__ = ["CameraSensor", "CameraSensorSpec", "SensorSubType", "SensorType", "euler_xyz_matrix"]
@@ -47,12 +48,20 @@ class SensorSubType(Enum):
     ORTHOGRAPHIC = 2
 
 
-class CameraSensorSpec:
+class CameraSensorSpec(FixedFields):
     """A camera sensor's description, Habitat's defaults (``position`` is ``[0, 1.5, 0]``).
 
     ``resolution`` is ``[height, width]``; ``hfov`` is the horizontal field of view in degrees;
-    ``orientation`` is X, Y, Z Euler angles in radians.
+    ``orientation`` is X, Y, Z Euler angles in radians. A misspelt field raises
+    ``AttributeError`` naming the closest one (Habitat's specs are fixed-field structs).
+    ``channels``, ``gpu2gpu_transfer``, ``noise_model``, ``noise_model_kwargs`` and
+    ``sensor_subtype``-specific Habitat fields are stored for compatibility; rigidsim renders
+    COLOR as RGBA whatever ``channels`` says.
     """
+
+    _extra_fields = ("uuid", "sensor_type", "sensor_subtype", "resolution", "position",
+                     "orientation", "hfov", "near", "far", "ortho_scale", "clear_color",
+                     "channels", "gpu2gpu_transfer", "noise_model", "noise_model_kwargs")
 
     def __init__(self) -> None:
         self.uuid = ""
@@ -66,6 +75,10 @@ class CameraSensorSpec:
         self.far = 1000.0
         self.ortho_scale = 0.1
         self.clear_color = [0.0, 0.0, 0.0, 1.0]
+        self.channels = 4
+        self.gpu2gpu_transfer = False
+        self.noise_model = "None"
+        self.noise_model_kwargs: dict[str, Any] = {}
 
     def validate(self) -> None:
         """Raise ValueError/TypeError naming the first bad field."""
@@ -118,6 +131,18 @@ class CameraSensor:
     @property
     def uuid(self) -> str:
         return self.spec.uuid
+
+    @property
+    def object(self) -> SceneNode:
+        """Habitat's name for the node the sensor is attached to (its own node)."""
+        return self.node
+
+    def specification(self) -> CameraSensorSpec:
+        return self.spec
+
+    def set_transformation_from_spec(self) -> None:
+        """Habitat's name for :meth:`reset_pose`."""
+        self.reset_pose()
 
     def reset_pose(self) -> None:
         """Put the sensor node back at the spec's position and orientation."""

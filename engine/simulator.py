@@ -14,12 +14,20 @@ It stays thin: physics lives in :class:`engine.physics.world.PhysicsWorld`, rend
 :class:`engine.scene_render.SceneRenderer` (over :mod:`render`), navigation in
 :class:`navmesh.PathFinder`.
 
+The agent loop is Habitat's: ``sim.step(action)`` (or ``{agent_id: action}``) acts, steps
+the physics by ``dt`` and returns the observations with ``collided``; ``sim.reset()`` puts
+objects and agents back and returns observations; ``initialize_agent(i)`` without a state
+puts the agent at a random navigable point with a random yaw (drawn from ``sim.random``,
+seeded by ``sim.seed(n)`` / ``random_seed``).
+
 rigidsim differs from Habitat where noted in the README: ``enable_physics`` defaults to True,
 and bad input raises a clear exception instead of logging.
 """
 
 from __future__ import annotations
 
+import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,17 +44,23 @@ from engine.attributes_managers import (
     PhysicsAttributesManager,
     StageAttributesManager,
 )
+from engine.fixed_fields import FixedFields
 from engine.physics.world import PhysicsWorld
-from engine.scene_node import Drawable, SceneNode
+from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
 from navmesh import NavMeshSettings, PathFinder
 
-__all__ = ["Configuration", "Simulator", "SimulatorConfiguration"]
+__all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
 
 @dataclass
-class SimulatorConfiguration:
-    """Habitat's ``SimulatorConfiguration`` (``scene_id = "NONE"`` is an empty world)."""
+class SimulatorConfiguration(FixedFields):
+    """Habitat's ``SimulatorConfiguration`` (``scene_id = "NONE"`` is an empty world).
+
+    Fixed fields: a misspelt name raises ``AttributeError`` naming the closest field. The
+    fields after ``load_semantic_mesh`` are Habitat's renderer and dataset switches, stored
+    so that Habitat code setting them runs; rigidsim's software renderer ignores them.
+    """
 
     scene_id: str = "NONE"
     enable_physics: bool = True
@@ -57,14 +71,52 @@ class SimulatorConfiguration:
     scene_light_setup: str = ""
     default_agent_id: int = 0
     load_semantic_mesh: bool = False
+    scene_dataset_config_file: str = "default"
+    gpu_device_id: int = 0
+    default_camera_uuid: str = "rgba_camera"
+    compress_textures: bool = False
+    create_renderer: bool = True
+    frustum_culling: bool = True
+    enable_hbao: bool = False
+    override_scene_light_defaults: bool = False
+    force_separate_semantic_scene_graph: bool = False
+    requires_textures: bool = True
+    leave_context_with_background_renderer: bool = False
+    use_semantic_textures: bool = False
+    enable_gfx_replay_save: bool = False
+    pbr_image_based_lighting: bool = False
 
 
 @dataclass
-class Configuration:
-    """A simulator configuration and the agents' configurations."""
+class Configuration(FixedFields):
+    """A simulator configuration and the agents' configurations (fixed fields)."""
 
     sim_cfg: SimulatorConfiguration = field(default_factory=SimulatorConfiguration)
     agents: list[AgentConfiguration] = field(default_factory=lambda: [AgentConfiguration()])
+    metadata_mediator: Any = None
+    enable_batch_renderer: bool = False
+
+
+class Random:
+    """Habitat's ``sim.random``: a seeded source of uniform and normal numbers."""
+
+    def __init__(self, seed: int = 0) -> None:
+        self.seed(seed)
+
+    def seed(self, new_seed: int) -> None:
+        self._rng = np.random.default_rng(int(new_seed) & 0xFFFFFFFF)
+
+    def uniform_float(self, a: float = 0.0, b: float = 1.0) -> float:
+        return float(self._rng.uniform(a, b))
+
+    def uniform_float_01(self) -> float:
+        return float(self._rng.uniform(0.0, 1.0))
+
+    def uniform_int(self, a: int = 0, b: int = 2**31 - 1) -> int:
+        return int(self._rng.integers(a, b))
+
+    def normal_float_01(self) -> float:
+        return float(self._rng.normal())
 
 
 class Simulator:
@@ -84,6 +136,8 @@ class Simulator:
         stage_attributes, stage_meshes = self._load_stage(sim_cfg.scene_id)
 
         self.root_node = SceneNode(name="root")
+        self._scene_graph = SceneGraph(self.root_node)
+        self.random = Random(sim_cfg.random_seed)
         self._stage_node = SceneNode(self.root_node, name="stage")
         self._stage_node.drawables = [Drawable(m, lit=False, semantic_id=0) for m in stage_meshes]
         self._stage_meshes = stage_meshes
@@ -96,10 +150,19 @@ class Simulator:
 
         self.pathfinder = PathFinder()
         self._load_navmesh(sim_cfg)
+        self.pathfinder.seed(sim_cfg.random_seed)
+        if not config.agents:
+            raise ValueError("Config has no agents specified; give at least 1 agent")
+        self._default_agent_id = int(sim_cfg.default_agent_id)
         self.agents: list[Agent] = []
         for agent_config in config.agents:
-            node = SceneNode(self.root_node, name=f"agent:{len(self.agents)}")
-            self.agents.append(Agent(node, agent_config, self.step_filter))
+            node = self.root_node.create_child(name=f"agent:{len(self.agents)}")
+            agent = Agent(node, agent_config)
+            agent.controls.move_filter_fn = self.step_filter
+            self.agents.append(agent)
+        self._last_states: dict[int, AgentState] = {}
+        for agent_id in range(len(self.agents)):
+            self.initialize_agent(agent_id)
 
     # ------------------------------------------------------------------------------------------
     # loading
@@ -126,7 +189,11 @@ class Simulator:
         return merged.vertices, merged.faces
 
     def _load_navmesh(self, sim_cfg: SimulatorConfiguration) -> None:
-        """Load ``<stage stem>.navmesh`` beside the stage asset, or build from settings."""
+        """Load ``<stage stem>.navmesh`` beside the stage asset, or build from settings.
+
+        Settings on a scene without triangles (``"NONE"``) leave the simulator without a
+        navmesh and warn, as Habitat logs and goes on.
+        """
         if sim_cfg.navmesh_settings is not None:
             self.recompute_navmesh(self.pathfinder, sim_cfg.navmesh_settings)
             return
@@ -155,8 +222,9 @@ class Simulator:
     def get_rigid_object_manager(self):
         return self._world.rigid_object_manager
 
-    def get_active_scene_graph(self) -> SceneNode:
-        return self.root_node
+    def get_active_scene_graph(self) -> SceneGraph:
+        """The simulator's scene graph (``.get_root_node()`` is ``sim.root_node``)."""
+        return self._scene_graph
 
     # ------------------------------------------------------------------------------------------
     # physics
@@ -207,13 +275,36 @@ class Simulator:
     # ------------------------------------------------------------------------------------------
     # agents and sensors
     # ------------------------------------------------------------------------------------------
+    def seed(self, new_seed: int) -> None:
+        """Seed the simulator's random source and the pathfinder's point sampler."""
+        if isinstance(new_seed, bool) or not isinstance(new_seed, int | np.integer):
+            raise TypeError(f"seed must be an int, got {new_seed!r}")
+        self.random.seed(new_seed)
+        self.pathfinder.seed(new_seed)
+
     def initialize_agent(self, agent_id: int, initial_state: AgentState | None = None) -> Agent:
-        """Put agent ``agent_id`` in ``initial_state`` (kept for ``reset``) and return it."""
+        """Put agent ``agent_id`` in ``initial_state`` (kept for ``reset``) and return it.
+
+        Without a state (Habitat's rule): a random navigable point and a random yaw when a
+        navmesh is loaded, else the origin with the identity rotation.
+        """
         agent = self.get_agent(agent_id)
-        if initial_state is not None:
-            agent.set_state(initial_state)
-        agent.initial_state = agent.get_state()
+        if initial_state is None:
+            initial_state = AgentState()
+            if self.pathfinder.is_loaded:
+                initial_state.position = self.pathfinder.get_random_navigable_point()
+                yaw = self.random.uniform_float(0.0, 2.0 * np.pi)
+                initial_state.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+        agent.set_state(initial_state, is_initial=True)
+        self._last_states[agent_id] = agent.get_state()
         return agent
+
+    def reset_agent(self, agent_id: int) -> None:
+        """Put agent ``agent_id`` back in its initial state."""
+        agent = self.get_agent(agent_id)
+        if agent.initial_state is None:
+            raise RuntimeError("reset called before agent was given an initial state")
+        self.initialize_agent(agent_id, agent.initial_state)
 
     def get_agent(self, agent_id: int) -> Agent:
         if isinstance(agent_id, bool) or not isinstance(agent_id, int | np.integer):
@@ -221,6 +312,24 @@ class Simulator:
         if not 0 <= agent_id < len(self.agents):
             raise KeyError(f"no agent with id {agent_id}; the simulator has {len(self.agents)}")
         return self.agents[agent_id]
+
+    @property
+    def sensors(self) -> dict:
+        """The default agent's sensors keyed by uuid."""
+        return self.get_agent(self._default_agent_id).sensors
+
+    @property
+    def _sensors(self) -> dict:
+        # Habitat's (deprecated) name, used by its tests
+        return self.sensors
+
+    @property
+    def _default_agent(self) -> Agent:
+        return self.get_agent(self._default_agent_id)
+
+    def last_state(self, agent_id: int | None = None) -> AgentState:
+        """The agent's state after its last ``step`` (or initialization)."""
+        return self._last_states[self._default_agent_id if agent_id is None else agent_id]
 
     def get_sensor_observations(self, agent_ids: int | list[int] = 0) -> Any:
         """Render every sensor of the agent(s): a fresh dict keyed by sensor uuid.
@@ -231,6 +340,44 @@ class Simulator:
         if isinstance(agent_ids, list | tuple):
             return {i: self._renderer.observe(self.get_agent(i).sensors) for i in agent_ids}
         return self._renderer.observe(self.get_agent(agent_ids).sensors)
+
+    def step(self, action: Any, dt: float = 1.0 / 60.0) -> dict:
+        """Act, step the world by ``dt`` and observe (Habitat's agent loop).
+
+        ``action`` is an action id of the default agent's action space, or a mapping
+        ``{agent_id: action_id}``. Returns the observations with ``"collided"`` (bool), or
+        ``{agent_id: observations}`` for a mapping. Unknown ids raise before anything moves.
+        """
+        self._check_open()
+        actions = dict(action) if isinstance(action, Mapping) else {self._default_agent_id: action}
+        for agent_id, action_id in actions.items():
+            if action_id not in self.get_agent(agent_id).agent_config.action_space:
+                self.get_agent(agent_id).act(action_id)  # raises UnknownActionError
+        collided = {}
+        for agent_id, action_id in actions.items():
+            agent = self.get_agent(agent_id)
+            collided[agent_id] = agent.act(action_id)
+            self._last_states[agent_id] = agent.get_state()
+        self._world.step_physics(dt)
+        observations = self.get_sensor_observations(agent_ids=list(actions))
+        for agent_id, agent_observations in observations.items():
+            agent_observations["collided"] = collided[agent_id]
+        if isinstance(action, Mapping):
+            return observations
+        return observations[self._default_agent_id]
+
+    def make_greedy_follower(self, agent_id: int | None = None, goal_radius: float | None = None,
+                             *, stop_key: Any = None, forward_key: Any = None,
+                             left_key: Any = None, right_key: Any = None,
+                             fix_thrashing: bool = True, thrashing_threshold: int = 16):
+        """A :class:`engine.nav.GreedyGeodesicFollower` for an agent on this navmesh."""
+        from engine.nav import GreedyGeodesicFollower
+
+        agent = self.get_agent(self._default_agent_id if agent_id is None else agent_id)
+        return GreedyGeodesicFollower(
+            self.pathfinder, agent, goal_radius, stop_key=stop_key, forward_key=forward_key,
+            left_key=left_key, right_key=right_key, fix_thrashing=fix_thrashing,
+            thrashing_threshold=thrashing_threshold)
 
     # ------------------------------------------------------------------------------------------
     # navigation
@@ -246,7 +393,9 @@ class Simulator:
             vertices = np.concatenate([v for v, _ in parts])
             faces = np.concatenate([f + o for (_, f), o in zip(parts, offsets, strict=True)])
         if len(faces) == 0:
-            raise ValueError("cannot build a navmesh: the scene has no triangles")
+            warnings.warn("recompute_navmesh: the scene has no triangles; no navmesh is built "
+                          "and no collision checking will be done", stacklevel=2)
+            return False
         return bool(pathfinder.build(vertices, faces, navmesh_settings))
 
     def step_filter(self, start_pos: Any, end_pos: Any) -> mn.Vector3:
@@ -262,12 +411,19 @@ class Simulator:
     # ------------------------------------------------------------------------------------------
     # lifetime
     # ------------------------------------------------------------------------------------------
-    def reset(self) -> None:
-        """World time to 0, objects to their creation poses, agents to their initial states."""
+    def reset(self, agent_ids: int | list[int] | None = None) -> dict:
+        """World time to 0, objects to their creation poses, agents to their initial states.
+
+        Returns the observations of the default agent (``agent_ids`` None or an int), or
+        ``{agent_id: observations}`` for a list, as Habitat does.
+        """
         self._check_open()
         self._world.reset()
-        for agent in self.agents:
-            agent.set_state(agent.initial_state)
+        for agent_id in range(len(self.agents)):
+            self.reset_agent(agent_id)
+        if agent_ids is None:
+            agent_ids = self._default_agent_id
+        return self.get_sensor_observations(agent_ids=agent_ids)
 
     def close(self) -> None:
         """Release the world; further use raises RuntimeError. Safe to call twice."""

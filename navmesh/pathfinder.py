@@ -63,11 +63,12 @@ class MultiGoalShortestPath:
 @dataclass
 class HitRecord:
     """Closest obstacle: ``hit_pos`` (3,), ``hit_normal`` (3,) unit XZ vector from the wall
-    toward the query point, ``hit_dist`` meters (``max_search_radius`` when none found)."""
+    toward the query point, ``hit_dist`` meters (``max_search_radius`` when none found).
+    ``HitRecord()`` is a record of no hit (zero vectors, infinite distance)."""
 
-    hit_pos: np.ndarray
-    hit_normal: np.ndarray
-    hit_dist: float
+    hit_pos: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    hit_normal: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    hit_dist: float = math.inf
 
 
 def as_point(value: ArrayLike, name: str = "point") -> np.ndarray:
@@ -147,9 +148,12 @@ class PathFinder:
         return self._require()
 
     @property
-    def nav_mesh_settings(self) -> NavMeshSettings:
-        """A copy of the settings the current navmesh was built with."""
-        return NavMeshSettings(**vars(self._require().settings))
+    def nav_mesh_settings(self) -> NavMeshSettings | None:
+        """A copy of the settings the current navmesh was built with; None when not loaded
+        (as Habitat)."""
+        if self._data is None:
+            return None
+        return NavMeshSettings(**vars(self._data.settings))
 
     def _require(self) -> NavMeshData:
         if self._data is None:
@@ -384,6 +388,40 @@ class PathFinder:
             return HitRecord(_nan3(), _nan3(), float(max_search_radius))
         hit_pos, hit_normal, hit_dist = hit
         return HitRecord(hit_pos, hit_normal, hit_dist)
+
+    # -- mesh export -------------------------------------------------------------------------
+    def build_navmesh_vertices(self, island_index: int = -1) -> list[np.ndarray]:
+        """Vertices of the navmesh surface as a triangle mesh (Habitat's name), meters.
+
+        The grid navmesh has no polygons: every navigable cell is a square at its floor
+        height, 4 corner vertices per cell in the order (x0, z0), (x1, z0), (x1, z1),
+        (x0, z1); ``island_index`` -1 gives every island. Use with
+        :meth:`build_navmesh_vertex_indices` (2 triangles per cell).
+        """
+        return list(self._cell_squares(island_index))
+
+    def build_navmesh_vertex_indices(self, island_index: int = -1) -> list[int]:
+        """Triangle indices into :meth:`build_navmesh_vertices`: 6 per cell, counter-clockwise
+        seen from above (+Y normals)."""
+        n_cells = len(self._cell_squares(island_index)) // 4
+        quad = np.array([0, 2, 1, 0, 3, 2])  # two triangles of one square, +Y facing
+        return (np.arange(n_cells)[:, None] * 4 + quad).reshape(-1).tolist()
+
+    def _cell_squares(self, island_index: int) -> np.ndarray:
+        """``(4 * cells, 3)`` corners of the navigable cells of one island (or all for -1)."""
+        self._require()
+        self._check_island(island_index)
+        grid = self._grid
+        mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
+        nodes = np.flatnonzero(mask)
+        iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)  # node -> (row z, column x)
+        x0 = grid.x0 + ix * grid.cell_size
+        z0 = grid.z0 + iz * grid.cell_size
+        x1, z1 = x0 + grid.cell_size, z0 + grid.cell_size
+        y = grid.floor[nodes]
+        corners = np.stack([np.stack([x0, y, z0], 1), np.stack([x1, y, z0], 1),
+                            np.stack([x1, y, z1], 1), np.stack([x0, y, z1], 1)], axis=1)
+        return corners.reshape(-1, 3)
 
     # -- maps --------------------------------------------------------------------------------
     def get_topdown_view(

@@ -14,6 +14,7 @@ Conventions: Y up, meters, angles in degrees. Lengths are world units unless a f
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 from dataclasses import dataclass, fields
@@ -180,6 +181,16 @@ class NavMeshSettings:
     def __ne__(self, other: object) -> bool:
         result = self.__eq__(other)
         return result if result is NotImplemented else not result
+
+    def __setattr__(self, name: str, value: object) -> None:
+        """Refuse unknown fields (Habitat's settings are a fixed-field C++ struct), naming
+        the closest field: ``settings.agent_raduis = 0.2`` raises ``AttributeError``."""
+        known = [f.name for f in fields(self)]
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else f"; its fields are {known}"
+            raise AttributeError(f"'NavMeshSettings' object has no attribute {name!r}{hint}")
+        object.__setattr__(self, name, value)
 
     __hash__ = None  # mutable and compared with a tolerance: not hashable
 

@@ -144,7 +144,7 @@ def test_attached_agent_node_moves_with_the_object(sim):
     sim.step_physics(1.0 / 60.0)
     np.testing.assert_allclose(robot.translation, [1.0, 0.0, 0.0])
     rom.remove_object_by_id(robot.object_id, delete_object_node=False)
-    assert agent_node.parent is sim.get_active_scene_graph()
+    assert agent_node.parent is sim.get_active_scene_graph().get_root_node()
 
 
 def test_reset_restores_creation_poses(sim):

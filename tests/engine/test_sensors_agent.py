@@ -74,7 +74,8 @@ def test_act_reports_collision_when_the_filter_shortens_the_step():
     def wall_at_minus_point_one(start, end):
         return np.array([end[0], end[1], max(end[2], -0.1)])
 
-    agent = Agent(SceneNode(), AgentConfiguration(), wall_at_minus_point_one)
+    agent = Agent(SceneNode(), AgentConfiguration())
+    agent.controls.move_filter_fn = wall_at_minus_point_one
     assert agent.act("move_forward") is True
     np.testing.assert_allclose(agent.get_state().position, [0, 0, -0.1], atol=1e-12)
 
@@ -88,7 +89,7 @@ def test_set_state_round_trips_world_pose_and_sensors_follow():
     state = agent.get_state()
     np.testing.assert_allclose(state.position, [1.0, 0.5, -2.0], atol=1e-12)
     np.testing.assert_allclose(np.abs(state.rotation.xyzw), np.abs(q.xyzw), atol=1e-12)
-    cam_position, _ = state.sensor_states["cam"]
+    cam_position = state.sensor_states["cam"].position
     np.testing.assert_allclose(cam_position, [1.0, 2.0, -2.0], atol=1e-12)  # 1.5 m above
 
 

@@ -111,7 +111,7 @@ def test_robot_attached_to_agent_node_moves_the_agent_and_its_cameras(test_asset
             "cubeSolid", agent.scene_node)
         cube.translation = [1.0, 0.1, -2.0]
         np.testing.assert_allclose(agent.get_state().position, [1.0, 0.1, -2.0], atol=1e-9)
-        position, _ = agent.get_state().sensor_states["rgba"]
+        position = agent.get_state().sensor_states["rgba"].position
         np.testing.assert_allclose(position, [1.0, 1.6, -2.0], atol=1e-9)
         sim.get_rigid_object_manager().remove_object_by_id(cube.object_id,
                                                            delete_object_node=False)
