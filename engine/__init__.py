@@ -5,7 +5,9 @@
     engine.Simulator, engine.Configuration, engine.SimulatorConfiguration,
     engine.agent.AgentConfiguration, engine.AgentState, engine.CameraSensorSpec,
     engine.SensorType, engine.SensorSubType, engine.RigidState, engine.physics,
-    engine.NavMeshSettings, engine.PathFinder, engine.ShortestPath, engine.MultiGoalShortestPath
+    engine.NavMeshSettings, engine.PathFinder, engine.ShortestPath, engine.MultiGoalShortestPath,
+    engine.HitRecord, engine.Agent, engine.ActionSpec, engine.ActuationSpec, engine.SceneGraph,
+    engine.GreedyGeodesicFollower, engine.registry, engine.errors, engine.nav
 
 and ``from engine import mn`` replaces ``import magnum as mn``. Names are resolved lazily
 (PEP 562), so ``from engine import mn`` does not load the physics or the renderer.
@@ -28,6 +30,13 @@ _LAZY = {
     "Agent": "engine.agent",
     "ActionSpec": "engine.agent",
     "ActuationSpec": "engine.agent",
+    "SixDOFPose": "engine.agent",
+    "SceneNodeControl": "engine.agent",
+    "ObjectControls": "engine.agent",
+    "SceneGraph": "engine.scene_node",
+    "GreedyGeodesicFollower": "engine.nav",
+    "GreedyFollowerCodes": "engine.nav",
+    "HitRecord": "navmesh",
     "CameraSensorSpec": "engine.sensors",
     "SensorType": "engine.sensors",
     "SensorSubType": "engine.sensors",
@@ -44,8 +53,11 @@ _SUBMODULES = {
     "attributes",
     "attributes_managers",
     "datasets",
+    "errors",
     "geo",
+    "nav",
     "physics",
+    "registry",
     "scene_node",
     "sensors",
     "user_config",

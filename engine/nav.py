@@ -1,0 +1,222 @@
+"""Habitat's ``habitat_sim.nav``: the navmesh classes and the greedy geodesic follower.
+
+``GreedyGeodesicFollower(pathfinder, agent, goal_radius=None, *, stop_key=None, ...)`` fits
+the agent's ``move_forward`` / ``turn_left`` / ``turn_right`` actions to the geodesic shortest
+path, as Habitat's C++ ``GreedyGeodesicFollowerImpl`` does (after Gupta et al.'s
+map-plan-baseline):
+
+* stop (return ``stop_key``, None by default) when the geodesic distance to the goal is below
+  ``goal_radius`` (default 0.75 x the forward step);
+* else try every primitive ``[turn] * n + [forward]`` for ``n`` turns left or right while
+  ``n * turn < pi`` (with the agent's own controls and move filter, on scratch nodes) and
+  score it::
+
+      reward = (d_geo(before) - d_geo(after)) / step - 0.0125 n
+               - 0.25 [collided] - 0.05 [obstacle closer than 0.2 m after the step]
+
+  keep the best (ties: the fewer turns, left first); stop searching once a reward exceeds
+  0.99 (a straight step that gains a full step);
+* thrashing fix: after ``thrashing_threshold`` alternating left/right turns, commit to the
+  whole best primitive instead of its first action.
+
+``next_action_along(goal)`` returns one action key; ``find_path(goal)`` simulates the
+primitives on a scratch node and returns every key, ending with ``stop_key``. No path (the
+goal on another island, or more than 5000 actions) raises
+:class:`engine.errors.GreedyFollowerError`.
+"""
+
+from __future__ import annotations
+
+import math
+from enum import Enum
+from typing import Any
+
+import numpy as np
+
+from engine.agent import Agent
+from engine.agent.controls import ActuationSpec
+from engine.errors import GreedyFollowerError
+from engine.scene_node import SceneNode
+from navmesh import HitRecord, MultiGoalShortestPath, NavMeshSettings, PathFinder, ShortestPath
+
+__all__ = [
+    "GreedyFollowerCodes",
+    "GreedyGeodesicFollower",
+    "HitRecord",
+    "MultiGoalShortestPath",
+    "NavMeshSettings",
+    "PathFinder",
+    "ShortestPath",
+]
+
+CLOSE_TO_OBSTACLE_M = 0.2  # a step ending closer than this to a wall costs 0.05
+COLLISION_COST = 0.25  # a blocked step costs this (the floor of acceptable rewards)
+TURN_COST = 0.0125  # per turn of the primitive: prefer short primitives
+GOOD_ENOUGH_REWARD = 0.99  # stop searching: the step gained 99 % of a full step
+MAX_ACTIONS = 5000  # find_path gives up after this many actions
+
+
+class GreedyFollowerCodes(Enum):
+    """The follower's internal action codes (Habitat's ``GreedyFollowerCodes``)."""
+
+    ERROR = -2
+    STOP = -1
+    FORWARD = 0
+    LEFT = 1
+    RIGHT = 2
+
+
+class GreedyGeodesicFollower:
+    """Greedily fits the agent's actions to the geodesic shortest path (see the module)."""
+
+    def __init__(self, pathfinder: PathFinder, agent: Agent, goal_radius: float | None = None,
+                 *, stop_key: Any = None, forward_key: Any = None, left_key: Any = None,
+                 right_key: Any = None, fix_thrashing: bool = True,
+                 thrashing_threshold: int = 16) -> None:
+        self.pathfinder = pathfinder
+        self.agent = agent
+        self.last_goal: np.ndarray | None = None
+        codes = GreedyFollowerCodes
+        self.action_mapping: dict[GreedyFollowerCodes, Any] = {codes.STOP: stop_key}
+        key, self.forward_spec = self._find_action("move_forward")
+        self.action_mapping[codes.FORWARD] = key if forward_key is None else forward_key
+        key, self.left_spec = self._find_action("turn_left")
+        self.action_mapping[codes.LEFT] = key if left_key is None else left_key
+        key, self.right_spec = self._find_action("turn_right")
+        self.action_mapping[codes.RIGHT] = key if right_key is None else right_key
+        self.goal_radius = (0.75 * float(self.forward_spec.amount) if goal_radius is None
+                            else float(goal_radius))
+        self.fix_thrashing = bool(fix_thrashing)
+        self.thrashing_threshold = int(thrashing_threshold)
+        self._turn_radians = math.radians(float(self.left_spec.amount))
+        if self._turn_radians <= 0.0:
+            raise ValueError(f"turn_left must turn by > 0 degrees, got {self.left_spec.amount}")
+        self._actions: list[GreedyFollowerCodes] = []
+        self._thrashing_actions: list[GreedyFollowerCodes] = []
+
+    def _find_action(self, name: str) -> tuple[Any, ActuationSpec]:
+        """The (key, actuation) of the one action of the agent's space that runs ``name``."""
+        found = [(k, spec.actuation) for k, spec in self.agent.agent_config.action_space.items()
+                 if spec.name == name]
+        if len(found) != 1:
+            raise ValueError(f"Could not find an action spec corresponding to {name!r} in the "
+                             f"agent's action space ({len(found)} found)")
+        return found[0]
+
+    # -- primitives on scratch nodes -----------------------------------------------------------
+    def _run(self, node: SceneNode, code: GreedyFollowerCodes) -> bool:
+        """Apply one perfect action to a scratch node through the agent's controls."""
+        name, spec = {GreedyFollowerCodes.FORWARD: ("move_forward", self.forward_spec),
+                      GreedyFollowerCodes.LEFT: ("turn_left", self.left_spec),
+                      GreedyFollowerCodes.RIGHT: ("turn_right", self.right_spec)}[code]
+        return self.agent.controls(node, name, spec, True)
+
+    def _geodesic(self, start: np.ndarray, end: np.ndarray) -> float:
+        path = ShortestPath()
+        path.requested_start, path.requested_end = start, end
+        self.pathfinder.find_path(path)
+        return float(path.geodesic_distance)
+
+    def _reward(self, node: SceneNode, goal: np.ndarray, distance: float, turns: int) -> float:
+        """Score the primitive ``turns`` turns (already applied to ``node``) + one step."""
+        probe = _scratch_node(node.translation, node.rotation)
+        collided = self._run(probe, GreedyFollowerCodes.FORWARD)
+        after = np.asarray(probe.translation, dtype=np.float64)
+        gained = (distance - self._geodesic(after, goal)) / float(self.forward_spec.amount)
+        to_obstacle = self.pathfinder.distance_to_closest_obstacle(after,
+                                                                   1.1 * CLOSE_TO_OBSTACLE_M)
+        return (gained - TURN_COST * turns - (COLLISION_COST if collided else 0.0)
+                - (0.05 if to_obstacle < CLOSE_TO_OBSTACLE_M else 0.0))
+
+    def _best_primitive(self, position: np.ndarray, rotation: Any,
+                        goal: np.ndarray) -> list[GreedyFollowerCodes]:
+        """The best ``[turn] * n + [FORWARD]`` from this pose, [STOP], or [ERROR]."""
+        distance = self._geodesic(position, goal)
+        if math.isinf(distance):
+            return [GreedyFollowerCodes.ERROR]
+        if distance < self.goal_radius:
+            return [GreedyFollowerCodes.STOP]
+        best_reward, best = -COLLISION_COST, []
+        left, right = _scratch_node(position, rotation), _scratch_node(position, rotation)
+        turns, angle = 0, 0.0
+        while angle < math.pi:
+            for node, code in ((left, GreedyFollowerCodes.LEFT),
+                               (right, GreedyFollowerCodes.RIGHT)):
+                reward = self._reward(node, goal, distance, turns)
+                if reward > best_reward:
+                    best_reward, best = reward, [code] * turns + [GreedyFollowerCodes.FORWARD]
+            if best_reward > GOOD_ENOUGH_REWARD:
+                break
+            self._run(left, GreedyFollowerCodes.LEFT)
+            self._run(right, GreedyFollowerCodes.RIGHT)
+            turns, angle = turns + 1, angle + self._turn_radians
+        return best
+
+    def _is_thrashing(self) -> bool:
+        """The last ``thrashing_threshold`` actions alternate left and right."""
+        recent = self._actions[-self.thrashing_threshold:]
+        if len(self._actions) < self.thrashing_threshold:
+            return False
+        turns = {GreedyFollowerCodes.LEFT, GreedyFollowerCodes.RIGHT}
+        if recent[-1] not in turns:
+            return False
+        return all(a in turns and b in turns and a != b for a, b in zip(recent, recent[1:],
+                                                                         strict=False))
+
+    # -- Habitat's API -------------------------------------------------------------------------
+    def next_action_along(self, goal_pos: Any) -> Any:
+        """The action key to take now to follow the geodesic path to ``goal_pos``."""
+        goal = np.asarray(goal_pos, dtype=np.float64)
+        if self.last_goal is None or not np.allclose(goal, self.last_goal):
+            self.reset()
+            self.last_goal = goal
+        state = self.agent.state
+        if self.fix_thrashing and self._thrashing_actions:
+            code = self._thrashing_actions.pop()
+        else:
+            primitive = self._best_primitive(state.position, state.rotation, goal)
+            if not primitive:
+                code = GreedyFollowerCodes.ERROR
+            elif self.fix_thrashing and self._is_thrashing():
+                self._thrashing_actions = primitive[::-1]
+                code = self._thrashing_actions.pop()
+            else:
+                code = primitive[0]
+        self._actions.append(code)
+        if code is GreedyFollowerCodes.ERROR:
+            raise GreedyFollowerError(f"no path from {state.position.tolist()} to "
+                                      f"{goal.tolist()}")
+        return self.action_mapping[code]
+
+    def find_path(self, goal_pos: Any) -> list[Any]:
+        """Every action key from the agent's pose to ``goal_pos``, ending with ``stop_key``."""
+        self.reset()
+        goal = np.asarray(goal_pos, dtype=np.float64)
+        state = self.agent.state
+        node = _scratch_node(state.position, state.rotation)
+        actions: list[GreedyFollowerCodes] = []
+        while len(actions) < MAX_ACTIONS:
+            primitive = self._best_primitive(np.asarray(node.translation), node.rotation, goal)
+            if not primitive or primitive[-1] is GreedyFollowerCodes.ERROR:
+                raise GreedyFollowerError(f"no path from {state.position.tolist()} to "
+                                          f"{goal.tolist()}")
+            for code in primitive:
+                if code is not GreedyFollowerCodes.STOP:
+                    self._run(node, code)
+                actions.append(code)
+            if actions[-1] is GreedyFollowerCodes.STOP:
+                return [self.action_mapping[code] for code in actions]
+        raise GreedyFollowerError(f"no path to {goal.tolist()} within {MAX_ACTIONS} actions")
+
+    def reset(self) -> None:
+        """Forget the action history (thrashing detection) and the last goal."""
+        self._actions.clear()
+        self._thrashing_actions.clear()
+        self.last_goal = None
+
+
+def _scratch_node(position: Any, rotation: Any) -> SceneNode:
+    node = SceneNode(name="greedy follower scratch")
+    node.translation = position
+    node.rotation = rotation
+    return node
