@@ -132,7 +132,7 @@ class Simulator:
         self._asset_template_manager = AssetAttributesManager()
         self._stage_template_manager = StageAttributesManager()
         self._physics_template_manager = PhysicsAttributesManager()
-        physics_attributes = self._physics_template_manager.load(sim_cfg.physics_config_file)
+        physics_attributes = self._load_physics_config(sim_cfg.physics_config_file)
         stage_attributes, stage_meshes = self._load_stage(sim_cfg.scene_id)
 
         self.root_node = SceneNode(name="root")
@@ -167,6 +167,16 @@ class Simulator:
     # ------------------------------------------------------------------------------------------
     # loading
     # ------------------------------------------------------------------------------------------
+    def _load_physics_config(self, path: str):
+        """The physics config at ``path``; Habitat's defaults (and a warning) when the file
+        does not exist, as Habitat logs and creates default physics attributes."""
+        try:
+            return self._physics_template_manager.load(path)
+        except FileNotFoundError:
+            warnings.warn(f"physics config {path!r} not found; using the default physics "
+                          f"settings (timestep 0.008 s, gravity -9.8 m/s^2)", stacklevel=3)
+            return self._physics_template_manager.load("")
+
     def _load_stage(self, scene_id: str) -> tuple[StageAttributes | None, list]:
         """The stage's template and its meshes in the world frame (none for ``"NONE"``)."""
         if not isinstance(scene_id, str):

@@ -1,9 +1,22 @@
-"""Helpers a Habitat user finds under ``habitat_sim.utils`` (see :mod:`engine.utils.common`).
+"""Helpers a Habitat user finds under ``habitat_sim.utils``.
 
-Habitat's ``viz_utils`` (videos) lives in :mod:`render.video`: ``from render import video as
-vut`` replaces ``from habitat_sim.utils import viz_utils as vut``.
+:mod:`engine.utils.common` (quaternions, ``d3_40_colors_rgb``, ``colorize_ids``),
+:mod:`engine.utils.settings` (``default_sim_settings``, ``make_cfg``),
+:mod:`engine.utils.viz_utils` (Habitat's ``viz_utils``: videos from :mod:`render.video`,
+``display_sample``, ``get_island_colored_map``) and :mod:`engine.utils.maps` (top-down maps,
+``to_grid``, ``draw_path`` as in Habitat's navigation notebook).
+Submodules load on first use, so ``import engine.utils`` stays light.
 """
 
-from engine.utils import common
+from __future__ import annotations
 
-__all__ = ["common"]
+import importlib
+from typing import Any
+
+__all__ = ["common", "maps", "settings", "viz_utils"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        return importlib.import_module(f"engine.utils.{name}")
+    raise AttributeError(f"module 'engine.utils' has no attribute {name!r}")

@@ -105,3 +105,9 @@ def quat_from_two_vectors(v0: Any, v1: Any) -> mn.Quaternion:
         # opposite: any perpendicular axis; cross with the least aligned basis vector
         axis = np.cross(a, np.eye(3)[int(np.argmin(np.abs(a)))])
     return quat_from_angle_axis(math.acos(cosine), axis)
+
+
+# Habitat's id colors live in engine.utils.colors; re-exported here as Habitat has them
+from engine.utils.colors import colorize_ids, d3_40_colors_hex, d3_40_colors_rgb  # noqa: E402
+
+__all__ += ["colorize_ids", "d3_40_colors_hex", "d3_40_colors_rgb"]
