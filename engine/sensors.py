@@ -140,6 +140,22 @@ class CameraSensor:
     def specification(self) -> CameraSensorSpec:
         return self.spec
 
+    @property
+    def hfov(self) -> mn.Deg:
+        """Horizontal field of view in degrees (writes go to the spec, used next frame)."""
+        return mn.Deg(float(self.spec.hfov))
+
+    @hfov.setter
+    def hfov(self, value: Any) -> None:
+        # mn.Rad converts; mn.Deg and plain numbers are degrees
+        degrees = math.degrees(float(value)) if isinstance(value, mn.Rad) else float(value)
+        if not 0.0 < degrees < 180.0:
+            raise ValueError(f"sensor {self.uuid!r}: hfov must be in (0, 180) degrees, "
+                             f"got {value!r}")
+        self.spec.hfov = degrees
+
+    fov = hfov  # Habitat's alias
+
     def set_transformation_from_spec(self) -> None:
         """Habitat's name for :meth:`reset_pose`."""
         self.reset_pose()

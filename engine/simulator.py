@@ -351,6 +351,12 @@ class Simulator:
             return {i: self._renderer.observe(self.get_agent(i).sensors) for i in agent_ids}
         return self._renderer.observe(self.get_agent(agent_ids).sensors)
 
+    def add_sensor(self, sensor_spec: Any, agent_id: int | None = None) -> None:
+        """Give an agent (default: the default agent) a new sensor."""
+        self._check_open()
+        agent = self.get_agent(self._default_agent_id if agent_id is None else agent_id)
+        agent._add_sensor(sensor_spec)
+
     def step(self, action: Any, dt: float = 1.0 / 60.0) -> dict:
         """Act, step the world by ``dt`` and observe (Habitat's agent loop).
 
@@ -434,6 +440,15 @@ class Simulator:
         if agent_ids is None:
             agent_ids = self._default_agent_id
         return self.get_sensor_observations(agent_ids=agent_ids)
+
+    def reconfigure(self, config: Configuration) -> None:
+        """Rebuild the simulator from ``config`` (stage, navmesh, agents), in place."""
+        if not isinstance(config, Configuration):
+            raise TypeError(f"reconfigure needs a Configuration, got {type(config).__name__}")
+        if config is self.config and not self._closed:
+            return
+        self.close()
+        self.__init__(config)
 
     def close(self) -> None:
         """Release the world; further use raises RuntimeError. Safe to call twice."""

@@ -189,6 +189,15 @@ class Agent:
             for spec in agent_config.sensor_specifications:
                 self._sensors[spec.uuid] = CameraSensor(spec, self.scene_node)
 
+    def _add_sensor(self, spec: CameraSensorSpec, modify_agent_config: bool = True) -> None:
+        """Attach a new sensor (Habitat's ``_add_sensor``; ``Simulator.add_sensor`` calls it)."""
+        if spec.uuid in self._sensors:
+            raise ValueError(f"a sensor {spec.uuid!r} already exists on this agent")
+        spec.validate()
+        if modify_agent_config and spec not in self.agent_config.sensor_specifications:
+            self.agent_config.sensor_specifications.append(spec)
+        self._sensors[spec.uuid] = CameraSensor(spec, self.scene_node)
+
     @property
     def state(self) -> AgentState:
         """``get_state()``; assigning calls ``set_state(state)`` with the defaults."""
