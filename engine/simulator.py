@@ -147,6 +147,8 @@ class Simulator:
                                    self._asset_template_manager, seed=sim_cfg.random_seed)
         self._world.set_stage(stage_meshes or None, stage_attributes)
         self._renderer = SceneRenderer(self.root_node)
+        # Habitat draws the navmesh wireframe when True; rigidsim stores the flag only
+        self.navmesh_visualization = False
 
         self.pathfinder = PathFinder()
         self._load_navmesh(sim_cfg)

@@ -226,10 +226,20 @@ class PathFinder:
         node, _ = self._grid.nearest_node(p)
         return int(self._grid.island[node]) if node >= 0 else -1
 
-    def island_radius(self, pt: ArrayLike) -> float:
+    def island_radius(self, pt: ArrayLike | int) -> float:
         """Largest distance of the island's cell centres from their centroid (Habitat's
-        island radius) for the island nearest ``pt``; 0 when nothing is near."""
-        island = self.get_island(pt)
+        island radius), meters.
+
+        ``pt`` is a point (the island nearest it; 0 when nothing is near) or, as in
+        Habitat's newer API, an island index (``int``).
+        """
+        if isinstance(pt, (int, np.integer)) and not isinstance(pt, bool):
+            self._require()
+            if not 0 <= pt < self._grid.n_islands:
+                raise ValueError(f"island_index {pt} out of range [0, {self._grid.n_islands})")
+            island = int(pt)
+        else:
+            island = self.get_island(pt)
         if island < 0:
             return 0.0
         if self._island_radius is None:

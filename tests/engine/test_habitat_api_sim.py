@@ -257,3 +257,28 @@ def test_topdown_map_border_grid_and_path(apartment_settings):
         np.testing.assert_array_equal(colored[2, 7], [255, 0, 0])
         col_row = vut.convert_points_to_topdown(pf, [point], 0.1)[0]
         assert col_row == pytest.approx([col, row], abs=1.0)
+
+
+def test_island_meshes_add_up_and_islands_are_queried_by_index(apartment_settings):
+    """Habitat's test_navmesh_islands: per-island meshes, radius/area by index, sampling."""
+    with habitat_sim.Simulator(make_cfg(apartment_settings)) as sim:
+        pf = sim.pathfinder
+        sim.navmesh_visualization = True
+        assert sim.navmesh_visualization
+        total_vertices, total_indices = 0, 0
+        for island in range(pf.num_islands):
+            vertices = pf.build_navmesh_vertices(island)
+            indices = pf.build_navmesh_vertex_indices(island)
+            assert len(vertices) > 0 and max(indices) < len(vertices)
+            total_vertices += len(vertices)
+            total_indices += len(indices)
+            point = pf.get_random_navigable_point(island_index=island)
+            assert pf.get_island(point) == island
+            assert pf.island_radius(island) == pf.island_radius(point) > 0.0
+            near = pf.get_random_navigable_point_near(point, 0.5, island_index=island)
+            assert np.linalg.norm(point - near) < 0.5 and pf.is_navigable(near)
+            assert np.allclose(pf.snap_point(point, island), point)
+        assert total_vertices == len(pf.build_navmesh_vertices())
+        assert total_indices == len(pf.build_navmesh_vertex_indices())
+        with pytest.raises(ValueError, match="island_index"):
+            pf.island_radius(pf.num_islands)
