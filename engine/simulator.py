@@ -400,12 +400,19 @@ class Simulator:
     # ------------------------------------------------------------------------------------------
     # navigation
     # ------------------------------------------------------------------------------------------
-    def recompute_navmesh(self, pathfinder: PathFinder, navmesh_settings: NavMeshSettings) -> bool:
-        """Build ``pathfinder``'s navmesh from the stage (and STATIC objects if asked)."""
+    def recompute_navmesh(self, pathfinder: PathFinder, navmesh_settings: NavMeshSettings,
+                          include_static_objects: bool | None = None) -> bool:
+        """Build ``pathfinder``'s navmesh from the stage (and STATIC objects if asked).
+
+        ``include_static_objects`` (Habitat's older third argument) overrides the settings'
+        field when given. A scene without triangles builds nothing: a warning and False.
+        """
         if not isinstance(navmesh_settings, NavMeshSettings):
             raise TypeError(f"navmesh_settings must be NavMeshSettings, got {navmesh_settings!r}")
         vertices, faces = self._stage_triangles()
-        if navmesh_settings.include_static_objects:
+        with_statics = (navmesh_settings.include_static_objects if include_static_objects is None
+                        else bool(include_static_objects))
+        if with_statics:
             parts = [(vertices, faces), *self._world.static_meshes_world()]
             offsets = np.cumsum([0] + [len(v) for v, _ in parts[:-1]])
             vertices = np.concatenate([v for v, _ in parts])

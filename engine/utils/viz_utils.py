@@ -11,13 +11,15 @@ Videos come from :mod:`render.video` (``make_video``, ``observation_to_image``,
   side with matplotlib;
 * ``display_map(topdown_map, key_points=None)``: a map with points ``(col, row)`` marked;
 * ``convert_points_to_topdown(pathfinder, points, meters_per_pixel)``: world points to map
-  pixels ``(col, row)`` for plotting, as the notebook defines it.
+  pixels ``(col, row)`` for plotting, as the notebook defines it;
+* ``get_fast_video_writer(video_file, fps)``: an imageio mp4 writer.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+import imageio
 import numpy as np
 from PIL import Image
 
@@ -40,6 +42,7 @@ __all__ = [
     "display_map",
     "display_sample",
     "display_video",
+    "get_fast_video_writer",
     "get_island_colored_map",
     "is_notebook",
     "make_video",
@@ -61,6 +64,15 @@ def get_island_colored_map(island_top_down_map_data: np.ndarray) -> Image.Image:
     on_island = islands >= 0
     rgb[on_island] = palette[islands[on_island]]  # island index -> its color
     return Image.fromarray(rgb, "RGB")
+
+
+def get_fast_video_writer(video_file: str, fps: int = 60):
+    """An imageio mp4 writer (``append_data(frame)``, ``close()``), as Habitat's helper.
+
+    Frames must be ``(H, W, 3) uint8`` with even sizes for H.264.
+    """
+    return imageio.get_writer(video_file, fps=fps, quality=5, format="FFMPEG",
+                              macro_block_size=1)
 
 
 def convert_points_to_topdown(pathfinder: Any, points: list, meters_per_pixel: float

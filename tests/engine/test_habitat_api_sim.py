@@ -282,3 +282,23 @@ def test_island_meshes_add_up_and_islands_are_queried_by_index(apartment_setting
         assert total_indices == len(pf.build_navmesh_vertex_indices())
         with pytest.raises(ValueError, match="island_index"):
             pf.island_radius(pf.num_islands)
+
+
+def test_recompute_navmesh_third_argument_includes_static_objects(apartment_settings):
+    """Habitat's notebook passes ``include_static_objects`` as a third argument."""
+    with habitat_sim.Simulator(make_cfg({**apartment_settings, "color_sensor": False,
+                                         "depth_sensor": False})) as sim:
+        templates = sim.get_object_template_manager()
+        handle = templates.get_template_handles("cubeSolid")[0]
+        point = sim.pathfinder.get_random_navigable_point(island_index=0)
+        box = sim.get_rigid_object_manager().add_object_by_template_handle(handle)
+        box.translation = point + np.array([0.0, 0.1, 0.0])
+        box.motion_type = habitat_sim.physics.MotionType.STATIC
+        settings = habitat_sim.NavMeshSettings()
+        settings.set_defaults()
+        assert sim.recompute_navmesh(sim.pathfinder, settings)
+        without = sim.pathfinder.navigable_area
+        assert sim.pathfinder.is_navigable(point)
+        assert sim.recompute_navmesh(sim.pathfinder, settings, True)
+        assert sim.pathfinder.navigable_area < without - 0.04  # the 0.2 m box + radius
+        assert not sim.pathfinder.is_navigable(point)
