@@ -302,3 +302,20 @@ def test_recompute_navmesh_third_argument_includes_static_objects(apartment_sett
         assert sim.recompute_navmesh(sim.pathfinder, settings, True)
         assert sim.pathfinder.navigable_area < without - 0.04  # the 0.2 m box + radius
         assert not sim.pathfinder.is_navigable(point)
+
+
+def test_seed_reproduces_random_navigable_points(apartment_settings):
+    """Habitat's test_random_seed, verbatim in spirit."""
+    with habitat_sim.Simulator(make_cfg({**apartment_settings, "color_sensor": False,
+                                         "depth_sensor": False})) as sim:
+        sim.seed(1)
+        point1 = sim.pathfinder.get_random_navigable_point()
+        sim.seed(1)
+        assert all(point1 == sim.pathfinder.get_random_navigable_point())
+        sim.seed(2)
+        point1 = sim.pathfinder.get_random_navigable_point()
+        sim.seed(3)
+        assert any(point1 != sim.pathfinder.get_random_navigable_point())
+        sim.seed(4)
+        point1 = sim.pathfinder.get_random_navigable_point()
+        assert any(point1 != sim.pathfinder.get_random_navigable_point())
