@@ -304,7 +304,11 @@ class Simulator:
         if initial_state is None:
             initial_state = AgentState()
             if self.pathfinder.is_loaded:
-                initial_state.position = self.pathfinder.get_random_navigable_point()
+                try:
+                    initial_state.position = self.pathfinder.get_random_navigable_point()
+                except RuntimeError as error:  # a navmesh without navigable area
+                    warnings.warn(f"initialize_agent({agent_id}): {error}; the agent starts "
+                                  f"at the origin", stacklevel=2)
                 yaw = self.random.uniform_float(0.0, 2.0 * np.pi)
                 initial_state.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
         agent.set_state(initial_state, is_initial=True)

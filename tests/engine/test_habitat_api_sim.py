@@ -319,3 +319,19 @@ def test_seed_reproduces_random_navigable_points(apartment_settings):
         sim.seed(4)
         point1 = sim.pathfinder.get_random_navigable_point()
         assert any(point1 != sim.pathfinder.get_random_navigable_point())
+
+
+def test_navmesh_without_navigable_area_starts_agents_at_the_origin(tmp_path):
+    import trimesh
+
+    floor = trimesh.creation.box(extents=[0.3, 0.02, 0.3])  # smaller than an island may be
+    path = tmp_path / "tiny_floor.glb"
+    floor.export(path)
+    (tmp_path / "tiny_floor.stage_config.json").write_text('{"up": [0, 1, 0], "front": [0, 0, -1]}')
+    settings = {**default_sim_settings, "scene": str(path), "color_sensor": False,
+                "physics_config_file": ""}
+    with pytest.warns(UserWarning, match="origin"):
+        sim = habitat_sim.Simulator(make_cfg(settings))
+    with sim:
+        assert sim.pathfinder.is_loaded and sim.pathfinder.navigable_area == 0.0
+        np.testing.assert_array_equal(sim.get_agent(0).state.position, [0.0, 0.0, 0.0])
