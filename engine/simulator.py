@@ -463,8 +463,11 @@ class Simulator:
         self.close()
         self.__init__(config)
 
-    def close(self) -> None:
-        """Release the world; further use raises RuntimeError. Safe to call twice."""
+    def close(self, destroy: bool = True) -> None:
+        """Release the world; further use raises RuntimeError. Safe to call twice.
+
+        ``destroy`` is Habitat's (its GL context); rigidsim has none to release.
+        """
         if not self._closed:
             self._world.rigid_object_manager.remove_all_objects()
             self._closed = True

@@ -177,6 +177,9 @@ def test_add_sensor_hfov_and_reconfigure(apartment_settings):
         sim.reconfigure(make_cfg({**apartment_settings, "depth_sensor": False}))
         assert list(sim.sensors) == ["color_sensor"]
         assert set(sim.step("move_forward")) == {"color_sensor", "collided"}
+        sim.close(destroy=True)
+        with pytest.raises(RuntimeError, match="closed"):
+            sim.step("move_forward")
 
 
 # -- fixed-field configuration objects ---------------------------------------------------------
