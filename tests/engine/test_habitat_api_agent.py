@@ -14,6 +14,7 @@ import pytest
 import engine as habitat_sim
 from engine import mn
 from engine.geo import BACK, FRONT, GRAVITY, LEFT, RIGHT, UP
+from engine.utils.common import quat_from_angle_axis
 
 
 def rotation_angle_between(q1, q2) -> float:
@@ -42,7 +43,8 @@ def check_delta(before, after, delta_pos=(0, 0, 0), delta_rot=None):
     """``after`` = ``before`` moved by ``delta_pos`` (world) and turned by ``delta_rot``."""
     delta_rot = mn.Quaternion() if delta_rot is None else delta_rot
     assert np.linalg.norm(after.position - before.position - np.asarray(delta_pos)) < 1e-5
-    assert rotation_angle_between(after.rotation * delta_rot.inverted(), before.rotation) < 1e-5
+    turned_back = mn.to_quaternion(after.rotation) * delta_rot.inverted()
+    assert rotation_angle_between(turned_back, before.rotation) < 1e-5
 
 
 BODY_CASES = [
@@ -179,10 +181,12 @@ def test_set_state_without_inferring_sensor_states_places_sensors_in_the_world()
     for _ in range(20):
         state = agent.state
         state.position += rng.uniform(-1, 1, size=3)
-        state.rotation *= axis_angle(math.degrees(rng.uniform(0, 2 * math.pi)), [0, 1, 0])
+        # Habitat's own lines: the quaternion type of utils.common composes with the state's
+        state.rotation *= quat_from_angle_axis(rng.uniform(0, 2 * math.pi), np.array([0., 1, 0]))
         for pose in state.sensor_states.values():
             pose.position += rng.uniform(-1, 1, size=3)
-            pose.rotation *= axis_angle(math.degrees(rng.uniform(0, 2 * math.pi)), [1, 1, 1])
+            pose.rotation *= quat_from_angle_axis(rng.uniform(0, 2 * math.pi),
+                                                  np.array([1.0, 1.0, 1.0]))
         agent.set_state(state, infer_sensor_states=False)
         new_state = agent.state
         check_delta(state, new_state)
