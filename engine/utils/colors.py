@@ -19,10 +19,12 @@ d3_40_colors_hex: list[str] = ["0x" + "".join(f"{c:02x}" for c in rgb) for rgb i
 
 
 def colorize_ids(ids: np.ndarray) -> np.ndarray:
-    """``(H, W, 3) uint8`` image of an ``(H, W)`` integer id map, id ``i`` colored
-    ``d3_40_colors_rgb[i % 40]``."""
+    """``(H, W, 3) uint8`` image of an ``(H, W)`` integer id map, id ``i >= 0`` colored
+    ``d3_40_colors_rgb[i % 40]``, negative ids (nothing) black, as Habitat."""
     ids = np.asarray(ids)
     if ids.ndim != 2 or ids.dtype.kind not in "iu":
         raise ValueError(f"colorize_ids needs an (H, W) integer array, got {ids.dtype} "
                          f"{ids.shape}")
-    return d3_40_colors_rgb[np.mod(ids, 40)]  # palette lookup per pixel
+    colored = d3_40_colors_rgb[np.mod(ids, 40)]  # palette lookup per pixel
+    colored[ids < 0] = 0
+    return colored

@@ -239,8 +239,10 @@ def test_pathfinder_helpers(apartment_settings):
 # -- visualisation helpers ---------------------------------------------------------------------
 def test_id_colors_and_island_map():
     assert d3_40_colors_rgb.shape == (40, 3) and d3_40_colors_rgb.dtype == np.uint8
-    ids = np.array([[0, 1], [40, 41]])
+    ids = np.array([[0, -1], [40, 41]])
     colored = colorize_ids(ids)
+    np.testing.assert_array_equal(colored[0, 0], [31, 119, 180])  # d3's first color
+    np.testing.assert_array_equal(colored[0, 1], [0, 0, 0])  # negative: nothing, black
     np.testing.assert_array_equal(colored[1, 0], d3_40_colors_rgb[0])  # 40 wraps to 0
     np.testing.assert_array_equal(colored[1, 1], d3_40_colors_rgb[1])
     islands = np.array([[-1, 0], [1, 1]])
