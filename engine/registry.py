@@ -53,11 +53,18 @@ class _Registry:
 
     def get_move_fn(self, name: str) -> Any:
         """The control registered under ``name``, or None."""
+        _load_default_controls()
         return self._move_fns.get(name)
 
     def move_fn_names(self) -> list[str]:
         """Every registered control name, sorted (rigidsim addition, for error messages)."""
+        _load_default_controls()
         return sorted(self._move_fns)
+
+
+def _load_default_controls() -> None:
+    """Register Habitat's default controls (importing them registers them; once)."""
+    import engine.agent.controls  # noqa: F401
 
 
 registry = _Registry()

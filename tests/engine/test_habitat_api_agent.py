@@ -229,3 +229,13 @@ def test_scene_graph_nodes():
     grandchild.rotate_y_local(mn.Deg(90.0))
     grandchild.reset_transformation()
     assert rotation_angle_between(grandchild.rotation, mn.Quaternion()) == 0.0
+
+
+def test_registry_alone_knows_the_default_controls():
+    import subprocess
+    import sys
+
+    code = ("import engine.registry as r; print(r.get_move_fn('move_forward').body_action, "
+            "r.get_move_fn('look_up').body_action)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["True", "False"]
