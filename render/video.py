@@ -149,6 +149,8 @@ def save_video(
     make_frames = frames if callable(frames) else (lambda: iter(frames))
     if n_frames is None and hasattr(frames, "__len__"):
         n_frames = len(frames)
+    if n_frames == 0:
+        raise ValueError(f"save_video: no frames to write to {video_file!r}")
     try:
         mp4_options = {"fps": fps, "format": "FFMPEG", "macro_block_size": 1}
         _write_frames(video_file, make_frames(), n_frames, mp4_options)
@@ -233,6 +235,11 @@ def make_video(
     """
     if not isinstance(video_file, str) or not video_file:
         raise ValueError(f"video_file must be a non-empty path string, got {video_file!r}")
+    if isinstance(observations, str | bytes | dict) or not hasattr(observations, "__len__"):
+        raise TypeError(f"observations must be a list of observation dicts, got "
+                        f"{type(observations).__name__}")
+    if len(observations) == 0:
+        raise ValueError("make_video: observations is empty, there is no frame to encode")
     if not video_file.endswith(".mp4"):
         video_file += ".mp4"
     print(f"Encoding the video: {video_file}")

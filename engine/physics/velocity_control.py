@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.mn_vectors import stable_norm
 
 
 class RigidState:
@@ -128,12 +129,15 @@ class VelocityControl:
         if linear is not None:
             translation = t0 + linear * dt  # t1 = t0 + v dt (v already rotated if local)
         if angular is not None:
-            speed = float(np.linalg.norm(angular))
+            speed = float(stable_norm(angular))
             if speed > 0.0:
                 half = 0.5 * speed * dt
                 dq = np.append(angular / speed * np.sin(half), np.cos(half))
                 rotation = mn.quaternion_multiply(dq, q0)  # q1 = dq * q0
                 rotation /= np.linalg.norm(rotation)
+        if not np.all(np.isfinite(translation)):
+            raise ValueError(f"linear_velocity {self._linear.tolist()} over dt={dt!r} would "
+                             f"move the object to a non-finite translation")
         return RigidState(mn.Quaternion.from_xyzw(rotation), translation)
 
     def __repr__(self) -> str:

@@ -151,6 +151,11 @@ class WorldApiMixin:
     def cast_ray(self, ray, max_distance: float = 100.0) -> RaycastResults:
         """All hits of ``ray`` with collidable bodies up to ``max_distance`` (units of
         ``|ray.direction|``), sorted by distance. The stage reports object id 0."""
+        if not (hasattr(ray, "origin") and hasattr(ray, "direction")):
+            raise TypeError(f"ray must be a geo.Ray (with origin and direction), got {ray!r}")
+        if isinstance(max_distance, bool) or not isinstance(
+                max_distance, int | float | np.integer | np.floating):
+            raise TypeError(f"max_distance must be a number, got {max_distance!r}")
         max_distance = float(max_distance)
         if not np.isfinite(max_distance) or max_distance < 0:
             raise ValueError(f"max_distance must be finite and >= 0, got {max_distance!r}")
