@@ -20,6 +20,7 @@ and bad input raises a clear exception instead of logging.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -134,8 +135,10 @@ class Simulator:
             return
         asset = Path(self._stage_attributes.render_asset_handle)
         navmesh_file = asset.with_name(asset.name.split(".")[0] + ".navmesh")
-        if navmesh_file.is_file():
-            self.pathfinder.load_nav_mesh(str(navmesh_file))
+        if navmesh_file.is_file() and not self.pathfinder.load_nav_mesh(str(navmesh_file)):
+            # as Habitat: a bad navmesh file is logged, the simulator runs without a navmesh
+            warnings.warn(f"{navmesh_file} is not a valid navmesh: the simulator has no "
+                          f"navmesh (recompute_navmesh builds one)", stacklevel=3)
 
     # ------------------------------------------------------------------------------------------
     # managers
