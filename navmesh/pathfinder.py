@@ -412,8 +412,9 @@ class PathFinder:
         self, meters_per_pixel: float, height: float, eps: float = 0.5
     ) -> np.ndarray:
         """Like ``get_topdown_view`` but ``int32`` island indices, -1 where not navigable."""
-        if not (isinstance(meters_per_pixel, (int, float)) and meters_per_pixel > 0):
-            raise ValueError(f"meters_per_pixel must be > 0, got {meters_per_pixel!r}")
+        if not (isinstance(meters_per_pixel, (int, float)) and not isinstance(meters_per_pixel,
+                bool) and math.isfinite(meters_per_pixel) and meters_per_pixel > 0):
+            raise ValueError(f"meters_per_pixel must be finite and > 0, got {meters_per_pixel!r}")
         if isinstance(height, bool) or not isinstance(height, (int, float, np.integer,
                                                                 np.floating)):
             raise TypeError(f"height must be a number, got {height!r}")

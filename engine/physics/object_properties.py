@@ -12,6 +12,7 @@ forces and impulses act only on DYNAMIC objects. Pose and velocity writes wake t
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -37,6 +38,15 @@ def _number(value: Any, name: str, low: float = -math.inf, high: float = math.in
         bound = ">" if low_open else ">="
         raise ValueError(f"{name} must be finite, {bound} {low} and <= {high}, got {value!r}")
     return number
+
+
+def _quiet_overflow(method):
+    """Run ``method`` with NumPy's overflow warnings off: it checks its results itself."""
+    @functools.wraps(method)
+    def wrapped(*args, **kwargs):
+        with np.errstate(over="ignore", invalid="ignore"):
+            return method(*args, **kwargs)
+    return wrapped
 
 
 def _finite_result(value: np.ndarray, name: str, what: str) -> np.ndarray:
@@ -200,6 +210,7 @@ class ObjectPropertiesMixin:
             raise TypeError(f"rigid_state must be a RigidState, got {value!r}")
         self._set_pose(value._translation.copy(), value._rotation.copy(), "rigid_state")
 
+    @_quiet_overflow
     def translate(self, vector: Any) -> None:
         """Move by ``vector`` (world frame, m)."""
         offset = np.asarray(mn.to_vector3(vector, "vector"))
@@ -207,6 +218,7 @@ class ObjectPropertiesMixin:
         self._set_pose(self._world.bodies.body_position[index] + offset,
                        self._world.bodies.body_rotation[index].copy(), "vector")
 
+    @_quiet_overflow
     def translate_local(self, vector: Any) -> None:
         """Move by ``vector`` given in the object's frame."""
         offset = np.asarray(mn.to_vector3(vector, "vector"))
@@ -280,6 +292,7 @@ class ObjectPropertiesMixin:
         b = self._world.bodies
         return index if b.body_motion_type[index] == DYNAMIC else None
 
+    @_quiet_overflow
     def apply_force(self, force: Any, relative_position: Any) -> None:
         """Force (N, world frame) at a world-frame offset from the COM, for the next
         ``step_physics`` call: ``F += f``, ``tau += r x f``."""
@@ -297,6 +310,7 @@ class ObjectPropertiesMixin:
         b.body_torque[index] = total_torque
         self._world.wake(index)
 
+    @_quiet_overflow
     def apply_torque(self, torque: Any) -> None:
         """Torque (N m, world frame) for the next ``step_physics`` call."""
         tau = np.asarray(mn.to_vector3(torque, "torque"))
@@ -319,6 +333,7 @@ class ObjectPropertiesMixin:
         dw = _finite_result(h * (inv @ torque), name, "angular velocity change")
         _finite_result(b.body_angular_velocity[index] + dw, name, "angular velocity")
 
+    @_quiet_overflow
     def apply_impulse(self, impulse: Any, relative_position: Any) -> None:
         """Instant impulse (N s, world) at a world offset: ``v += J/m``, ``w += I^-1 (r x J)``."""
         j = np.asarray(mn.to_vector3(impulse, "impulse"))
@@ -334,6 +349,7 @@ class ObjectPropertiesMixin:
         b.body_angular_velocity[index] = angular
         self._world.wake(index)
 
+    @_quiet_overflow
     def apply_impulse_torque(self, impulse: Any) -> None:
         """Instant angular impulse (N m s, world): ``w += I_w^-1 L``."""
         angular = np.asarray(mn.to_vector3(impulse, "impulse"))
