@@ -67,7 +67,8 @@ class SoakReport:
     counts: dict = field(default_factory=dict)  # operation -> times run
     steps: int = 0
     max_objects: int = 0
-    lost: list = field(default_factory=list)  # (operation index, handle, position)
+    #: (operation index, handle, position, the last operations on that object)
+    lost: list = field(default_factory=list)
     rss_after_warmup_mb: float = 0.0
     rss_end_mb: float = 0.0
     peak_rss_mb: float = 0.0
@@ -84,8 +85,8 @@ class SoakReport:
                 f"{ops}\n{self.steps} steps, at most {self.max_objects} objects, "
                 f"{self.ray_hits} ray hits, no NaN, counts consistent after every operation\n"
                 f"lost dynamic objects: {len(self.lost)}"
-                + "".join(f"\n  op {i}: {h} at {np.round(p, 2).tolist()}"
-                          for i, h, p in self.lost)
+                + "".join(f"\n  op {i}: {h} at {np.round(p, 2).tolist()} after {history}"
+                          for i, h, p, history in self.lost)
                 + f"\nresident memory: {self.rss_after_warmup_mb:.1f} MB after warm-up, "
                   f"{self.rss_end_mb:.1f} MB at the end (growth {self.memory_growth_mb:+.1f} "
                   f"MB), peak {self.peak_rss_mb:.1f} MB")
@@ -134,12 +135,17 @@ class Soak:
         hi = stage.body_position[0] + stage.body_shape_center[0] + stage.body_shape_half[0]
         self.box = (np.minimum(lo, low) - LOST_MARGIN, np.maximum(hi, high) + LOST_MARGIN)
         self.objects: dict[int, object] = {}  # our own list of live wrappers
+        self.history: dict[int, list] = {}  # object id -> its last operations
+        self.picked: int | None = None  # the object the current operation used
         self.tracked: set[int] = set()  # dynamic since put inside: may not leave the stage
 
     # -- helpers ------------------------------------------------------------------------
     def _pick(self):
         ids = sorted(self.objects)
-        return self.objects[ids[int(self.rng.integers(len(ids)))]] if ids else None
+        if not ids:
+            return None
+        self.picked = ids[int(self.rng.integers(len(ids)))]
+        return self.objects[self.picked]
 
     def _inside_point(self) -> np.ndarray:
         point = self.sim.pathfinder.get_random_navigable_point()
@@ -160,6 +166,7 @@ class Soak:
         obj.rotation = habitat_sim.mn.to_quaternion(self.rng.normal(size=4))
         self.objects[obj.object_id] = obj
         self.tracked.add(obj.object_id)
+        self.picked = obj.object_id
 
     def remove(self) -> None:
         obj = self._pick()
@@ -170,6 +177,7 @@ class Soak:
     def _forget(self, object_id: int) -> None:
         del self.objects[object_id]
         self.tracked.discard(object_id)
+        self.history.pop(object_id, None)
 
     def teleport(self) -> None:
         obj = self._pick()
@@ -265,7 +273,9 @@ class Soak:
             position = np.asarray(obj.translation)
             if np.all(position >= self.box[0]) and np.all(position <= self.box[1]):
                 continue
-            report.lost.append((op_index, obj.handle, position))
+            speed = float(np.linalg.norm(np.asarray(obj.linear_velocity)))
+            history = self.history.get(object_id, [])[-6:] + [f"{speed:.1f} m/s"]
+            report.lost.append((op_index, obj.handle, position, history))
             self._forget(object_id)
             self.manager.remove_object_by_id(object_id)
 
@@ -288,7 +298,10 @@ def run_soak(operations: int = 2000, seed: int = 0, progress: bool = False,
     start = time.perf_counter()
     for op_index, draw in enumerate(tqdm(draws, disable=not progress, desc="soak")):
         name = names[int(draw)]
+        soak.picked = None
         result = getattr(soak, name)()
+        if soak.picked in soak.objects:
+            soak.history.setdefault(soak.picked, []).append(f"{op_index}:{name}")
         report.counts[name] = report.counts.get(name, 0) + 1
         if name == "ray":
             report.ray_hits += result

@@ -386,8 +386,15 @@ class ObjectPropertiesMixin:
         return self._scalar("body_mass")
 
     @mass.setter
+    @_quiet_overflow
     def mass(self, value: Any) -> None:
-        self._set_scalar("body_mass", _number(value, "mass", 0.0, low_open=True))
+        mass = _number(value, "mass", 0.0, low_open=True)
+        index = self._check()
+        b = self._world.bodies
+        # a pending force must still give a finite velocity change h F / m
+        _finite_result(self._world.get_physics_time_step() * b.body_force[index] / mass,
+                       "mass", "velocity change under the pending force")
+        self._set_scalar("body_mass", mass)
 
     @property
     def intertia_diagonal(self) -> mn.Vector3:  # Habitat's spelling
