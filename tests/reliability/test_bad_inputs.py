@@ -31,7 +31,7 @@ from world_hash import bodies_are_finite, world_hash
 import engine as habitat_sim
 from engine.physics import MotionType
 from engine.sensors import CameraSensor, CameraSensorSpec
-from navmesh import NavMeshSettings, ShortestPath
+from navmesh import NavMeshSettings, PathFinder, ShortestPath
 from render import video as vut
 from render.settings import MAX_PIXELS
 
@@ -584,3 +584,21 @@ def test_a_bad_navmesh_beside_the_stage_leaves_the_simulator_without_one(demo_da
         simulator = habitat_sim.Simulator(habitat_sim.Configuration(cfg))
     assert not simulator.pathfinder.is_loaded
     simulator.close()
+
+
+@pytest.mark.parametrize("name, value", [("agent_radius", 1e6), ("agent_radius", 1e300),
+                                         ("region_min_size", 1e150), ("agent_max_climb", 1e6),
+                                         ("cell_size", 1e3), ("agent_height", 1e300)])
+def test_extreme_but_valid_navmesh_settings_finish(name, value):
+    """Work is bounded by the grid, not by the values: these used to hang or overflow."""
+    floor = np.array([[0, 0, 0], [10, 0, 0], [10, 0, 10], [0, 0, 10]], np.float64)
+    faces = np.array([[0, 2, 1], [0, 3, 2]], np.int64)
+    nav_settings = NavMeshSettings()
+    setattr(nav_settings, name, value)
+    pathfinder = PathFinder()
+    assert pathfinder.build(floor, faces, nav_settings)
+    area = pathfinder.navigable_area
+    if name in ("agent_radius", "region_min_size", "cell_size"):
+        assert area == 0.0  # eroded away, or every island under region_min_size^2 cells
+    else:
+        assert 0.0 < area <= 100.0 + 1e-9
