@@ -152,16 +152,21 @@ class NavMeshData:
             settings.update_from_dict(settings_dict)
         except (KeyError, TypeError) as err:
             raise ValueError(f"{where}: bad settings_json ({err})") from err
+        for key, low, high in (("links", -1, np.iinfo(np.int8).max),
+                               ("island", -1, np.iinfo(np.int32).max)):
+            values = arrays[key]  # checked before the cast, which would wrap big values
+            if values.size and (values.min() < low or values.max() > high):
+                raise ValueError(f"{where}: {key!r} values must lie in [{low}, {high}]")
         data = NavMeshData(
             settings=settings,
-            bounds=arrays["bounds"].astype(np.float64),
-            origin_xz=arrays["origin_xz"].astype(np.float64),
+            bounds=arrays["bounds"].astype(np.float64, copy=False),
+            origin_xz=arrays["origin_xz"].astype(np.float64, copy=False),
             cell_size=float(arrays["cell_size"]),
-            floor=arrays["floor"].astype(np.float64),
-            ceiling=arrays["ceiling"].astype(np.float64),
-            navigable=arrays["navigable"].astype(bool),
-            links=arrays["links"].astype(np.int8),
-            island=arrays["island"].astype(np.int32),
+            floor=arrays["floor"].astype(np.float64, copy=False),
+            ceiling=arrays["ceiling"].astype(np.float64, copy=False),
+            navigable=arrays["navigable"].astype(bool, copy=False),
+            links=arrays["links"].astype(np.int8, copy=False),
+            island=arrays["island"].astype(np.int32, copy=False),
         )
         check_contents(data, where)
         return data

@@ -61,8 +61,8 @@ MAX_GRID_CELLS = 10_000_000
 #: a sort): a 1e-4 m cell or cell height over a room asks for billions.
 MAX_RASTER_SAMPLES = 30_000_000
 #: nodes (layers x cells), the largest layered grid a ``.navmesh`` file may hold; its arrays
-#: cost 26 bytes per node (floor, ceiling, navigable, 4 links, island).
-MAX_NAV_NODES = 40_000_000
+#: cost 26 bytes per node (floor, ceiling, navigable, 4 links, island): at most ~520 MB.
+MAX_NAV_NODES = 20_000_000
 #: pixels, the largest top-down view ``get_topdown_view`` renders (16 bytes per pixel).
 MAX_TOPDOWN_PIXELS = 4096 * 4096
 

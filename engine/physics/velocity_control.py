@@ -127,7 +127,8 @@ class VelocityControl:
         translation, rotation = t0.copy(), q0.copy()
         linear, angular = self.world_velocities(q0)
         if linear is not None:
-            translation = t0 + linear * dt  # t1 = t0 + v dt (v already rotated if local)
+            with np.errstate(over="ignore", invalid="ignore"):  # checked just below
+                translation = t0 + linear * dt  # t1 = t0 + v dt (v already rotated if local)
         if angular is not None:
             speed = float(stable_norm(angular))
             if speed > 0.0:

@@ -648,3 +648,16 @@ def test_issue_cases_templates_sensors_budgets_files(sim, tmp_path):
     far = [1e300, 0.0, 1e300]
     assert np.all(np.isnan(sim.pathfinder.snap_point(far)))
     np.testing.assert_array_equal(sim.pathfinder.try_step(far, [0.0, 0.0, 0.0]), far)
+
+
+def test_kinematic_velocity_control_that_would_overflow_is_refused_at_the_step(sim):
+    kinematic = objects(sim)[1]
+    original = kinematic.translation
+    kinematic.translation = [1.7e308, 0.5, 0.0]
+    control = kinematic.velocity_control
+    control.controlling_lin_vel, control.linear_velocity = True, [1e308, 0.0, 0.0]
+    try:
+        assert_refused(sim, lambda: sim.step_physics(1.0), ValueError, match="linear_velocity")
+    finally:
+        control.controlling_lin_vel, control.linear_velocity = False, [0.0, 0.0, 0.0]
+        kinematic.translation = original
