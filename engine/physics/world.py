@@ -187,7 +187,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         if n_steps > constants.MAX_STEPS_PER_CALL:
             raise ValueError(f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
                              f"the limit per call is {constants.MAX_STEPS_PER_CALL}")
-        self._sync_from_nodes()  # these two raise ValueError before changing anything
+        self._sync_from_nodes()  # each raises ValueError before it changes anything
         self._apply_velocity_control(dt)
         self._accumulator = accumulated - n_steps * self._timestep
         for _ in range(n_steps):
