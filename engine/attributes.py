@@ -40,15 +40,42 @@ class Field:
     """One template field: its JSON key, its kind, its default value."""
 
     json_key: str | None
-    kind: str  # "float", "positive", "nonnegative", "vec3", "bool", "int", "str", "asset"
+    # "float", "positive", "nonnegative", "unit" ([0, 1]), "vec3", "scale" (vec3 > 0),
+    # "inertia" (zero or a physical diagonal), "bool", "int", "str", "asset"
+    kind: str
     default: Any
+
+
+#: |up . front| allowed between a template's unit ``up`` and ``front`` (the asset loader's).
+FRAME_ORTHOGONAL_TOLERANCE = 1e-6
+
+
+def check_inertia(inertia: Any, name: str) -> np.ndarray:
+    """A diagonal inertia must be finite, > 0 and obey the triangle inequality
+    ``I_a + I_b >= I_c`` of every rigid mass distribution (1e-6 relative slack: flat bodies
+    reach equality). Returns it as a float64 array, else ValueError naming ``name``."""
+    inertia = np.asarray(inertia, dtype=np.float64)
+    if not np.all(np.isfinite(inertia)) or np.any(inertia <= 0):
+        raise ValueError(f"{name} must be finite and > 0, got {inertia.tolist()}")
+    biggest = float(inertia.max())
+    total = float(np.sum(inertia / biggest)) * biggest  # sum without overflow
+    if np.any(2.0 * (inertia / biggest) > (total / biggest) * (1.0 + 1e-6)):  # I_c > I_a + I_b
+        raise ValueError(f"{name} {inertia.tolist()} breaks the triangle inequality "
+                         f"(each component must be <= the sum of the other two)")
+    return inertia
 
 
 def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
     """``value`` converted to the field's kind; ValueError naming the field (and file)."""
     where = f" in {source}" if source else ""
-    if kind == "vec3":
-        return np.asarray(mn.to_vector3(value, f"{name}{where}"))
+    if kind in ("vec3", "scale", "inertia"):
+        vector = np.asarray(mn.to_vector3(value, f"{name}{where}"))
+        if kind == "scale" and np.any(vector <= 0.0):
+            raise ValueError(f"{name}{where} must be > 0 on every axis (zero collapses the "
+                             f"object, negative mirrors it), got {vector.tolist()}")
+        if kind == "inertia" and np.any(vector != 0.0):  # all zero: computed from the shape
+            check_inertia(vector, f"{name}{where}")
+        return vector
     if kind == "bool":
         if not isinstance(value, bool | np.bool_):
             raise ValueError(f"{name}{where} must be a bool, got {value!r}")
@@ -70,6 +97,8 @@ def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
         raise ValueError(f"{name}{where} must be > 0, got {value!r}")
     if kind == "nonnegative" and number < 0.0:
         raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
+    if kind == "unit" and not 0.0 <= number <= 1.0:
+        raise ValueError(f"{name}{where} must be in [0, 1], got {value!r}")
     return number
 
 
@@ -116,6 +145,21 @@ class AbstractAttributes:
         """The editable user configuration (``user_defined`` in the JSON), by reference."""
         return self._user_config
 
+    def check_frame(self, source: str = "") -> None:
+        """Refuse an ``up``/``front`` pair that is not a rotation frame: both non-zero and
+        orthogonal (a skewed pair would shear the asset). ValueError naming the fields."""
+        if "orient_up" not in self.FIELDS:
+            return
+        where = f" in {source}" if source else ""
+        up, front = np.asarray(self._values["orient_up"]), np.asarray(self._values["orient_front"])
+        lengths = [float(mn.stable_norm(v)) for v in (up, front)]
+        if min(lengths) < 1e-12:
+            raise ValueError(f"orient_up {up.tolist()} and orient_front {front.tolist()}{where} "
+                             f"must be non-zero")
+        if abs(float((up / lengths[0]) @ (front / lengths[1]))) > FRAME_ORTHOGONAL_TOLERANCE:
+            raise ValueError(f"orient_up {up.tolist()} and orient_front {front.tolist()}{where} "
+                             f"must be orthogonal (a skewed frame would shear the asset)")
+
     def is_set_explicitly(self, name: str) -> bool:
         """True when the field was given by the JSON file or a setter (not left at default)."""
         return name in self._explicit
@@ -161,6 +205,9 @@ class AbstractAttributes:
                 value = str((path.parent / value).resolve())
             staged[name] = value
         user = Configuration.from_dict(data.get("user_defined", {}), f"user_defined in {path}")
+        candidate = self.copy()
+        candidate._values.update(staged)
+        candidate.check_frame(str(path))
         self._values.update(staged)
         self._explicit.update(staged)
         object.__setattr__(self, "_user_config", user)
@@ -185,14 +232,14 @@ _FRONT = np.array([0.0, 0.0, -1.0])
 _ASSET_FIELDS = {
     "render_asset_handle": Field("render_asset", "asset", ""),
     "collision_asset_handle": Field("collision_asset", "asset", ""),
-    "collision_asset_size": Field("collision_asset_size", "vec3", _VEC_ONE),
-    "scale": Field("scale", "vec3", _VEC_ONE),
+    "collision_asset_size": Field("collision_asset_size", "scale", _VEC_ONE),
+    "scale": Field("scale", "scale", _VEC_ONE),
     "margin": Field("margin", "nonnegative", 0.04),
     "orient_up": Field("up", "vec3", _UP),
     "orient_front": Field("front", "vec3", _FRONT),
     "units_to_meters": Field("units_to_meters", "positive", 1.0),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
-    "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
     "force_flat_shading": Field("force_flat_shading", "bool", False),
     "is_collidable": Field("is_collidable", "bool", True),
     "shader_type": Field("shader_type", "str", "material"),
@@ -202,9 +249,9 @@ OBJECT_FIELDS = {
     **_ASSET_FIELDS,
     "mass": Field("mass", "positive", 1.0),
     "com": Field("COM", "vec3", _VEC_ZERO),
-    "inertia": Field("inertia", "vec3", _VEC_ZERO),
-    "linear_damping": Field("linear_damping", "nonnegative", 0.2),
-    "angular_damping": Field("angular_damping", "nonnegative", 0.2),
+    "inertia": Field("inertia", "inertia", _VEC_ZERO),
+    "linear_damping": Field("linear_damping", "unit", 0.2),
+    "angular_damping": Field("angular_damping", "unit", 0.2),
     "bounding_box_collisions": Field("use_bounding_box_for_collision", "bool", False),
     "join_collision_meshes": Field("join_collision_meshes", "bool", False),
     "is_visibile": Field("is_visible", "bool", True),
@@ -214,7 +261,7 @@ OBJECT_FIELDS = {
 STAGE_FIELDS = {
     **_ASSET_FIELDS,
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
-    "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "origin": Field("origin", "vec3", _VEC_ZERO),
     "navmesh_asset_handle": Field("nav_asset", "asset", ""),
@@ -225,7 +272,7 @@ PHYSICS_FIELDS = {
     "timestep": Field("timestep", "positive", 0.008),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
-    "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
     "max_substeps": Field("max_substeps", "int", 10),
 }
 

@@ -117,7 +117,10 @@ class _AttributesManager(Generic[T]):
             raise TypeError(
                 f"expected a {self.template_class.__name__}, got {type(template).__name__}"
             )
+        if not isinstance(specified_handle, str):
+            raise TypeError(f"specified_handle must be a str, got {specified_handle!r}")
         handle = specified_handle or template.handle
+        template.check_frame(handle)
         if not handle:
             raise ValueError("a template needs a non-empty handle to be registered")
         if handle in self._locked:

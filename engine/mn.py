@@ -29,7 +29,7 @@ from engine.mn_rotations import (
     quaternion_to_matrix,
     to_quaternion,
 )
-from engine.mn_vectors import Deg, Rad, Vector2, Vector3, to_vector3
+from engine.mn_vectors import Deg, Rad, Vector2, Vector3, stable_norm, to_vector3
 
 __all__ = [
     "Deg",
@@ -43,6 +43,7 @@ __all__ = [
     "matrix_to_quaternion",
     "quaternion_multiply",
     "quaternion_to_matrix",
+    "stable_norm",
     "to_quaternion",
     "to_vector3",
 ]

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from engine.mn_matrices import Matrix3x3
-from engine.mn_vectors import Rad, Vector3, finite_array, radians
+from engine.mn_vectors import Rad, Vector3, finite_array, radians, stable_norm
 
 __all__ = [
     "Quaternion",
@@ -40,7 +40,7 @@ def to_quaternion(value: Any, name: str = "rotation") -> Quaternion:
     else:
         xyzw = finite_array(value, 4, name)
     xyzw = finite_array(xyzw, 4, name)
-    norm = float(np.linalg.norm(xyzw))
+    norm = float(stable_norm(xyzw))  # no overflow for huge components ([1e300, 1e300, 0, 0])
     if norm < 1e-12:
         raise ValueError(f"{name} must be a non-zero quaternion, got {xyzw.tolist()}")
     return Quaternion.from_xyzw(xyzw / norm)

@@ -74,6 +74,18 @@ def finite_array(value: Any, length: int, name: str) -> np.ndarray:
     return array
 
 
+def stable_norm(array: Any, axis: int = -1) -> np.ndarray:
+    """Euclidean norm along ``axis`` that does not overflow: ``m |x / m|`` with
+    ``m = max |x_i|``, so ``[1e200, 0, 0]`` has norm 1e200 (``sqrt(x . x)`` would give inf).
+    Zero vectors have norm 0; non-finite input gives a non-finite norm."""
+    values = np.asarray(array, dtype=np.float64)
+    biggest = np.max(np.abs(values), axis=axis, keepdims=True)
+    safe = np.where((biggest > 0.0) & np.isfinite(biggest), biggest, 1.0)
+    norm = np.linalg.norm(values / safe, axis=axis, keepdims=True) * safe  # m |x / m|
+    norm = np.where(np.isfinite(biggest), norm, biggest)
+    return np.squeeze(norm, axis=axis)
+
+
 def to_vector3(value: Any, name: str = "value") -> Vector3:
     """Convert a list, tuple, ndarray or :class:`Vector3` to a finite :class:`Vector3`.
 

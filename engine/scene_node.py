@@ -23,11 +23,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from engine import mn
+from engine.mn_vectors import stable_norm
 
 if TYPE_CHECKING:  # pragma: no cover
     from engine.assets import MeshData
 
-__all__ = ["Drawable", "SceneGraph", "SceneNode"]
+__all__ = ["MIN_SCALING", "Drawable", "SceneGraph", "SceneNode"]
+
+#: smallest scaling factor a node accepts on any axis: zero would collapse the node (its world
+#: matrix could not be inverted to read a pose back) and a negative one would reflect it.
+MIN_SCALING = 1e-9
 
 
 @dataclass
@@ -123,7 +128,11 @@ class SceneNode:
 
     @scaling.setter
     def scaling(self, value: Any) -> None:
-        self._scaling = np.asarray(mn.to_vector3(value, "scaling"))
+        scaling = np.asarray(mn.to_vector3(value, "scaling"))
+        if np.any(scaling < MIN_SCALING):
+            raise ValueError(f"scaling must be >= {MIN_SCALING} on every axis (zero collapses "
+                             f"the node, negative reflects it), got {scaling.tolist()}")
+        self._scaling = scaling
 
     def local_matrix(self) -> np.ndarray:
         """``T @ R @ S`` as a (4, 4) ndarray."""
@@ -143,10 +152,15 @@ class SceneNode:
         matrix = np.asarray(value, dtype=np.float64)
         if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
             raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
-        scaling = np.linalg.norm(matrix[:3, :3], axis=0)
-        if np.any(scaling < 1e-12):
-            raise ValueError("transformation has a zero scaling column")
-        self._rotation = mn.matrix_to_quaternion(matrix[:3, :3] / scaling)
+        scaling = stable_norm(matrix[:3, :3], axis=0)
+        if np.any(scaling < MIN_SCALING) or not np.all(np.isfinite(scaling)):
+            raise ValueError(f"transformation has a scaling column below {MIN_SCALING}")
+        rotation = matrix[:3, :3] / scaling
+        if np.linalg.det(rotation) < 0.0:
+            raise ValueError("transformation is a reflection (negative determinant)")
+        if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-4):
+            raise ValueError("transformation has a shear (its axes are not orthogonal)")
+        self._rotation = mn.matrix_to_quaternion(rotation)
         self._translation = matrix[:3, 3].copy()
         self._scaling = scaling
 

@@ -26,6 +26,7 @@ import numpy as np
 from engine import mn
 from engine.fixed_fields import FixedFields
 from engine.scene_node import SceneNode
+from render.settings import check_pixel_budget
 
 __all__ = ["CameraSensor", "CameraSensorSpec", "SensorSubType", "SensorType", "euler_xyz_matrix"]
 
@@ -90,17 +91,42 @@ class CameraSensorSpec(FixedFields):
             raise ValueError(f"sensor {self.uuid!r}: unsupported sensor_type {self.sensor_type}")
         if not isinstance(self.sensor_subtype, SensorSubType):
             raise TypeError(f"sensor_subtype must be a SensorSubType, got {self.sensor_subtype!r}")
-        resolution = np.asarray(self.resolution)
-        if resolution.shape != (2,) or resolution.dtype.kind not in "iuf" or np.any(resolution < 1):
-            raise ValueError(f"sensor {self.uuid!r}: resolution must be [height, width] >= 1, "
-                             f"got {self.resolution!r}")
+        self.pixel_resolution()
         mn.to_vector3(self.position, f"sensor {self.uuid!r} position")
         mn.to_vector3(self.orientation, f"sensor {self.uuid!r} orientation")
-        if not 0.0 < float(self.hfov) < 180.0:
+        hfov, near, far = (self._number(name) for name in ("hfov", "near", "far"))
+        if not 0.0 < hfov < 180.0:
             raise ValueError(f"sensor {self.uuid!r}: hfov must be in (0, 180), got {self.hfov!r}")
-        if not 0.0 < float(self.near) < float(self.far):
+        if not 0.0 < near < far:
             raise ValueError(f"sensor {self.uuid!r}: need 0 < near < far, got "
                              f"near={self.near!r}, far={self.far!r}")
+        if self._number("ortho_scale") <= 0.0:
+            raise ValueError(f"sensor {self.uuid!r}: ortho_scale must be > 0, "
+                             f"got {self.ortho_scale!r}")
+
+    def pixel_resolution(self) -> tuple[int, int]:
+        """``(height, width)`` as ints: whole, >= 1 and within the render budget
+        (``render.settings.MAX_PIXELS``), else ValueError naming the sensor."""
+        try:
+            resolution = np.asarray(self.resolution, dtype=np.float64)
+        except (TypeError, ValueError):
+            resolution = None
+        if (resolution is None or resolution.shape != (2,) or not np.all(np.isfinite(resolution))
+                or np.any(resolution < 1) or np.any(resolution != np.round(resolution))):
+            raise ValueError(f"sensor {self.uuid!r}: resolution must be [height, width], two "
+                             f"whole numbers >= 1, got {self.resolution!r}")
+        height, width = (int(v) for v in resolution)
+        check_pixel_budget(height, width, f"sensor {self.uuid!r} resolution")
+        return height, width
+
+    def _number(self, name: str) -> float:
+        """Field ``name`` as a finite float, else TypeError/ValueError naming it."""
+        value = getattr(self, name)
+        if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+            raise TypeError(f"sensor {self.uuid!r}: {name} must be a number, got {value!r}")
+        if not math.isfinite(float(value)):
+            raise ValueError(f"sensor {self.uuid!r}: {name} must be finite, got {value!r}")
+        return float(value)
 
     def __repr__(self) -> str:
         return (f"CameraSensorSpec(uuid={self.uuid!r}, {self.sensor_type.name}, "
@@ -168,7 +194,7 @@ class CameraSensor:
     def camera_key(self) -> tuple:
         """Intrinsics that decide the rasterization (sensors with equal keys and poses share)."""
         spec = self.spec
-        height, width = (int(v) for v in spec.resolution)
+        height, width = spec.pixel_resolution()
         return ((height, width), float(spec.hfov), float(spec.near), float(spec.far),
                 spec.sensor_subtype, float(spec.ortho_scale))
 

@@ -213,8 +213,16 @@ class Simulator:
             return
         asset = Path(self._stage_attributes.render_asset_handle)
         navmesh_file = asset.with_name(asset.name.split(".")[0] + ".navmesh")
-        if navmesh_file.is_file():
-            self.pathfinder.load_nav_mesh(str(navmesh_file))
+        if not navmesh_file.is_file():
+            return
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            loaded = self.pathfinder.load_nav_mesh(str(navmesh_file))
+        if not loaded:
+            # as Habitat: a bad navmesh file is logged, the simulator runs without a navmesh
+            reason = "; ".join(str(w.message) for w in caught)
+            warnings.warn(f"{navmesh_file} is not a valid navmesh, the simulator has no "
+                          f"navmesh (recompute_navmesh builds one): {reason}", stacklevel=3)
 
     # ------------------------------------------------------------------------------------------
     # managers

@@ -22,12 +22,14 @@ Quaternion  ``w [x y z]`` (%.6g)  ``0.707107 [-0.707107 0 0]``
 from __future__ import annotations
 
 import copy
+import warnings
 from enum import Enum
 from typing import Any
 
 import numpy as np
 
 from engine import mn
+from engine.mn_vectors import finite_array
 
 __all__ = ["ConfigValType", "Configuration"]
 
@@ -188,12 +190,18 @@ class Configuration:
             raise ValueError(f"{source} must be a JSON object, got {type(data).__name__}")
         config = cls()
         for key, value in data.items():
+            if value is None or (isinstance(value, list) and any(v is None for v in value)):
+                # Habitat's JSON reader skips a null (and a numeric array holding one) with a
+                # warning instead of failing the whole file
+                warnings.warn(f"{source}.{key} is null (or holds a null): skipped, as Habitat "
+                              f"does", stacklevel=2)
+                continue
             if isinstance(value, dict):
                 config._subconfigs[key] = cls.from_dict(value, f"{source}.{key}")
             elif isinstance(value, list) and len(value) == 4 and _is_rotation_key(key):
-                w, x, y, z = (float(c) for c in value)
+                w, x, y, z = finite_array(value, 4, f"{source}.{key}")
                 config.set(key, mn.Quaternion((x, y, z), w))
-            elif value is not None:
+            else:
                 config.set(key, value)
         return config
 

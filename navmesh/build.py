@@ -28,7 +28,12 @@ import numpy as np
 from navmesh import heightfield as hf
 from navmesh import layers
 from navmesh.navmesh_data import NavMeshData
-from navmesh.settings import NavMeshSettings
+from navmesh.settings import (
+    MAX_GRID_CELLS,
+    MAX_RASTER_SAMPLES,
+    NavMeshSettings,
+    check_budget,
+)
 
 
 def build_navmesh(
@@ -53,12 +58,13 @@ def build_navmesh(
     vertices, faces = check_mesh(vertices, faces)
     settings.validate()
     s = settings
+    spacing = 0.5 * min(s.cell_size, s.cell_height)
+    check_build_budget(vertices, faces, s.cell_size, spacing)
     # -- Step 1. Grid: square cells covering the mesh footprint ---------------------------
     grid = hf.make_grid(vertices, s.cell_size)
     # -- Step 2. Mark walkable triangles by slope ------------------------------------------
     walkable_tri = hf.mark_walkable_triangles(vertices, faces, s.agent_max_slope)
     # -- Step 3. Rasterize: triangle samples -> solid spans per column ---------------------
-    spacing = 0.5 * min(s.cell_size, s.cell_height)
     column, y, walkable = hf.rasterize_triangles(vertices, faces, walkable_tri, grid, spacing)
     spans = hf.merge_samples_into_spans(
         column, y, walkable, grid, s.cell_height, s.agent_max_climb
@@ -81,6 +87,8 @@ def build_navmesh(
     )
     # -- Step 8. Erode by the agent radius ---------------------------------------------------
     radius_cells = math.ceil(s.agent_radius / s.cell_size - 1e-9)
+    # no chamfer distance exceeds sqrt(2) x the node count: a larger radius erodes the same
+    radius_cells = min(radius_cells, 2 * walkable_layer.size + 2)
     navigable = layers.erode_walkable_area(walkable_layer, links, radius_cells)
     # -- Step 9. Islands (connected components), small ones removed -----------------------
     min_cells = int(math.ceil(s.region_min_size**2))
@@ -99,6 +107,25 @@ def build_navmesh(
         links=links,
         island=island,
     )
+
+
+def check_build_budget(vertices: np.ndarray, faces: np.ndarray, cell_size: float,
+                       spacing: float) -> None:
+    """Refuse, before allocating anything, a build whose grid or rasterization would exceed
+    ``MAX_GRID_CELLS`` / ``MAX_RASTER_SAMPLES`` (ValueError naming the budget)."""
+    extent = vertices.max(axis=0) - vertices.min(axis=0)
+    # cells = ceil(x extent / cs) * ceil(z extent / cs), in floats (no int overflow)
+    cells = max(1.0, np.ceil(extent[0] / cell_size)) * max(1.0, np.ceil(extent[2] / cell_size))
+    check_budget(cells, MAX_GRID_CELLS, "MAX_GRID_CELLS",
+                 f"a navmesh grid of cell_size {cell_size} over {extent[0]:.3g} x "
+                 f"{extent[2]:.3g} m")
+    a = vertices[faces[:, 0]]
+    # the rasterizer's lattice: (ceil(|ab| / s) + 1) (ceil(|ac| / s) + 1) samples per triangle
+    n_u = np.maximum(1.0, np.ceil(np.linalg.norm(vertices[faces[:, 1]] - a, axis=1) / spacing))
+    n_v = np.maximum(1.0, np.ceil(np.linalg.norm(vertices[faces[:, 2]] - a, axis=1) / spacing))
+    check_budget(float(np.sum((n_u + 1.0) * (n_v + 1.0))), MAX_RASTER_SAMPLES,
+                 "MAX_RASTER_SAMPLES", f"rasterizing {len(faces)} triangles at a sample "
+                 f"spacing of {spacing:.3g} m (half of min(cell_size, cell_height))")
 
 
 def check_mesh(vertices, faces) -> tuple[np.ndarray, np.ndarray]:

@@ -143,7 +143,9 @@ def erode_walkable_area(walkable: np.ndarray, links: np.ndarray, radius_cells: i
     Boundary nodes (a side without a link) get distance 0; a chamfer transform over the
     8 neighbours, ``dist_i = min(dist_i, dist_j + w_ij)`` with w = 1 (side) or sqrt(2)
     (diagonal), is relaxed ``radius_cells + 2`` times, enough for every distance below the
-    radius to settle. Nodes with ``dist < radius_cells`` are removed. Returns the new mask.
+    radius to settle, or until a sweep changes nothing (so the work is bounded by the
+    grid, not by the radius). Nodes with ``dist < radius_cells`` are removed. Returns the
+    new mask.
     """
     if radius_cells <= 0:
         return walkable.copy()
@@ -154,11 +156,14 @@ def erode_walkable_area(walkable: np.ndarray, links: np.ndarray, radius_cells: i
     neighbours = neighbour_node_ids(links)
     weight = np.r_[np.ones(4), np.full(4, np.sqrt(2.0))]
     for _ in range(radius_cells + 2):
+        before = dist.copy()
         for row, w in zip(neighbours, weight, strict=True):
             has = row >= 0
             # dist_i = min(dist_i, dist_j + w) over every existing neighbour j
             candidate = np.where(has, dist[np.maximum(row, 0)] + w, np.inf)
             np.minimum(dist, candidate, out=dist)
+        if np.array_equal(dist, before):
+            break  # settled: further sweeps change nothing (a huge radius ends here too)
     return (flat_walkable & (dist >= radius_cells)).reshape(walkable.shape)
 
 

@@ -25,12 +25,14 @@ not navigable).
 from __future__ import annotations
 
 import json
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.lib import format as npy_format
 
-from navmesh.settings import NavMeshSettings
+from navmesh.settings import MAX_NAV_NODES, NavMeshSettings, check_budget
 
 FORMAT_NAME = "rigidsim-navmesh"
 FORMAT_VERSION = 1
@@ -102,41 +104,164 @@ class NavMeshData:
 
     @staticmethod
     def load(path: str | Path) -> NavMeshData:
-        """Read a grid written by ``save``.
+        """Read a grid written by ``save``, validated before anything is returned.
+
+        The archive's array headers are read first (no decompression): every key must be
+        present with its documented dtype and consistent shapes, and the grid must fit
+        ``MAX_NAV_NODES``, so a small crafted file cannot demand a huge array. Then the
+        contents are checked: finite bounds, origin and cell size, valid settings, links
+        inside ``[-1, L)`` that never leave the grid and join navigable surfaces, islands
+        ``-1`` exactly where not navigable, finite floors under navigable nodes.
 
         Raises
         ------
         FileNotFoundError
             When ``path`` does not exist.
         ValueError
-            When the file is not a rigidsim navmesh of a supported version.
+            When the file is empty, not a rigidsim navmesh of a supported version, or
+            inconsistent (the message names the first problem).
         """
         path = Path(path)
         if not path.is_file():
             raise FileNotFoundError(f"navmesh file not found: {str(path)!r}")
+        where = f"navmesh file {str(path)!r}"
+        headers = _array_headers(path, where)
+        _check_headers(headers, where)
         try:
             archive = np.load(path, allow_pickle=False)
-        except (OSError, ValueError) as err:
-            raise ValueError(f"not a rigidsim navmesh file: {str(path)!r} ({err})") from err
+        except (OSError, ValueError, EOFError) as err:
+            raise ValueError(f"{where} cannot be read ({err})") from err
         with archive:
-            if "format" not in archive or str(archive["format"]) != FORMAT_NAME:
-                raise ValueError(f"not a rigidsim navmesh file: {str(path)!r}")
-            version = int(archive["format_version"])
-            if version != FORMAT_VERSION:
-                raise ValueError(
-                    f"navmesh file {str(path)!r} has format_version {version}, "
-                    f"expected {FORMAT_VERSION}"
-                )
-            settings = NavMeshSettings()
-            settings.update_from_dict(json.loads(str(archive["settings_json"])))
-            return NavMeshData(
-                settings=settings,
-                bounds=archive["bounds"].astype(np.float64),
-                origin_xz=archive["origin_xz"].astype(np.float64),
-                cell_size=float(archive["cell_size"]),
-                floor=archive["floor"].astype(np.float64),
-                ceiling=archive["ceiling"].astype(np.float64),
-                navigable=archive["navigable"].astype(bool),
-                links=archive["links"].astype(np.int8),
-                island=archive["island"].astype(np.int32),
-            )
+            try:
+                arrays = {key: archive[key] for key in _EXPECTED}
+            except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as err:
+                raise ValueError(f"{where} cannot be read ({err})") from err
+        if str(arrays["format"]) != FORMAT_NAME:
+            raise ValueError(f"not a rigidsim navmesh file: {str(path)!r}")
+        version = int(arrays["format_version"])
+        if version != FORMAT_VERSION:
+            raise ValueError(f"{where} has format_version {version}, expected {FORMAT_VERSION}")
+        settings = NavMeshSettings()
+        try:
+            settings_dict = json.loads(str(arrays["settings_json"]))
+        except json.JSONDecodeError as err:
+            raise ValueError(f"{where}: malformed settings_json ({err})") from err
+        if not isinstance(settings_dict, dict):
+            raise ValueError(f"{where}: settings_json must hold a JSON object")
+        try:
+            settings.update_from_dict(settings_dict)
+        except (KeyError, TypeError) as err:
+            raise ValueError(f"{where}: bad settings_json ({err})") from err
+        for key, low, high in (("links", -1, np.iinfo(np.int8).max),
+                               ("island", -1, np.iinfo(np.int32).max)):
+            values = arrays[key]  # checked before the cast, which would wrap big values
+            if values.size and (values.min() < low or values.max() > high):
+                raise ValueError(f"{where}: {key!r} values must lie in [{low}, {high}]")
+        data = NavMeshData(
+            settings=settings,
+            bounds=arrays["bounds"].astype(np.float64, copy=False),
+            origin_xz=arrays["origin_xz"].astype(np.float64, copy=False),
+            cell_size=float(arrays["cell_size"]),
+            floor=arrays["floor"].astype(np.float64, copy=False),
+            ceiling=arrays["ceiling"].astype(np.float64, copy=False),
+            navigable=arrays["navigable"].astype(bool, copy=False),
+            links=arrays["links"].astype(np.int8, copy=False),
+            island=arrays["island"].astype(np.int32, copy=False),
+        )
+        check_contents(data, where)
+        return data
+
+
+# key -> (dtype kinds accepted, number of dimensions); shapes are cross-checked below
+_EXPECTED = {
+    "format": ("U", 0),
+    "format_version": ("iu", 0),
+    "settings_json": ("U", 0),
+    "bounds": ("f", 2),
+    "origin_xz": ("f", 1),
+    "cell_size": ("f", 0),
+    "floor": ("f", 3),
+    "ceiling": ("f", 3),
+    "navigable": ("b", 3),
+    "links": ("i", 4),
+    "island": ("i", 3),
+}
+#: characters, the longest string (format name, settings JSON) a navmesh file may hold.
+_MAX_STRING = 100_000
+
+
+def _array_headers(path: Path, where: str) -> dict[str, tuple[tuple, np.dtype]]:
+    """``{key: (shape, dtype)}`` of every array in the ``.npz``, read from the ``.npy``
+    headers without decompressing the data."""
+    headers = {}
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for info in archive.infolist():
+                if not info.filename.endswith(".npy"):
+                    continue
+                with archive.open(info) as stream:
+                    version = npy_format.read_magic(stream)
+                    read = (npy_format.read_array_header_1_0 if version == (1, 0)
+                            else npy_format.read_array_header_2_0)
+                    shape, _fortran, dtype = read(stream)
+                headers[info.filename[: -len(".npy")]] = (shape, dtype)
+    except (zipfile.BadZipFile, OSError, ValueError, EOFError) as err:
+        raise ValueError(f"{where} is not a rigidsim navmesh (.npz) file ({err})") from err
+    return headers
+
+
+def _check_headers(headers: dict, where: str) -> None:
+    """Keys, dtypes, dimensions, consistent shapes and the size budget, from headers only."""
+    for key, (kinds, ndim) in _EXPECTED.items():
+        if key not in headers:
+            raise ValueError(f"{where} lacks the array {key!r}")
+        shape, dtype = headers[key]
+        if dtype.kind not in kinds or dtype.hasobject or len(shape) != ndim:
+            raise ValueError(f"{where}: {key!r} must be a {ndim}-d array of kind {kinds!r}, "
+                             f"got shape {shape} dtype {dtype}")
+        if dtype.kind == "U" and dtype.itemsize > 4 * _MAX_STRING:
+            raise ValueError(f"{where}: {key!r} is longer than {_MAX_STRING} characters")
+    grid = headers["floor"][0]
+    check_budget(float(np.prod(grid, dtype=np.float64)), MAX_NAV_NODES, "MAX_NAV_NODES",
+                 f"{where} with a grid of shape {grid}")
+    expected = {"bounds": (2, 3), "origin_xz": (2,), "ceiling": grid, "navigable": grid,
+                "island": grid, "links": (4, *grid)}
+    for key, shape in expected.items():
+        if tuple(headers[key][0]) != tuple(shape):
+            raise ValueError(f"{where}: {key!r} has shape {headers[key][0]}, expected {shape} "
+                             f"(floor is {grid})")
+
+
+def check_contents(data: NavMeshData, where: str = "navmesh") -> None:
+    """Raise ValueError naming the first inconsistency of a grid's arrays (see ``load``)."""
+    n_layers, nz, nx = data.shape
+    if not (np.all(np.isfinite(data.bounds)) and np.all(data.bounds[0] <= data.bounds[1])):
+        raise ValueError(f"{where}: bounds must be finite with min <= max, "
+                         f"got {data.bounds.tolist()}")
+    if not np.all(np.isfinite(data.origin_xz)):
+        raise ValueError(f"{where}: origin_xz must be finite, got {data.origin_xz.tolist()}")
+    if not (np.isfinite(data.cell_size) and data.cell_size > 0):
+        raise ValueError(f"{where}: cell_size must be finite and > 0, got {data.cell_size!r}")
+    if np.any(np.isinf(data.floor)) or np.any(np.isnan(data.ceiling) & ~np.isnan(data.floor)):
+        raise ValueError(f"{where}: floor must be finite or NaN, with a ceiling over each floor")
+    navigable = data.navigable
+    if np.any(navigable & (np.isnan(data.floor) | ~(data.ceiling >= data.floor))):
+        raise ValueError(f"{where}: a navigable node has no floor or a ceiling below it")
+    island = data.island
+    if np.any((island >= 0) != navigable) or np.any(island < -1):
+        raise ValueError(f"{where}: island must be >= 0 exactly on navigable nodes, else -1")
+    links = data.links
+    if np.any(links < -1) or np.any(links >= n_layers):
+        raise ValueError(f"{where}: links must lie in [-1, {n_layers}), got "
+                         f"[{links.min()}, {links.max()}]")
+    for d, (dx, dz) in enumerate(DIRECTIONS):
+        linked = links[d] >= 0  # (L, nz, nx)
+        if not np.any(linked):
+            continue
+        layer, iz, ix = np.nonzero(linked)
+        jx, jz = ix + dx, iz + dz
+        if np.any((jx < 0) | (jx >= nx) | (jz < 0) | (jz >= nz)):
+            raise ValueError(f"{where}: a link across side {d} leaves the grid")
+        target = links[d][layer, iz, ix].astype(np.int64)
+        if not (np.all(navigable[layer, iz, ix]) and np.all(navigable[target, jz, jx])):
+            raise ValueError(f"{where}: a link across side {d} joins a non-navigable node")

@@ -15,6 +15,7 @@ magnum-like Vector3).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,7 +32,12 @@ from navmesh.regions import (
     topdown_islands,
 )
 from navmesh.search import GridGraph, path_length, pull_string
-from navmesh.settings import NAVIGABLE_XZ_TOLERANCE, NavMeshSettings
+from navmesh.settings import (
+    MAX_TOPDOWN_PIXELS,
+    NAVIGABLE_XZ_TOLERANCE,
+    NavMeshSettings,
+    check_budget,
+)
 from navmesh.step_filter import try_step
 
 
@@ -113,17 +119,23 @@ class PathFinder:
         return True
 
     def load_nav_mesh(self, path: str | Path) -> bool:
-        """Load a file written by ``save_nav_mesh``; False when it is not a valid navmesh.
+        """Load a file written by ``save_nav_mesh``.
 
-        Raises FileNotFoundError when ``path`` does not exist.
+        As Habitat, a bad file (empty, truncated, not a navmesh, inconsistent arrays, over
+        the size budget; see ``NavMeshData.load``) returns False with a warning and the
+        navmesh loaded before stays in use. Raises FileNotFoundError when ``path`` does not
+        exist (rigidsim's addition: Habitat only logs it).
         """
         try:
             data = NavMeshData.load(path)
+            grid = NavGrid(data)
         except FileNotFoundError:
             raise
-        except (ValueError, KeyError):
+        except (ValueError, KeyError, TypeError, OSError, EOFError) as err:
+            warnings.warn(f"load_nav_mesh: {err}; the previous navmesh is kept", stacklevel=2)
             return False
-        self._install(data)
+        self._data, self._grid = data, grid
+        self._graph, self._island_radius = None, None
         return True
 
     def save_nav_mesh(self, path: str | Path) -> bool:
@@ -278,7 +290,9 @@ class PathFinder:
         node, _ = self._grid.nearest_node(center, island_index)
         if node < 0:
             return _nan3()
-        nodes = nodes_in_disk(self._grid, center, radius, int(self._grid.island[node]))
+        # no navmesh is 1e30 m wide: a larger radius selects the same squares, no overflow
+        nodes = nodes_in_disk(self._grid, center, min(float(radius), 1e30),
+                              int(self._grid.island[node]))
         for _ in range(max(1, int(max_tries))):
             point = self._sample_in(nodes)
             if np.linalg.norm(point - center) < radius:
@@ -446,9 +460,20 @@ class PathFinder:
         self, meters_per_pixel: float, height: float, eps: float = 0.5
     ) -> np.ndarray:
         """Like ``get_topdown_view`` but ``int32`` island indices, -1 where not navigable."""
-        if not (isinstance(meters_per_pixel, (int, float)) and meters_per_pixel > 0):
-            raise ValueError(f"meters_per_pixel must be > 0, got {meters_per_pixel!r}")
+        if not (isinstance(meters_per_pixel, (int, float)) and not isinstance(meters_per_pixel,
+                bool) and math.isfinite(meters_per_pixel) and meters_per_pixel > 0):
+            raise ValueError(f"meters_per_pixel must be finite and > 0, got {meters_per_pixel!r}")
+        if isinstance(height, bool) or not isinstance(height, (int, float, np.integer,
+                                                                np.floating)):
+            raise TypeError(f"height must be a number, got {height!r}")
         if not math.isfinite(height):
             raise ValueError(f"height must be finite, got {height!r}")
+        if not (isinstance(eps, (int, float, np.integer, np.floating)) and eps >= 0):
+            raise ValueError(f"eps must be a number >= 0, got {eps!r}")
         data = self._require()
+        span = data.bounds[1] - data.bounds[0]
+        # (z span / mpp) x (x span / mpp) pixels, in floats so that no int can overflow
+        pixels = float(span[0] / meters_per_pixel) * float(span[2] / meters_per_pixel)
+        check_budget(pixels, MAX_TOPDOWN_PIXELS, "MAX_TOPDOWN_PIXELS",
+                     f"a top-down view at {meters_per_pixel} m per pixel")
         return topdown_islands(self._grid, data.bounds, float(meters_per_pixel), height, eps)

@@ -47,16 +47,26 @@ class NavGrid:
         self.navigable = data.navigable.reshape(-1)
         self.neighbours = neighbour_node_ids(data.links)
         self.n_islands = int(self.island.max(initial=-1)) + 1
+        self._reach = math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size) + 1  # cells
         self._window = _window_offsets(
             math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size), self.nx, self.nz
         )
 
     # -- cells and nodes ---------------------------------------------------------------------
     def cell_of(self, x: float, z: float) -> tuple[int, int]:
-        """(ix, iz) of the cell containing world (x, z); may lie outside the grid."""
+        """(ix, iz) of the cell containing world (x, z); may lie outside the grid.
+
+        Far points are clamped to a cell just beyond the snap window around the grid (so
+        ``1e300`` gives a far outside cell, never an overflow); no query looks further.
+        """
+        u = (x - self.x0) / self.cell_size  # may be inf for |x| near the float limit
+        v = (z - self.z0) / self.cell_size
+        reach = self._reach
+        if -reach < u < self.nx + reach and -reach < v < self.nz + reach:
+            return math.floor(u), math.floor(v)
         return (
-            math.floor((x - self.x0) / self.cell_size),
-            math.floor((z - self.z0) / self.cell_size),
+            math.floor(min(max(u, -reach), self.nx + reach)),
+            math.floor(min(max(v, -reach), self.nz + reach)),
         )
 
     def node_cell(self, node: int) -> tuple[int, int]:

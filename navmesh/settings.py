@@ -54,6 +54,26 @@ INSIDE_EPS = 1e-4
 # is_navigable: largest horizontal snap displacement still counted as "on the mesh" (1 cm).
 NAVIGABLE_XZ_TOLERANCE = 1e-2
 
+# Size budgets, checked up front (ValueError naming the budget) before anything is allocated.
+#: cells, the largest XZ grid a build may cover (nx * nz): 10 million, e.g. 158 m x 158 m at
+#: Habitat's default 5 cm cells; each cell costs ~30 bytes per surface layer during a build.
+MAX_GRID_CELLS = 10_000_000
+#: samples, the most triangle samples the rasterization may take (about 17 bytes each plus
+#: a sort): a 1e-4 m cell or cell height over a room asks for billions.
+MAX_RASTER_SAMPLES = 30_000_000
+#: nodes (layers x cells), the largest layered grid a ``.navmesh`` file may hold; its arrays
+#: cost 26 bytes per node (floor, ceiling, navigable, 4 links, island): at most ~520 MB.
+MAX_NAV_NODES = 20_000_000
+#: pixels, the largest top-down view ``get_topdown_view`` renders (16 bytes per pixel).
+MAX_TOPDOWN_PIXELS = 4096 * 4096
+
+
+def check_budget(count: float, budget: int, name: str, what: str) -> None:
+    """Raise ValueError naming the budget ``name`` when ``count`` exceeds it."""
+    if not count <= budget:  # also catches NaN and inf counts
+        raise ValueError(f"{what} needs {count:.3g}, more than the budget "
+                         f"navmesh.settings.{name} = {budget}")
+
 
 @dataclass(eq=False)
 class NavMeshSettings:

@@ -33,6 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from render.settings import check_pixel_budget
+
 PINHOLE = "pinhole"
 ORTHOGRAPHIC = "orthographic"
 _SUBTYPES = (PINHOLE, ORTHOGRAPHIC)
@@ -57,6 +59,7 @@ def _check_resolution(resolution: tuple[int, int]) -> tuple[int, int]:
     for name, n in (("height", height), ("width", width)):
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:
             raise ValueError(f"resolution {name} must be a positive int, got {resolution!r}")
+    check_pixel_budget(height, width, "camera resolution")
     return int(height), int(width)
 
 

@@ -33,6 +33,8 @@ import numpy as np
 from PIL import Image
 from tqdm.auto import tqdm
 
+from render.settings import check_pixel_budget
+
 #: 40 category colors (d3's category20 followed by category20b), id % 40 indexes them
 _D3_40_HEX = (
     "1f77b4 aec7e8 ff7f0e ffbb78 2ca02c 98df8a d62728 ff9896 9467bd c5b0d5 "
@@ -132,8 +134,21 @@ def make_video_frame(
         frame.paste(border_frame, box=(x - overlay["border"], y - overlay["border"]))
         frame.paste(image.resize(tuple(overlay["dims"])), box=(x, y))
     if video_dims is not None:
-        frame = frame.resize(tuple(video_dims))
+        frame = frame.resize(_check_dims(video_dims, "video_dims"))
     return frame
+
+
+def _check_dims(dims, name: str) -> tuple[int, int]:
+    """``(width, height)`` as two positive ints within the pixel budget, else ValueError."""
+    try:
+        width, height = dims
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be (width, height), got {dims!r}") from None
+    for n in (width, height):
+        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n <= 0:
+            raise ValueError(f"{name} must be two positive ints, got {dims!r}")
+    check_pixel_budget(height, width, name)
+    return int(width), int(height)
 
 
 def save_video(
@@ -149,6 +164,8 @@ def save_video(
     make_frames = frames if callable(frames) else (lambda: iter(frames))
     if n_frames is None and hasattr(frames, "__len__"):
         n_frames = len(frames)
+    if n_frames == 0:
+        raise ValueError(f"save_video: no frames to write to {video_file!r}")
     try:
         mp4_options = {"fps": fps, "format": "FFMPEG", "macro_block_size": 1}
         _write_frames(video_file, make_frames(), n_frames, mp4_options)
@@ -233,6 +250,13 @@ def make_video(
     """
     if not isinstance(video_file, str) or not video_file:
         raise ValueError(f"video_file must be a non-empty path string, got {video_file!r}")
+    if isinstance(observations, str | bytes | dict) or not hasattr(observations, "__len__"):
+        raise TypeError(f"observations must be a list of observation dicts, got "
+                        f"{type(observations).__name__}")
+    if len(observations) == 0:
+        raise ValueError("make_video: observations is empty, there is no frame to encode")
+    if video_dims is not None:
+        _check_dims(video_dims, "video_dims")
     if not video_file.endswith(".mp4"):
         video_file += ".mp4"
     print(f"Encoding the video: {video_file}")

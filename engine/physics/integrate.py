@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from engine.mn_vectors import stable_norm
+
 from .quaternions import quat_multiply, quat_to_matrix, rotation_quat
 
 
@@ -55,7 +57,7 @@ def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: floa
     for name, limit in (("body_linear_velocity", max_linear), ("body_angular_velocity",
                                                                max_angular)):
         velocity = getattr(bodies, name)[index]
-        speed = np.linalg.norm(velocity, axis=1)
+        speed = stable_norm(velocity, axis=1)  # |v| without overflow above 1e154 m/s
         scale = np.minimum(1.0, limit / np.maximum(speed, 1e-300))
         getattr(bodies, name)[index] = velocity * scale[:, None]
 

@@ -24,6 +24,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from engine import mn
+from engine.mn_vectors import stable_norm
 
 from .bodies import DYNAMIC, STATIC
 from .quaternions import matrix_to_quat, quat_to_matrix
@@ -178,13 +179,19 @@ class NodeSyncMixin:
     def _sync_from_nodes(self) -> None:
         """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies."""
         b = self.bodies
+        moved = []  # (index, world matrix, rotation): all checked before any body changes
         for index, node in self.nodes.items():
             if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
                 continue
             world = node.world_matrix()
             if np.array_equal(world, self._node_pose.get(index)):
                 continue
-            rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
+            scale = stable_norm(world[:3, :3], axis=0)
+            if not (np.all(np.isfinite(world)) and np.all(scale > 0.0)):
+                raise ValueError(f"the scene node of object {index} has a non-finite or "
+                                 f"degenerate world transform; no body was moved")
+            moved.append((index, world, world[:3, :3] / scale))
+        for index, world, rotation in moved:
             b.body_position[index] = world[:3, 3]
             b.body_rotation[index] = matrix_to_quat(rotation)
             self._node_pose[index] = world.copy()

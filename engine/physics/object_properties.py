@@ -2,18 +2,25 @@
 
 Every getter returns a copy; every setter validates first (ValueError/TypeError naming the
 value) and only then writes the world's ``body_*`` arrays, so bad input changes nothing.
+Validation includes overflow: a setter computes its candidate result (the new pose, the
+velocity after an impulse, the velocity change a force makes over one fixed step), checks it
+is finite, and only then commits it, so ``translate([1e308, 0, 0])`` twice is refused the
+second time with the body unchanged.
 STATIC objects ignore pose setters; KINEMATIC objects store velocities without moving;
 forces and impulses act only on DYNAMIC objects. Pose and velocity writes wake the body.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
 import numpy as np
 
 from engine import mn
+from engine.attributes import check_inertia
+from engine.mn_vectors import stable_norm
 
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
@@ -31,6 +38,23 @@ def _number(value: Any, name: str, low: float = -math.inf, high: float = math.in
         bound = ">" if low_open else ">="
         raise ValueError(f"{name} must be finite, {bound} {low} and <= {high}, got {value!r}")
     return number
+
+
+def _quiet_overflow(method):
+    """Run ``method`` with NumPy's overflow warnings off: it checks its results itself."""
+    @functools.wraps(method)
+    def wrapped(*args, **kwargs):
+        with np.errstate(over="ignore", invalid="ignore"):
+            return method(*args, **kwargs)
+    return wrapped
+
+
+def _finite_result(value: np.ndarray, name: str, what: str) -> np.ndarray:
+    """``value`` if every component is finite, else a ValueError naming the argument."""
+    if not np.all(np.isfinite(value)):
+        raise ValueError(f"{name} is too large: it would make a non-finite {what} "
+                         f"({np.asarray(value).tolist()}); the object is unchanged")
+    return value
 
 
 def _angle(value: Any) -> float:
@@ -117,11 +141,19 @@ class ObjectPropertiesMixin:
         self._world.wake_neighbors(index)
 
     # -- pose ----------------------------------------------------------------------------------
-    def _set_pose(self, position: np.ndarray, rotation: np.ndarray) -> None:
+    def _set_pose(self, position: np.ndarray, rotation: np.ndarray,
+                  name: str = "pose") -> None:
+        """Validate the candidate pose (finite position, non-zero finite quaternion), then
+        teleport the body; ``name`` is the argument blamed when it is not."""
         index = self._check()
+        _finite_result(position, name, "position")
+        norm = float(stable_norm(rotation))
+        if not (np.isfinite(norm) and norm > 1e-12):
+            raise ValueError(f"{name} would make a degenerate rotation {rotation.tolist()}")
+        _finite_result(rotation / norm, name, "rotation")
         if self._world.bodies.body_motion_type[index] == STATIC:
             return  # Habitat: STATIC objects silently ignore pose setters
-        self._world.set_body_pose(index, position, rotation)
+        self._world.set_body_pose(index, position, rotation / norm)
 
     @property
     def translation(self) -> mn.Vector3:
@@ -131,7 +163,8 @@ class ObjectPropertiesMixin:
     @translation.setter
     def translation(self, value: Any) -> None:
         position = np.asarray(mn.to_vector3(value, "translation"))
-        self._set_pose(position, self._world.bodies.body_rotation[self._check()].copy())
+        self._set_pose(position, self._world.bodies.body_rotation[self._check()].copy(),
+                       "translation")
 
     @property
     def rotation(self) -> mn.Quaternion:
@@ -140,7 +173,8 @@ class ObjectPropertiesMixin:
     @rotation.setter
     def rotation(self, value: Any) -> None:
         rotation = mn.to_quaternion(value, "rotation").xyzw
-        self._set_pose(self._world.bodies.body_position[self._check()].copy(), rotation)
+        self._set_pose(self._world.bodies.body_position[self._check()].copy(), rotation,
+                       "rotation")
 
     @property
     def transformation(self) -> mn.Matrix4:
@@ -154,10 +188,16 @@ class ObjectPropertiesMixin:
         matrix = np.asarray(value, dtype=np.float64) if not isinstance(value, str) else None
         if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
             raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
-        scale = np.linalg.norm(matrix[:3, :3], axis=0)
-        if np.any(scale < 1e-9):
+        scale = stable_norm(matrix[:3, :3], axis=0)
+        if np.any(scale < 1e-9) or not np.all(np.isfinite(scale)):
             raise ValueError(f"transformation has a degenerate rotation part: {value!r}")
-        self._set_pose(matrix[:3, 3].copy(), matrix_to_quat(matrix[:3, :3] / scale))
+        rotation = matrix[:3, :3] / scale
+        if np.linalg.det(rotation) < 0.0:
+            raise ValueError(f"transformation is a reflection (negative determinant): {value!r}")
+        if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-4):
+            raise ValueError(f"transformation has a shear (its axes are not orthogonal): "
+                             f"{value!r}")
+        self._set_pose(matrix[:3, 3].copy(), matrix_to_quat(rotation), "transformation")
 
     @property
     def rigid_state(self) -> RigidState:
@@ -168,22 +208,24 @@ class ObjectPropertiesMixin:
         self._check()
         if not isinstance(value, RigidState):
             raise TypeError(f"rigid_state must be a RigidState, got {value!r}")
-        self._set_pose(value._translation.copy(), value._rotation.copy())
+        self._set_pose(value._translation.copy(), value._rotation.copy(), "rigid_state")
 
+    @_quiet_overflow
     def translate(self, vector: Any) -> None:
         """Move by ``vector`` (world frame, m)."""
         offset = np.asarray(mn.to_vector3(vector, "vector"))
         index = self._check()
         self._set_pose(self._world.bodies.body_position[index] + offset,
-                       self._world.bodies.body_rotation[index].copy())
+                       self._world.bodies.body_rotation[index].copy(), "vector")
 
+    @_quiet_overflow
     def translate_local(self, vector: Any) -> None:
         """Move by ``vector`` given in the object's frame."""
         offset = np.asarray(mn.to_vector3(vector, "vector"))
         index = self._check()
         b = self._world.bodies
         self._set_pose(b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ offset,
-                       b.body_rotation[index].copy())
+                       b.body_rotation[index].copy(), "vector")
 
     def rotate(self, angle: Any, axis: Any, local: bool = False) -> None:
         """Rotate by ``angle`` (Rad/Deg) about ``axis``: world axes (``q' = r q``) or local
@@ -193,7 +235,7 @@ class ObjectPropertiesMixin:
         b = self._world.bodies
         q = b.body_rotation[index]
         new = quat_multiply(q, turn) if local else quat_multiply(turn, q)
-        self._set_pose(b.body_position[index].copy(), new)
+        self._set_pose(b.body_position[index].copy(), new, "angle")
 
     def rotate_local(self, angle: Any, axis: Any) -> None:
         self.rotate(angle, axis, local=True)
@@ -250,6 +292,7 @@ class ObjectPropertiesMixin:
         b = self._world.bodies
         return index if b.body_motion_type[index] == DYNAMIC else None
 
+    @_quiet_overflow
     def apply_force(self, force: Any, relative_position: Any) -> None:
         """Force (N, world frame) at a world-frame offset from the COM, for the next
         ``step_physics`` call: ``F += f``, ``tau += r x f``."""
@@ -258,18 +301,39 @@ class ObjectPropertiesMixin:
         index = self._dynamic_index()
         if index is None:
             return
-        self._world.bodies.body_force[index] += f
-        self._world.bodies.body_torque[index] += np.cross(r, f)
+        b = self._world.bodies
+        total_force = _finite_result(b.body_force[index] + f, "force", "total force")
+        torque = _finite_result(np.cross(r, f), "relative_position", "torque")
+        total_torque = _finite_result(b.body_torque[index] + torque, "force", "total torque")
+        self._check_force_step(index, total_force, total_torque, "force")
+        b.body_force[index] = total_force
+        b.body_torque[index] = total_torque
         self._world.wake(index)
 
+    @_quiet_overflow
     def apply_torque(self, torque: Any) -> None:
         """Torque (N m, world frame) for the next ``step_physics`` call."""
         tau = np.asarray(mn.to_vector3(torque, "torque"))
         index = self._dynamic_index()
         if index is not None:
-            self._world.bodies.body_torque[index] += tau
+            b = self._world.bodies
+            total = _finite_result(b.body_torque[index] + tau, "torque", "total torque")
+            self._check_force_step(index, b.body_force[index], total, "torque")
+            b.body_torque[index] = total
             self._world.wake(index)
 
+    def _check_force_step(self, index: int, force: np.ndarray, torque: np.ndarray,
+                          name: str) -> None:
+        """Refuse a force/torque whose velocity change over one fixed step,
+        ``h F / m`` and ``h I_w^-1 tau``, or the velocity it leads to, is not finite."""
+        b, h = self._world.bodies, self._world.get_physics_time_step()
+        dv = _finite_result(h * (force / b.body_mass[index]), name, "velocity change")
+        _finite_result(b.body_linear_velocity[index] + dv, name, "linear velocity")
+        inv = world_inverse_inertia(b.body_rotation[index][None], b.body_inertia[index][None])[0]
+        dw = _finite_result(h * (inv @ torque), name, "angular velocity change")
+        _finite_result(b.body_angular_velocity[index] + dw, name, "angular velocity")
+
+    @_quiet_overflow
     def apply_impulse(self, impulse: Any, relative_position: Any) -> None:
         """Instant impulse (N s, world) at a world offset: ``v += J/m``, ``w += I^-1 (r x J)``."""
         j = np.asarray(mn.to_vector3(impulse, "impulse"))
@@ -278,21 +342,30 @@ class ObjectPropertiesMixin:
         if index is None:
             return
         b = self._world.bodies
-        b.body_linear_velocity[index] += j / b.body_mass[index]
-        self._add_angular_impulse(index, np.cross(r, j))
+        linear = _finite_result(b.body_linear_velocity[index] + j / b.body_mass[index],
+                                "impulse", "linear velocity")
+        angular = self._angular_after(index, np.cross(r, j), "impulse")
+        b.body_linear_velocity[index] = linear
+        b.body_angular_velocity[index] = angular
+        self._world.wake(index)
 
+    @_quiet_overflow
     def apply_impulse_torque(self, impulse: Any) -> None:
         """Instant angular impulse (N m s, world): ``w += I_w^-1 L``."""
         angular = np.asarray(mn.to_vector3(impulse, "impulse"))
         index = self._dynamic_index()
         if index is not None:
-            self._add_angular_impulse(index, angular)
+            new = self._angular_after(index, angular, "impulse")
+            self._world.bodies.body_angular_velocity[index] = new
+            self._world.wake(index)
 
-    def _add_angular_impulse(self, index: int, angular: np.ndarray) -> None:
+    def _angular_after(self, index: int, angular: np.ndarray, name: str) -> np.ndarray:
+        """Candidate angular velocity after an angular impulse: ``w + I_w^-1 L``, finite."""
         b = self._world.bodies
+        _finite_result(angular, name, "angular impulse")
         inv = world_inverse_inertia(b.body_rotation[index][None], b.body_inertia[index][None])[0]
-        b.body_angular_velocity[index] += inv @ angular
-        self._world.wake(index)
+        return _finite_result(b.body_angular_velocity[index] + inv @ angular, name,
+                              "angular velocity")
 
     def contact_test(self) -> bool:
         """True if the object currently overlaps another collidable object or the stage."""
@@ -313,8 +386,15 @@ class ObjectPropertiesMixin:
         return self._scalar("body_mass")
 
     @mass.setter
+    @_quiet_overflow
     def mass(self, value: Any) -> None:
-        self._set_scalar("body_mass", _number(value, "mass", 0.0, low_open=True))
+        mass = _number(value, "mass", 0.0, low_open=True)
+        index = self._check()
+        b = self._world.bodies
+        # a pending force must still give a finite velocity change h F / m
+        _finite_result(self._world.get_physics_time_step() * b.body_force[index] / mass,
+                       "mass", "velocity change under the pending force")
+        self._set_scalar("body_mass", mass)
 
     @property
     def intertia_diagonal(self) -> mn.Vector3:  # Habitat's spelling
@@ -323,9 +403,8 @@ class ObjectPropertiesMixin:
 
     @intertia_diagonal.setter
     def intertia_diagonal(self, value: Any) -> None:
-        inertia = np.asarray(mn.to_vector3(value, "intertia_diagonal"))
-        if np.any(inertia <= 0):
-            raise ValueError(f"intertia_diagonal must be > 0, got {inertia.tolist()}")
+        inertia = check_inertia(np.asarray(mn.to_vector3(value, "intertia_diagonal")),
+                                "intertia_diagonal")
         index = self._check()
         self._world.bodies.body_inertia[index] = inertia
         self._world.wake(index)

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.mn_vectors import stable_norm
 
 
 class RigidState:
@@ -126,14 +127,18 @@ class VelocityControl:
         translation, rotation = t0.copy(), q0.copy()
         linear, angular = self.world_velocities(q0)
         if linear is not None:
-            translation = t0 + linear * dt  # t1 = t0 + v dt (v already rotated if local)
+            with np.errstate(over="ignore", invalid="ignore"):  # checked just below
+                translation = t0 + linear * dt  # t1 = t0 + v dt (v already rotated if local)
         if angular is not None:
-            speed = float(np.linalg.norm(angular))
+            speed = float(stable_norm(angular))
             if speed > 0.0:
                 half = 0.5 * speed * dt
                 dq = np.append(angular / speed * np.sin(half), np.cos(half))
                 rotation = mn.quaternion_multiply(dq, q0)  # q1 = dq * q0
                 rotation /= np.linalg.norm(rotation)
+        if not np.all(np.isfinite(translation)):
+            raise ValueError(f"linear_velocity {self._linear.tolist()} over dt={dt!r} would "
+                             f"move the object to a non-finite translation")
         return RigidState(mn.Quaternion.from_xyzw(rotation), translation)
 
     def __repr__(self) -> str:

@@ -187,9 +187,9 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         if n_steps > constants.MAX_STEPS_PER_CALL:
             raise ValueError(f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
                              f"the limit per call is {constants.MAX_STEPS_PER_CALL}")
-        self._accumulator = accumulated - n_steps * self._timestep
-        self._sync_from_nodes()
+        self._sync_from_nodes()  # each raises ValueError before it changes anything
         self._apply_velocity_control(dt)
+        self._accumulator = accumulated - n_steps * self._timestep
         for _ in range(n_steps):
             for _ in range(max(1, int(self.settings.substeps))):
                 self._step(self._timestep / max(1, int(self.settings.substeps)))
@@ -354,8 +354,20 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
     # velocity control
     # ------------------------------------------------------------------------------------
     def _apply_velocity_control(self, dt: float) -> None:
-        """Kinematic: integrate the pose once by ``dt``; dynamic: overwrite the velocity."""
+        """Kinematic: integrate the pose once by ``dt``; dynamic: overwrite the velocity.
+
+        Every kinematic pose is computed first (a non-finite one raises ValueError before
+        any body moves), then committed."""
+        from .velocity_control import RigidState
+
         b = self.bodies
+        new_poses = {}
+        for index, control in self.velocity_controls.items():
+            if (b.body_alive[index] and b.body_motion_type[index] == KINEMATIC
+                    and (control.controlling_lin_vel or control.controlling_ang_vel)):
+                state = RigidState(mn.Quaternion.from_xyzw(b.body_rotation[index]),
+                                   b.body_position[index])
+                new_poses[index] = control.integrate_transform(dt, state)
         b.body_solver_velocity[:] = 0.0
         b.body_solver_angular_velocity[:] = 0.0
         for index, control in self.velocity_controls.items():
@@ -366,11 +378,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
             motion = b.body_motion_type[index]
             linear, angular = control.world_velocities(b.body_rotation[index])
             if motion == KINEMATIC:
-                from .velocity_control import RigidState
-
-                state = RigidState(mn.Quaternion.from_xyzw(b.body_rotation[index]),
-                                   b.body_position[index])
-                new = control.integrate_transform(dt, state)
+                new = new_poses[index]
                 self.set_body_pose(index, new._translation, new._rotation, wake=True)
                 if linear is not None:
                     b.body_solver_velocity[index] = linear

@@ -14,6 +14,7 @@ import fcl
 import numpy as np
 
 from engine import mn
+from engine.mn_vectors import stable_norm
 
 from .bodies import DYNAMIC, STATIC
 from .quaternions import quat_to_matrix
@@ -151,21 +152,55 @@ class WorldApiMixin:
     def cast_ray(self, ray, max_distance: float = 100.0) -> RaycastResults:
         """All hits of ``ray`` with collidable bodies up to ``max_distance`` (units of
         ``|ray.direction|``), sorted by distance. The stage reports object id 0."""
+        if not (hasattr(ray, "origin") and hasattr(ray, "direction")):
+            raise TypeError(f"ray must be a geo.Ray (with origin and direction), got {ray!r}")
+        if isinstance(max_distance, bool) or not isinstance(
+                max_distance, int | float | np.integer | np.floating):
+            raise TypeError(f"max_distance must be a number, got {max_distance!r}")
         max_distance = float(max_distance)
         if not np.isfinite(max_distance) or max_distance < 0:
             raise ValueError(f"max_distance must be finite and >= 0, got {max_distance!r}")
         origin = np.asarray(mn.to_vector3(ray.origin, "ray.origin"))
         direction = np.asarray(mn.to_vector3(ray.direction, "ray.direction"))
         results = RaycastResults(ray)
-        if not np.any(direction):
+        scale = float(stable_norm(direction))  # |direction| without overflow
+        if scale == 0.0:
             return results
+        unit = direction / scale
+        with np.errstate(over="ignore"):
+            reach = max_distance * scale  # meters (inf when it overflows: no limit)
         b, n = self.bodies, self.bodies.count
         candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
-        candidates = [i for i in candidates.tolist() if b.shapes[i]]
-        for t, index, point, normal in cast_ray_bodies(b, candidates, origin, direction,
-                                                       max_distance):
+        hits = []
+        for index in [i for i in candidates.tolist() if b.shapes[i]]:
+            shift = self._ray_shift(index, origin, unit, reach)
+            if shift is None:
+                continue  # the ray misses the body's bounding sphere
+            start = origin + shift * unit  # march to the sphere first: no huge squares
+            for t, _, _, normal in cast_ray_bodies(b, [index], start, unit, reach - shift):
+                meters = shift + t
+                hits.append((meters / scale, index, origin + meters * unit, normal))
+        hits.sort(key=lambda hit: (hit[0], hit[1]))
+        for t, index, point, normal in hits:
             results.hits.append(RayHitInfo(index, mn.Vector3(point), mn.Vector3(normal), t))
         return results
+
+    def _ray_shift(self, index: int, origin: np.ndarray, unit: np.ndarray,
+                   reach: float) -> float | None:
+        """Meters the unit ray can travel before it nears body ``index``'s bounding sphere,
+        or None when it misses the sphere within ``reach`` (Ericson, Real-Time Collision
+        Detection, 5.3.2). Keeps far rays (origin 1e300) from squaring huge numbers."""
+        b = self.bodies
+        center = b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ \
+            b.body_shape_center[index]
+        radius = float(stable_norm(b.body_shape_half[index])) + 1e-3
+        offset = center - origin
+        along = float(offset @ unit)  # distance along the ray to the closest approach
+        if along < -radius or along - radius > reach:
+            return None
+        if float(stable_norm(offset - along * unit)) > radius:
+            return None
+        return max(0.0, along - radius)
 
     def contact_test(self, index: int) -> bool:
         """True when body ``index`` overlaps another collidable body it can collide with.

@@ -147,7 +147,8 @@ def test_load_errors(tmp_path):
         pf.load_nav_mesh(tmp_path / "missing.navmesh")
     garbage = tmp_path / "garbage.navmesh"
     garbage.write_bytes(b"MSET not a navmesh")
-    assert not pf.load_nav_mesh(garbage) and not pf.is_loaded
+    with pytest.warns(UserWarning, match="load_nav_mesh"):
+        assert not pf.load_nav_mesh(garbage) and not pf.is_loaded
     assert not pf.save_nav_mesh(tmp_path / "empty.navmesh")
 
 

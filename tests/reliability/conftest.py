@@ -1,0 +1,8 @@
+"""Make ``world_hash`` importable from the reliability tests (pytest runs in importlib mode)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))

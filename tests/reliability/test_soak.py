@@ -1,0 +1,59 @@
+"""The seeded soak in CI: 2000 mixed operations on the demo apartment (``benchmarks/soak.py``).
+
+The soak itself raises on the first NaN or inconsistent count (manager, wrappers, live
+bodies); this test then checks the memory growth and the objects lost through the stage.
+
+``ROBUST_PHYSICS_MERGED``: the fall-through fixes live on another branch. While it is False
+a loss is reported as an expected failure (xfail) with the lost objects listed; set it to True
+once that branch is merged, and the loss check becomes a strict assertion.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+ROBUST_PHYSICS_MERGED = False  # flip to True when the robust-physics branch is merged
+#: MB, resident-memory growth allowed between the warm-up and the end of the soak
+MEMORY_GROWTH_BUDGET_MB = 50.0
+
+_SOAK_FILE = Path(__file__).resolve().parents[2] / "benchmarks" / "soak.py"
+
+
+def _soak_module():
+    """``benchmarks/soak.py`` imported once (registered so its dataclasses resolve)."""
+    if "rigidsim_soak" not in sys.modules:
+        spec = importlib.util.spec_from_file_location("rigidsim_soak", _SOAK_FILE)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules["rigidsim_soak"] = module
+        spec.loader.exec_module(module)
+    return sys.modules["rigidsim_soak"]
+
+
+@pytest.fixture(scope="module")
+def report(demo_data: Path):
+    soak = _soak_module()
+    result = soak.run_soak(2000, seed=0, data_path=demo_data, templates=soak.CI_TEMPLATES,
+                           max_objects=soak.CI_MAX_OBJECTS, weights=soak.CI_OPERATIONS)
+    print("\n" + result.summary())
+    return result
+
+
+def test_soak_runs_every_operation_without_nan_or_count_drift(report):
+    assert sum(report.counts.values()) == report.operations == 2000
+    assert set(report.counts) == set(_soak_module().CI_OPERATIONS)  # every kind ran
+    assert report.steps > 300 and report.max_objects >= 5
+
+
+def test_soak_memory_is_bounded(report):
+    assert report.memory_growth_mb < MEMORY_GROWTH_BUDGET_MB, report.summary()
+
+
+def test_soak_loses_no_dynamic_object(report):
+    if report.lost and not ROBUST_PHYSICS_MERGED:
+        pytest.xfail(f"{len(report.lost)} dynamic objects left the stage (fall-through fixes "
+                     f"are on the robust-physics branch): {report.lost}")
+    assert report.lost == [], report.summary()
