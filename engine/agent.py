@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import quaternion
 
 from engine import mn
 from engine.scene_node import SceneNode
@@ -69,9 +70,12 @@ class AgentConfiguration:
 class AgentState:
     """An agent's pose: ``position`` (3,) in meters and ``rotation`` (a unit quaternion).
 
-    ``rotation`` accepts a :class:`mn.Quaternion`, a numpy-quaternion-like object (``w, x, y,
-    z`` attributes) or a list read as ``[x, y, z, w]``; it reads back as a
-    :class:`mn.Quaternion`. A non-finite position raises ``ValueError``.
+    As in Habitat, ``rotation`` reads back as a numpy-quaternion ``np.quaternion(w, x, y, z)``
+    (the identity by default), so Habitat's ``AgentState(rotation=np.quaternion(...))`` and
+    ``quat_to_angle_axis(state.rotation)`` work unchanged. It accepts an ``np.quaternion``, an
+    :class:`mn.Quaternion` or a list / ndarray read as coefficients ``[x, y, z, w]`` (Habitat's
+    ``quat_from_coeffs`` order); the value is normalized. A non-finite position or a zero or
+    non-finite rotation raises ``ValueError``.
     """
 
     def __init__(self, position: Any = (0.0, 0.0, 0.0), rotation: Any = None) -> None:
@@ -88,8 +92,9 @@ class AgentState:
         self._position = np.asarray(mn.to_vector3(value, "AgentState.position"))
 
     @property
-    def rotation(self) -> mn.Quaternion:
-        return mn.Quaternion.from_xyzw(self._rotation)
+    def rotation(self) -> quaternion.quaternion:
+        x, y, z, w = self._rotation
+        return quaternion.quaternion(w, x, y, z)
 
     @rotation.setter
     def rotation(self, value: Any) -> None:
@@ -136,7 +141,7 @@ class Agent:
             raise TypeError(f"set_state needs an AgentState, got {type(state).__name__}")
         parent = self.scene_node.parent
         world = np.eye(4)
-        world[:3, :3] = mn.quaternion_to_matrix(state.rotation.xyzw)
+        world[:3, :3] = mn.quaternion_to_matrix(mn.to_quaternion(state.rotation).xyzw)
         world[:3, 3] = state.position
         local = world if parent is None else np.linalg.inv(parent.world_matrix()) @ world
         self.scene_node.transformation = local

@@ -18,6 +18,7 @@ import pytest
 
 import engine as habitat_sim
 from engine import mn
+from engine.utils.common import quat_to_magnum
 from navmesh import ShortestPath
 
 TURN_DEGREES = 30.0
@@ -48,7 +49,7 @@ def geodesic(pathfinder, start, end) -> tuple[float, np.ndarray]:
 def next_action(agent, corner: np.ndarray) -> str:
     """Turn towards ``corner`` unless it is within half a turn of the heading, else move."""
     state = agent.get_state()
-    forward = state.rotation.transform_vector([0.0, 0.0, -1.0])
+    forward = quat_to_magnum(state.rotation).transform_vector([0.0, 0.0, -1.0])
     to_corner = corner - state.position
     # signed angle about +Y from forward to the corner: atan2(cross.y, dot) in the xz-plane
     cross_y = forward.z * to_corner[0] - forward.x * to_corner[2]
@@ -64,7 +65,8 @@ def unblocking_plan(sim, agent, goal) -> list[str]:
     state = agent.get_state()
     best_distance, best_plan = math.inf, ["turn_left"]
     for turns in (-2, -1, 1, 2):
-        heading = state.rotation * mn.Quaternion.rotation(mn.Deg(turns * TURN_DEGREES), [0, 1, 0])
+        turn = mn.Quaternion.rotation(mn.Deg(turns * TURN_DEGREES), [0, 1, 0])
+        heading = quat_to_magnum(state.rotation) * turn
         step = np.asarray(heading.transform_vector([0.0, 0.0, -STEP_METERS]))
         landed = np.asarray(sim.step_filter(state.position, state.position + step))
         if np.linalg.norm(landed - state.position) < 0.01:
