@@ -24,6 +24,7 @@ import numpy as np
 
 from engine import mn
 from engine.primitives import is_primitive_handle
+from engine.strict_attrs import public_names, unknown_attribute_error
 from engine.user_config import Configuration
 
 __all__ = [
@@ -93,7 +94,15 @@ class AbstractAttributes:
         if values is not None and name in values:
             value = values[name]
             return mn.Vector3(value) if isinstance(value, np.ndarray) else value
-        raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+        if name.startswith("__") or values is None:
+            raise AttributeError(name)
+        raise unknown_attribute_error(type(self).__name__, name, self._field_names())
+
+    @classmethod
+    def _field_names(cls) -> list[str]:
+        """Every name a template answers to: its fields, properties and methods."""
+        return sorted({*cls.FIELDS, "handle", "file_directory", "template_id",
+                       *public_names(cls)})
 
     def __setattr__(self, name: str, value: Any) -> None:
         if isinstance(getattr(type(self), name, None), property):
@@ -106,11 +115,16 @@ class AbstractAttributes:
         elif name == "template_id":
             object.__setattr__(self, name, _validate(name, "int", value))
         else:
-            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+            raise unknown_attribute_error(type(self).__name__, name, self._field_names())
 
     @property
     def ID(self) -> int:  # noqa: N802 - Habitat's spelling
         return self.template_id
+
+    @property
+    def num_user_configs(self) -> int:
+        """Number of values in the user configuration (Habitat's ``num_user_configs``)."""
+        return self._user_config.get_num_entries()
 
     def get_user_config(self) -> Configuration:
         """The editable user configuration (``user_defined`` in the JSON), by reference."""
@@ -192,6 +206,9 @@ _ASSET_FIELDS = {
     "orient_front": Field("front", "vec3", _FRONT),
     "units_to_meters": Field("units_to_meters", "positive", 1.0),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
+    "rolling_friction_coefficient": Field("rolling_friction_coefficient", "nonnegative", 0.0),
+    "spinning_friction_coefficient": Field("spinning_friction_coefficient", "nonnegative",
+                                           0.0),
     "restitution_coefficient": Field("restitution_coefficient", "nonnegative", 0.1),
     "force_flat_shading": Field("force_flat_shading", "bool", False),
     "is_collidable": Field("is_collidable", "bool", True),

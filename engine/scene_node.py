@@ -202,6 +202,25 @@ class SceneNode:
     def rotate_z_local(self, angle: Any) -> SceneNode:
         return self.rotate_local(angle, (0.0, 0.0, 1.0))
 
+    @property
+    def cumulative_bb(self) -> mn.Range3D:
+        """Bounding box of the meshes of this node and all nodes below it, in this node's own
+        frame (Habitat's ``cumulative_bb``); a zero box when nothing is drawn below it."""
+        corners = []
+        node_from_world = np.linalg.inv(self.world_matrix())
+        for node in self.descendants():
+            if not node.drawables:
+                continue
+            node_from_child = node_from_world @ node.world_matrix()
+            for drawable in node.drawables:
+                vertices = np.asarray(drawable.mesh.vertices, dtype=np.float64)
+                if len(vertices):
+                    # p_node = R p_child + t for every vertex of the mesh
+                    corners.append(vertices @ node_from_child[:3, :3].T + node_from_child[:3, 3])
+        if not corners:
+            return mn.Range3D()
+        return mn.Range3D.from_points(np.concatenate(corners))
+
     def reset_transformation(self) -> SceneNode:
         self._translation = np.zeros(3)
         self._rotation = np.array([0.0, 0.0, 0.0, 1.0])

@@ -200,6 +200,15 @@ class Simulator:
         """Turn the stage's collisions on or off (objects then fall through it)."""
         self._world.set_stage_is_collidable(collidable)
 
+    def get_physics_simulation_library(self):
+        """``PhysicsSimulationLibrary.Bullet`` when ``enable_physics`` (rigidsim's solver
+        stands in for Bullet), else ``NoPhysics``, as Habitat reports."""
+        from engine.physics import PhysicsSimulationLibrary
+
+        if self.config.sim_cfg.enable_physics:
+            return PhysicsSimulationLibrary.Bullet
+        return PhysicsSimulationLibrary.NoPhysics
+
     def get_physics_world(self) -> PhysicsWorld:
         """The physics world (rigidsim's; for teaching and the tests)."""
         return self._world

@@ -90,6 +90,41 @@ class ObjectPropertiesMixin:
         return mn.Range3D(self._description.aabb_min, self._description.aabb_max)
 
     @property
+    def collision_shape_aabb(self) -> mn.Range3D:
+        """AABB of the collision shapes in the object's local (COM) frame."""
+        index = self._check()
+        b = self._world.bodies
+        center, half = b.body_shape_center[index], b.body_shape_half[index]
+        return mn.Range3D(center - half, center + half)
+
+    @property
+    def is_articulated(self) -> bool:
+        """Always False: rigid objects are not articulated (Habitat's flag)."""
+        self._check()
+        return False
+
+    def override_collision_group(self, group: Any) -> None:
+        """Put the object in collision ``group`` (a ``CollisionGroups`` bit) for good, instead
+        of the group of its motion type; its mask is the group's (CollisionGroupHelper)."""
+        from .collision_groups import CollisionGroupHelper
+
+        value = CollisionGroupHelper._check(group)  # ValueError for non-groups
+        index = self._check()
+        self._world.wake_neighbors(index)
+        self._world.bodies.body_collision_group[index] = value
+        self._world.wake(index)
+
+    @property
+    def collision_group(self):
+        """The object's current collision group (override, or from its motion type)."""
+        from .collision_groups import CollisionGroups, body_groups
+
+        b = self._world.bodies
+        index = self._check()
+        return CollisionGroups(int(body_groups(b.body_collision_group[index:index + 1],
+                                               b.body_motion_type[index:index + 1])[0]))
+
+    @property
     def com(self) -> mn.Vector3:
         """Center of mass in the asset frame (the offset of the visual node is ``-com``)."""
         self._check()
@@ -331,6 +366,29 @@ class ObjectPropertiesMixin:
         self._world.wake(index)
 
     inertia_diagonal = intertia_diagonal
+
+    @property
+    def rolling_friction_coefficient(self) -> float:
+        """Rolling resistance (Bullet's): the contact torque opposing rolling is at most
+        ``mu_roll N`` (N m for a normal force N), with the pair value
+        ``r_a f_b + r_b f_a`` (see :mod:`engine.physics.rolling_friction`)."""
+        return self._scalar("body_rolling_friction")
+
+    @rolling_friction_coefficient.setter
+    def rolling_friction_coefficient(self, value: Any) -> None:
+        self._set_scalar("body_rolling_friction",
+                         _number(value, "rolling_friction_coefficient", 0.0))
+
+    @property
+    def spinning_friction_coefficient(self) -> float:
+        """Spinning (torsional) resistance: the contact torque about the normal is at most
+        ``mu_spin N``, pair value ``s_a f_b + s_b f_a``."""
+        return self._scalar("body_spinning_friction")
+
+    @spinning_friction_coefficient.setter
+    def spinning_friction_coefficient(self, value: Any) -> None:
+        self._set_scalar("body_spinning_friction",
+                         _number(value, "spinning_friction_coefficient", 0.0))
 
     @property
     def friction_coefficient(self) -> float:

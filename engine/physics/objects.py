@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.strict_attrs import public_names, unknown_attribute_error
+
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .body_builder import describe_object
 from .object_properties import ObjectPropertiesMixin
@@ -222,6 +224,18 @@ class ManagedRigidObject(ObjectPropertiesMixin):
     def __repr__(self) -> str:
         state = "alive" if self._alive else "removed"
         return f"<ManagedRigidObject {self._handle!r} id={self._index} {state}>"
+
+    # -- fixed fields (Habitat's wrapper is a C++ binding: no new attributes) ---------------
+    def __setattr__(self, name: str, value) -> None:
+        if name.startswith("_") or isinstance(getattr(type(self), name, None), property):
+            object.__setattr__(self, name, value)  # read-only properties raise themselves
+            return
+        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
 
 
 __all__ = ["DYNAMIC", "KINEMATIC", "STATIC", "DeadObjectError", "ManagedRigidObject",

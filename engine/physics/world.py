@@ -31,6 +31,7 @@ from engine import mn
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
+from .collision_groups import filter_pairs
 from .contacts import FreshPoints, ManifoldStore
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .narrow_phase import narrow_phase
@@ -264,6 +265,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
         pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
         pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
+        pairs = filter_pairs(b, pairs)  # collision groups and masks
         self.n_overlapping_pairs = len(pairs)
         pair_list = pairs.tolist()
         apart = self._apart_without_manifold(pairs, pair_list, rotation)

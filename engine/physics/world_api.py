@@ -16,6 +16,7 @@ import numpy as np
 from engine import mn
 
 from .bodies import DYNAMIC, STATIC
+from .collision_groups import CollisionGroups, filter_pairs, interacts_with_group
 from .quaternions import quat_to_matrix
 from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodies
 
@@ -54,6 +55,9 @@ class WorldApiMixin:
         b.body_inertia[index] = description.inertia
         b.body_motion_type[index] = DYNAMIC
         b.body_friction[index] = float(template.friction_coefficient)
+        b.body_rolling_friction[index] = float(template.rolling_friction_coefficient)
+        b.body_spinning_friction[index] = float(template.spinning_friction_coefficient)
+        b.body_collision_group[index] = 0  # from the motion type until overridden
         b.body_restitution[index] = float(template.restitution_coefficient)
         b.body_linear_damping[index] = float(template.linear_damping)
         b.body_angular_damping[index] = float(template.angular_damping)
@@ -161,6 +165,8 @@ class WorldApiMixin:
             return results
         b, n = self.bodies, self.bodies.count
         candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+        # rays are in the Default collision group (Habitat / Bullet's ray filter)
+        candidates = candidates[interacts_with_group(b, candidates, CollisionGroups.Default)]
         candidates = [i for i in candidates.tolist() if b.shapes[i]]
         for t, index, point, normal in cast_ray_bodies(b, candidates, origin, direction,
                                                        max_distance):
@@ -187,6 +193,10 @@ class WorldApiMixin:
         if not self_dynamic:
             overlap &= b.body_motion_type[:n] == DYNAMIC
         overlap[index] = False
+        others = np.nonzero(overlap)[0]
+        pairs = np.stack([np.full(len(others), index), others], axis=1)
+        overlap[:] = False
+        overlap[filter_pairs(b, pairs)[:, 1]] = True  # collision groups and masks
         self._update_fcl(index, rotation[index])
         for other in np.nonzero(overlap)[0].tolist():
             if not b.shapes[other]:
