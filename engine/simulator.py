@@ -200,6 +200,22 @@ class Simulator:
         """Turn the stage's collisions on or off (objects then fall through it)."""
         self._world.set_stage_is_collidable(collidable)
 
+    # -- rigid constraints (engine.physics.constraints) -------------------------------------
+    def create_rigid_constraint(self, settings) -> int:
+        """Hold two objects (or an object and the world) together; returns the constraint id."""
+        return self._world.constraints.create(self._world, settings)
+
+    def update_rigid_constraint(self, constraint_id: int, settings) -> None:
+        """Replace a constraint's settings (e.g. move its world pivot)."""
+        self._world.constraints.update(self._world, constraint_id, settings)
+
+    def remove_rigid_constraint(self, constraint_id: int) -> None:
+        self._world.constraints.remove(self._world, constraint_id)
+
+    def get_rigid_constraint_settings(self, constraint_id: int):
+        """A copy of the constraint's settings (KeyError for an unknown id)."""
+        return self._world.constraints.get_settings(constraint_id)
+
     def get_physics_simulation_library(self):
         """``PhysicsSimulationLibrary.Bullet`` when ``enable_physics`` (rigidsim's solver
         stands in for Bullet), else ``NoPhysics``, as Habitat reports."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 import enum
 
 from .collision_groups import CollisionGroupHelper, CollisionGroups
+from .constraints import RigidConstraintSettings, RigidConstraintType
 from .objects import DeadObjectError, ManagedRigidObject, MotionType, RigidObjectManager
 from .queries import ContactPointData, RaycastResults, RayHitInfo
 from .settings import SolverSettings
@@ -32,6 +33,8 @@ __all__ = [
     "CollisionGroupHelper",
     "CollisionGroups",
     "PhysicsSimulationLibrary",
+    "RigidConstraintSettings",
+    "RigidConstraintType",
     "ContactPointData",
     "DeadObjectError",
     "ManagedRigidObject",

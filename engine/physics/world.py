@@ -32,6 +32,7 @@ from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
 from .collision_groups import filter_pairs
+from .constraints import ConstraintStore
 from .contacts import FreshPoints, ManifoldStore
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .narrow_phase import narrow_phase
@@ -88,6 +89,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         self.last_batch = None  # the solver's last ContactBatch (see solve_stage)
         self.profile: dict[str, float] = defaultdict(float)
         self.rigid_object_manager = RigidObjectManager(self, object_template_manager, root_node)
+        self.constraints = ConstraintStore()
 
     # ------------------------------------------------------------------------------------
     # stage
@@ -203,6 +205,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         """One fixed step of length ``h`` seconds (the five stages of the module docstring)."""
         b, clock = self.bodies, timer.perf_counter
         start = clock()
+        self.constraints.wake_bodies(self)  # constrained bodies never sleep
         # ---- 1. forces: v += h (g + F/m), w += h I^-1 tau, damping -------------------------
         moving = self._awake_dynamic()
         self.step_start_velocity = np.hstack([b.body_linear_velocity[: b.count],
@@ -216,6 +219,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         t_collide = clock()
         # ---- 3. solve: warm start, sequential impulses by color, restitution, split impulses
         pseudo = solve_stage(self, moving, h)
+        self.constraints.solve(self, moving, h)  # rigid constraints (constraints.py)
         t_solve = clock()
         # ---- 4. integrate: clamp speeds, x += h v, rotate, sweep fast bodies -------------
         clamp_speeds(b, moving, constants.MAX_LINEAR_SPEED, constants.MAX_ANGULAR_SPEED)

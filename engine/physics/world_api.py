@@ -69,6 +69,7 @@ class WorldApiMixin:
     def remove_body(self, index: int) -> None:
         """Kill body ``index`` (its slot stays, ``body_alive`` False) and wake its neighbors."""
         self.wake_neighbors(index)
+        self.constraints.drop_body(index)
         b = self.bodies
         b.body_alive[index] = False
         b.body_awake[index] = False
