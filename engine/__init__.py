@@ -49,6 +49,7 @@ _SUBMODULES = {
     "attributes_managers",
     "datasets",
     "geo",
+    "gfx",
     "physics",
     "scene_node",
     "sensors",

@@ -34,13 +34,16 @@ __all__ = ["Drawable", "SceneNode"]
 class Drawable:
     """A mesh attached to a node: drawn by the renderer with the node's world matrix.
 
-    ``lit`` selects the object lighting (False: flat/unlit, as Habitat draws the stage);
+    ``lit`` False draws it flat whatever the lights; otherwise it is lit by the light setup
+    named ``light_setup_key`` (:mod:`engine.gfx`; ``""`` is Habitat's
+    ``DEFAULT_LIGHTING_KEY``, ``"no_lights"`` its flat ``NO_LIGHT_KEY``).
     ``semantic_id`` is written to the SEMANTIC sensor's id buffer.
     """
 
     mesh: MeshData
     lit: bool = True
     semantic_id: int = 0
+    light_setup_key: str = ""
 
 
 class SceneNode:

@@ -36,6 +36,13 @@ from engine.attributes_managers import (
     PhysicsAttributesManager,
     StageAttributesManager,
 )
+from engine.gfx import (
+    DEFAULT_LIGHTING_KEY,
+    NO_LIGHT_KEY,
+    LightInfo,
+    default_light_setup,
+    to_render_lights,
+)
 from engine.physics.world import PhysicsWorld
 from engine.scene_node import Drawable, SceneNode
 from engine.scene_render import SceneRenderer
@@ -54,7 +61,7 @@ class SimulatorConfiguration:
     allow_sliding: bool = True
     random_seed: int = 0
     navmesh_settings: NavMeshSettings | None = None
-    scene_light_setup: str = ""
+    scene_light_setup: str = NO_LIGHT_KEY
     default_agent_id: int = 0
     load_semantic_mesh: bool = False
 
@@ -85,14 +92,19 @@ class Simulator:
 
         self.root_node = SceneNode(name="root")
         self._stage_node = SceneNode(self.root_node, name="stage")
-        self._stage_node.drawables = [Drawable(m, lit=False, semantic_id=0) for m in stage_meshes]
+        self._light_setups = {DEFAULT_LIGHTING_KEY: default_light_setup(), NO_LIGHT_KEY: []}
+        self._render_lights = {key: to_render_lights(setup)
+                               for key, setup in self._light_setups.items()}
+        self._stage_node.drawables = [Drawable(m, semantic_id=0,
+                                               light_setup_key=sim_cfg.scene_light_setup)
+                                      for m in stage_meshes]
         self._stage_meshes = stage_meshes
         self._stage_attributes = stage_attributes
         self._world = PhysicsWorld(physics_attributes, self.root_node,
                                    self._object_template_manager,
                                    self._asset_template_manager, seed=sim_cfg.random_seed)
         self._world.set_stage(stage_meshes or None, stage_attributes)
-        self._renderer = SceneRenderer(self.root_node)
+        self._renderer = SceneRenderer(self.root_node, self._lights_for)
 
         self.pathfinder = PathFinder()
         self._load_navmesh(sim_cfg)
@@ -256,6 +268,34 @@ class Simulator:
         if isinstance(agent_ids, list | tuple):
             return {i: self._renderer.observe(self.get_agent(i).sensors) for i in agent_ids}
         return self._renderer.observe(self.get_agent(agent_ids).sensors)
+
+    # ------------------------------------------------------------------------------------------
+    # lights (engine.gfx)
+    # ------------------------------------------------------------------------------------------
+    def set_light_setup(self, light_setup: list, key: str = DEFAULT_LIGHTING_KEY) -> None:
+        """Store a copy of ``light_setup`` (a list of ``LightInfo``) under ``key``; every
+        drawable naming that key is lit by it from the next observation on."""
+        if not isinstance(key, str):
+            raise TypeError(f"light setup key must be a str, got {key!r}")
+        if key == NO_LIGHT_KEY:
+            raise ValueError(f"the {NO_LIGHT_KEY!r} setup is always empty (flat shading)")
+        setup = list(light_setup)
+        for light in setup:
+            if not isinstance(light, LightInfo):
+                raise TypeError(f"a light setup holds LightInfo, got {type(light).__name__}")
+        self._light_setups[key] = [light.copy() for light in setup]
+        self._render_lights[key] = to_render_lights(self._light_setups[key])
+
+    def get_light_setup(self, key: str = DEFAULT_LIGHTING_KEY) -> list:
+        """A copy of the setup under ``key`` (an unknown key is an empty setup, as Habitat)."""
+        return [light.copy() for light in self._light_setups.get(key, [])]
+
+    def _lights_for(self, key: str):
+        """The renderer's arrays for a drawable's light setup key (empty: flat)."""
+        lights = self._render_lights.get(key)
+        if lights is None:
+            lights = self._render_lights.setdefault(key, to_render_lights([]))
+        return lights
 
     # ------------------------------------------------------------------------------------------
     # navigation
