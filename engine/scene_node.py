@@ -138,7 +138,9 @@ class SceneNode:
         scaling = np.linalg.norm(matrix[:3, :3], axis=0)
         if np.any(scaling < 1e-12):
             raise ValueError("transformation has a zero scaling column")
-        self._rotation = mn.matrix_to_quaternion(matrix[:3, :3] / scaling)
+        rotation = mn.matrix_to_quaternion(matrix[:3, :3] / scaling)
+        # q and -q are one rotation: keep the sign of the current rotation (no flips)
+        self._rotation = -rotation if float(rotation @ self._rotation) < 0.0 else rotation
         self._translation = matrix[:3, 3].copy()
         self._scaling = scaling
 

@@ -31,6 +31,13 @@ from .quaternions import matrix_to_quat, quat_to_matrix
 _IDENTITY = np.eye(4)
 
 
+def same_sign_as(q: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """``q`` or ``-q`` (the same rotation), whichever lies in ``reference``'s hemisphere
+    (``q . reference >= 0``): a quaternion read back from a matrix keeps its sign from step
+    to step, as Habitat's does."""
+    return -q if float(q @ reference) < 0.0 else q
+
+
 class NodeStamp(NamedTuple):
     """What a node write used: the node's parent and transform arrays (by identity), the
     node world matrix it produced and the parent's world matrix (None without a parent)."""
@@ -122,7 +129,8 @@ class NodeSyncMixin:
             return
         local = world if parent is None else parent_inv @ world
         node.translation = local[:3, 3]
-        node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
+        node.rotation = mn.Quaternion.from_xyzw(same_sign_as(matrix_to_quat(local[:3, :3]),
+                                                             node._rotation))
         if parent is not None and parent._parent is None:
             pose = parent_local @ node.local_matrix()  # what node.world_matrix() computes
         else:
@@ -186,7 +194,9 @@ class NodeSyncMixin:
                 continue
             rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
             b.body_position[index] = world[:3, 3]
-            b.body_rotation[index] = matrix_to_quat(rotation)
+            # q and -q are one rotation: keep the sign of the last step (no q -> -q flips)
+            b.body_rotation[index] = same_sign_as(matrix_to_quat(rotation),
+                                                  b.body_rotation[index])
             self._node_pose[index] = world.copy()
             self._update_fcl(index)
             self.wake_neighbors(index)

@@ -192,7 +192,11 @@ class ObjectPropertiesMixin:
         scale = np.linalg.norm(matrix[:3, :3], axis=0)
         if np.any(scale < 1e-9):
             raise ValueError(f"transformation has a degenerate rotation part: {value!r}")
-        self._set_pose(matrix[:3, 3].copy(), matrix_to_quat(matrix[:3, :3] / scale))
+        rotation = matrix_to_quat(matrix[:3, :3] / scale)
+        current = self._world.bodies.body_rotation[self._check()]
+        if float(rotation @ current) < 0.0:  # q and -q are one rotation: keep the sign
+            rotation = -rotation
+        self._set_pose(matrix[:3, 3].copy(), rotation)
 
     @property
     def rigid_state(self) -> RigidState:

@@ -241,3 +241,28 @@ def test_ray_casts_and_contact_tests_honour_groups(sim):
     CollisionGroupHelper.set_mask_for_group(CollisionGroups.UserGroup4,
                                             int(CollisionGroups.Dynamic))
     assert sim.cast_ray(ray).hits == []
+
+
+# -- issue 11 item 9: a kinematic object's rotation keeps its sign ------------------------------
+@pytest.mark.parametrize("drive", ["velocity_control", "rotation", "node", "transformation"])
+def test_kinematic_rotation_keeps_its_sign_from_step_to_step(sim, drive):
+    cube = sim.get_rigid_object_manager().add_object_by_template_handle("cubeSolid")
+    cube.motion_type = MotionType.KINEMATIC
+    if drive == "velocity_control":
+        cube.velocity_control.controlling_ang_vel = True
+        cube.velocity_control.angular_velocity = [0.0, 3.0, 0.5]
+    previous, previous_node = cube.rotation, cube.root_scene_node.rotation
+    angle = 0.0
+    for _ in range(300):  # several full turns: every sign ambiguity is crossed
+        angle += 0.05
+        turn = mn.Quaternion.rotation(mn.Rad(angle), [0.0, 1.0, 0.0])
+        if drive == "rotation":
+            cube.rotation = mn.Quaternion.rotation(mn.Rad(0.05), [0.0, 1.0, 0.0]) * cube.rotation
+        elif drive == "node":
+            cube.root_scene_node.rotate_y(mn.Rad(0.05))
+        elif drive == "transformation":
+            cube.transformation = mn.Matrix4.from_(turn.to_matrix(), [0.0, 0.0, 0.0])
+        sim.step_physics(1.0 / 60.0)
+        current, node = cube.rotation, cube.root_scene_node.rotation
+        assert current.dot(previous) > 0.0 and node.dot(previous_node) > 0.0
+        previous, previous_node = current, node
