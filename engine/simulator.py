@@ -43,6 +43,7 @@ from engine.gfx import (
     default_light_setup,
     to_render_lights,
 )
+from engine.metadata import MetadataMediator
 from engine.physics.world import PhysicsWorld
 from engine.scene_node import Drawable, SceneNode
 from engine.scene_render import SceneRenderer
@@ -56,6 +57,7 @@ class SimulatorConfiguration:
     """Habitat's ``SimulatorConfiguration`` (``scene_id = "NONE"`` is an empty world)."""
 
     scene_id: str = "NONE"
+    scene_dataset_config_file: str = "default"
     enable_physics: bool = True
     physics_config_file: str = ""
     allow_sliding: bool = True
@@ -72,6 +74,7 @@ class Configuration:
 
     sim_cfg: SimulatorConfiguration = field(default_factory=SimulatorConfiguration)
     agents: list[AgentConfiguration] = field(default_factory=lambda: [AgentConfiguration()])
+    metadata_mediator: Any = None  # an engine.metadata.MetadataMediator, or None: a new one
 
 
 class Simulator:
@@ -83,10 +86,14 @@ class Simulator:
         self.config = config
         self._closed = False
         sim_cfg = config.sim_cfg
-        self._object_template_manager = ObjectAttributesManager()
-        self._asset_template_manager = AssetAttributesManager()
-        self._stage_template_manager = StageAttributesManager()
-        self._physics_template_manager = PhysicsAttributesManager()
+        # template managers: those of the active scene dataset (engine.metadata)
+        if config.metadata_mediator is None:
+            config.metadata_mediator = MetadataMediator(sim_cfg)
+        self.metadata_mediator = config.metadata_mediator
+        self._object_template_manager = self.metadata_mediator.object_template_manager
+        self._asset_template_manager = self.metadata_mediator.asset_template_manager
+        self._stage_template_manager = self.metadata_mediator.stage_template_manager
+        self._physics_template_manager = self.metadata_mediator.physics_template_manager
         physics_attributes = self._physics_template_manager.load(sim_cfg.physics_config_file)
         stage_attributes, stage_meshes = self._load_stage(sim_cfg.scene_id)
 
@@ -122,8 +129,12 @@ class Simulator:
             raise TypeError(f"scene_id must be a string, got {scene_id!r}")
         if scene_id in ("NONE", ""):
             return None, []
-        stage = self._stage_template_manager.create_template_for_asset(scene_id)
-        self._stage_template_manager.register_template(stage)
+        stages = self._stage_template_manager
+        if stages.get_library_has_handle(scene_id):  # a stage template of the dataset
+            stage = stages.get_template_by_handle(scene_id)
+        else:
+            stage = stages.create_template_for_asset(scene_id)
+            stages.register_template(stage)
         scale = np.asarray(stage.scale) * 1.0
         meshes = load_meshes(stage.render_asset_handle, up=stage.orient_up,
                              front=stage.orient_front, scale=scale,
