@@ -50,6 +50,7 @@ _SUBMODULES = {
     "datasets",
     "geo",
     "gfx",
+    "metadata",
     "physics",
     "scene_node",
     "sensors",
