@@ -37,6 +37,7 @@ interleaved within the iterations). Bodies held by a constraint do not fall asle
 from __future__ import annotations
 
 import enum
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -174,9 +175,15 @@ class ConstraintStore:
 
     # -- API ---------------------------------------------------------------------------------
     def create(self, world, settings: RigidConstraintSettings) -> int:
+        """A new constraint's id, or -1 with a warning when its bodies are not live objects
+        (Habitat's failure value)."""
         if not isinstance(settings, RigidConstraintSettings):
             raise TypeError(f"expected RigidConstraintSettings, got {type(settings).__name__}")
-        self._check_bodies(world, settings)
+        try:
+            self._check_bodies(world, settings)
+        except ValueError as error:
+            warnings.warn(f"rigid constraint not created: {error}", stacklevel=3)
+            return -1
         constraint_id = self._next_id
         self._next_id += 1
         self._settings[constraint_id] = settings.copy()
