@@ -19,7 +19,8 @@ body_motion_type           (n,)         MotionType value (0 static, 1 kinematic,
 body_friction              (n,)         Coulomb coefficient (pair value = product)
 body_rolling_friction      (n,)         rolling resistance, m (pair: Bullet's r_a f_b + r_b f_a)
 body_spinning_friction     (n,)         spinning resistance, m (same combination)
-body_collision_group       (n,)         int, CollisionGroups bit; 0 = from the motion type
+body_collision_group       (n,)         int, the body's CollisionGroups bit
+body_collision_mask        (n,)         int, the groups it collides with (copied from its group)
 body_restitution           (n,)         coefficient of restitution (pair value = product)
 body_linear_damping        (n,)         1/s style fraction d, v *= (1 - d)^dt
 body_angular_damping       (n,)         same for angular velocity
@@ -63,6 +64,7 @@ class Bodies:
         self.body_rotation = np.tile([0.0, 0.0, 0.0, 1.0], (capacity, 1))
         self.body_motion_type = np.zeros(capacity, dtype=np.int64)
         self.body_collision_group = np.zeros(capacity, dtype=np.int64)
+        self.body_collision_mask = np.zeros(capacity, dtype=np.int64)
         self.shapes: list[list] = [[] for _ in range(capacity)]
 
     @property

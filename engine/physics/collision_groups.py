@@ -7,7 +7,11 @@ casts, only when each is in the other's mask (Bullet's two-way filter)::
     collide(A, B) = (group_A & mask_B) != 0  and  (group_B & mask_A) != 0
 
 A body's group follows its motion type (STATIC -> ``Static``, KINEMATIC -> ``Kinematic``,
-DYNAMIC -> ``Dynamic``) unless ``obj.override_collision_group(group)`` fixed it. The default
+DYNAMIC -> ``Dynamic``) unless ``obj.override_collision_group(group)`` fixed it; changing
+the motion type (to a different one) resets the group to the new type's, as Habitat does.
+As in Bullet, a body copies its group's mask when it gets the group (creation, override,
+motion type change): editing a mask later affects bodies only once their group is set again
+(Habitat's note: "changing group settings requires overriding object group again"). The default
 masks are Habitat's: every group touches everything except ``Noncollidable``, except that
 ``Static`` and ``Kinematic`` ignore each other (and themselves), and ``Noncollidable``
 touches nothing. Rays are in the ``Default`` group. The stage is a ``Static`` body.
@@ -23,8 +27,8 @@ from typing import ClassVar
 
 import numpy as np
 
-__all__ = ["CollisionGroupHelper", "CollisionGroups", "group_for_motion_type",
-           "pairs_interact"]
+__all__ = ["CollisionGroupHelper", "CollisionGroups", "assign_group", "filter_pairs",
+           "group_for_motion_type", "interacts_with_group"]
 
 
 class CollisionGroups(enum.IntFlag):
@@ -73,7 +77,9 @@ class CollisionGroupHelper:
     _names: ClassVar[dict[str, int]] = _default_names()
 
     @staticmethod
-    def _check(group: int) -> int:
+    def _check(group: int | str) -> int:
+        if isinstance(group, str):
+            return int(CollisionGroupHelper.get_group(group))
         value = int(group)
         if value not in CollisionGroupHelper._masks:
             raise ValueError(f"not a single collision group: {group!r}")
@@ -134,36 +140,29 @@ def group_for_motion_type(motion_type: np.ndarray) -> np.ndarray:
     return table[np.clip(motion_type, 0, 2)]
 
 
-def body_groups(override: np.ndarray, motion_type: np.ndarray) -> np.ndarray:
-    """``(n,)`` group of every body: its override when set (> 0), else by motion type."""
-    return np.where(override > 0, override, group_for_motion_type(motion_type))
-
-
-def masks_of(groups: np.ndarray) -> np.ndarray:
-    """``(n,)`` mask of every group value (the global table, indexed by the group's bit)."""
-    table = np.array([CollisionGroupHelper._masks[1 << bit] for bit in range(16)],
-                     dtype=np.int64)
-    bits = np.log2(np.asarray(groups, dtype=np.float64)).astype(np.int64)  # group = 2^bit
-    return table[bits]
-
-
-def pairs_interact(group_a: np.ndarray, group_b: np.ndarray) -> np.ndarray:
-    """``(p,)`` bool: ``(g_a & m_b) != 0 and (g_b & m_a) != 0`` for each pair."""
-    mask_a, mask_b = masks_of(group_a), masks_of(group_b)
-    return ((group_a & mask_b) != 0) & ((group_b & mask_a) != 0)
-
-
 def filter_pairs(bodies, pairs: np.ndarray) -> np.ndarray:
-    """The rows of ``pairs (p, 2)`` whose two bodies' groups and masks let them collide."""
+    """The rows of ``pairs (p, 2)`` whose bodies' groups and (copied) masks let them collide:
+    ``(g_a & m_b) != 0 and (g_b & m_a) != 0``."""
     if len(pairs) == 0:
         return pairs
-    groups = body_groups(bodies.body_collision_group[: bodies.count],
-                         bodies.body_motion_type[: bodies.count])
-    return pairs[pairs_interact(groups[pairs[:, 0]], groups[pairs[:, 1]])]
+    group, mask = bodies.body_collision_group, bodies.body_collision_mask
+    a, b = pairs[:, 0], pairs[:, 1]
+    return pairs[((group[a] & mask[b]) != 0) & ((group[b] & mask[a]) != 0)]
 
 
 def interacts_with_group(bodies, indices: np.ndarray, group: int) -> np.ndarray:
-    """``(k,)`` bool: bodies ``indices`` interact with a probe of ``group`` (e.g. a ray)."""
+    """``(k,)`` bool: bodies ``indices`` interact with a probe of ``group`` (e.g. a ray, whose
+    mask is the group's current one)."""
     indices = np.asarray(indices, dtype=np.int64)
-    groups = body_groups(bodies.body_collision_group[indices], bodies.body_motion_type[indices])
-    return pairs_interact(np.full(len(indices), int(group), dtype=np.int64), groups)
+    probe_mask = CollisionGroupHelper._masks[int(group)]
+    return (((bodies.body_collision_group[indices] & probe_mask) != 0)
+            & ((int(group) & bodies.body_collision_mask[indices]) != 0))
+
+
+def assign_group(bodies, index: int, group: int | None = None) -> None:
+    """Give body ``index`` a group (None: its motion type's) and copy that group's mask."""
+    if group is None:
+        group = int(group_for_motion_type(bodies.body_motion_type[index:index + 1])[0])
+    value = CollisionGroupHelper._check(group)
+    bodies.body_collision_group[index] = value
+    bodies.body_collision_mask[index] = CollisionGroupHelper._masks[value]

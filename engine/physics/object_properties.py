@@ -17,6 +17,7 @@ from engine import mn
 
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
+from .collision_groups import assign_group
 from .integrate import world_inverse_inertia
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .velocity_control import RigidState
@@ -111,18 +112,15 @@ class ObjectPropertiesMixin:
         value = CollisionGroupHelper._check(group)  # ValueError for non-groups
         index = self._check()
         self._world.wake_neighbors(index)
-        self._world.bodies.body_collision_group[index] = value
+        assign_group(self._world.bodies, index, value)
         self._world.wake(index)
 
     @property
     def collision_group(self):
         """The object's current collision group (override, or from its motion type)."""
-        from .collision_groups import CollisionGroups, body_groups
+        from .collision_groups import CollisionGroups
 
-        b = self._world.bodies
-        index = self._check()
-        return CollisionGroups(int(body_groups(b.body_collision_group[index:index + 1],
-                                               b.body_motion_type[index:index + 1])[0]))
+        return CollisionGroups(int(self._world.bodies.body_collision_group[self._check()]))
 
     @property
     def com(self) -> mn.Vector3:
@@ -146,6 +144,7 @@ class ObjectPropertiesMixin:
         if b.body_motion_type[index] == int(value):
             return
         b.body_motion_type[index] = int(value)
+        assign_group(b, index)  # a new motion type resets the collision group (Habitat)
         if value != DYNAMIC:
             b.body_awake[index] = True
         self._world.wake(index)

@@ -31,7 +31,7 @@ from engine import mn
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
-from .collision_groups import filter_pairs
+from .collision_groups import assign_group, filter_pairs
 from .constraints import ConstraintStore
 from .contacts import FreshPoints, ManifoldStore
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
@@ -74,6 +74,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         self.bodies.add(STAGE_ID)
         self.bodies.body_collidable[STAGE_ID] = False
         self.bodies.body_motion_type[STAGE_ID] = STATIC
+        assign_group(self.bodies, STAGE_ID)
         self.fcl_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
         self.manifolds = ManifoldStore()

@@ -16,7 +16,12 @@ import numpy as np
 from engine import mn
 
 from .bodies import DYNAMIC, STATIC
-from .collision_groups import CollisionGroups, filter_pairs, interacts_with_group
+from .collision_groups import (
+    CollisionGroups,
+    assign_group,
+    filter_pairs,
+    interacts_with_group,
+)
 from .quaternions import quat_to_matrix
 from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodies
 
@@ -57,7 +62,7 @@ class WorldApiMixin:
         b.body_friction[index] = float(template.friction_coefficient)
         b.body_rolling_friction[index] = float(template.rolling_friction_coefficient)
         b.body_spinning_friction[index] = float(template.spinning_friction_coefficient)
-        b.body_collision_group[index] = 0  # from the motion type until overridden
+        assign_group(b, index)  # the group of its motion type, until overridden
         b.body_restitution[index] = float(template.restitution_coefficient)
         b.body_linear_damping[index] = float(template.linear_damping)
         b.body_angular_damping[index] = float(template.angular_damping)

@@ -213,14 +213,16 @@ def test_groups_and_masks_decide_whether_bodies_collide(sim):
 
 def test_user_groups_that_do_not_interact_pass_through(sim):
     floor, box = _floor_and_box(sim)
-    floor.override_collision_group(CollisionGroups.UserGroup1)
-    box.override_collision_group(CollisionGroups.UserGroup2)
     CollisionGroupHelper.set_group_interacts_with(CollisionGroups.UserGroup1,
                                                   CollisionGroups.UserGroup2, False)
+    floor.override_collision_group(CollisionGroups.UserGroup1)  # copies the group's mask
+    box.override_collision_group(CollisionGroups.UserGroup2)
     sim.step_physics(1.0)
     assert box.translation.y < -1.0
     CollisionGroupHelper.set_group_interacts_with(CollisionGroups.UserGroup1,
                                                   CollisionGroups.UserGroup2, True)
+    floor.override_collision_group(CollisionGroups.UserGroup1)  # take the new masks
+    box.override_collision_group(CollisionGroups.UserGroup2)
     box.translation = [0.0, 0.5, 0.0]
     box.linear_velocity = [0.0, 0.0, 0.0]
     sim.step_physics(1.0)
@@ -237,9 +239,9 @@ def test_ray_casts_and_contact_tests_honour_groups(sim):
     assert [hit.object_id for hit in sim.cast_ray(ray).hits] == [floor.object_id]
     assert not box.contact_test()
     # a mask without Default hides a group from rays (Habitat's rays are in Default)
-    floor.override_collision_group(CollisionGroups.UserGroup4)
     CollisionGroupHelper.set_mask_for_group(CollisionGroups.UserGroup4,
                                             int(CollisionGroups.Dynamic))
+    floor.override_collision_group(CollisionGroups.UserGroup4)
     assert sim.cast_ray(ray).hits == []
 
 
@@ -266,3 +268,47 @@ def test_kinematic_rotation_keeps_its_sign_from_step_to_step(sim, drive):
         current, node = cube.rotation, cube.root_scene_node.rotation
         assert current.dot(previous) > 0.0 and node.dot(previous_node) > 0.0
         previous, previous_node = current, node
+
+
+def test_habitats_collision_group_sequence(sim):
+    """The sequence of Habitat's ``test_collision_groups`` (rigid objects only)."""
+    cgh, cg = CollisionGroupHelper, CollisionGroups
+    assert cgh.get_group_name(cg.UserGroup1) == "UserGroup1"
+    assert cgh.set_group_name(cg.UserGroup1, "my_custom_group_1")
+    assert cgh.get_group("my_custom_group_1") == cg.UserGroup1
+    assert cgh.get_mask_for_group(cg.UserGroup1) == cgh.get_mask_for_group("my_custom_group_1")
+    cgh.set_mask_for_group(cg.UserGroup1, cg.Static | cg.Kinematic)
+    rom = sim.get_rigid_object_manager()
+    cube1 = rom.add_object_by_template_handle("cubeSolid")
+    cube2 = rom.add_object_by_template_handle("cubeSolid")
+    cube1.translation = [1.0, 0.0, 4.5]
+    cube2.translation = [3.0, 0.0, 4.5]
+    assert not cube1.contact_test()
+    cube2.translation = [1.1, 0.0, 4.6]
+    assert cube1.contact_test() and cube2.contact_test()
+    cube1.override_collision_group(cg.UserGroup1)  # STATIC | KINEMATIC only
+    assert not cube1.contact_test() and not cube2.contact_test()
+    # a mask edit applies once the group is set again
+    cgh.set_mask_for_group(cg.UserGroup1, cg.Static | cg.Kinematic | cg.UserGroup2)
+    assert not cube1.contact_test()
+    cube1.override_collision_group(cg.UserGroup1)
+    cube2.override_collision_group(cg.UserGroup2)
+    assert cube1.contact_test() and cube2.contact_test()
+    cube2.motion_type = MotionType.DYNAMIC  # the same type: the group stays
+    assert cube1.contact_test()
+    cube2.motion_type = MotionType.KINEMATIC  # a new type resets the group
+    cube2.motion_type = MotionType.DYNAMIC
+    assert not cube1.contact_test() and not cube2.contact_test()
+    cube2.motion_type = MotionType.KINEMATIC  # UserGroup1 interacts with Kinematic
+    assert cube1.contact_test() and cube2.contact_test()
+    cgh.set_group_interacts_with(cg.UserGroup1, cg.Kinematic, False)
+    assert not cgh.get_mask_for_group(cg.UserGroup1) & cg.Kinematic
+    cube1.override_collision_group(cg.UserGroup1)
+    assert not cube1.contact_test() and not cube2.contact_test()
+    cgh.set_group_interacts_with(cg.UserGroup1, cg.Kinematic, True)
+    cube1.override_collision_group(cg.UserGroup1)
+    assert cube1.contact_test() and cube2.contact_test()
+    cube2.override_collision_group(cg.Noncollidable)
+    assert not cube1.contact_test() and not cube2.contact_test()
+    cube1.override_collision_group(cg.Noncollidable)
+    assert not cube1.contact_test() and not cube2.contact_test()
