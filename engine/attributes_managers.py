@@ -257,6 +257,16 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
             self.register_template(PrimitiveAssetAttributes(handle))
             self._undeletable.add(handle)
 
+    def register_template(self, template: PrimitiveAssetAttributes, specified_handle: str = "",
+                          force_registration: bool = False) -> int:
+        """As for every manager, but an invalid primitive (``is_valid_template`` False)
+        is refused: -1 with a warning, as Habitat builds no primitive from it."""
+        if isinstance(template, PrimitiveAssetAttributes) and not template.is_valid_template:
+            warnings.warn(f"primitive template {template.handle!r} is not valid; not "
+                          "registered", stacklevel=2)
+            return -1
+        return super().register_template(template, specified_handle, force_registration)
+
     def get_default_template_handle(self, primitive_class: str, is_wireframe: bool = False) -> str:
         """The default handle of a primitive class (``"Cube"``, ``"Icosphere"``...)."""
         for handle in PRIMITIVE_ASSET_HANDLES:

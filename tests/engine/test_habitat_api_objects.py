@@ -312,3 +312,48 @@ def test_habitats_collision_group_sequence(sim):
     assert not cube1.contact_test() and not cube2.contact_test()
     cube1.override_collision_group(cg.Noncollidable)
     assert not cube1.contact_test() and not cube2.contact_test()
+
+
+@pytest.mark.parametrize("getter, legal_solid", [
+    ("get_default_capsule_template", 5), ("get_default_cone_template", 5),
+    ("get_default_cylinder_template", 5), ("get_default_UVsphere_template", 5)])
+@pytest.mark.parametrize("wireframe", [False, True])
+def test_primitive_asset_templates_modify_validate_and_register(getter, legal_solid, wireframe):
+    """Habitat's ``perform_asset_attrib_mgr_tests``: legal 5 / illegal 0 segments for solid
+    primitives, legal 64 / illegal 25 for wireframes (a multiple of 4 is needed)."""
+    assets = AssetAttributesManager()
+    count = assets.get_num_templates()
+    template = getattr(assets, getter)(wireframe)
+    old_handle = template.handle
+    assert template.is_valid_template
+    template.num_segments = 25 if wireframe else 0
+    assert not template.is_valid_template
+    with pytest.warns(UserWarning, match="not valid"):
+        assert assets.register_template(template, "broken") == -1
+    template.num_segments = 64 if wireframe else legal_solid
+    assert template.is_valid_template
+    new_handle = template.build_handle()
+    assert new_handle != old_handle
+    assets.register_template(template)
+    assert assets.get_library_has_handle(new_handle) and assets.get_library_has_handle(old_handle)
+    assert (assets.get_template_by_handle(old_handle).num_segments
+            != assets.get_template_by_handle(new_handle).num_segments)
+    assert assets.remove_template_by_handle(new_handle) is not None
+    assert assets.get_num_templates() == count
+
+
+def test_objects_use_the_modified_primitive(sim):
+    assets = sim.get_asset_template_manager()
+    cylinder = assets.get_default_cylinder_template(False)
+    cylinder.half_length = 2.0
+    cylinder.num_segments = 16
+    handle = cylinder.build_handle()
+    assets.register_template(cylinder)
+    objects = sim.get_object_template_manager()
+    template = objects.create_new_template("tall_cylinder")
+    template.render_asset_handle = handle
+    template.collision_asset_handle = handle
+    objects.register_template(template)
+    tall = sim.get_rigid_object_manager().add_object_by_template_handle("tall_cylinder")
+    assert tall.aabb.size_y() == pytest.approx(4.0)  # radius 1, half length 2
+    assert tall.collision_shape_aabb.size_y() == pytest.approx(4.0)
