@@ -85,6 +85,20 @@ def test_camera_frame_lights_move_with_the_camera():
     assert list(center_pixel(mesh, turn)) == [lit_level(c, 0.9) for c in BASE[:3]]
 
 
+def test_mesh_frame_lights_move_with_the_mesh():
+    # the quad lies in its mesh's x-y plane facing mesh +Z; the mesh is turned 60 degrees
+    # about Y and pushed 2 m in front of the camera: a world light along +Z sees it at 60
+    # degrees, a mesh-frame light along mesh +Z head on
+    c, s = math.cos(math.pi / 3), math.sin(math.pi / 3)
+    pose = np.array([[c, 0, s, 0], [0, 1, 0, 0], [-s, 0, c, -2.0], [0, 0, 0, 1]])
+    vertices = np.array([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]])
+    for frame, factor in (("world", 0.4 + 0.5 * c), ("mesh", 0.9)):
+        lights = Lights([[0.0, 0.0, 1.0, 0.0]], [0.5], (frame,))
+        mesh = RenderMesh(vertices, np.array([[0, 1, 2], [0, 2, 3]]), world_from_mesh=pose,
+                          base_color=BASE, lit=True, lights=lights)
+        assert list(center_pixel(mesh)) == [lit_level(ch, factor) for ch in BASE[:3]]
+
+
 # -- Habitat's API on the simulator ----------------------------------------------------------
 @pytest.fixture
 def sim():
