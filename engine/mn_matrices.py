@@ -332,17 +332,20 @@ class Range3D(_RangeN):
     _vector = Vector3
     __slots__ = ()
 
-    @property
-    def front_bottom_left(self) -> Vector3:
-        return Vector3(self._min[0], self._min[1], self._max[2])
+    def _corner(self, right: bool, top: bool, front: bool) -> Vector3:
+        """A corner: x from max if right, y from max if top, z from max if front (Magnum:
+        "front" is +Z, "back" is -Z)."""
+        pick = [self._max if flag else self._min for flag in (right, top, front)]
+        return Vector3(pick[0][0], pick[1][1], pick[2][2])
 
-    @property
-    def back_bottom_left(self) -> Vector3:
-        return Vector3(self._min)
-
-    @property
-    def front_top_right(self) -> Vector3:
-        return Vector3(self._max)
+    back_bottom_left = property(lambda self: self._corner(False, False, False))
+    back_bottom_right = property(lambda self: self._corner(True, False, False))
+    back_top_left = property(lambda self: self._corner(False, True, False))
+    back_top_right = property(lambda self: self._corner(True, True, False))
+    front_bottom_left = property(lambda self: self._corner(False, False, True))
+    front_bottom_right = property(lambda self: self._corner(True, False, True))
+    front_top_left = property(lambda self: self._corner(False, True, True))
+    front_top_right = property(lambda self: self._corner(True, True, True))
 
     def size_z(self) -> float:
         return float(self._max[2] - self._min[2])

@@ -23,7 +23,9 @@ The angular block of a ``Fixed`` constraint drives ``w_b - w_a`` to ``-beta e / 
 ``e = vee(R_err - R_err^T) / 2 = sin(theta) u`` for the rotation ``R_err = F_b F_a^T`` from
 frame A to frame B (``F_k = R_k frame_k``; ``e ~ theta u`` for small errors) and
 ``K_ang = I_a^-1 + I_b^-1``. The accumulated impulse of each block is
-clamped to ``max_impulse`` per step (a weak constraint lets go, as Bullet's). Static and
+clamped per row to ``max_impulse`` per step for ``PointToPoint`` (a weak constraint lets
+go, as Bullet's ``m_impulseClamp``; ``Fixed`` ones are not clamped, as Habitat's). The bias
+also carries the second-order drift of the rotating anchors (:func:`point_bias`). Static and
 kinematic bodies have infinite mass; kinematic ones move with their velocity control.
 
 Two paths, one algebra: :func:`solve_constraints_scalar` visits the constraints one by one;
@@ -139,7 +141,8 @@ class ConstraintRows:
     ``k_inv (k, 3, 3)`` inverse linear effective mass; ``fixed (k,)`` bool;
     ``angle_error (k, 3)``; ``k_ang_inv (k, 3, 3)``; ``limit (k,)`` max impulse;
     ``lin_impulse, ang_impulse (k, 3)`` accumulated this step; ``colors``: index arrays of
-    the graph colors once sorted (:func:`order_by_color`).
+    the graph colors once sorted (:func:`order_by_color`); ``bias (k, 3)`` the velocity the
+    point block aims at, negated (:func:`point_bias`).
     """
 
     a: np.ndarray
@@ -155,6 +158,7 @@ class ConstraintRows:
     lin_impulse: np.ndarray
     ang_impulse: np.ndarray
     colors: list | None = None
+    bias: np.ndarray | None = None
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
@@ -247,6 +251,7 @@ class ConstraintStore:
         b, n = world.bodies, world.bodies.count
         velocity, inv_mass, inv_inertia = _body_state(b, n, moving)
         rows = order_by_color(self.build_rows(b, inv_mass, inv_inertia, h), inv_mass)
+        rows.bias = point_bias(rows, velocity, h)
         iterations = world.settings.velocity_iterations
         if world.settings.use_vectorized:
             solve_constraints_vectorized(rows, velocity, inv_mass, inv_inertia, h, iterations)
@@ -290,7 +295,9 @@ class ConstraintStore:
         k_ang = inv_i_a + inv_i_b
         return ConstraintRows(
             a, bb, r_a, r_b, error, _safe_inverse(k_lin), fixed, angle_error,
-            _safe_inverse(k_ang), np.array([s.max_impulse for s in settings]),
+            _safe_inverse(k_ang),
+            # Bullet clamps a point-to-point constraint's rows, a fixed one not at all
+            np.where(fixed, np.inf, np.array([s.max_impulse for s in settings])),
             np.zeros((k, 3)), np.zeros((k, 3)))
 
 
@@ -303,7 +310,7 @@ def order_by_color(rows: ConstraintRows, inv_mass: np.ndarray) -> ConstraintRows
     colors = color_manifolds(rows.a, np.where(rows.b == WORLD, n, rows.b), movable)
     order = np.concatenate(colors)
     fields = {name: getattr(rows, name)[order] for name in ConstraintRows.__dataclass_fields__
-              if name != "colors"}
+              if name not in ("colors", "bias")}
     sizes = np.cumsum([0] + [len(c) for c in colors])
     return ConstraintRows(**fields, colors=[np.arange(lo, hi) for lo, hi in
                                             zip(sizes[:-1], sizes[1:], strict=True)])
@@ -335,11 +342,21 @@ def _body_state(b, n: int, moving: np.ndarray):
 
 
 def _clamp(accumulated: np.ndarray, step: np.ndarray, limit: np.ndarray) -> np.ndarray:
-    """The step keeping ``|accumulated + step| <= limit`` (rows of ``(k, 3)``)."""
-    total = accumulated + step
-    norm = np.linalg.norm(total, axis=-1, keepdims=True)
-    scale = np.minimum(1.0, limit[:, None] / np.maximum(norm, 1e-300))
-    return total * scale - accumulated
+    """The step keeping every row of ``accumulated + step`` in ``[-limit, limit]``
+    (``(k, 3)`` rows; Bullet's per-row impulse clamp)."""
+    return np.clip(accumulated + step, -limit[:, None], limit[:, None]) - accumulated
+
+
+def point_bias(rows: ConstraintRows, velocity: np.ndarray, h: float) -> np.ndarray:
+    """``(k, 3)`` bias of the point blocks: Baumgarte ``beta C / h`` plus the drift the
+    rotation integration will add to the anchors, ``(h / 2) [w_b x (w_b x r_b) -
+    w_a x (w_a x r_a)]`` (an anchor turning at ``w`` moves along an arc, not along its
+    tangent ``w x r``; this second-order term would otherwise accumulate as error)."""
+    n = len(velocity)
+    w_a = velocity[rows.a, 3:]
+    w_b = np.where((rows.b == WORLD)[:, None], 0.0, velocity[np.minimum(rows.b, n - 1), 3:])
+    curve = cross(w_b, cross(w_b, rows.r_b)) - cross(w_a, cross(w_a, rows.r_a))
+    return CONSTRAINT_BAUMGARTE * rows.error / h + 0.5 * h * curve
 
 
 # -- scalar reference path ---------------------------------------------------------------------
@@ -355,7 +372,7 @@ def solve_constraints_scalar(rows: ConstraintRows, velocity: np.ndarray, inv_mas
             wb = velocity[b, 3:] if b != WORLD else np.zeros(3)
             # linear block: v_rel = (v_b + w_b x r_b) - (v_a + w_a x r_a)
             v_rel = vb + np.cross(wb, rows.r_b[i]) - va - np.cross(wa, rows.r_a[i])
-            step = -rows.k_inv[i] @ (v_rel + beta * rows.error[i] / h)
+            step = -rows.k_inv[i] @ (v_rel + rows.bias[i])
             step = _clamp(rows.lin_impulse[i:i + 1], step[None], rows.limit[i:i + 1])[0]
             rows.lin_impulse[i] += step
             _apply(velocity, inv_mass, inv_inertia, a, b, step, rows.r_a[i], rows.r_b[i])
@@ -402,7 +419,7 @@ def solve_constraints_vectorized(rows: ConstraintRows, velocity: np.ndarray,
             vb, wb = velocity_ext[b, :3], velocity_ext[b, 3:]
             v_rel = vb + cross(wb, r_b) - va - cross(wa, r_a)
             # lambda = -K^-1 (v_rel + beta C / h) for the whole color at once
-            step = -(rows.k_inv[color] @ (v_rel + beta * rows.error[color] / h)[..., None])[..., 0]
+            step = -(rows.k_inv[color] @ (v_rel + rows.bias[color])[..., None])[..., 0]
             step = _clamp(rows.lin_impulse[color], step, rows.limit[color])
             rows.lin_impulse[color] += step
             inv_i_a, inv_i_b = inv_inertia_ext[a], inv_inertia_ext[b]

@@ -19,6 +19,7 @@ from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .collision_groups import assign_group
 from .integrate import world_inverse_inertia
+from .node_sync import canonical_sign
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .velocity_control import RigidState
 
@@ -169,7 +170,15 @@ class ObjectPropertiesMixin:
 
     @property
     def rotation(self) -> mn.Quaternion:
-        return mn.Quaternion.from_xyzw(self._world.bodies.body_rotation[self._check()])
+        """world_from_object. DYNAMIC objects report the sign Habitat's do (its nodes take
+        the pose from Bullet through a matrix: ``w > 0`` near the identity); KINEMATIC and
+        STATIC ones keep the sign they were given, step after step."""
+        index = self._check()
+        b = self._world.bodies
+        rotation = b.body_rotation[index]
+        if b.body_motion_type[index] == DYNAMIC:
+            rotation = canonical_sign(rotation[None])[0]
+        return mn.Quaternion.from_xyzw(rotation)
 
     @rotation.setter
     def rotation(self, value: Any) -> None:

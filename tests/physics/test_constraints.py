@@ -131,8 +131,9 @@ def test_update_remove_and_settings_round_trip():
         assert np.linalg.norm(np.asarray(ball.translation) - hook) == pytest.approx(
             LENGTH, abs=0.01)
         sim.remove_rigid_constraint(constraint_id)
-        sim.step_physics(0.5)
-        assert ball.translation.y < PIVOT[1] - LENGTH - 0.5  # falling freely
+        v0 = ball.linear_velocity.y
+        sim.step_physics(0.504)  # 63 whole steps
+        assert ball.linear_velocity.y == pytest.approx(v0 - 9.8 * 0.504, abs=1e-6)  # free fall
         with pytest.raises(KeyError):
             sim.get_rigid_constraint_settings(constraint_id)
 
@@ -149,3 +150,101 @@ def test_bad_settings_are_refused():
             settings.max_impulse = 0.0
         with pytest.raises(ValueError):
             settings.pivot_a = [math.nan, 0.0, 0.0]
+
+
+def simulate(sim, seconds: float) -> None:
+    """Habitat's test helper: step at 60 Hz until ``seconds`` of world time passed."""
+    start = sim.get_world_time()
+    while sim.get_world_time() < start + seconds:
+        sim.step_physics(1.0 / 60.0)
+
+
+def test_habitats_rigid_constraint_sequence():
+    """The rigid-object part of Habitat's ``test_rigid_constraints``, with its tolerances."""
+    with make_sim() as sim:
+        rom = sim.get_rigid_object_manager()
+        viz = rom.add_object_by_template_handle("cubeWireframe")
+        viz.collidable = False
+        viz.motion_type = MotionType.KINEMATIC
+        viz_box = viz.collision_shape_aabb
+        cube = rom.add_object_by_template_handle("cubeSolid")
+
+        def world_point(obj, local):
+            return np.asarray(obj.root_scene_node.transformation.transform_point(local))
+
+        # dangle the cube from its corner at the origin (object_id_b -1, pivot_b 0 by default)
+        settings = RigidConstraintSettings()
+        settings.object_id_a = cube.object_id
+        settings.pivot_a = cube.collision_shape_aabb.front_top_left
+        constraint_id = sim.create_rigid_constraint(settings)
+        assert constraint_id >= 0
+        simulate(sim, 1.0)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), 0.0, atol=1e-4)
+        settings.pivot_b = viz_box.back_bottom_right  # move the hook
+        sim.update_rigid_constraint(constraint_id, settings)
+        simulate(sim, 1.0)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
+                                   atol=1e-4)
+        settings.pivot_a = cube.collision_shape_aabb.back_bottom_right  # the opposite corner
+        sim.update_rigid_constraint(constraint_id, settings)
+        simulate(sim, 2.0)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
+                                   atol=1e-4)
+        # a second cube hanging from the first
+        cube_2 = rom.add_object_by_template_handle("cubeSolid")
+        settings_2 = RigidConstraintSettings()
+        settings_2.object_id_a = cube_2.object_id
+        settings_2.object_id_b = cube.object_id
+        settings_2.pivot_a = cube_2.collision_shape_aabb.back_bottom_right
+        settings_2.pivot_b = cube.collision_shape_aabb.front_top_left
+        constraint_id_2 = sim.create_rigid_constraint(settings_2)
+        assert constraint_id_2 >= 0
+        simulate(sim, 4.0)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
+                                   atol=1e-3)
+        np.testing.assert_allclose(world_point(cube_2, settings_2.pivot_a),
+                                   world_point(cube, settings_2.pivot_b), atol=5e-3)
+        # a weak world constraint lets go
+        settings.max_impulse = 0.2
+        sim.update_rigid_constraint(constraint_id, settings)
+        simulate(sim, 2.0)
+        assert not np.allclose(world_point(cube, settings.pivot_a), settings.pivot_b, atol=1e-4)
+        queried = sim.get_rigid_constraint_settings(constraint_id)
+        assert (queried.pivot_a, queried.pivot_b) == (settings.pivot_a, settings.pivot_b)
+        assert queried.max_impulse == settings.max_impulse
+        assert cube.translation[1] > -1.0 and cube_2.translation[1] > -1.0
+        sim.remove_rigid_constraint(constraint_id)
+        sim.remove_rigid_constraint(constraint_id_2)
+        simulate(sim, 2.0)
+        assert cube.translation[1] < -1.0 and cube_2.translation[1] < -1.0
+        assert not np.allclose(world_point(cube_2, settings_2.pivot_a),
+                               world_point(cube, settings_2.pivot_b), atol=0.5)
+        # the same settings as Fixed constraints pull both back and lock the orientations
+        settings.constraint_type = RigidConstraintType.Fixed
+        settings_2.constraint_type = RigidConstraintType.Fixed
+        constraint_id = sim.create_rigid_constraint(settings)
+        constraint_id_2 = sim.create_rigid_constraint(settings_2)
+        simulate(sim, 2.0)
+        np.testing.assert_allclose(world_point(cube_2, settings_2.pivot_a),
+                                   world_point(cube, settings_2.pivot_b), atol=5e-3)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
+                                   atol=1e-3)
+        assert mn.math.angle(cube.rotation, mn.Quaternion()) < mn.Rad(0.01)
+        assert mn.math.angle(cube_2.rotation, mn.Quaternion()) < mn.Rad(0.01)
+        target = mn.Quaternion.rotation(mn.Rad(mn.math.pi / 4.0), mn.Vector3(1.0, 0.0, 0.0))
+        settings.frame_b = target.to_matrix()
+        sim.update_rigid_constraint(constraint_id, settings)
+        settings_2.frame_a = mn.Quaternion.rotation(mn.Rad(mn.math.pi / 4.0),
+                                                    mn.Vector3(0.0, 1.0, 0.0)).to_matrix()
+        settings_2.frame_b = mn.Quaternion.rotation(-mn.Rad(mn.math.pi / 4.0),
+                                                    mn.Vector3(0.0, 1.0, 0.0)).to_matrix()
+        sim.update_rigid_constraint(constraint_id_2, settings_2)
+        simulate(sim, 2.0)
+        assert mn.math.angle(cube.rotation, target) < mn.Rad(0.01)
+        relative = mn.math.angle(cube.rotation, cube_2.rotation) - mn.Rad(mn.math.pi / 4.0)
+        assert abs(float(relative)) < 0.01
+        # removing an object removes its constraints; a constrained body never sleeps
+        rom.remove_object_by_id(cube_2.object_id)
+        assert cube.awake
+        simulate(sim, 1.0)
+        assert cube.awake
