@@ -11,12 +11,16 @@
 
 and ``from engine import mn`` replaces ``import magnum as mn``. Names are resolved lazily
 (PEP 562), so ``from engine import mn`` does not load the physics or the renderer.
+Like ``import habitat_sim``, importing ``engine`` imports numpy-quaternion, which registers
+``np.quaternion`` (Habitat code writes ``np.quaternion(w, x, y, z)`` after ``import numpy``).
 """
 
 from __future__ import annotations
 
 import importlib
 from typing import Any
+
+import quaternion  # noqa: F401 - registers np.quaternion, as importing habitat_sim does
 
 from engine import mn
 
@@ -56,6 +60,8 @@ _SUBMODULES = {
     "errors",
     "geo",
     "nav",
+    "gfx",
+    "metadata",
     "physics",
     "registry",
     "scene_node",

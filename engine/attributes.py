@@ -24,6 +24,7 @@ import numpy as np
 
 from engine import mn
 from engine.primitives import is_primitive_handle
+from engine.strict_attrs import public_names, unknown_attribute_error
 from engine.user_config import Configuration
 
 __all__ = [
@@ -122,7 +123,15 @@ class AbstractAttributes:
         if values is not None and name in values:
             value = values[name]
             return mn.Vector3(value) if isinstance(value, np.ndarray) else value
-        raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+        if name.startswith("__") or values is None:
+            raise AttributeError(name)
+        raise unknown_attribute_error(type(self).__name__, name, self._field_names())
+
+    @classmethod
+    def _field_names(cls) -> list[str]:
+        """Every name a template answers to: its fields, properties and methods."""
+        return sorted({*cls.FIELDS, "handle", "file_directory", "template_id",
+                       *public_names(cls)})
 
     def __setattr__(self, name: str, value: Any) -> None:
         if isinstance(getattr(type(self), name, None), property):
@@ -135,11 +144,16 @@ class AbstractAttributes:
         elif name == "template_id":
             object.__setattr__(self, name, _validate(name, "int", value))
         else:
-            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+            raise unknown_attribute_error(type(self).__name__, name, self._field_names())
 
     @property
     def ID(self) -> int:  # noqa: N802 - Habitat's spelling
         return self.template_id
+
+    @property
+    def num_user_configs(self) -> int:
+        """Number of values in the user configuration (Habitat's ``num_user_configs``)."""
+        return self._user_config.get_num_entries()
 
     def get_user_config(self) -> Configuration:
         """The editable user configuration (``user_defined`` in the JSON), by reference."""
@@ -239,6 +253,9 @@ _ASSET_FIELDS = {
     "orient_front": Field("front", "vec3", _FRONT),
     "units_to_meters": Field("units_to_meters", "positive", 1.0),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
+    "rolling_friction_coefficient": Field("rolling_friction_coefficient", "nonnegative", 0.0),
+    "spinning_friction_coefficient": Field("spinning_friction_coefficient", "nonnegative",
+                                           0.0),
     "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
     "force_flat_shading": Field("force_flat_shading", "bool", False),
     "is_collidable": Field("is_collidable", "bool", True),
@@ -328,6 +345,7 @@ class PhysicsManagerAttributes(AbstractAttributes):
 
 
 PRIMITIVE_FIELDS: dict[str, Field] = {}
+_PRIMITIVE_FLAGS = ("useTexCoords", "useTangents", "capEnd", "capEnds")
 
 
 class PrimitiveAssetAttributes(AbstractAttributes):
@@ -338,6 +356,82 @@ class PrimitiveAssetAttributes(AbstractAttributes):
     """
 
     FIELDS = PRIMITIVE_FIELDS
+
+    def __init__(self, handle: str = "") -> None:
+        super().__init__(handle)
+        prefix, _, rest = handle.partition("_")
+        tokens = rest.split("_") if rest else []
+        params = {key: value for key, value in zip(tokens[0::2], tokens[1::2], strict=False)}
+        object.__setattr__(self, "_prefix", prefix)
+        object.__setattr__(self, "_params", params)
+
+    # -- construction parameters (Habitat's names; each is one ``key_value`` of the handle) --
+    def _param(self, key: str, kind: type) -> Any:
+        text = self._params.get(key)
+        if text is None:
+            raise AttributeError(f"{self._prefix} templates have no {key!r} parameter")
+        if kind is bool:
+            return text == "true"
+        return kind(float(text)) if kind is int else kind(text)
+
+    def _set_param(self, key: str, value: Any, kind: type) -> None:
+        if key not in self._params:
+            raise AttributeError(f"{self._prefix} templates have no {key!r} parameter")
+        if kind is bool:
+            self._params[key] = "true" if _validate(key, "bool", value) else "false"
+        elif kind is int:
+            self._params[key] = str(_validate(key, "int", value))
+        else:
+            self._params[key] = f"{_validate(key, 'positive', value):g}"
+
+    num_segments = property(lambda self: self._param("segments", int),
+                            lambda self, v: self._set_param("segments", v, int))
+    num_rings = property(lambda self: self._param("rings", int),
+                         lambda self, v: self._set_param("rings", v, int))
+    half_length = property(lambda self: self._param("halfLen", float),
+                           lambda self, v: self._set_param("halfLen", v, float))
+    hemisphere_rings = property(lambda self: self._param("hemiRings", int),
+                                lambda self, v: self._set_param("hemiRings", v, int))
+    cylinder_rings = property(lambda self: self._param("cylRings", int),
+                              lambda self, v: self._set_param("cylRings", v, int))
+    subdivisions = property(lambda self: self._param("subdivs", int),
+                            lambda self, v: self._set_param("subdivs", v, int))
+    use_texture_coords = property(lambda self: self._param("useTexCoords", bool),
+                                  lambda self, v: self._set_param("useTexCoords", v, bool))
+    use_tangents = property(lambda self: self._param("useTangents", bool),
+                            lambda self, v: self._set_param("useTangents", v, bool))
+    use_cap_end = property(lambda self: self._param("capEnd", bool),
+                           lambda self, v: self._set_param("capEnd", v, bool))
+    use_cap_ends = property(lambda self: self._param("capEnds", bool),
+                            lambda self, v: self._set_param("capEnds", v, bool))
+
+    def build_handle(self) -> str:
+        """Rebuild the handle from the parameters (Habitat's ``build_handle``)."""
+        pairs = "".join(f"_{key}_{value}" for key, value in self._params.items())
+        self.handle = f"{self._prefix}{pairs}"
+        return self.handle
+
+    @property
+    def is_valid_template(self) -> bool:
+        """Whether Magnum can build the primitive (Habitat's rules): solid primitives need
+        ``segments >= 3``, wireframes ``segments >= 4`` and a multiple of 4; rings and capsule
+        rings ``>= 1``; UV spheres ``rings >= 2`` (even for wireframes); subdivisions >= 0."""
+        p = {key: self._param(key, bool if key in _PRIMITIVE_FLAGS else
+                              (float if key == "halfLen" else int)) for key in self._params}
+        wire = self.is_wireframe
+        if "segments" in p:
+            if wire and (p["segments"] < 4 or p["segments"] % 4):
+                return False
+            if not wire and p["segments"] < 3:
+                return False
+        minimum_rings = 2 if self._prefix.startswith("uvSphere") else 1
+        if p.get("rings", minimum_rings) < minimum_rings:
+            return False
+        if wire and self._prefix.startswith("uvSphere") and p["rings"] % 2:
+            return False
+        if min(p.get("hemiRings", 1), p.get("cylRings", 1)) < 1 or p.get("subdivs", 0) < 0:
+            return False
+        return p.get("halfLen", 1.0) > 0.0
 
     @property
     def primitive_class(self) -> str:
@@ -356,4 +450,9 @@ class PrimitiveAssetAttributes(AbstractAttributes):
 
     @property
     def is_wireframe(self) -> bool:
-        return "Wireframe" in self.handle
+        return "Wireframe" in self._prefix
+
+    @property
+    def prim_obj_class_name(self) -> str:
+        """Habitat's name for the Magnum primitive class (``primitive_class``)."""
+        return self.primitive_class

@@ -6,10 +6,16 @@ Habitat's contract, kept here:
 
 * ``get_template_by_id`` / ``get_template_by_handle`` return **copies**; edits take effect only
   after ``register_template``, which overwrites an existing handle keeping its id, or adds the
-  template with a new id.
+  template with a new id, and writes that id (and the handle it was registered under) into
+  the caller's template, as Habitat's C++ manager does with the shared template.
+* Lookups of unknown handles or ids return ``None`` (id lookups ``-1``, handle lookups
+  ``""``), removing or overwriting a locked template returns ``None`` / ``-1``: Habitat's
+  return values, with a ``UserWarning`` where Habitat logs.
 * ``get_template_handles(search_str, contains=True)`` matches case-insensitively and is sorted.
-* ``load_configs(path)``: a folder loads every ``*.object_config.json`` directly in it (sorted,
-  not recursive); a path without the extension gets it appended; re-loading a file keeps its id.
+* ``load_configs(path, save_as_defaults=False)``: a folder loads every
+  ``*.object_config.json`` directly in it (sorted, not recursive); a path without the extension
+  gets it appended; re-loading a file keeps its id; ``save_as_defaults`` makes the loaded
+  templates undeletable (Habitat's "default" templates).
 * Locked templates cannot be overwritten or removed; the primitive defaults are locked.
 
 Managers need no simulator: ``ObjectAttributesManager()`` works on its own.
@@ -18,8 +24,11 @@ Managers need no simulator: ``ObjectAttributesManager()`` works on its own.
 from __future__ import annotations
 
 import random
+import warnings
 from pathlib import Path
 from typing import Generic, TypeVar
+
+import numpy as np
 
 from engine.attributes import (
     AbstractAttributes,
@@ -68,15 +77,23 @@ class _AttributesManager(Generic[T]):
         return template_id in self._ids.values()
 
     def get_template_id_by_handle(self, handle: str) -> int:
+        """The id of ``handle``, or -1 (Habitat's ``ID_UNDEFINED``) with a warning."""
         if handle not in self._ids:
-            raise KeyError(f"no template with handle {handle!r}")
+            warnings.warn(f"no template with handle {handle!r}", stacklevel=2)
+            return -1
         return self._ids[handle]
 
+    get_template_ID_by_handle = get_template_id_by_handle  # noqa: N815 - Habitat's older name
+
     def get_template_handle_by_id(self, template_id: int) -> str:
+        """The handle of ``template_id``, or ``""`` with a warning."""
         for handle, known_id in self._ids.items():
             if known_id == template_id:
                 return handle
-        raise KeyError(f"no template with id {template_id!r}")
+        warnings.warn(f"no template with id {template_id!r}", stacklevel=2)
+        return ""
+
+    get_template_handle_by_ID = get_template_handle_by_id  # noqa: N815
 
     def get_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
         """Handles that contain (or, with ``contains=False``, do not contain) ``search_str``,
@@ -89,14 +106,23 @@ class _AttributesManager(Generic[T]):
         return random.choice(self.get_template_handles())
 
     # -- copies in and out ----------------------------------------------------------------------
-    def get_template_by_handle(self, handle: str) -> T:
-        """A copy of the template registered under ``handle`` (KeyError if unknown)."""
+    def get_template_by_handle(self, handle: str) -> T | None:
+        """A copy of the template registered under ``handle``; None (warning) if unknown."""
         if handle not in self._templates:
-            raise KeyError(f"no template with handle {handle!r}")
+            warnings.warn(f"no template with handle {handle!r}", stacklevel=2)
+            return None
         return self._templates[handle].copy()
 
-    def get_template_by_id(self, template_id: int) -> T:
-        return self.get_template_by_handle(self.get_template_handle_by_id(template_id))
+    def get_template_by_id(self, template_id: int) -> T | None:
+        """A copy of the template with id ``template_id``; None (warning) if unknown."""
+        handle = self._handle_of(template_id)
+        if handle is None:
+            warnings.warn(f"no template with id {template_id!r}", stacklevel=2)
+            return None
+        return self._templates[handle].copy()
+
+    def _handle_of(self, template_id: int) -> str | None:
+        return next((h for h, known in self._ids.items() if known == template_id), None)
 
     get_template_by_ID = get_template_by_id  # noqa: N815 - Habitat's older spelling
 
@@ -111,8 +137,15 @@ class _AttributesManager(Generic[T]):
             self.register_template(template)
         return template
 
-    def register_template(self, template: T, specified_handle: str = "") -> int:
-        """Store a copy of ``template``; an existing handle keeps its id. Returns the id."""
+    def register_template(self, template: T, specified_handle: str = "",
+                          force_registration: bool = False) -> int:
+        """Store a copy of ``template``; an existing handle keeps its id. Returns the id.
+
+        As in Habitat, the id (and ``specified_handle``, if given) is written into the
+        caller's ``template`` too. A locked handle is not overwritten: -1 with a warning.
+        ``force_registration`` is accepted for Habitat's signature (every valid template
+        registers here).
+        """
         if not isinstance(template, self.template_class):
             raise TypeError(
                 f"expected a {self.template_class.__name__}, got {type(template).__name__}"
@@ -124,39 +157,62 @@ class _AttributesManager(Generic[T]):
         if not handle:
             raise ValueError("a template needs a non-empty handle to be registered")
         if handle in self._locked:
-            raise ValueError(f"template {handle!r} is locked and cannot be overwritten")
+            warnings.warn(f"template {handle!r} is locked and was not overwritten",
+                          stacklevel=2)
+            return -1
         template_id = self._ids.get(handle)
         if template_id is None:
             template_id = self._next_id
             self._next_id += 1
-        stored = template.copy()
-        stored.handle = handle
-        stored.template_id = template_id
-        self._templates[handle] = stored
+        template.handle = handle
+        template.template_id = template_id
+        self._templates[handle] = template.copy()
         self._ids[handle] = template_id
         return template_id
 
     # -- removal and locks ----------------------------------------------------------------------
-    def remove_template_by_handle(self, handle: str) -> T:
+    def remove_template_by_handle(self, handle: str) -> T | None:
+        """Remove and return the template; None (warning) if unknown, locked or a default."""
         if handle not in self._templates:
-            raise KeyError(f"no template with handle {handle!r}")
+            warnings.warn(f"no template with handle {handle!r}", stacklevel=2)
+            return None
         if handle in self._locked or handle in self._undeletable:
-            raise ValueError(f"template {handle!r} is locked and cannot be removed")
+            warnings.warn(f"template {handle!r} is locked and was not removed", stacklevel=2)
+            return None
         self._ids.pop(handle)
         return self._templates.pop(handle)
 
-    def remove_template_by_id(self, template_id: int) -> T:
-        return self.remove_template_by_handle(self.get_template_handle_by_id(template_id))
+    def remove_template_by_id(self, template_id: int) -> T | None:
+        handle = self._handle_of(template_id)
+        if handle is None:
+            warnings.warn(f"no template with id {template_id!r}", stacklevel=2)
+            return None
+        return self.remove_template_by_handle(handle)
+
+    def remove_templates_by_str(self, search_str: str = "", contains: bool = True) -> list[T]:
+        """Remove every unlocked, deletable template whose handle matches; returns them."""
+        removable = [h for h in self.get_template_handles(search_str, contains)
+                     if h not in self._locked and h not in self._undeletable]
+        return [self.remove_template_by_handle(h) for h in removable]
 
     def remove_all_templates(self) -> None:
-        for handle in self.get_template_handles():
-            if handle not in self._locked and handle not in self._undeletable:
-                self.remove_template_by_handle(handle)
+        self.remove_templates_by_str("", True)
 
-    def set_template_lock(self, handle: str, lock: bool) -> None:
+    def set_template_lock(self, handle: str, lock: bool) -> bool:
+        """Lock or unlock ``handle``; False (warning) if there is no such template."""
         if handle not in self._templates:
-            raise KeyError(f"no template with handle {handle!r}")
+            warnings.warn(f"no template with handle {handle!r}", stacklevel=2)
+            return False
         (self._locked.add if lock else self._locked.discard)(handle)
+        return True
+
+    def set_lock_by_substring(self, lock: bool, search_str: str = "",
+                              contains: bool = True) -> list[str]:
+        """Lock or unlock every template whose handle matches; returns their handles."""
+        handles = self.get_template_handles(search_str, contains)
+        for handle in handles:
+            self.set_template_lock(handle, lock)
+        return handles
 
     def get_template_lock(self, handle: str) -> bool:
         return handle in self._locked
@@ -178,13 +234,19 @@ class _AttributesManager(Generic[T]):
                 return [with_suffix]
         raise FileNotFoundError(f"no {self.config_suffix} config at {path}")
 
-    def load_configs(self, path: str | Path) -> list[int]:
+    def load_configs(self, path: str | Path, save_as_defaults: bool = False) -> list[int]:
         """Load every config ``path`` names; returns their template ids (in file order).
 
         All files are parsed before any is registered, so a bad file registers nothing.
+        ``save_as_defaults`` makes the loaded templates undeletable (Habitat's defaults).
         """
+        if not isinstance(save_as_defaults, bool | np.bool_):
+            raise TypeError(f"save_as_defaults must be a bool, got {save_as_defaults!r}")
         templates = [self.template_class.from_json_file(f) for f in self._config_files(path)]
-        return [self.register_template(t) for t in templates]
+        ids = [self.register_template(t) for t in templates]
+        if save_as_defaults:
+            self._undeletable.update(t.handle for t in templates)
+        return ids
 
 
 class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
@@ -198,6 +260,16 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
             self.register_template(PrimitiveAssetAttributes(handle))
             self._undeletable.add(handle)
 
+    def register_template(self, template: PrimitiveAssetAttributes, specified_handle: str = "",
+                          force_registration: bool = False) -> int:
+        """As for every manager, but an invalid primitive (``is_valid_template`` False)
+        is refused: -1 with a warning, as Habitat builds no primitive from it."""
+        if isinstance(template, PrimitiveAssetAttributes) and not template.is_valid_template:
+            warnings.warn(f"primitive template {template.handle!r} is not valid; not "
+                          "registered", stacklevel=2)
+            return -1
+        return super().register_template(template, specified_handle, force_registration)
+
     def get_default_template_handle(self, primitive_class: str, is_wireframe: bool = False) -> str:
         """The default handle of a primitive class (``"Cube"``, ``"Icosphere"``...)."""
         for handle in PRIMITIVE_ASSET_HANDLES:
@@ -206,6 +278,29 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
             if same_class and template.is_wireframe == is_wireframe:
                 return handle
         raise KeyError(f"unknown primitive class {primitive_class!r}")
+
+    def _default(self, primitive_class: str, is_wireframe: bool) -> PrimitiveAssetAttributes:
+        return self.get_template_by_handle(
+            self.get_default_template_handle(primitive_class, bool(is_wireframe)))
+
+    def get_default_capsule_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
+        """A copy of the default capsule primitive (solid or wireframe)."""
+        return self._default("Capsule3D", is_wireframe)
+
+    def get_default_cone_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
+        return self._default("Cone", is_wireframe)
+
+    def get_default_cube_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
+        return self._default("Cube", is_wireframe)
+
+    def get_default_cylinder_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
+        return self._default("Cylinder", is_wireframe)
+
+    def get_default_icosphere_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
+        return self._default("Icosphere", is_wireframe)
+
+    def get_default_UVsphere_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:  # noqa: N802
+        return self._default("UVSphere", is_wireframe)
 
 
 class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):

@@ -1,9 +1,13 @@
 """A small Magnum-like math module: the types Habitat tutorials use via ``import magnum as mn``.
 
 rigidsim code writes ``from engine import mn`` and then uses the same names as Magnum's Python
-bindings: :class:`Vector3`, :class:`Quaternion`, :class:`Deg`, :class:`Rad`, :class:`Matrix4`,
-:class:`Range3D`. The types are thin wrappers around NumPy arrays so that they mix freely with
-lists and ``np.ndarray`` (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``).
+bindings: :class:`Vector2`, :class:`Vector3`, :class:`Vector4`, :class:`Vector2i`,
+:class:`Vector3i`, :class:`Color3`, :class:`Color4`, :class:`Quaternion`, :class:`Deg`,
+:class:`Rad`, :class:`Matrix3x3`, :class:`Matrix3`, :class:`Matrix4`, :class:`Range2D`,
+:class:`Range3D` and the free functions and constants of ``mn.math`` (:mod:`engine.mn_math`).
+Float types compare with Magnum's fuzzy ``==`` (relative epsilon 1e-5, see
+:mod:`engine.mn_vectors`). The types are thin wrappers around NumPy arrays so that they mix
+freely with lists and ``np.ndarray`` (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``).
 
 Conventions (declared once, used everywhere in rigidsim)
 -------------------------------------------------------
@@ -21,7 +25,8 @@ instance, the translation part (``m.translation``).
 """
 from __future__ import annotations
 
-from engine.mn_matrices import Matrix3x3, Matrix4, Range3D
+from engine import mn_math as math
+from engine.mn_matrices import Matrix3, Matrix3x3, Matrix4, Range2D, Range3D
 from engine.mn_rotations import (
     Quaternion,
     matrix_to_quaternion,
@@ -29,17 +34,37 @@ from engine.mn_rotations import (
     quaternion_to_matrix,
     to_quaternion,
 )
-from engine.mn_vectors import Deg, Rad, Vector2, Vector3, stable_norm, to_vector3
+from engine.mn_vectors import (
+    Color3,
+    Color4,
+    Deg,
+    Rad,
+    Vector2,
+    Vector2i,
+    Vector3,
+    Vector3i,
+    Vector4,
+    stable_norm,
+    to_vector3,
+)
 
 __all__ = [
+    "Color3",
+    "Color4",
     "Deg",
+    "Matrix3",
     "Matrix3x3",
     "Matrix4",
     "Quaternion",
     "Rad",
+    "Range2D",
     "Range3D",
     "Vector2",
+    "Vector2i",
     "Vector3",
+    "Vector3i",
+    "Vector4",
+    "math",
     "matrix_to_quaternion",
     "quaternion_multiply",
     "quaternion_to_matrix",

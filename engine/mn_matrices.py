@@ -1,19 +1,24 @@
-"""Matrices and boxes of :mod:`engine.mn`: Magnum's ``Matrix3x3``, ``Matrix4``, ``Range3D``.
+"""Matrices and boxes of :mod:`engine.mn`: Magnum's ``Matrix3x3``, ``Matrix3``, ``Matrix4``,
+``Range2D``, ``Range3D``.
 
 A ``Matrix4`` is a 4x4 homogeneous transformation whose columns are the basis vectors and the
-translation. Magnum's quirk is kept: ``Matrix4.translation(v)`` and ``Matrix4.rotation(angle,
-axis)`` construct on the class, while ``m.translation`` and ``m.rotation()`` read an instance.
+translation; a ``Matrix3`` is the same for 2D (3x3 homogeneous, Magnum's 2D transformation
+matrix; a plain 3x3 matrix is ``Matrix3x3``). Magnum's quirk is kept: ``Matrix4.translation(v)``
+and ``Matrix4.rotation(angle, axis)`` construct on the class, while ``m.translation`` and
+``m.rotation()`` read an instance. ``==`` is Magnum's fuzzy compare of every element
+(:func:`engine.mn_vectors.fuzzy_equal`).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
-from engine.mn_vectors import Vector3, finite_array
+from engine.mn_vectors import Vector2, Vector3, finite_array, fuzzy_equal, radians
 
-__all__ = ["Matrix3x3", "Matrix4", "Range3D"]
+__all__ = ["Matrix3", "Matrix3x3", "Matrix4", "Range2D", "Range3D"]
 
 
 # --------------------------------------------------------------------------------------------
@@ -47,8 +52,9 @@ class _MatrixN:
         return f"{type(self).__name__}({self._data.tolist()})"
 
     def __eq__(self, other: object) -> bool:
+        """Magnum's fuzzy compare, element by element."""
         try:
-            return bool(np.array_equal(self._data, np.asarray(other, dtype=np.float64)))
+            return fuzzy_equal(self._data, np.asarray(other, dtype=np.float64))
         except (TypeError, ValueError):
             return False
 
@@ -81,12 +87,73 @@ class Matrix3x3(_MatrixN):
 
 
 class _TranslationAccessor:
-    """``Matrix4.translation(v)`` builds a translation; ``m.translation`` reads one (Magnum)."""
+    """``Matrix4.translation(v)`` builds a translation; ``m.translation`` reads one (Magnum).
+    The same for ``Matrix3`` in 2D."""
 
-    def __get__(self, instance: Matrix4 | None, owner: type) -> Any:
+    def __get__(self, instance: Any, owner: type) -> Any:
         if instance is None:
             return owner._translation_matrix
+        if isinstance(instance, Matrix3):
+            return Vector2(instance._data[:2, 2])
         return Vector3(instance._data[:3, 3])
+
+
+class Matrix3(Matrix3x3):
+    """A 2D homogeneous transformation (Magnum's ``Matrix3``): columns are the 2D basis
+    vectors and the translation. ``Matrix3.rotation(angle)`` turns counterclockwise."""
+
+    __slots__ = ()
+    translation = _TranslationAccessor()
+
+    @classmethod
+    def from_(cls, rotation_scaling: Any, translation: Any) -> Matrix3:
+        """Build from a 2x2 rotation (and scaling) part and a 2D translation."""
+        matrix = np.eye(3)
+        matrix[:2, :2] = np.asarray(rotation_scaling, dtype=np.float64)
+        matrix[:2, 2] = finite_array(translation, 2, "translation")
+        return cls(matrix)
+
+    @classmethod
+    def _translation_matrix(cls, vector: Any) -> Matrix3:
+        return cls.from_(np.eye(2), vector)
+
+    @classmethod
+    def scaling(cls, vector: Any) -> Matrix3:
+        return cls.from_(np.diag(finite_array(vector, 2, "scaling")), (0.0, 0.0))
+
+    @classmethod
+    def _rotation_matrix(cls, angle: Any) -> Matrix3:
+        c, s = math.cos(radians(angle)), math.sin(radians(angle))
+        return cls.from_([[c, -s], [s, c]], (0.0, 0.0))
+
+    def rotation_scaling(self) -> np.ndarray:
+        """The 2x2 upper-left block (rotation and scaling)."""
+        return self._data[:2, :2].copy()
+
+    def transform_point(self, point: Any) -> Vector2:
+        """``M (p, 1)`` in 2D."""
+        return Vector2(self._data[:2, :2] @ finite_array(point, 2, "point") + self._data[:2, 2])
+
+    def transform_vector(self, vector: Any) -> Vector2:
+        """``M (v, 0)`` in 2D: no translation."""
+        return Vector2(self._data[:2, :2] @ finite_array(vector, 2, "vector"))
+
+    def inverted_rigid(self) -> Matrix3:
+        """Inverse of a rotation + translation: ``[R^T, -R^T t]``."""
+        rotation = self._data[:2, :2]
+        return Matrix3.from_(rotation.T, -rotation.T @ self._data[:2, 2])
+
+
+class _DualRotation2D:
+    """``Matrix3.rotation(angle)`` on the class, ``m.rotation()`` (2x2 block) on an instance."""
+
+    def __get__(self, instance: Matrix3 | None, owner: type) -> Any:
+        if instance is None:
+            return owner._rotation_matrix
+        return lambda: instance._data[:2, :2] / np.linalg.norm(instance._data[:2, :2], axis=0)
+
+
+Matrix3.rotation = _DualRotation2D()
 
 
 class Matrix4(_MatrixN):
@@ -153,37 +220,59 @@ Matrix4.rotation = _DualRotation()
 # --------------------------------------------------------------------------------------------
 # Axis-aligned boxes
 # --------------------------------------------------------------------------------------------
-class Range3D:
-    """An axis-aligned box ``[min, max]`` (Magnum's ``Range3D``), e.g. an object's AABB."""
+class _RangeN:
+    """An axis-aligned box ``[min, max]`` in ``_size`` dimensions (Magnum's ``RangeND``)."""
 
+    _size = 3
+    _vector: type = Vector3
     __slots__ = ("_min", "_max")
 
-    def __init__(self, min: Any = (0.0, 0.0, 0.0), max: Any = (0.0, 0.0, 0.0)) -> None:  # noqa: A002
-        self._min = finite_array(min, 3, "min")
-        self._max = finite_array(max, 3, "max")
+    def __init__(self, min: Any = None, max: Any = None) -> None:  # noqa: A002
+        zero = np.zeros(self._size)
+        self._min = finite_array(zero if min is None else min, self._size, "min")
+        self._max = finite_array(zero if max is None else max, self._size, "max")
 
     @classmethod
-    def from_points(cls, points: Any) -> Range3D:
-        array = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    def from_points(cls, points: Any) -> Any:
+        array = np.asarray(points, dtype=np.float64).reshape(-1, cls._size)
         return cls(array.min(axis=0), array.max(axis=0))
 
-    @property
-    def min(self) -> Vector3:
-        return Vector3(self._min)
+    @classmethod
+    def from_size(cls, min: Any, size: Any) -> Any:  # noqa: A002
+        low = finite_array(min, cls._size, "min")
+        return cls(low, low + finite_array(size, cls._size, "size"))
+
+    @classmethod
+    def from_center(cls, center: Any, half_size: Any) -> Any:
+        middle = finite_array(center, cls._size, "center")
+        half = finite_array(half_size, cls._size, "half_size")
+        return cls(middle - half, middle + half)
+
+    @classmethod
+    def zero_init(cls) -> Any:
+        return cls()
 
     @property
-    def max(self) -> Vector3:
-        return Vector3(self._max)
+    def min(self) -> Any:
+        return self._vector(self._min)
+
+    @min.setter
+    def min(self, value: Any) -> None:
+        self._min = finite_array(value, self._size, "min")
 
     @property
-    def front_bottom_left(self) -> Vector3:
-        return Vector3(self._min[0], self._min[1], self._max[2])
+    def max(self) -> Any:
+        return self._vector(self._max)
 
-    def size(self) -> Vector3:
-        return Vector3(self._max - self._min)
+    @max.setter
+    def max(self, value: Any) -> None:
+        self._max = finite_array(value, self._size, "max")
 
-    def center(self) -> Vector3:
-        return Vector3(0.5 * (self._min + self._max))
+    def size(self) -> Any:
+        return self._vector(self._max - self._min)
+
+    def center(self) -> Any:
+        return self._vector(0.5 * (self._min + self._max))
 
     def size_x(self) -> float:
         return float(self._max[0] - self._min[0])
@@ -191,21 +280,72 @@ class Range3D:
     def size_y(self) -> float:
         return float(self._max[1] - self._min[1])
 
-    def size_z(self) -> float:
-        return float(self._max[2] - self._min[2])
+    def translated(self, vector: Any) -> Any:
+        offset = finite_array(vector, self._size, "vector")
+        return type(self)(self._min + offset, self._max + offset)
+
+    def padded(self, padding: Any) -> Any:
+        pad = np.broadcast_to(np.asarray(padding, dtype=np.float64), (self._size,))
+        return type(self)(self._min - pad, self._max + pad)
 
     def contains(self, point: Any) -> bool:
+        """True when ``point`` (or a whole range) lies inside (Magnum: min inclusive)."""
+        if isinstance(point, _RangeN):
+            return bool(np.all(point._min >= self._min) and np.all(point._max <= self._max))
         p = np.asarray(point, dtype=np.float64)
         return bool(np.all(p >= self._min) and np.all(p <= self._max))
 
     def __eq__(self, other: object) -> bool:
         return (
-            isinstance(other, Range3D)
-            and bool(np.array_equal(self._min, other._min))
-            and bool(np.array_equal(self._max, other._max))
+            type(other) is type(self)
+            and fuzzy_equal(self._min, other._min)
+            and fuzzy_equal(self._max, other._max)
         )
 
     __hash__ = None
 
     def __repr__(self) -> str:
-        return f"Range3D(min={self.min!r}, max={self.max!r})"
+        return f"{type(self).__name__}(min={self.min!r}, max={self.max!r})"
+
+
+class Range2D(_RangeN):
+    """A 2D axis-aligned rectangle (Magnum's ``Range2D``): ``left, right, bottom, top``."""
+
+    _size = 2
+    _vector = Vector2
+    __slots__ = ()
+
+    left = property(lambda self: float(self._min[0]))
+    right = property(lambda self: float(self._max[0]))
+    bottom = property(lambda self: float(self._min[1]))
+    top = property(lambda self: float(self._max[1]))
+    bottom_left = property(lambda self: Vector2(self._min))
+    top_right = property(lambda self: Vector2(self._max))
+    bottom_right = property(lambda self: Vector2(self._max[0], self._min[1]))
+    top_left = property(lambda self: Vector2(self._min[0], self._max[1]))
+
+
+class Range3D(_RangeN):
+    """An axis-aligned box ``[min, max]`` (Magnum's ``Range3D``), e.g. an object's AABB."""
+
+    _size = 3
+    _vector = Vector3
+    __slots__ = ()
+
+    def _corner(self, right: bool, top: bool, front: bool) -> Vector3:
+        """A corner: x from max if right, y from max if top, z from max if front (Magnum:
+        "front" is +Z, "back" is -Z)."""
+        pick = [self._max if flag else self._min for flag in (right, top, front)]
+        return Vector3(pick[0][0], pick[1][1], pick[2][2])
+
+    back_bottom_left = property(lambda self: self._corner(False, False, False))
+    back_bottom_right = property(lambda self: self._corner(True, False, False))
+    back_top_left = property(lambda self: self._corner(False, True, False))
+    back_top_right = property(lambda self: self._corner(True, True, False))
+    front_bottom_left = property(lambda self: self._corner(False, False, True))
+    front_bottom_right = property(lambda self: self._corner(True, False, True))
+    front_top_left = property(lambda self: self._corner(False, True, True))
+    front_top_right = property(lambda self: self._corner(True, True, True))
+
+    def size_z(self) -> float:
+        return float(self._max[2] - self._min[2])

@@ -15,7 +15,15 @@ from typing import Any
 import numpy as np
 
 from engine.mn_matrices import Matrix3x3
-from engine.mn_vectors import Rad, Vector3, finite_array, radians, stable_norm
+from engine.mn_vectors import (
+    FLOAT_EPSILON,
+    Rad,
+    Vector3,
+    finite_array,
+    fuzzy_equal,
+    radians,
+    stable_norm,
+)
 
 __all__ = [
     "Quaternion",
@@ -95,15 +103,44 @@ def matrix_to_quaternion(matrix: np.ndarray) -> np.ndarray:
     return q / np.linalg.norm(q)
 
 
+def _is_vector_scalar_pair(value: Any) -> bool:
+    """True for a ``((x, y, z), w)`` pair (a 2-sequence whose first item has 3 numbers)."""
+    if isinstance(value, str | bytes | np.ndarray) or not hasattr(value, "__len__"):
+        return False
+    return len(value) == 2 and hasattr(value[0], "__len__") and len(value[0]) == 3
+
+
 class Quaternion:
-    """A rotation quaternion, Magnum style: ``Quaternion((x, y, z), w)``; identity by default."""
+    """A quaternion, Magnum style. Constructors, as in Magnum's Python bindings:
+
+    * ``Quaternion()``: the identity ``((0, 0, 0), 1)``;
+    * ``Quaternion(vector, scalar)``: e.g. ``Quaternion(mn.Vector3(0, 1, 0), 0)``;
+    * ``Quaternion(((x, y, z), w))``: one ``(vector, scalar)`` tuple;
+    * ``Quaternion(vector)``: a pure quaternion ``(vector, 0)`` (scalar zero, as Magnum).
+
+    ``==`` is Magnum's fuzzy compare of the four components (see :mod:`engine.mn_vectors`);
+    ``q`` and ``-q`` are the same rotation but not equal quaternions, as in Magnum.
+    """
 
     __slots__ = ("_xyzw",)
 
-    def __init__(self, vector: Iterable[float] = (0.0, 0.0, 0.0), scalar: float = 1.0) -> None:
+    def __init__(self, *args: Any) -> None:
+        if len(args) == 0:
+            vector, scalar = (0.0, 0.0, 0.0), 1.0
+        elif len(args) == 2:
+            vector, scalar = args
+        elif len(args) == 1 and _is_vector_scalar_pair(args[0]):
+            vector, scalar = args[0]
+        elif len(args) == 1:
+            vector, scalar = args[0], 0.0
+        else:
+            raise TypeError(f"Quaternion takes (), (vector, scalar), ((x, y, z), w) or "
+                            f"(vector), got {len(args)} arguments")
         xyz = np.array(vector, dtype=np.float64).reshape(-1)
         if xyz.shape != (3,):
             raise ValueError(f"Quaternion vector part needs 3 components, got {vector!r}")
+        if isinstance(scalar, bool) or not np.isscalar(scalar):
+            raise TypeError(f"Quaternion scalar part must be a number, got {scalar!r}")
         self._xyzw = np.append(xyz, float(scalar))
 
     # -- constructors ---------------------------------------------------------------------------
@@ -117,6 +154,10 @@ class Quaternion:
     @classmethod
     def identity_init(cls) -> Quaternion:
         return cls()
+
+    @classmethod
+    def zero_init(cls) -> Quaternion:
+        return cls.from_xyzw(np.zeros(4))
 
     @classmethod
     def rotation(cls, angle: Any, axis: Any) -> Quaternion:
@@ -143,9 +184,17 @@ class Quaternion:
     def vector(self) -> Vector3:
         return Vector3(self._xyzw[:3])
 
+    @vector.setter
+    def vector(self, value: Any) -> None:
+        self._xyzw[:3] = finite_array(value, 3, "vector")
+
     @property
     def scalar(self) -> float:
         return float(self._xyzw[3])
+
+    @scalar.setter
+    def scalar(self, value: Any) -> None:
+        self._xyzw[3] = float(value)
 
     @property
     def xyzw(self) -> np.ndarray:
@@ -157,10 +206,10 @@ class Quaternion:
         return f"Quaternion(({x:g}, {y:g}, {z:g}), {w:g})"
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Quaternion) and bool(np.array_equal(self._xyzw, other._xyzw))
+        """Magnum's fuzzy compare of vector and scalar parts (relative epsilon 1e-5)."""
+        return isinstance(other, Quaternion) and fuzzy_equal(self._xyzw, other._xyzw)
 
-    def __hash__(self) -> int:
-        return hash(tuple(self._xyzw.tolist()))
+    __hash__ = None  # fuzzy equality has no consistent hash (as Magnum's Python type)
 
     # -- algebra --------------------------------------------------------------------------------
     def __mul__(self, other: Any) -> Quaternion:
@@ -172,6 +221,12 @@ class Quaternion:
 
     def __add__(self, other: Quaternion) -> Quaternion:
         return Quaternion.from_xyzw(self._xyzw + other._xyzw)
+
+    def __sub__(self, other: Quaternion) -> Quaternion:
+        return Quaternion.from_xyzw(self._xyzw - other._xyzw)
+
+    def __truediv__(self, other: float) -> Quaternion:
+        return Quaternion.from_xyzw(self._xyzw / float(other))
 
     def __neg__(self) -> Quaternion:
         return Quaternion.from_xyzw(-self._xyzw)
@@ -185,7 +240,8 @@ class Quaternion:
         return float(np.linalg.norm(self._xyzw))
 
     def is_normalized(self) -> bool:
-        return abs(self.dot() - 1.0) < 1e-6
+        """Magnum: ``|dot() - 1| < 2 epsilon``."""
+        return abs(self.dot() - 1.0) < 2.0 * FLOAT_EPSILON
 
     def normalized(self) -> Quaternion:
         return Quaternion.from_xyzw(self._xyzw / self.length())
@@ -197,6 +253,10 @@ class Quaternion:
     def inverted(self) -> Quaternion:
         """``q^-1 = q* / |q|^2``."""
         return Quaternion.from_xyzw(self.conjugated()._xyzw / self.dot())
+
+    def inverted_normalized(self) -> Quaternion:
+        """Inverse of a unit quaternion: its conjugate."""
+        return self.conjugated()
 
     def angle(self) -> Rad:
         """Rotation angle in [0, 2 pi] of a unit quaternion: ``2 acos(w)``."""

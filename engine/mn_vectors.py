@@ -5,6 +5,17 @@
 (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``); ``dot()`` with no argument is the **squared**
 length, as in Magnum. ``to_vector3`` is the one validator every public setter uses: NaN, inf,
 None, strings and wrong shapes raise a ``ValueError`` naming the parameter.
+
+Equality is Magnum's fuzzy compare (``TypeTraits<Float>::equals``), component by component,
+with the float epsilon ``e = 1e-5``::
+
+    a == b  <=>  a, b bitwise equal
+                 or |a - b| < e                    when a or b is 0 or |a - b| < e
+                 or |a - b| / (|a| + |b|) < e      otherwise (relative error)
+
+so ``Vector3(1, 2, 3) == Vector3(1, 2, 3 + 1e-6)`` is True, as in Magnum. Integer vectors
+(``Vector2i``, ``Vector3i``) compare exactly. Like Magnum's Python types, vectors are not
+hashable (a fuzzy ``==`` cannot have a consistent hash).
 """
 
 from __future__ import annotations
@@ -14,7 +25,40 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Deg", "Rad", "Vector2", "Vector3", "finite_array", "radians", "to_vector3"]
+__all__ = [
+    "FLOAT_EPSILON",
+    "Color3",
+    "Color4",
+    "Deg",
+    "Rad",
+    "Vector2",
+    "Vector2i",
+    "Vector3",
+    "Vector3i",
+    "Vector4",
+    "finite_array",
+    "fuzzy_equal",
+    "radians",
+    "to_vector3",
+]
+
+#: Magnum's ``TypeTraits<Float>::epsilon()``: the fuzzy-compare tolerance of float types.
+FLOAT_EPSILON = 1.0e-5
+
+
+def fuzzy_equal(a: Any, b: Any, epsilon: float = FLOAT_EPSILON) -> bool:
+    """Magnum's fuzzy compare of two arrays of equal shape, element by element (see the
+    module docstring): absolute near zero, relative to ``|a| + |b|`` elsewhere."""
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    if a.shape != b.shape:
+        return False
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        difference = np.abs(a - b)
+        near_zero = (a == 0.0) | (b == 0.0) | (difference < epsilon)
+        relative = difference / (np.abs(a) + np.abs(b))
+        equal = (a == b) | np.where(near_zero, difference < epsilon, relative < epsilon)
+    return bool(np.all(equal))
 
 
 # --------------------------------------------------------------------------------------------
@@ -108,13 +152,12 @@ class _VectorN:
     def __init__(self, *values: Any) -> None:
         if len(values) == 0:
             data = np.zeros(self._size)
-        elif len(values) == 1:
-            if np.isscalar(values[0]):
-                data = np.full(self._size, float(values[0]))
-            else:
-                data = np.array(values[0], dtype=np.float64).reshape(-1)
+        elif len(values) == 1 and np.isscalar(values[0]):
+            data = np.full(self._size, float(values[0]))
         else:
-            data = np.array(values, dtype=np.float64)
+            # components, one sequence, or a shorter vector plus components:
+            # Vector3(Vector2(1, 2), 3), Vector4(Vector3(...), w), Color4(Color3(...), a)
+            data = np.concatenate([np.asarray(v, dtype=np.float64).reshape(-1) for v in values])
         if data.shape != (self._size,):
             raise ValueError(f"{type(self).__name__} needs {self._size} components, got {values!r}")
         self._data = data
@@ -139,13 +182,18 @@ class _VectorN:
         return f"{type(self).__name__}({', '.join(f'{c:g}' for c in self._data)})"
 
     def __eq__(self, other: object) -> bool:
+        """Magnum's fuzzy ``==`` (module docstring); lists and ndarrays compare too."""
+        if isinstance(other, str | bytes) or other is None:
+            return False
         try:
-            return bool(np.array_equal(self._data, np.asarray(other, dtype=np.float64)))
+            other_array = np.asarray(other, dtype=np.float64)
         except (TypeError, ValueError):
             return False
+        if other_array.shape != self._data.shape:
+            return False
+        return fuzzy_equal(self._data, other_array)
 
-    def __hash__(self) -> int:
-        return hash(tuple(self._data.tolist()))
+    __hash__ = None  # fuzzy equality has no consistent hash (Magnum's types are unhashable)
 
     def _wrap(self, data: np.ndarray) -> Any:
         return type(self)(data)
@@ -190,7 +238,32 @@ class _VectorN:
         return self._wrap(self._data / length)
 
     def is_normalized(self) -> bool:
-        return abs(self.dot() - 1.0) < 1e-6
+        """Magnum: ``|dot() - 1| < 2 epsilon`` (the squared length within [1 - e, 1 + e]^2)."""
+        return abs(self.dot() - 1.0) < 2.0 * FLOAT_EPSILON
+
+    def is_zero(self) -> bool:
+        return fuzzy_equal(self._data, np.zeros(self._size))
+
+    def sum(self) -> float:
+        return float(self._data.sum())
+
+    def product(self) -> float:
+        return float(self._data.prod())
+
+    def min(self) -> float:
+        return float(self._data.min())
+
+    def max(self) -> float:
+        return float(self._data.max())
+
+    def flipped(self) -> Any:
+        """Components in reverse order."""
+        return self._wrap(self._data[::-1].copy())
+
+    def projected(self, line: Any) -> Any:
+        """Projection on ``line``: ``line (v . line) / |line|^2``."""
+        direction = np.asarray(line, dtype=np.float64)
+        return self._wrap(direction * (self._data @ direction) / (direction @ direction))
 
     @property
     def x(self) -> float:
@@ -214,6 +287,22 @@ class Vector2(_VectorN):
 
     _size = 2
     __slots__ = ()
+
+    def perpendicular(self) -> Vector2:
+        """The vector turned by 90 degrees counterclockwise: ``(-y, x)``."""
+        return Vector2(-self._data[1], self._data[0])
+
+    @staticmethod
+    def zero_init() -> Vector2:
+        return Vector2(0.0, 0.0)
+
+    @staticmethod
+    def x_axis(length: float = 1.0) -> Vector2:
+        return Vector2(length, 0.0)
+
+    @staticmethod
+    def y_axis(length: float = 1.0) -> Vector2:
+        return Vector2(0.0, length)
 
 
 class Vector3(_VectorN):
@@ -249,3 +338,137 @@ class Vector3(_VectorN):
     def z_axis(length: float = 1.0) -> Vector3:
         return Vector3(0.0, 0.0, length)
 
+
+
+class Vector4(Vector3):
+    """A 4-component float vector (Magnum's ``Vector4``): ``Vector4(Vector3(...), w)``."""
+
+    _size = 4
+    __slots__ = ()
+
+    def cross(self, other: Any) -> Vector3:  # pragma: no cover - Magnum has no 4D cross
+        raise AttributeError("Vector4 has no cross product")
+
+    @property
+    def w(self) -> float:
+        return float(self._data[3])
+
+    @w.setter
+    def w(self, value: float) -> None:
+        self._data[3] = float(value)
+
+    @property
+    def xyz(self) -> Vector3:
+        return Vector3(self._data[:3])
+
+    @staticmethod
+    def zero_init() -> Vector4:
+        return Vector4(0.0, 0.0, 0.0, 0.0)
+
+
+class Color3(Vector3):
+    """An RGB color with float channels in [0, 1] (Magnum's ``Color3``, a ``Vector3``)."""
+
+    __slots__ = ()
+
+    r = Vector3.x
+    g = Vector3.y
+    b = Vector3.z
+
+    @staticmethod
+    def red(value: float = 1.0) -> Color3:
+        return Color3(value, 0.0, 0.0)
+
+    @staticmethod
+    def green(value: float = 1.0) -> Color3:
+        return Color3(0.0, value, 0.0)
+
+    @staticmethod
+    def blue(value: float = 1.0) -> Color3:
+        return Color3(0.0, 0.0, value)
+
+
+class Color4(Vector4):
+    """An RGBA color (Magnum's ``Color4``); alpha defaults to 1: ``Color4(r, g, b)``,
+    ``Color4(Color3(...))``, ``Color4(Color3(...), a)``, ``Color4(gray)``."""
+
+    __slots__ = ()
+
+    def __init__(self, *values: Any) -> None:
+        if len(values) == 1 and np.isscalar(values[0]):
+            values = (float(values[0]),) * 3 + (1.0,)
+        elif len(values) == 1 and len(np.asarray(values[0]).reshape(-1)) == 3:
+            values = (values[0], 1.0)
+        elif len(values) == 3:
+            values = (*values, 1.0)
+        super().__init__(*values)
+
+    r = Vector3.x
+    g = Vector3.y
+    b = Vector3.z
+    a = Vector4.w
+
+    @property
+    def rgb(self) -> Color3:
+        return Color3(self._data[:3])
+
+
+class _IntVectorN(_VectorN):
+    """Integer vectors: exact ``==``; arithmetic truncates towards zero, as Magnum's
+    integer vectors do (``Vector2i(3, 5) / 2 == Vector2i(1, 2)``)."""
+
+    __slots__ = ()
+
+    def __init__(self, *values: Any) -> None:
+        super().__init__(*values)
+        if not np.all(np.isfinite(self._data)) or np.any(self._data != np.trunc(self._data)):
+            raise ValueError(f"{type(self).__name__} needs integer components, got {values!r}")
+        self._data = self._data.astype(np.int64)
+
+    def __getitem__(self, index: int) -> int:
+        return int(self._data[index])
+
+    def __setitem__(self, index: int, value: int) -> None:
+        self._data[index] = int(value)
+
+    def __iter__(self):
+        return iter(self._data.tolist())
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({', '.join(str(c) for c in self._data.tolist())})"
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, str | bytes) or other is None:
+            return False
+        try:
+            return bool(np.array_equal(self._data, np.asarray(other, dtype=np.float64)))
+        except (TypeError, ValueError):
+            return False
+
+    __hash__ = None
+
+    def _wrap(self, data: np.ndarray) -> Any:
+        return type(self)(np.trunc(data))
+
+    def __truediv__(self, other: Any) -> Any:
+        return self._wrap(self._data / np.asarray(other, dtype=np.float64))
+
+    x = property(lambda self: int(self._data[0]), _VectorN.x.fset)
+    y = property(lambda self: int(self._data[1]), _VectorN.y.fset)
+
+
+class Vector2i(_IntVectorN):
+    """A 2-component integer vector (Magnum's ``Vector2i``), e.g. an image size."""
+
+    _size = 2
+    __slots__ = ()
+
+
+class Vector3i(_IntVectorN):
+    """A 3-component integer vector (Magnum's ``Vector3i``)."""
+
+    _size = 3
+    __slots__ = ()
+
+    z = property(lambda self: int(self._data[2]),
+                 lambda self, value: self.__setitem__(2, value))

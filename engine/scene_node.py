@@ -39,13 +39,16 @@ MIN_SCALING = 1e-9
 class Drawable:
     """A mesh attached to a node: drawn by the renderer with the node's world matrix.
 
-    ``lit`` selects the object lighting (False: flat/unlit, as Habitat draws the stage);
+    ``lit`` False draws it flat whatever the lights; otherwise it is lit by the light setup
+    named ``light_setup_key`` (:mod:`engine.gfx`; ``""`` is Habitat's
+    ``DEFAULT_LIGHTING_KEY``, ``"no_lights"`` its flat ``NO_LIGHT_KEY``).
     ``semantic_id`` is written to the SEMANTIC sensor's id buffer.
     """
 
     mesh: MeshData
     lit: bool = True
     semantic_id: int = 0
+    light_setup_key: str = ""
 
 
 class SceneNode:
@@ -160,7 +163,9 @@ class SceneNode:
             raise ValueError("transformation is a reflection (negative determinant)")
         if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-4):
             raise ValueError("transformation has a shear (its axes are not orthogonal)")
-        self._rotation = mn.matrix_to_quaternion(rotation)
+        rotation = mn.matrix_to_quaternion(rotation)
+        # q and -q are one rotation: keep the sign of the current rotation (no flips)
+        self._rotation = -rotation if float(rotation @ self._rotation) < 0.0 else rotation
         self._translation = matrix[:3, 3].copy()
         self._scaling = scaling
 
@@ -226,6 +231,25 @@ class SceneNode:
 
     def rotate_z_local(self, angle: Any) -> SceneNode:
         return self.rotate_local(angle, (0.0, 0.0, 1.0))
+
+    @property
+    def cumulative_bb(self) -> mn.Range3D:
+        """Bounding box of the meshes of this node and all nodes below it, in this node's own
+        frame (Habitat's ``cumulative_bb``); a zero box when nothing is drawn below it."""
+        corners = []
+        node_from_world = np.linalg.inv(self.world_matrix())
+        for node in self.descendants():
+            if not node.drawables:
+                continue
+            node_from_child = node_from_world @ node.world_matrix()
+            for drawable in node.drawables:
+                vertices = np.asarray(drawable.mesh.vertices, dtype=np.float64)
+                if len(vertices):
+                    # p_node = R p_child + t for every vertex of the mesh
+                    corners.append(vertices @ node_from_child[:3, :3].T + node_from_child[:3, 3])
+        if not corners:
+            return mn.Range3D()
+        return mn.Range3D.from_points(np.concatenate(corners))
 
     def reset_transformation(self) -> SceneNode:
         self._translation = np.zeros(3)

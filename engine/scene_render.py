@@ -17,6 +17,8 @@ arrays and camera poses. This module bridges the two, once per observation:
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from engine.scene_node import Drawable, SceneNode
@@ -24,12 +26,14 @@ from engine.sensors import CameraSensor, SensorSubType, SensorType
 from render.camera import Camera
 from render.frame import FrameBuffers, render_frame
 from render.scene import RenderMesh, RenderScene
+from render.shade import Lights
 
 __all__ = ["SceneRenderer"]
 
 
-def _render_mesh(drawable: Drawable) -> RenderMesh:
-    """A drawable's mesh arrays as a :class:`render.RenderMesh` (pose set per frame)."""
+def _render_mesh(drawable: Drawable, lights: Lights | None = None) -> RenderMesh:
+    """A drawable's mesh arrays as a :class:`render.RenderMesh` (pose set per frame), lit by
+    ``lights`` (None: the renderer's default setup)."""
     mesh = drawable.mesh
     return RenderMesh(
         vertices=mesh.vertices,
@@ -40,14 +44,18 @@ def _render_mesh(drawable: Drawable) -> RenderMesh:
         base_color=mesh.base_color,
         lit=bool(drawable.lit),
         semantic_id=int(drawable.semantic_id),
+        lights=lights,
     )
 
 
 class SceneRenderer:
     """Renders the sensors of agents from a scene graph root, caching the render scene."""
 
-    def __init__(self, root: SceneNode) -> None:
+    def __init__(self, root: SceneNode,
+                 lights_for: Callable[[str], Lights | None] | None = None) -> None:
         self.root = root
+        # light setup key -> render.Lights (the simulator's light setups); None: defaults
+        self.lights_for = lights_for
         self._scene: RenderScene | None = None
         self._scene_key: tuple = ()
         self._buffers: dict[tuple, FrameBuffers] = {}
@@ -66,9 +74,13 @@ class SceneRenderer:
     def _update_scene(self) -> RenderScene:
         """Stage 2: rebuild the render scene if drawables changed, else update poses."""
         drawables, poses = self._gather()
-        key = tuple((id(d), id(d.mesh), d.lit, d.semantic_id) for d in drawables)
+        lights = [self.lights_for(d.light_setup_key) if self.lights_for else None
+                  for d in drawables]
+        key = tuple((id(d), id(d.mesh), d.lit, d.semantic_id, id(light))
+                    for d, light in zip(drawables, lights, strict=True))
         if self._scene is None or key != self._scene_key:
-            self._scene = RenderScene([_render_mesh(d) for d in drawables])
+            self._scene = RenderScene([_render_mesh(d, light)
+                                       for d, light in zip(drawables, lights, strict=True)])
             self._scene_key = key
         for index, pose in enumerate(poses):
             self._scene.world_from_mesh[index] = pose

@@ -45,6 +45,14 @@ from engine.attributes_managers import (
     StageAttributesManager,
 )
 from engine.fixed_fields import FixedFields
+from engine.gfx import (
+    DEFAULT_LIGHTING_KEY,
+    NO_LIGHT_KEY,
+    LightInfo,
+    default_light_setup,
+    to_render_lights,
+)
+from engine.metadata import MetadataMediator
 from engine.physics.world import PhysicsWorld
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
@@ -63,12 +71,13 @@ class SimulatorConfiguration(FixedFields):
     """
 
     scene_id: str = "NONE"
+    scene_dataset_config_file: str = "default"
     enable_physics: bool = True
     physics_config_file: str = ""
     allow_sliding: bool = True
     random_seed: int = 0
     navmesh_settings: NavMeshSettings | None = None
-    scene_light_setup: str = ""
+    scene_light_setup: str = NO_LIGHT_KEY
     default_agent_id: int = 0
     load_semantic_mesh: bool = False
     scene_dataset_config_file: str = "default"
@@ -93,7 +102,7 @@ class Configuration(FixedFields):
 
     sim_cfg: SimulatorConfiguration = field(default_factory=SimulatorConfiguration)
     agents: list[AgentConfiguration] = field(default_factory=lambda: [AgentConfiguration()])
-    metadata_mediator: Any = None
+    metadata_mediator: Any = None  # an engine.metadata.MetadataMediator, or None: a new one
     enable_batch_renderer: bool = False
 
 
@@ -128,10 +137,14 @@ class Simulator:
         self.config = config
         self._closed = False
         sim_cfg = config.sim_cfg
-        self._object_template_manager = ObjectAttributesManager()
-        self._asset_template_manager = AssetAttributesManager()
-        self._stage_template_manager = StageAttributesManager()
-        self._physics_template_manager = PhysicsAttributesManager()
+        # template managers: those of the active scene dataset (engine.metadata)
+        if config.metadata_mediator is None:
+            config.metadata_mediator = MetadataMediator(sim_cfg)
+        self.metadata_mediator = config.metadata_mediator
+        self._object_template_manager = self.metadata_mediator.object_template_manager
+        self._asset_template_manager = self.metadata_mediator.asset_template_manager
+        self._stage_template_manager = self.metadata_mediator.stage_template_manager
+        self._physics_template_manager = self.metadata_mediator.physics_template_manager
         physics_attributes = self._load_physics_config(sim_cfg.physics_config_file)
         stage_attributes, stage_meshes = self._load_stage(sim_cfg.scene_id)
 
@@ -139,14 +152,19 @@ class Simulator:
         self._scene_graph = SceneGraph(self.root_node)
         self.random = Random(sim_cfg.random_seed)
         self._stage_node = SceneNode(self.root_node, name="stage")
-        self._stage_node.drawables = [Drawable(m, lit=False, semantic_id=0) for m in stage_meshes]
+        self._light_setups = {DEFAULT_LIGHTING_KEY: default_light_setup(), NO_LIGHT_KEY: []}
+        self._render_lights = {key: to_render_lights(setup)
+                               for key, setup in self._light_setups.items()}
+        self._stage_node.drawables = [Drawable(m, semantic_id=0,
+                                               light_setup_key=sim_cfg.scene_light_setup)
+                                      for m in stage_meshes]
         self._stage_meshes = stage_meshes
         self._stage_attributes = stage_attributes
         self._world = PhysicsWorld(physics_attributes, self.root_node,
                                    self._object_template_manager,
                                    self._asset_template_manager, seed=sim_cfg.random_seed)
         self._world.set_stage(stage_meshes or None, stage_attributes)
-        self._renderer = SceneRenderer(self.root_node)
+        self._renderer = SceneRenderer(self.root_node, self._lights_for)
         # Habitat draws the navmesh wireframe when True; rigidsim stores the flag only
         self.navmesh_visualization = False
 
@@ -185,8 +203,12 @@ class Simulator:
             raise TypeError(f"scene_id must be a string, got {scene_id!r}")
         if scene_id in ("NONE", ""):
             return None, []
-        stage = self._stage_template_manager.create_template_for_asset(scene_id)
-        self._stage_template_manager.register_template(stage)
+        stages = self._stage_template_manager
+        if stages.get_library_has_handle(scene_id):  # a stage template of the dataset
+            stage = stages.get_template_by_handle(scene_id)
+        else:
+            stage = stages.create_template_for_asset(scene_id)
+            stages.register_template(stage)
         scale = np.asarray(stage.scale) * 1.0
         meshes = load_meshes(stage.render_asset_handle, up=stage.orient_up,
                              front=stage.orient_front, scale=scale,
@@ -287,6 +309,31 @@ class Simulator:
     def set_stage_is_collidable(self, collidable: bool) -> None:
         """Turn the stage's collisions on or off (objects then fall through it)."""
         self._world.set_stage_is_collidable(collidable)
+
+    # -- rigid constraints (engine.physics.constraints) -------------------------------------
+    def create_rigid_constraint(self, settings) -> int:
+        """Hold two objects (or an object and the world) together; returns the constraint id."""
+        return self._world.constraints.create(self._world, settings)
+
+    def update_rigid_constraint(self, constraint_id: int, settings) -> None:
+        """Replace a constraint's settings (e.g. move its world pivot)."""
+        self._world.constraints.update(self._world, constraint_id, settings)
+
+    def remove_rigid_constraint(self, constraint_id: int) -> None:
+        self._world.constraints.remove(self._world, constraint_id)
+
+    def get_rigid_constraint_settings(self, constraint_id: int):
+        """A copy of the constraint's settings (KeyError for an unknown id)."""
+        return self._world.constraints.get_settings(constraint_id)
+
+    def get_physics_simulation_library(self):
+        """``PhysicsSimulationLibrary.Bullet`` when ``enable_physics`` (rigidsim's solver
+        stands in for Bullet), else ``NoPhysics``, as Habitat reports."""
+        from engine.physics import PhysicsSimulationLibrary
+
+        if self.config.sim_cfg.enable_physics:
+            return PhysicsSimulationLibrary.Bullet
+        return PhysicsSimulationLibrary.NoPhysics
 
     def get_physics_world(self) -> PhysicsWorld:
         """The physics world (rigidsim's; for teaching and the tests)."""
@@ -408,6 +455,34 @@ class Simulator:
             self.pathfinder, agent, goal_radius, stop_key=stop_key, forward_key=forward_key,
             left_key=left_key, right_key=right_key, fix_thrashing=fix_thrashing,
             thrashing_threshold=thrashing_threshold)
+
+    # ------------------------------------------------------------------------------------------
+    # lights (engine.gfx)
+    # ------------------------------------------------------------------------------------------
+    def set_light_setup(self, light_setup: list, key: str = DEFAULT_LIGHTING_KEY) -> None:
+        """Store a copy of ``light_setup`` (a list of ``LightInfo``) under ``key``; every
+        drawable naming that key is lit by it from the next observation on."""
+        if not isinstance(key, str):
+            raise TypeError(f"light setup key must be a str, got {key!r}")
+        if key == NO_LIGHT_KEY:
+            raise ValueError(f"the {NO_LIGHT_KEY!r} setup is always empty (flat shading)")
+        setup = list(light_setup)
+        for light in setup:
+            if not isinstance(light, LightInfo):
+                raise TypeError(f"a light setup holds LightInfo, got {type(light).__name__}")
+        self._light_setups[key] = [light.copy() for light in setup]
+        self._render_lights[key] = to_render_lights(self._light_setups[key])
+
+    def get_light_setup(self, key: str = DEFAULT_LIGHTING_KEY) -> list:
+        """A copy of the setup under ``key`` (an unknown key is an empty setup, as Habitat)."""
+        return [light.copy() for light in self._light_setups.get(key, [])]
+
+    def _lights_for(self, key: str):
+        """The renderer's arrays for a drawable's light setup key (empty: flat)."""
+        lights = self._render_lights.get(key)
+        if lights is None:
+            lights = self._render_lights.setdefault(key, to_render_lights([]))
+        return lights
 
     # ------------------------------------------------------------------------------------------
     # navigation

@@ -41,7 +41,15 @@ Sutherland-Hodgman clipping), slow, used by the tests to check the vectorized pi
 from render.camera import ORTHOGRAPHIC, PINHOLE, Camera, invert_rigid
 from render.frame import BACKGROUND_RGBA, FrameBuffers, render_frame
 from render.scene import RenderMesh, RenderScene
-from render.shade import AMBIENT, DIFFUSE, LIGHT_DIRECTIONS, face_light_factors
+from render.shade import (
+    AMBIENT,
+    DEFAULT_LIGHTS,
+    DIFFUSE,
+    LIGHT_DIRECTIONS,
+    Lights,
+    face_light_factors,
+    lambert_factors,
+)
 from render.video import (
     D3_40_COLORS_RGB,
     border_frames_from_overlay,
@@ -57,12 +65,14 @@ from render.video import (
 
 __all__ = [
     "AMBIENT",
+    "DEFAULT_LIGHTS",
     "BACKGROUND_RGBA",
     "Camera",
     "D3_40_COLORS_RGB",
     "DIFFUSE",
     "FrameBuffers",
     "LIGHT_DIRECTIONS",
+    "Lights",
     "ORTHOGRAPHIC",
     "PINHOLE",
     "RenderMesh",
@@ -71,6 +81,7 @@ __all__ = [
     "depth_to_rgb",
     "display_video",
     "face_light_factors",
+    "lambert_factors",
     "invert_rigid",
     "is_notebook",
     "make_video",

@@ -31,7 +31,7 @@ import numpy as np
 from render import cull, raster
 from render.camera import Camera, invert_rigid
 from render.scene import RenderMesh, RenderScene
-from render.shade import face_light_factors, pack_rgba, shade_pixels
+from render.shade import pack_rgba, shade_pixels
 
 #: color of pixels where nothing is drawn (opaque black, like Habitat's default clear color)
 BACKGROUND_RGBA = (0, 0, 0, 255)
@@ -255,10 +255,17 @@ class _ShadingInputs:
             # flat: face normals, camera frame -> world frame: n_w = R_cw^T n_c
             normal_camera = np.array(cull.cross(tri[1] - tri[0], tri[2] - tri[0]))
             normal_world = (camera_from_world[:3, :3].T @ normal_camera).T  # (k, 3)
+            # face centroids in the world (point lights): p_w = R_cw^T (p_c - t_cw)
+            centroid_camera = (tri[0] + tri[1] + tri[2]) / 3.0  # (3, k)
+            world_from_camera = np.linalg.inv(camera_from_world)
+            centroid_world = (world_from_camera[:3, :3] @ centroid_camera).T + world_from_camera[
+                :3, 3]
+            factors = scene.face_light_factors(tri_index[used], normal_world, centroid_world,
+                                               world_from_camera)
             tri_light = np.ones(len(tri_index), dtype=np.float32)
-            tri_light[used] = np.where(lit & ~smooth, face_light_factors(normal_world), 1.0)
+            tri_light[used] = np.where(lit & ~smooth, factors, 1.0)
             if smooth.any():  # Gouraud: light per vertex, interpolated
-                light_planes = interpolator(scene.vertex_light_factors())
+                light_planes = interpolator(scene.vertex_light_factors(world_from_camera))
                 is_smooth = np.zeros(len(tri_index), dtype=bool)
                 is_smooth[used] = smooth
         return cls(

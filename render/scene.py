@@ -23,11 +23,14 @@ import numpy as np
 
 from render.camera import check_pose
 from render.shade import (
+    DEFAULT_LIGHTS,
     FLAT,
     TEXTURED,
     VERTEX_COLOR,
+    Lights,
     MaterialTable,
     face_light_factors,
+    lambert_factors,
     pack_rgba,
     pad_texture_wrap,
 )
@@ -81,6 +84,8 @@ class RenderMesh:
     normals : (V, 3) float vertex normals in the mesh-local frame, or None. A lit mesh with
         normals is Gouraud-shaded (light computed per vertex, interpolated: smooth spheres);
         without, each face is lit by its own flat normal (right for boxes).
+    lights : the :class:`render.shade.Lights` of a lit mesh (None: the default setup,
+        ``DEFAULT_LIGHTS``); an empty setup draws the mesh flat, like ``lit=False``.
     """
 
     vertices: np.ndarray
@@ -94,8 +99,11 @@ class RenderMesh:
     semantic_id: int = 0
     uv_origin: str = "bottom"
     normals: np.ndarray | None = None
+    lights: Lights | None = None
 
     def __post_init__(self) -> None:
+        if self.lights is not None and not isinstance(self.lights, Lights):
+            raise TypeError(f"lights must be render.shade.Lights or None, got {self.lights!r}")
         self.vertices = _finite_array("vertices", self.vertices, (3,))
         n_vertices = len(self.vertices)
         faces = np.asarray(self.faces)
@@ -176,14 +184,61 @@ class RenderScene:
         self.vertices_local = np.ascontiguousarray(np.concatenate(local).T)  # (3, V)
         n_faces = np.array([len(m.faces) for m in meshes], dtype=np.int64)
         tri_mesh = np.repeat(np.arange(n_meshes), n_faces)
-        self.tri_lit = np.array([m.lit for m in meshes], dtype=bool)[tri_mesh]
+        self._group_lights(meshes, tri_mesh)
         self.tri_semantic = np.array([m.semantic_id for m in meshes], dtype=np.uint32)[tri_mesh]
         faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
         faces = np.concatenate(faces or [np.zeros((0, 3), np.int64)])
         self.materials = _material_table(meshes, tri_mesh, np.ascontiguousarray(faces.T))
         self._vertices_camera = np.empty_like(self.vertices_local)
-        self.smooth_meshes = [i for i, m in enumerate(meshes) if m.lit and m.normals is not None]
+        self.smooth_meshes = [i for i, m in enumerate(meshes)
+                              if self.mesh_light_group[i] >= 0 and m.normals is not None]
         self.tri_smooth = np.isin(tri_mesh, self.smooth_meshes)
+
+    def _group_lights(self, meshes: list[RenderMesh], tri_mesh: np.ndarray) -> None:
+        """``light_groups``: the distinct :class:`Lights` of the lit meshes (by identity);
+        ``mesh_light_group (M,)`` and ``tri_light_group (T,)`` index them, -1 where unlit
+        (``lit=False`` or an empty, flat setup); ``tri_lit (T,)``."""
+        self.light_groups: list[Lights] = []
+        groups = []
+        for mesh in meshes:
+            lights = DEFAULT_LIGHTS if mesh.lights is None else mesh.lights
+            if not mesh.lit or lights.is_flat:
+                groups.append(-1)
+                continue
+            index = next((k for k, known in enumerate(self.light_groups) if known is lights),
+                         None)
+            if index is None:
+                index = len(self.light_groups)
+                self.light_groups.append(lights)
+            groups.append(index)
+        self.mesh_light_group = np.array(groups, dtype=np.int64)
+        self.tri_light_group = self.mesh_light_group[tri_mesh]
+        self.tri_lit = self.tri_light_group >= 0
+
+    def face_light_factors(self, tri_ids: np.ndarray, normals_world: np.ndarray,
+                           points_world: np.ndarray,
+                           world_from_camera: np.ndarray | None = None) -> np.ndarray:
+        """Flat light factor ``(k,)`` float32 of triangles ``tri_ids`` (1 where unlit), from
+        their world normals and centroids, each with its mesh's light setup."""
+        out = np.ones(len(tri_ids), dtype=np.float32)
+        groups = self.tri_light_group[tri_ids]
+        for g, lights in enumerate(self.light_groups):
+            sel = np.flatnonzero(groups == g)
+            if len(sel) == 0:
+                continue
+            if lights is DEFAULT_LIGHTS:  # the common case, rigidsim's historic formula
+                out[sel] = face_light_factors(normals_world[sel])
+            elif not lights.has_mesh_frame:
+                world = lights.in_world(world_from_camera, None)
+                out[sel] = lambert_factors(normals_world[sel], points_world[sel], lights, world)
+            else:  # lights that move with each mesh: one resolution per mesh
+                mesh_of = self.materials.tri_mesh[tri_ids[sel]]
+                for mesh in np.unique(mesh_of).tolist():
+                    sub = sel[mesh_of == mesh]
+                    world = lights.in_world(world_from_camera, self.world_from_mesh[mesh])
+                    out[sub] = lambert_factors(normals_world[sub], points_world[sub], lights,
+                                               world)
+        return out
 
     @property
     def n_triangles(self) -> int:
@@ -214,7 +269,7 @@ class RenderScene:
             out += camera_from_mesh[:3, 3:4]  # + t
         return self._vertices_camera
 
-    def vertex_light_factors(self) -> np.ndarray:
+    def vertex_light_factors(self, world_from_camera: np.ndarray | None = None) -> np.ndarray:
         """Light factor of every vertex of the Gouraud-shaded meshes, ``(1, V)`` float32.
 
         Normals go to the world frame with the normal matrix ``(R_wm^-1)^T`` (correct under
@@ -222,9 +277,17 @@ class RenderScene:
         """
         light = np.ones((1, self.vertices_local.shape[1]), dtype=np.float32)
         for i in self.smooth_meshes:
-            normal_matrix = np.linalg.inv(self.world_from_mesh[i][:3, :3]).T
+            pose = self.world_from_mesh[i]
+            normal_matrix = np.linalg.inv(pose[:3, :3]).T
             normals_world = self.meshes[i].normals @ normal_matrix.T  # n_w = N n_local
-            light[0, self.vertex_slices[i]] = face_light_factors(normals_world)
+            lights = self.light_groups[self.mesh_light_group[i]]
+            if lights is DEFAULT_LIGHTS:
+                light[0, self.vertex_slices[i]] = face_light_factors(normals_world)
+                continue
+            points = self.meshes[i].vertices @ pose[:3, :3].T + pose[:3, 3]  # p_w = R p + t
+            world = lights.in_world(world_from_camera, pose)
+            light[0, self.vertex_slices[i]] = lambert_factors(normals_world, points, lights,
+                                                              world)
         return light
 
 

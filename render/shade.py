@@ -27,6 +27,16 @@ Color of a pixel (all factors in [0, 1], RGBA)::
   with ``AMBIENT = 0.4`` and ``DIFFUSE = 0.5``: the top face (``n . l_k = 0.447`` for all
   4 lights) gets 1.0, a vertical side facing +-x or +-z 0.85, the bottom 0.4. Alpha is
   never lit (drawn pixels always get alpha 255).
+* Other light setups (:class:`Lights`, Habitat's ``LightInfo`` lists): each light ``k`` has
+  a homogeneous vector ``(x, y, z, w)``: ``w = 0`` is a directional light shining *from*
+  direction ``(x, y, z)`` (``l_k`` = that direction, normalized), ``w = 1`` a point light at
+  ``(x, y, z)`` (``l_k = normalize(p_k - p)`` from the surface point ``p``, the face centroid
+  or the vertex); an intensity ``c_k``; and a frame its vector is given in (world, camera or
+  mesh, resolved with the camera and mesh poses of the frame)::
+
+      light = clamp(ambient + sum_k c_k max(0, n . l_k), 0, 1)
+
+  An empty setup is flat shading (``light = 1``, Habitat's ``NO_LIGHT_KEY``).
 
 Colors travel packed as one ``uint32`` per pixel (``R | G << 8 | B << 16 | A << 24``: the
 bytes R, G, B, A in memory) so that gathers are 1-D and cheap. Bilinear filtering and
@@ -51,6 +61,87 @@ DIFFUSE = 0.5
 LIGHT_DIRECTIONS = np.array(
     [[1.0, -0.5, 0.0], [-1.0, -0.5, 0.0], [0.0, -0.5, 1.0], [0.0, -0.5, -1.0]]
 ) / np.sqrt(1.25)
+#: frames a light vector may be given in (Habitat's LightPositionModel Global, Camera, Object)
+LIGHT_FRAMES = ("world", "camera", "mesh")
+
+
+@dataclass(frozen=True)
+class Lights:
+    """A light setup as plain arrays (see the module docstring).
+
+    Attributes
+    ----------
+    vectors : (L, 4) float, ``(x, y, z, w)``: ``w = 0`` direction towards the light,
+        ``w = 1`` light position.
+    intensities : (L,) float, ``c_k`` (gray; Habitat's color, averaged over RGB upstream).
+    frames : L entries of ``LIGHT_FRAMES``.
+    ambient : float, added to every lit pixel (ignored when ``L == 0``: flat shading).
+    """
+
+    vectors: np.ndarray
+    intensities: np.ndarray
+    frames: tuple
+    ambient: float = AMBIENT
+
+    def __post_init__(self) -> None:
+        vectors = np.asarray(self.vectors, dtype=np.float64).reshape(-1, 4)
+        intensities = np.asarray(self.intensities, dtype=np.float64).reshape(-1)
+        if len(intensities) != len(vectors) or len(self.frames) != len(vectors):
+            raise ValueError("Lights needs one intensity and one frame per light vector")
+        if not (np.all(np.isfinite(vectors)) and np.all(np.isfinite(intensities))):
+            raise ValueError("light vectors and intensities must be finite")
+        if not np.all((vectors[:, 3] == 0.0) | (vectors[:, 3] == 1.0)):
+            raise ValueError("light vectors need w == 0 (directional) or w == 1 (point)")
+        if any(frame not in LIGHT_FRAMES for frame in self.frames):
+            raise ValueError(f"light frames must be in {LIGHT_FRAMES}, got {self.frames}")
+        object.__setattr__(self, "vectors", vectors)
+        object.__setattr__(self, "intensities", intensities)
+        object.__setattr__(self, "frames", tuple(self.frames))
+
+    @property
+    def is_flat(self) -> bool:
+        return len(self.vectors) == 0
+
+    def in_world(self, world_from_camera: np.ndarray | None,
+                 world_from_mesh: np.ndarray | None) -> np.ndarray:
+        """The ``(L, 4)`` vectors in the world frame (camera / mesh frames resolved)."""
+        out = self.vectors.copy()
+        for k, frame in enumerate(self.frames):
+            if frame == "camera" and world_from_camera is not None:
+                out[k] = world_from_camera @ self.vectors[k]
+            elif frame == "mesh" and world_from_mesh is not None:
+                out[k] = world_from_mesh @ self.vectors[k]
+        return out
+
+    @property
+    def has_mesh_frame(self) -> bool:
+        return "mesh" in self.frames
+
+
+def lambert_factors(normals_world: np.ndarray, points_world: np.ndarray | None,
+                    lights: Lights, world_vectors: np.ndarray) -> np.ndarray:
+    """``clamp(ambient + sum_k c_k max(0, n . l_k), 0, 1)`` per row, ``(T,)`` float32.
+
+    ``normals_world`` (T, 3) any length (zero: ambient only); ``points_world`` (T, 3) surface
+    points for point lights; ``world_vectors`` (L, 4) the lights in the world frame.
+    """
+    if lights.is_flat:
+        return np.ones(len(normals_world), dtype=np.float32)
+    length = np.linalg.norm(normals_world, axis=1, keepdims=True)
+    unit = np.divide(normals_world, length, out=np.zeros_like(normals_world), where=length > 0)
+    total = np.zeros(len(unit))
+    for vector, intensity in zip(world_vectors, lights.intensities, strict=True):
+        if vector[3] == 0.0:  # directional: l = normalize(x, y, z)
+            to_light = vector[:3] / max(np.linalg.norm(vector[:3]), 1e-300)
+            n_dot_l = unit @ to_light
+        else:  # point: l = normalize(p_light - p)
+            offset = vector[:3] - points_world
+            distance = np.linalg.norm(offset, axis=1)
+            n_dot_l = np.einsum("ij,ij->i", unit, offset) / np.maximum(distance, 1e-300)
+        total += intensity * np.maximum(n_dot_l, 0.0)
+    return np.clip(lights.ambient + total, 0.0, 1.0).astype(np.float32)
+
+
 _RB_MASK = np.uint32(0x00FF00FF)  # lanes holding R and B
 _ALPHA = np.uint32(0xFF000000)
 _U8 = np.uint32(8)
@@ -107,6 +198,12 @@ def unpack_rgba(packed: np.ndarray) -> np.ndarray:
     """Inverse of ``pack_rgba``: ``(...)`` uint32 to ``(..., 4)`` uint8."""
     packed = np.ascontiguousarray(packed, dtype="<u4")
     return packed[..., None].view(np.uint8)
+
+
+#: rigidsim's default setup as :class:`Lights`: the 4 directional lights (shining from
+#: ``-d_k``) of intensity ``DIFFUSE`` and ambient ``AMBIENT`` (``face_light_factors``).
+DEFAULT_LIGHTS = Lights(np.hstack([-LIGHT_DIRECTIONS, np.zeros((4, 1))]),
+                        np.full(4, DIFFUSE), ("world",) * 4, AMBIENT)
 
 
 def face_light_factors(normals_world: np.ndarray) -> np.ndarray:

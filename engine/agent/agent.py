@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import quaternion
 
 from engine import mn
 from engine.agent.controls import ActuationSpec, ObjectControls, UnknownActionError
@@ -79,9 +80,12 @@ def _check_finite(position: np.ndarray, name: str) -> None:
 class AgentState(FixedFields):
     """An agent's pose: ``position`` (3,) in meters and ``rotation`` (a unit quaternion).
 
-    ``rotation`` accepts a :class:`mn.Quaternion`, a numpy-quaternion-like object (``w, x, y,
-    z`` attributes) or a list read as ``[x, y, z, w]``; it reads back as a
-    :class:`mn.Quaternion`. ``sensor_states`` maps sensor uuids to :class:`SixDOFPose`.
+    As in Habitat, ``rotation`` reads back as a numpy-quaternion ``np.quaternion(w, x, y, z)``
+    (the identity by default), so Habitat's ``AgentState(rotation=np.quaternion(...))`` and
+    ``quat_to_angle_axis(state.rotation)`` work unchanged. It accepts an ``np.quaternion``, an
+    :class:`mn.Quaternion` or a list / ndarray read as coefficients ``[x, y, z, w]`` (Habitat's
+    ``quat_from_coeffs`` order); the value is normalized. ``sensor_states`` maps sensor uuids
+    to :class:`SixDOFPose`.
 
     As in Habitat (attrs validators), the constructor refuses a non-finite position
     (``ValueError``); assigning one later is stored and refused by ``Agent.set_state``.
@@ -105,8 +109,9 @@ class AgentState(FixedFields):
         self._position = _as_position(value, "AgentState.position")
 
     @property
-    def rotation(self) -> mn.Quaternion:
-        return mn.Quaternion.from_xyzw(self._rotation)
+    def rotation(self) -> quaternion.quaternion:
+        x, y, z, w = self._rotation
+        return quaternion.quaternion(w, x, y, z)
 
     @rotation.setter
     def rotation(self, value: Any) -> None:

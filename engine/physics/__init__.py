@@ -9,14 +9,32 @@
 
 from __future__ import annotations
 
+import enum
+
+from .collision_groups import CollisionGroupHelper, CollisionGroups
+from .constraints import RigidConstraintSettings, RigidConstraintType
 from .objects import DeadObjectError, ManagedRigidObject, MotionType, RigidObjectManager
 from .queries import ContactPointData, RaycastResults, RayHitInfo
 from .settings import SolverSettings
 from .velocity_control import RigidState, VelocityControl
 from .world import STAGE_ID, PhysicsWorld
 
+
+class PhysicsSimulationLibrary(enum.IntEnum):
+    """Habitat's physics backends. rigidsim's solver stands in for ``Bullet`` (the value a
+    physics-enabled Habitat simulator reports, so Habitat's checks keep working)."""
+
+    NoPhysics = 0
+    Bullet = 1
+
+
 __all__ = [
     "STAGE_ID",
+    "CollisionGroupHelper",
+    "CollisionGroups",
+    "PhysicsSimulationLibrary",
+    "RigidConstraintSettings",
+    "RigidConstraintType",
     "ContactPointData",
     "DeadObjectError",
     "ManagedRigidObject",

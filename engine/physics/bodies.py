@@ -17,6 +17,10 @@ body_inv_mass              (n,)         1/kg, 0 for static/kinematic/sleeping bo
 body_inertia               (n, 3)       diagonal inertia about the COM, body axes, kg m^2
 body_motion_type           (n,)         MotionType value (0 static, 1 kinematic, 2 dynamic)
 body_friction              (n,)         Coulomb coefficient (pair value = product)
+body_rolling_friction      (n,)         rolling resistance, m (pair: Bullet's r_a f_b + r_b f_a)
+body_spinning_friction     (n,)         spinning resistance, m (same combination)
+body_collision_group       (n,)         int, the body's CollisionGroups bit
+body_collision_mask        (n,)         int, the groups it collides with (copied from its group)
 body_restitution           (n,)         coefficient of restitution (pair value = product)
 body_linear_damping        (n,)         1/s style fraction d, v *= (1 - d)^dt
 body_angular_damping       (n,)         same for angular velocity
@@ -42,7 +46,7 @@ _VECTORS = ("position", "linear_velocity", "angular_velocity", "force", "torque"
             "inertia", "aabb_min", "aabb_max", "shape_center", "shape_half", "solver_velocity",
             "solver_angular_velocity")
 _SCALARS = ("mass", "friction", "restitution", "linear_damping", "angular_damping",
-            "sleep_time", "min_half_extent")
+            "sleep_time", "min_half_extent", "rolling_friction", "spinning_friction")
 _FLAGS = ("awake", "collidable", "alive")
 
 
@@ -59,6 +63,8 @@ class Bodies:
             setattr(self, "body_" + name, np.zeros(capacity, dtype=bool))
         self.body_rotation = np.tile([0.0, 0.0, 0.0, 1.0], (capacity, 1))
         self.body_motion_type = np.zeros(capacity, dtype=np.int64)
+        self.body_collision_group = np.zeros(capacity, dtype=np.int64)
+        self.body_collision_mask = np.zeros(capacity, dtype=np.int64)
         self.shapes: list[list] = [[] for _ in range(capacity)]
 
     @property

@@ -32,6 +32,27 @@ from .quaternions import matrix_to_quat, quat_to_matrix
 _IDENTITY = np.eye(4)
 
 
+def canonical_sign(q: np.ndarray) -> np.ndarray:
+    """``(k, 4)`` quaternions with the sign Magnum's ``Quaternion.fromMatrix`` gives (Shepperd):
+    ``w > 0`` when ``w^2 > 1/4`` (trace > 0), else the largest of ``|x|, |y|, |z|`` positive.
+
+    Habitat writes a dynamic body's pose to its node through a matrix, so the quaternions it
+    reports for DYNAMIC objects carry this sign (and Habitat's tests compare them with the
+    sign-sensitive ``mn.math.angle``); kinematic and static ones keep the sign they were given.
+    """
+    rows = np.arange(len(q))
+    largest = np.argmax(np.abs(q[:, :3]), axis=1)
+    lead = np.where(q[:, 3] ** 2 > 0.25, q[:, 3], q[rows, largest])
+    return np.where(lead[:, None] < 0.0, -q, q)
+
+
+def same_sign_as(q: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """``q`` or ``-q`` (the same rotation), whichever lies in ``reference``'s hemisphere
+    (``q . reference >= 0``): a quaternion read back from a matrix keeps its sign from step
+    to step, as Habitat's does."""
+    return -q if float(q @ reference) < 0.0 else q
+
+
 class NodeStamp(NamedTuple):
     """What a node write used: the node's parent and transform arrays (by identity), the
     node world matrix it produced and the parent's world matrix (None without a parent)."""
@@ -93,6 +114,9 @@ class NodeSyncMixin:
         pose[:, :3, :3] = quat_to_matrix(rotation) * scaling[:, None, :]  # R diag(s)
         pose[:, :3, 3], pose[:, 3, 3] = position, 1.0
         self._written_pose(int(indices.max()) + 1)[indices] = np.hstack([position, rotation])
+        # dynamic bodies: the sign a matrix round trip gives, as Habitat's nodes show it
+        dynamic = b.body_motion_type[indices] == DYNAMIC
+        rotation = np.where(dynamic[:, None], canonical_sign(rotation), rotation)
         for k, index in enumerate(indices.tolist()):
             node = self.nodes[index]
             node._translation, node._rotation = position[k], rotation[k]
@@ -123,7 +147,10 @@ class NodeSyncMixin:
             return
         local = world if parent is None else parent_inv @ world
         node.translation = local[:3, 3]
-        node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
+        rotation = matrix_to_quat(local[:3, :3])  # Magnum's fromMatrix sign
+        if b.body_motion_type[index] != DYNAMIC:  # kinematic / static: no sign flips
+            rotation = same_sign_as(rotation, node._rotation)
+        node.rotation = mn.Quaternion.from_xyzw(rotation)
         if parent is not None and parent._parent is None:
             pose = parent_local @ node.local_matrix()  # what node.world_matrix() computes
         else:
@@ -193,7 +220,9 @@ class NodeSyncMixin:
             moved.append((index, world, world[:3, :3] / scale))
         for index, world, rotation in moved:
             b.body_position[index] = world[:3, 3]
-            b.body_rotation[index] = matrix_to_quat(rotation)
+            # q and -q are one rotation: keep the sign of the last step (no q -> -q flips)
+            b.body_rotation[index] = same_sign_as(matrix_to_quat(rotation),
+                                                  b.body_rotation[index])
             self._node_pose[index] = world.copy()
             self._update_fcl(index)
             self.wake_neighbors(index)

@@ -24,7 +24,9 @@ from engine.mn_vectors import stable_norm
 
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
+from .collision_groups import assign_group
 from .integrate import world_inverse_inertia
+from .node_sync import canonical_sign
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .velocity_control import RigidState
 
@@ -114,6 +116,38 @@ class ObjectPropertiesMixin:
         return mn.Range3D(self._description.aabb_min, self._description.aabb_max)
 
     @property
+    def collision_shape_aabb(self) -> mn.Range3D:
+        """AABB of the collision shapes in the object's local (COM) frame."""
+        index = self._check()
+        b = self._world.bodies
+        center, half = b.body_shape_center[index], b.body_shape_half[index]
+        return mn.Range3D(center - half, center + half)
+
+    @property
+    def is_articulated(self) -> bool:
+        """Always False: rigid objects are not articulated (Habitat's flag)."""
+        self._check()
+        return False
+
+    def override_collision_group(self, group: Any) -> None:
+        """Put the object in collision ``group`` (a ``CollisionGroups`` bit) for good, instead
+        of the group of its motion type; its mask is the group's (CollisionGroupHelper)."""
+        from .collision_groups import CollisionGroupHelper
+
+        value = CollisionGroupHelper._check(group)  # ValueError for non-groups
+        index = self._check()
+        self._world.wake_neighbors(index)
+        assign_group(self._world.bodies, index, value)
+        self._world.wake(index)
+
+    @property
+    def collision_group(self):
+        """The object's current collision group (override, or from its motion type)."""
+        from .collision_groups import CollisionGroups
+
+        return CollisionGroups(int(self._world.bodies.body_collision_group[self._check()]))
+
+    @property
     def com(self) -> mn.Vector3:
         """Center of mass in the asset frame (the offset of the visual node is ``-com``)."""
         self._check()
@@ -135,6 +169,7 @@ class ObjectPropertiesMixin:
         if b.body_motion_type[index] == int(value):
             return
         b.body_motion_type[index] = int(value)
+        assign_group(b, index)  # a new motion type resets the collision group (Habitat)
         if value != DYNAMIC:
             b.body_awake[index] = True
         self._world.wake(index)
@@ -168,7 +203,15 @@ class ObjectPropertiesMixin:
 
     @property
     def rotation(self) -> mn.Quaternion:
-        return mn.Quaternion.from_xyzw(self._world.bodies.body_rotation[self._check()])
+        """world_from_object. DYNAMIC objects report the sign Habitat's do (its nodes take
+        the pose from Bullet through a matrix: ``w > 0`` near the identity); KINEMATIC and
+        STATIC ones keep the sign they were given, step after step."""
+        index = self._check()
+        b = self._world.bodies
+        rotation = b.body_rotation[index]
+        if b.body_motion_type[index] == DYNAMIC:
+            rotation = canonical_sign(rotation[None])[0]
+        return mn.Quaternion.from_xyzw(rotation)
 
     @rotation.setter
     def rotation(self, value: Any) -> None:
@@ -191,13 +234,17 @@ class ObjectPropertiesMixin:
         scale = stable_norm(matrix[:3, :3], axis=0)
         if np.any(scale < 1e-9) or not np.all(np.isfinite(scale)):
             raise ValueError(f"transformation has a degenerate rotation part: {value!r}")
-        rotation = matrix[:3, :3] / scale
-        if np.linalg.det(rotation) < 0.0:
+        rotation_matrix = matrix[:3, :3] / scale
+        if np.linalg.det(rotation_matrix) < 0.0:
             raise ValueError(f"transformation is a reflection (negative determinant): {value!r}")
-        if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-4):
+        if not np.allclose(rotation_matrix.T @ rotation_matrix, np.eye(3), atol=1e-4):
             raise ValueError(f"transformation has a shear (its axes are not orthogonal): "
                              f"{value!r}")
-        self._set_pose(matrix[:3, 3].copy(), matrix_to_quat(rotation), "transformation")
+        rotation = matrix_to_quat(rotation_matrix)
+        current = self._world.bodies.body_rotation[self._check()]
+        if float(rotation @ current) < 0.0:  # q and -q are one rotation: keep the sign
+            rotation = -rotation
+        self._set_pose(matrix[:3, 3].copy(), rotation, "transformation")
 
     @property
     def rigid_state(self) -> RigidState:
@@ -410,6 +457,29 @@ class ObjectPropertiesMixin:
         self._world.wake(index)
 
     inertia_diagonal = intertia_diagonal
+
+    @property
+    def rolling_friction_coefficient(self) -> float:
+        """Rolling resistance (Bullet's): the contact torque opposing rolling is at most
+        ``mu_roll N`` (N m for a normal force N), with the pair value
+        ``r_a f_b + r_b f_a`` (see :mod:`engine.physics.rolling_friction`)."""
+        return self._scalar("body_rolling_friction")
+
+    @rolling_friction_coefficient.setter
+    def rolling_friction_coefficient(self, value: Any) -> None:
+        self._set_scalar("body_rolling_friction",
+                         _number(value, "rolling_friction_coefficient", 0.0))
+
+    @property
+    def spinning_friction_coefficient(self) -> float:
+        """Spinning (torsional) resistance: the contact torque about the normal is at most
+        ``mu_spin N``, pair value ``s_a f_b + s_b f_a``."""
+        return self._scalar("body_spinning_friction")
+
+    @spinning_friction_coefficient.setter
+    def spinning_friction_coefficient(self, value: Any) -> None:
+        self._set_scalar("body_spinning_friction",
+                         _number(value, "spinning_friction_coefficient", 0.0))
 
     @property
     def friction_coefficient(self) -> float:

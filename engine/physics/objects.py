@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.strict_attrs import public_names, unknown_attribute_error
+
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .body_builder import describe_object
 from .object_properties import ObjectPropertiesMixin
@@ -58,16 +60,20 @@ class RigidObjectManager:
         self._objects: dict[int, ManagedRigidObject] = {}
 
     # -- adding ----------------------------------------------------------------------------
-    def add_object_by_template_id(self, template_id: int, attachment_node=None):
-        """Add an object from template ``template_id``; None (with a warning) if unknown."""
+    def add_object_by_template_id(self, template_id: int, attachment_node=None,
+                                  light_setup_key: str = ""):
+        """Add an object from template ``template_id``; None (with a warning) if unknown.
+        ``light_setup_key`` names the light setup it is drawn with (engine.gfx)."""
         if isinstance(template_id, bool) or not isinstance(template_id, int):
             raise TypeError(f"template_id must be an int, got {template_id!r}")
         if not self._templates.get_library_has_id(template_id):
             warnings.warn(f"no object template with id {template_id}", stacklevel=2)
             return None
-        return self._add(self._templates.get_template_by_id(template_id), attachment_node)
+        return self._add(self._templates.get_template_by_id(template_id), attachment_node,
+                         light_setup_key)
 
-    def add_object_by_template_handle(self, object_lib_handle: str, attachment_node=None):
+    def add_object_by_template_handle(self, object_lib_handle: str, attachment_node=None,
+                                      light_setup_key: str = ""):
         """Add an object from the template with this exact handle; None if unknown."""
         if not isinstance(object_lib_handle, str):
             raise TypeError(f"template handle must be a str, got {object_lib_handle!r}")
@@ -75,18 +81,20 @@ class RigidObjectManager:
             warnings.warn(f"no object template with handle {object_lib_handle!r}", stacklevel=2)
             return None
         return self._add(self._templates.get_template_by_handle(object_lib_handle),
-                         attachment_node)
+                         attachment_node, light_setup_key)
 
-    def _add(self, template, attachment_node) -> ManagedRigidObject:
+    def _add(self, template, attachment_node, light_setup_key: str = "") -> ManagedRigidObject:
         from engine.scene_node import Drawable, SceneNode
 
+        if not isinstance(light_setup_key, str):
+            raise TypeError(f"light_setup_key must be a str, got {light_setup_key!r}")
         description = describe_object(template)  # raises before the world changes
         world = self._world
         index = world.add_body(description, template)
         root = attachment_node if attachment_node is not None else SceneNode(self._root_node)
         visual = SceneNode(root, name="visual")
         visual.translation = -description.com
-        visual.drawables = [Drawable(mesh, True, int(template.semantic_id))
+        visual.drawables = [Drawable(mesh, True, int(template.semantic_id), light_setup_key)
                             for mesh in description.render_meshes]
         world.nodes[index] = root
         world.render_meshes[index] = [dataclasses.replace(m, vertices=np.asarray(m.vertices)
@@ -222,6 +230,18 @@ class ManagedRigidObject(ObjectPropertiesMixin):
     def __repr__(self) -> str:
         state = "alive" if self._alive else "removed"
         return f"<ManagedRigidObject {self._handle!r} id={self._index} {state}>"
+
+    # -- fixed fields (Habitat's wrapper is a C++ binding: no new attributes) ---------------
+    def __setattr__(self, name: str, value) -> None:
+        if name.startswith("_") or isinstance(getattr(type(self), name, None), property):
+            object.__setattr__(self, name, value)  # read-only properties raise themselves
+            return
+        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
 
 
 __all__ = ["DYNAMIC", "KINEMATIC", "STATIC", "DeadObjectError", "ManagedRigidObject",

@@ -14,6 +14,7 @@ from .bodies import DYNAMIC, KINEMATIC
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
 from .quaternions import quat_to_matrix
+from .rolling_friction import apply_rolling_friction, combined_coefficients
 from .solver import SLOTS, build_batch, solve_contacts
 
 
@@ -55,6 +56,9 @@ def solve_stage(world, moving: np.ndarray, h: float):
                         store.impulse[rows], approach_velocity, color_slices,
                         split_mass=world.settings.block_jacobi)
     pseudo = solve_contacts(batch, velocity, h, world.settings)
+    # rolling and spinning resistance (rolling_friction.py), a no-op when all are zero
+    apply_rolling_friction(batch, velocity, inv_inertia, *combined_coefficients(b, body_a, body_b),
+                           world.settings.use_vectorized)
     b.body_linear_velocity[moving] = velocity[moving, :3]
     b.body_angular_velocity[moving] = velocity[moving, 3:]
     store.impulse[rows] = batch.impulse  # zero in empty slots (for warm starting)

@@ -31,6 +31,8 @@ from engine import mn
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
+from .collision_groups import assign_group, filter_pairs
+from .constraints import ConstraintStore
 from .contacts import FreshPoints, ManifoldStore
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .narrow_phase import narrow_phase
@@ -72,6 +74,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         self.bodies.add(STAGE_ID)
         self.bodies.body_collidable[STAGE_ID] = False
         self.bodies.body_motion_type[STAGE_ID] = STATIC
+        assign_group(self.bodies, STAGE_ID)
         self.fcl_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
         self.manifolds = ManifoldStore()
@@ -87,6 +90,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         self.last_batch = None  # the solver's last ContactBatch (see solve_stage)
         self.profile: dict[str, float] = defaultdict(float)
         self.rigid_object_manager = RigidObjectManager(self, object_template_manager, root_node)
+        self.constraints = ConstraintStore()
 
     # ------------------------------------------------------------------------------------
     # stage
@@ -202,6 +206,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         """One fixed step of length ``h`` seconds (the five stages of the module docstring)."""
         b, clock = self.bodies, timer.perf_counter
         start = clock()
+        self.constraints.wake_bodies(self)  # constrained bodies never sleep
         # ---- 1. forces: v += h (g + F/m), w += h I^-1 tau, damping -------------------------
         moving = self._awake_dynamic()
         self.step_start_velocity = np.hstack([b.body_linear_velocity[: b.count],
@@ -215,6 +220,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         t_collide = clock()
         # ---- 3. solve: warm start, sequential impulses by color, restitution, split impulses
         pseudo = solve_stage(self, moving, h)
+        self.constraints.solve(self, moving, h)  # rigid constraints (constraints.py)
         t_solve = clock()
         # ---- 4. integrate: clamp speeds, x += h v, rotate, sweep fast bodies -------------
         clamp_speeds(b, moving, constants.MAX_LINEAR_SPEED, constants.MAX_ANGULAR_SPEED)
@@ -264,6 +270,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
         pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
         pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
+        pairs = filter_pairs(b, pairs)  # collision groups and masks
         self.n_overlapping_pairs = len(pairs)
         pair_list = pairs.tolist()
         apart = self._apart_without_manifold(pairs, pair_list, rotation)

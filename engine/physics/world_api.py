@@ -17,6 +17,12 @@ from engine import mn
 from engine.mn_vectors import stable_norm
 
 from .bodies import DYNAMIC, STATIC
+from .collision_groups import (
+    CollisionGroups,
+    assign_group,
+    filter_pairs,
+    interacts_with_group,
+)
 from .quaternions import quat_to_matrix
 from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodies
 
@@ -55,6 +61,9 @@ class WorldApiMixin:
         b.body_inertia[index] = description.inertia
         b.body_motion_type[index] = DYNAMIC
         b.body_friction[index] = float(template.friction_coefficient)
+        b.body_rolling_friction[index] = float(template.rolling_friction_coefficient)
+        b.body_spinning_friction[index] = float(template.spinning_friction_coefficient)
+        assign_group(b, index)  # the group of its motion type, until overridden
         b.body_restitution[index] = float(template.restitution_coefficient)
         b.body_linear_damping[index] = float(template.linear_damping)
         b.body_angular_damping[index] = float(template.angular_damping)
@@ -66,6 +75,7 @@ class WorldApiMixin:
     def remove_body(self, index: int) -> None:
         """Kill body ``index`` (its slot stays, ``body_alive`` False) and wake its neighbors."""
         self.wake_neighbors(index)
+        self.constraints.drop_body(index)
         b = self.bodies
         b.body_alive[index] = False
         b.body_awake[index] = False
@@ -171,6 +181,8 @@ class WorldApiMixin:
             reach = max_distance * scale  # meters (inf when it overflows: no limit)
         b, n = self.bodies, self.bodies.count
         candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+        # rays are in the Default collision group (Habitat / Bullet's ray filter)
+        candidates = candidates[interacts_with_group(b, candidates, CollisionGroups.Default)]
         hits = []
         for index in [i for i in candidates.tolist() if b.shapes[i]]:
             shift = self._ray_shift(index, origin, unit, reach)
@@ -222,6 +234,10 @@ class WorldApiMixin:
         if not self_dynamic:
             overlap &= b.body_motion_type[:n] == DYNAMIC
         overlap[index] = False
+        others = np.nonzero(overlap)[0]
+        pairs = np.stack([np.full(len(others), index), others], axis=1)
+        overlap[:] = False
+        overlap[filter_pairs(b, pairs)[:, 1]] = True  # collision groups and masks
         self._update_fcl(index, rotation[index])
         for other in np.nonzero(overlap)[0].tolist():
             if not b.shapes[other]:

@@ -9,8 +9,6 @@ structure so that a Habitat user recognizes every line; the differences are:
   ``magnum``;
 - the scene is the demo apartment of :mod:`engine.datasets` (same coordinates as Habitat's
   ``apartment_1.glb``);
-- the agent rotation ``np.quaternion(w, x, y, z)`` becomes ``mn.Quaternion((x, y, z), w)``
-  (numpy-quaternion is not a dependency);
 - the resolution is a parameter (``--fast`` renders small frames) and ``simulate`` reports to
   a :class:`~engine.tutorial.recording.SectionRecorder` that times physics, rendering and
   video encoding separately.
@@ -22,6 +20,8 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+
+import numpy as np
 
 import engine as habitat_sim
 from engine import mn
@@ -37,7 +37,7 @@ FRAME_DT = 1.0 / 60.0
 # Agent pose of the tutorial's place_agent: np.quaternion(-0.83147, 0, 0.55557, 0) is
 # (w, x, y, z), a rotation of about 247 degrees around +Y.
 AGENT_POSITION = (-0.15, -0.7, 1.0)
-AGENT_ROTATION_XYZW = (0.0, 0.55557, 0.0, -0.83147)
+AGENT_ROTATION_WXYZ = (-0.83147, 0.0, 0.55557, 0.0)
 
 
 def demo_scene_path(data_path: str) -> str:
@@ -49,8 +49,7 @@ def place_agent(sim: habitat_sim.Simulator) -> mn.Matrix4:
     """Place agent 0 where the tutorial's onlooker stands and return its transformation."""
     agent_state = habitat_sim.AgentState()
     agent_state.position = list(AGENT_POSITION)
-    x, y, z, w = AGENT_ROTATION_XYZW
-    agent_state.rotation = mn.Quaternion((x, y, z), w)
+    agent_state.rotation = np.quaternion(*AGENT_ROTATION_WXYZ)
     agent = sim.initialize_agent(0, agent_state)
     return agent.scene_node.transformation_matrix()
 

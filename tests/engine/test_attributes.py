@@ -45,8 +45,9 @@ def test_twelve_primitive_templates_with_scale_point_one():
     assets = AssetAttributesManager()
     assert assets.get_num_templates() == 12
     assert assets.get_default_template_handle("Icosphere") == "icosphereSolid_subdivs_1"
-    with pytest.raises(ValueError):
-        manager.remove_template_by_handle("cubeSolid")
+    with pytest.warns(UserWarning, match="locked"):  # the primitive defaults are undeletable
+        assert manager.remove_template_by_handle("cubeSolid") is None
+    assert manager.get_library_has_handle("cubeSolid")
 
 
 def test_load_configs_folder_file_and_suffixless_path(test_assets):
@@ -103,10 +104,13 @@ def test_lock_prevents_overwrite_and_removal(test_assets):
     sphere_id = manager.load_configs(test_assets / "objects/sphere")[0]
     handle = manager.get_template_handle_by_id(sphere_id)
     manager.set_template_lock(handle, True)
-    with pytest.raises(ValueError, match="locked"):
-        manager.register_template(manager.get_template_by_id(sphere_id))
-    with pytest.raises(ValueError, match="locked"):
-        manager.remove_template_by_handle(handle)
+    edited = manager.get_template_by_id(sphere_id)
+    edited.mass = 7.0
+    with pytest.warns(UserWarning, match="locked"):  # Habitat: logs and returns -1 / None
+        assert manager.register_template(edited) == -1
+    with pytest.warns(UserWarning, match="locked"):
+        assert manager.remove_template_by_handle(handle) is None
+    assert manager.get_template_by_id(sphere_id).mass != 7.0
     manager.set_template_lock(handle, False)
     assert manager.remove_template_by_handle(handle).handle == handle
     assert not manager.get_library_has_handle(handle)
@@ -145,8 +149,8 @@ def test_bad_files_and_values_raise_clear_errors(tmp_path):
         template.com = [np.inf, 0, 0]
     with pytest.raises(AttributeError):
         template.not_a_field = 3
-    with pytest.raises(KeyError):
-        manager.get_template_by_handle("nope")
+    with pytest.warns(UserWarning, match="nope"):  # Habitat returns None (and logs)
+        assert manager.get_template_by_handle("nope") is None
     with pytest.raises(TypeError):
         manager.register_template(StageAttributes("s"))
 

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+import quaternion  # noqa: F401 - registers np.quaternion
 
 from engine import mn
 from engine.agent import Agent, AgentConfiguration, AgentState
@@ -55,7 +56,15 @@ def test_agent_state_validation_and_xyzw_list():
     with pytest.raises(ValueError, match="position"):
         AgentState(position=[math.nan, 0, 0])
     state = AgentState([1, 2, 3], [0.0, 1.0, 0.0, 0.0])  # [x, y, z, w]: 180 degrees about Y
-    assert state.rotation.vector == [0, 1, 0] and state.rotation.scalar == 0.0
+    # Habitat types the rotation as numpy-quaternion: np.quaternion(w, x, y, z)
+    assert isinstance(state.rotation, np.quaternion)
+    assert state.rotation == np.quaternion(0.0, 0.0, 1.0, 0.0)
+    assert AgentState().rotation == np.quaternion(1.0, 0.0, 0.0, 0.0)
+    state.rotation = np.quaternion(-0.83147, 0, 0.55557, 0)  # the tutorial's line
+    assert state.rotation.w == pytest.approx(-0.83147 / math.hypot(0.83147, 0.55557))
+    for bad in ([0.0, 0.0, 0.0, 0.0], np.quaternion(math.nan, 0, 0, 1)):
+        with pytest.raises(ValueError):
+            state.rotation = bad
 
 
 def test_actions_move_along_minus_z_and_turn_about_y():
@@ -88,7 +97,8 @@ def test_set_state_round_trips_world_pose_and_sensors_follow():
     agent.set_state(AgentState([1.0, 0.5, -2.0], q))
     state = agent.get_state()
     np.testing.assert_allclose(state.position, [1.0, 0.5, -2.0], atol=1e-12)
-    np.testing.assert_allclose(np.abs(state.rotation.xyzw), np.abs(q.xyzw), atol=1e-12)
+    coeffs = [state.rotation.x, state.rotation.y, state.rotation.z, state.rotation.w]
+    np.testing.assert_allclose(np.abs(coeffs), np.abs(q.xyzw), atol=1e-12)
     cam_position = state.sensor_states["cam"].position
     np.testing.assert_allclose(cam_position, [1.0, 2.0, -2.0], atol=1e-12)  # 1.5 m above
 
