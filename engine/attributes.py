@@ -23,8 +23,8 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.fixed_fields import public_names, unknown_attribute_error
 from engine.primitives import is_primitive_handle
-from engine.strict_attrs import public_names, unknown_attribute_error
 from engine.user_config import Configuration
 
 __all__ = [

@@ -9,20 +9,31 @@ restores Habitat's behaviour: assigning a public name that is not a field of the
 
 The known names of a class are its dataclass fields, the public attributes defined on the
 class or its bases (properties, methods) and the names listed in ``_extra_fields``. Names
-starting with ``_`` are private storage and always allowed.
+starting with ``_`` are private storage and always allowed. Templates, object wrappers,
+light and constraint settings, which keep their fields elsewhere, raise the same error
+through :func:`unknown_attribute_error` and :func:`public_names`.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import difflib
+from collections.abc import Iterable
 from typing import Any
 
-__all__ = ["FixedFields", "unknown_attribute_error"]
+__all__ = ["FixedFields", "public_names", "unknown_attribute_error"]
 
 
-def unknown_attribute_error(class_name: str, name: str, known: list[str]) -> AttributeError:
-    """An ``AttributeError`` for ``class_name.name`` naming the closest known field, if any."""
+def public_names(cls: type) -> list[str]:
+    """Names of the public attributes, properties and methods of ``cls`` (and its bases)."""
+    return sorted({name for klass in cls.__mro__ for name in vars(klass)
+                   if not name.startswith("_")})
+
+
+def unknown_attribute_error(class_name: str, name: str, known: Iterable[str]) -> AttributeError:
+    """An ``AttributeError`` for ``class_name.name`` naming the closest known field, if any
+    (``difflib.get_close_matches``, similarity ratio >= 0.6)."""
+    known = list(known)
     close = difflib.get_close_matches(name, known, n=1)
     hint = f"; did you mean {close[0]!r}?" if close else f"; its fields are {sorted(known)}"
     return AttributeError(f"{class_name!r} object has no attribute {name!r}{hint}")

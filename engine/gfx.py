@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.strict_attrs import unknown_attribute_error
+from engine.fixed_fields import unknown_attribute_error
 from render.shade import AMBIENT, DEFAULT_LIGHTS, Lights
 
 __all__ = ["DEFAULT_LIGHTING_KEY", "NO_LIGHT_KEY", "LightInfo", "LightPositionModel",

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.strict_attrs import unknown_attribute_error
+from engine.fixed_fields import unknown_attribute_error
 
 from .bodies import DYNAMIC, KINEMATIC
 from .coloring import color_manifolds

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.strict_attrs import public_names, unknown_attribute_error
+from engine.fixed_fields import public_names, unknown_attribute_error
 
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .body_builder import describe_object
