@@ -36,6 +36,7 @@ from engine.attributes_managers import (
     PhysicsAttributesManager,
     StageAttributesManager,
 )
+from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene_node import Drawable, SceneNode
 from engine.scene_render import SceneRenderer
@@ -92,7 +93,7 @@ class Simulator:
                                    self._object_template_manager,
                                    self._asset_template_manager, seed=sim_cfg.random_seed)
         self._world.set_stage(stage_meshes or None, stage_attributes)
-        self._renderer = SceneRenderer(self.root_node)
+        self._renderer = SceneRenderer(self.root_node, self._static_drawable_ids)
 
         self.pathfinder = PathFinder()
         self._load_navmesh(sim_cfg)
@@ -204,6 +205,18 @@ class Simulator:
         """The physics world (rigidsim's; for teaching and the tests)."""
         return self._world
 
+    def get_renderer(self) -> SceneRenderer:
+        """The sensors' renderer (rigidsim's; switches ``static_layer`` and ``threads``)."""
+        return self._renderer
+
+    def _static_drawable_ids(self) -> set[int]:
+        """``id`` s of the drawables that do not move: the stage's and STATIC objects'."""
+        ids = {id(d) for d in self._stage_node.drawables}
+        for obj in self._world.rigid_object_manager._objects.values():
+            if obj.motion_type == MotionType.STATIC:
+                ids.update(id(d) for d in obj._visual_node.drawables)
+        return ids
+
     # ------------------------------------------------------------------------------------------
     # agents and sensors
     # ------------------------------------------------------------------------------------------
@@ -273,6 +286,7 @@ class Simulator:
         """Release the world; further use raises RuntimeError. Safe to call twice."""
         if not self._closed:
             self._world.rigid_object_manager.remove_all_objects()
+            self._renderer.close()
             self._closed = True
 
     def _check_open(self) -> None:
