@@ -35,7 +35,9 @@ import queue
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Iterable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from functools import partial
 from typing import Any
 
@@ -56,6 +58,8 @@ D3_40_COLORS_RGB = np.array(
 )
 #: videos longer than this get a tqdm progress bar while encoding
 PROGRESS_BAR_MIN_FRAMES = 100
+#: threads composing video frames with overlays in ``make_video``
+COMPOSE_THREADS = 2
 
 
 def is_notebook() -> bool:
@@ -308,6 +312,19 @@ class BackgroundVideoWriter:
                 pass
 
 
+def _in_order_on_threads(function, items: Iterable, threads: int, ahead: int = 4):
+    """``map(function, items)`` computed on ``threads`` threads, at most ``threads + ahead``
+    items in flight, results in order."""
+    with ThreadPoolExecutor(threads, thread_name_prefix="rigidsim-compose") as pool:
+        pending: deque = deque()
+        for item in items:
+            pending.append(pool.submit(function, item))
+            if len(pending) > threads + ahead:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
+
+
 def save_video(
     video_file: str, frames: Iterable[np.ndarray], fps: int = 60, n_frames: int | None = None
 ) -> str:
@@ -414,17 +431,20 @@ def make_video(
     to_image = partial(observation_to_image, depth_clip=depth_clip)
     use_numpy = video_dims is None and observation_to_image is _observation_to_image
 
-    def frames() -> Iterable[np.ndarray]:
-        for ob in observations:
-            if use_numpy:  # the same pixels, composed with NumPy
-                yield compose_video_frame(
-                    ob, primary_obs, primary_obs_type, overlay_settings, depth_clip
-                )
-                continue
-            frame = make_video_frame(
-                ob, primary_obs, primary_obs_type, video_dims, overlay_settings, to_image
+    def compose(ob: dict) -> np.ndarray:
+        if use_numpy:  # the same pixels, composed with NumPy
+            return compose_video_frame(
+                ob, primary_obs, primary_obs_type, overlay_settings, depth_clip
             )
-            yield np.asarray(frame)
+        frame = make_video_frame(
+            ob, primary_obs, primary_obs_type, video_dims, overlay_settings, to_image
+        )
+        return np.asarray(frame)
+
+    def frames() -> Iterable[np.ndarray]:
+        if use_numpy and overlay_settings:  # resizing overlays (PIL, GIL released): 2 threads
+            return _in_order_on_threads(compose, observations, COMPOSE_THREADS)
+        return map(compose, observations)
 
     written = save_video(video_file, frames, fps=fps, n_frames=len(observations))
     if open_vid:

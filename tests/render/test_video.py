@@ -315,3 +315,22 @@ def test_background_writer_writes_every_frame_and_raises_thread_errors(tmp_path)
             writer.append(i)
         writer.close()
     writer.close()  # the error was reported once; closing again is quiet
+
+
+def test_make_video_hands_the_encoder_the_pil_frames_in_order(monkeypatch, tmp_path):
+    captured = []
+
+    def capture(video_file, frames, fps=60, n_frames=None):
+        captured.extend(frames())
+        return video_file
+
+    monkeypatch.setattr(video, "save_video", capture)
+    obs = [random_observation(seed=s) for s in range(9)]
+    overlays = OVERLAY_CASES["tutorial"]
+    make_video(obs, "rgba", "color", str(tmp_path / "v"), open_vid=False,
+               overlay_settings=overlays, depth_clip=6.0)  # fmt: skip
+    to_image = partial(observation_to_image, depth_clip=6.0)
+    expected = [make_video_frame(o, "rgba", "color", None, overlays, to_image) for o in obs]
+    assert len(captured) == len(expected)
+    for got, want in zip(captured, expected, strict=True):
+        assert got.tobytes() == np.asarray(want).tobytes()
