@@ -11,8 +11,10 @@ fresh kernel whose ``PYTHONPATH`` is the checkout being measured (full size: thr
 sensors, unless ``--fast``), in a temporary folder. A first injected cell wraps
 ``Simulator.step_physics`` (physics), ``Simulator.get_sensor_observations`` (render) and
 ``render.video.make_video`` (encode: composing, ffmpeg and the inline display) with
-timers; after every notebook cell an injected cell prints and resets them. Wall time per
-cell comes from nbclient's execution timestamps. With ``--baseline`` the other checkout's
+timers; after every notebook cell an injected cell prints and resets them, with the CPU
+seconds the cell used (the kernel's threads and its finished children, ffmpeg): on a shared
+machine CPU time is steadier than wall time. Wall time per cell comes from nbclient's
+execution timestamps. With ``--baseline`` the other checkout's
 notebook runs first, then this one, in the same invocation (compare ratios: the machine is
 shared).
 """
@@ -34,11 +36,19 @@ NOTEBOOK = "notebooks/managed_rigid_object_tutorial.ipynb"
 MARK = "RIGIDSIM_BENCH "
 
 INSTALL_TIMERS = """
+import resource as _resource
 import time as _time
 import engine as _engine
 import render.video as _video
 
 _bench = {"physics": 0.0, "render": 0.0, "encode": 0.0}
+
+def _cpu_seconds():
+    # CPU time of the kernel (all threads) and of its finished children (ffmpeg)
+    children = _resource.getrusage(_resource.RUSAGE_CHILDREN)
+    return _time.process_time() + children.ru_utime + children.ru_stime
+
+_cpu_start = _cpu_seconds()
 
 def _timed(function, key):
     def wrapper(*args, **kwargs):
@@ -57,8 +67,10 @@ _video.make_video = _timed(_video.make_video, "encode")
 
 REPORT_TIMERS = """
 import json as _json
+_bench["cpu"] = _cpu_seconds() - _cpu_start
 print("RIGIDSIM_BENCH " + _json.dumps(_bench))
 _bench.update(physics=0.0, render=0.0, encode=0.0)
+_cpu_start = _cpu_seconds()
 """
 
 
@@ -107,15 +119,16 @@ def run_notebook(root: Path, fast: bool, timeout: int = 1800) -> list[dict]:
 
 def format_rows(title: str, rows: list[dict]) -> str:
     """A markdown table of the rows with a total line."""
-    lines = [f"{title}", "", "| cell | wall s | physics s | render s | encode s |",
-             "|---|---|---|---|---|"]
+    lines = [f"{title}", "", "| cell | wall s | physics s | render s | encode s | CPU s |",
+             "|---|---|---|---|---|---|"]
     for row in rows:
         if row["wall"] >= 0.05:
             lines.append(f"| {row['cell']} | {row['wall']:.1f} | {row['physics']:.1f} | "
-                         f"{row['render']:.1f} | {row['encode']:.1f} |")
-    total = {k: sum(r[k] for r in rows) for k in ("wall", "physics", "render", "encode")}
+                         f"{row['render']:.1f} | {row['encode']:.1f} | {row['cpu']:.1f} |")
+    keys = ("wall", "physics", "render", "encode", "cpu")
+    total = {k: sum(r[k] for r in rows) for k in keys}
     lines.append(f"| **total** | **{total['wall']:.1f}** | {total['physics']:.1f} | "
-                 f"{total['render']:.1f} | {total['encode']:.1f} |")
+                 f"{total['render']:.1f} | {total['encode']:.1f} | {total['cpu']:.1f} |")
     return "\n".join(lines)
 
 
