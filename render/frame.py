@@ -15,6 +15,11 @@ in meters (0 where nothing is drawn), ``ids (H, W) uint32`` semantic ids (0 wher
 is drawn). Row 0 is the top of the image. Both faces of every triangle are drawn unless
 ``cull_back_faces=True``.
 
+Static layers: ``StaticLayer.from_frame(render_frame(static_meshes, ...))`` keeps a frame of
+the meshes that do not move; ``render_over_layer(layer, moving_meshes, ...)`` then rasterizes
+only the moving meshes, depth-tested against the kept depths, and returns bit for bit what
+``render_frame(static_meshes + moving_meshes, ...)`` returns (same camera, pose, culling).
+
 Performance: pass a ``RenderScene`` (built once, poses updated per frame) rather than a list
 of meshes, and pass the previous ``FrameBuffers`` back as ``buffers`` to reuse its memory
 (the returned arrays are then overwritten by the next call: copy them to keep them).
