@@ -207,7 +207,8 @@ class SceneRenderer:
         for (camera_key, pose_bytes), members in groups.items():
             name = tuple(sensor.uuid for sensor in members)
             signature = (self._static_version, static_poses, camera_key, pose_bytes, lights)
-            state = self._groups.setdefault(name, _GroupState())
+            # per sensor objects: agents may reuse uuids (the signature keeps it exact anyway)
+            state = self._groups.setdefault(tuple(map(id, members)), _GroupState())
             mode = self._choose_mode(state, signature)
             pose = np.frombuffer(pose_bytes).reshape(4, 4)
             jobs.append((state, mode, members, pose, signature))
