@@ -53,6 +53,7 @@ from engine.gfx import (
     to_render_lights,
 )
 from engine.metadata import MetadataMediator
+from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
@@ -164,7 +165,8 @@ class Simulator:
                                    self._object_template_manager,
                                    self._asset_template_manager, seed=sim_cfg.random_seed)
         self._world.set_stage(stage_meshes or None, stage_attributes)
-        self._renderer = SceneRenderer(self.root_node, self._lights_for)
+        self._renderer = SceneRenderer(self.root_node, self._static_drawable_ids,
+                                       lights_for=self._lights_for)
         # Habitat draws the navmesh wireframe when True; rigidsim stores the flag only
         self.navmesh_visualization = False
 
@@ -338,6 +340,18 @@ class Simulator:
     def get_physics_world(self) -> PhysicsWorld:
         """The physics world (rigidsim's; for teaching and the tests)."""
         return self._world
+
+    def get_renderer(self) -> SceneRenderer:
+        """The sensors' renderer (rigidsim's; switches ``static_layer`` and ``threads``)."""
+        return self._renderer
+
+    def _static_drawable_ids(self) -> set[int]:
+        """``id`` s of the drawables that do not move: the stage's and STATIC objects'."""
+        ids = {id(d) for d in self._stage_node.drawables}
+        for obj in self._world.rigid_object_manager._objects.values():
+            if obj.motion_type == MotionType.STATIC:
+                ids.update(id(d) for d in obj._visual_node.drawables)
+        return ids
 
     # ------------------------------------------------------------------------------------------
     # agents and sensors
@@ -553,6 +567,7 @@ class Simulator:
         """
         if not self._closed:
             self._world.rigid_object_manager.remove_all_objects()
+            self._renderer.close()
             self._closed = True
 
     def _check_open(self) -> None:

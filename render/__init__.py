@@ -35,11 +35,20 @@ transparency (drawn pixels are opaque), both faces drawn unless ``cull_back_face
 
 ``reference`` is the same rasterization written as textbook scalar loops (edge functions,
 Sutherland-Hodgman clipping), slow, used by the tests to check the vectorized pipeline.
+``render_over_layer`` draws moving meshes over a ``StaticLayer`` (a kept frame of the
+static meshes): bit for bit the frame ``render_frame`` gives for all of them, for the cost
+of the moving meshes' fragments (a static camera over a static apartment).
 ``video`` mirrors ``habitat_sim.utils.viz_utils`` (``make_video`` and helpers).
 """
 
 from render.camera import ORTHOGRAPHIC, PINHOLE, Camera, invert_rigid
-from render.frame import BACKGROUND_RGBA, FrameBuffers, render_frame
+from render.frame import (
+    BACKGROUND_RGBA,
+    FrameBuffers,
+    StaticLayer,
+    render_frame,
+    render_over_layer,
+)
 from render.scene import RenderMesh, RenderScene
 from render.shade import (
     AMBIENT,
@@ -90,4 +99,6 @@ __all__ = [
     "render_frame",
     "save_video",
     "semantic_to_rgb",
+    "StaticLayer",
+    "render_over_layer",
 ]

@@ -15,6 +15,11 @@ in meters (0 where nothing is drawn), ``ids (H, W) uint32`` semantic ids (0 wher
 is drawn). Row 0 is the top of the image. Both faces of every triangle are drawn unless
 ``cull_back_faces=True``.
 
+Static layers: ``StaticLayer.from_frame(render_frame(static_meshes, ...))`` keeps a frame of
+the meshes that do not move; ``render_over_layer(layer, moving_meshes, ...)`` then rasterizes
+only the moving meshes, depth-tested against the kept depths, and returns bit for bit what
+``render_frame(static_meshes + moving_meshes, ...)`` returns (same camera, pose, culling).
+
 Performance: pass a ``RenderScene`` (built once, poses updated per frame) rather than a list
 of meshes, and pass the previous ``FrameBuffers`` back as ``buffers`` to reuse its memory
 (the returned arrays are then overwritten by the next call: copy them to keep them).
@@ -36,6 +41,7 @@ from render.shade import pack_rgba, shade_pixels
 #: color of pixels where nothing is drawn (opaque black, like Habitat's default clear color)
 BACKGROUND_RGBA = (0, 0, 0, 255)
 _BACKGROUND_PACKED = pack_rgba(np.array(BACKGROUND_RGBA, np.uint8))
+_HIGH32 = np.uint64(0xFFFFFFFF00000000)
 #: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
 TRIANGLE_BATCH = 8_192
 #: shading setup covers all candidate triangles up to this many; above, only those that drew
@@ -44,7 +50,15 @@ REFINE_USED_ABOVE = 8_192
 #: pixels resolved and shaded per band (temporaries stay in the CPU cache; 16k was fastest)
 SHADE_BAND_PIXELS = 16_384
 
-__all__ = ["BACKGROUND_RGBA", "FrameBuffers", "RenderMesh", "RenderScene", "render_frame"]
+__all__ = [
+    "BACKGROUND_RGBA",
+    "FrameBuffers",
+    "RenderMesh",
+    "RenderScene",
+    "StaticLayer",
+    "render_frame",
+    "render_over_layer",
+]
 
 
 @dataclass
@@ -107,24 +121,10 @@ def render_frame(
     camera_from_world = invert_rigid(world_from_camera)
     out = _prepare_buffers(buffers, camera)
     clock = _StageClock(out.timings)
-    # --- 1. vertex stage: mesh-local -> world -> camera frame
-    vertices_camera = scene.vertices_in_camera(camera_from_world)
-    clock.lap("transform")
-    # --- 2. primitive assembly and frustum culling (vertex outcodes), hidden meshes
-    outcodes = cull.vertex_outcodes(vertices_camera, camera)
-    keep = cull.triangles_in_frustum(outcodes, scene.materials.faces)
-    if not scene.visible.all():
-        keep &= scene.visible[scene.materials.tri_mesh]
-    tri_index = np.flatnonzero(keep)  # the K candidate triangles; z-buffer keys index them
-    clock.lap("cull")
-    # --- 3-6. per batch of triangles: back faces, near clipping, setup, spans, depth test
     out.zkey.fill(raster.EMPTY_KEY)
-    out.n_fragments = 0
-    drawn = np.zeros(len(tri_index), dtype=bool)  # candidates that produced fragments
-    for start in range(0, len(tri_index), TRIANGLE_BATCH):
-        source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
-        tri = _corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
-        out.n_fragments += _rasterize(tri, source, camera, cull_back_faces, out, drawn, clock)
+    vertices_camera, tri_index, drawn = _rasterize_scene(
+        scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=0
+    )
     # --- 7. shading inputs (attribute planes, light) of the triangles that can own pixels
     if len(tri_index) <= REFINE_USED_ABOVE:
         used = np.arange(len(tri_index))  # few candidates: planes for all, no indirection
@@ -144,6 +144,138 @@ def render_frame(
     return out
 
 
+@dataclass
+class StaticLayer:
+    """A rendered frame of the static meshes, kept to draw moving meshes over it.
+
+    Valid only for the camera (intrinsics and pose), the static meshes and their poses and
+    the lights it was rendered with: the caller decides when that holds (the engine checks
+    it exactly, see ``engine.scene_render``). ``render_over_layer`` then rasterizes only the
+    moving meshes, depth-tested against ``seed``.
+
+    Attributes
+    ----------
+    rgba, depth, ids : copies of the static frame's buffers.
+    seed : (H * W,) uint64 z-buffer to start from: ``depth bits << 32`` (id 0) where a
+        static mesh is drawn, ``raster.EMPTY_KEY`` elsewhere.
+    """
+
+    rgba: np.ndarray
+    depth: np.ndarray
+    ids: np.ndarray
+    seed: np.ndarray
+
+    @classmethod
+    def from_frame(cls, frame: FrameBuffers) -> StaticLayer:
+        """The layer of a frame just rendered by ``render_frame`` (its buffers are copied)."""
+        drawn = frame.zkey != raster.EMPTY_KEY
+        seed = np.where(drawn, frame.zkey & _HIGH32, raster.EMPTY_KEY)  # keep the depth bits
+        return cls(frame.rgba.copy(), frame.depth.copy(), frame.ids.copy(), seed)
+
+    @property
+    def resolution(self) -> tuple[int, int]:
+        """``(H, W)`` of the layer."""
+        return self.depth.shape
+
+
+def render_over_layer(
+    layer: StaticLayer,
+    meshes: RenderScene | Sequence[RenderMesh],
+    camera: Camera,
+    world_from_camera: np.ndarray,
+    buffers: FrameBuffers | None = None,
+    cull_back_faces: bool = False,
+) -> FrameBuffers:
+    """Draw ``meshes`` over a static layer: the frame ``render_frame`` gives for the layer's
+    static meshes followed by ``meshes``, bit for bit.
+
+    Only ``meshes`` are rasterized; their fragments are depth-tested against the layer's
+    depths (``layer.seed``). On equal depths the static pixel wins, as the lower triangle
+    index wins in ``render_frame`` (static meshes come first). Every pixel a moving mesh
+    won is shaded exactly as ``render_frame`` shades it (shading depends only on the pixel
+    and its triangle); every other pixel is the layer's.
+
+    Parameters are those of ``render_frame``, plus ``layer`` (from ``StaticLayer.from_frame``
+    of a ``render_frame`` of the static meshes with the same camera, pose and culling).
+    """
+    if not isinstance(layer, StaticLayer):
+        raise TypeError(f"layer must be a StaticLayer, got {type(layer).__name__}")
+    if not isinstance(camera, Camera):
+        raise TypeError(f"camera must be a render.Camera, got {type(camera).__name__}")
+    if layer.resolution != camera.resolution:
+        raise ValueError(
+            f"layer resolution {layer.resolution} differs from the camera's {camera.resolution}"
+        )
+    scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
+    camera_from_world = invert_rigid(world_from_camera)
+    out = _prepare_buffers(buffers, camera)
+    clock = _StageClock(out.timings)
+    np.copyto(out.zkey, layer.seed)
+    # --- 1-6 for the moving meshes only; ids start at 1 so that id 0 (static) wins ties
+    vertices_camera, tri_index, drawn = _rasterize_scene(
+        scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=1
+    )
+    np.copyto(out.rgba, layer.rgba)
+    np.copyto(out.depth, layer.depth)
+    np.copyto(out.ids, layer.ids)
+    changed = np.flatnonzero(out.zkey != layer.seed)  # pixels a moving mesh won
+    clock.lap("layer")
+    if len(changed) == 0:
+        return out
+    # --- 7. shading inputs of the candidates that drew fragments
+    used = np.arange(len(tri_index)) if len(tri_index) <= REFINE_USED_ABOVE else None
+    if used is None:
+        used = np.flatnonzero(drawn)
+    shading = _ShadingInputs.build(
+        scene, camera, camera_from_world, vertices_camera, tri_index, used
+    )
+    clock.lap("shade setup")
+    # --- 8. resolve and shade the changed pixels, a cache-sized run at a time
+    for start in range(0, len(changed), SHADE_BAND_PIXELS):
+        pixel = changed[start : start + SHADE_BAND_PIXELS]
+        visible = raster.visible_from_keys(out.zkey[pixel], pixel, camera, id_offset=1)
+        _write_pixels(out, scene, shading, visible)
+    clock.lap("shade")
+    return out
+
+
+def _rasterize_scene(
+    scene: RenderScene,
+    camera: Camera,
+    camera_from_world: np.ndarray,
+    cull_back_faces: bool,
+    out: FrameBuffers,
+    clock: _StageClock,
+    key_offset: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Stages 1-6: depth-test every fragment of ``scene`` into ``out.zkey`` (not cleared).
+
+    The key of a fragment of candidate ``k`` carries the id ``k + key_offset``. Returns the
+    camera-frame vertices ``(3, V)``, the candidate triangles ``tri_index (K,)`` (global
+    ids) and ``drawn (K,)`` bool (candidates that produced fragments).
+    """
+    # --- 1. vertex stage: mesh-local -> world -> camera frame
+    vertices_camera = scene.vertices_in_camera(camera_from_world)
+    clock.lap("transform")
+    # --- 2. primitive assembly and frustum culling (vertex outcodes), hidden meshes
+    outcodes = cull.vertex_outcodes(vertices_camera, camera)
+    keep = cull.triangles_in_frustum(outcodes, scene.materials.faces)
+    if not scene.visible.all():
+        keep &= scene.visible[scene.materials.tri_mesh]
+    tri_index = np.flatnonzero(keep)  # the K candidate triangles; z-buffer keys index them
+    clock.lap("cull")
+    # --- 3-6. per batch of triangles: back faces, near clipping, setup, spans, depth test
+    out.n_fragments = 0
+    drawn = np.zeros(len(tri_index), dtype=bool)  # candidates that produced fragments
+    for start in range(0, len(tri_index), TRIANGLE_BATCH):
+        source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
+        tri = _corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
+        out.n_fragments += _rasterize(
+            tri, source, camera, cull_back_faces, out, drawn, clock, key_offset
+        )
+    return vertices_camera, tri_index, drawn
+
+
 def _corners(vertices_camera: np.ndarray, scene: RenderScene, triangles: np.ndarray) -> np.ndarray:
     """Camera-frame corners of global triangles ``triangles``: ``(3 corners, 3 coords, n)``."""
     return vertices_camera[:, scene.materials.faces[:, triangles]].transpose(1, 0, 2)
@@ -157,12 +289,13 @@ def _rasterize(
     out: FrameBuffers,
     drawn: np.ndarray,
     clock: _StageClock,
+    key_offset: int = 0,
 ) -> int:
     """Stages 3-6 for one batch: depth-test its fragments into ``out.zkey``.
 
     ``tri`` (3, 3, n) camera-frame corners; ``source`` (n,) their candidate ids (stored in
-    the z-buffer keys); ``drawn`` (K,) bool is set for candidates that produced fragments.
-    Returns the number of fragments.
+    the z-buffer keys, plus ``key_offset``); ``drawn`` (K,) bool is set for candidates that
+    produced fragments. Returns the number of fragments.
     """
     if cull_back_faces:
         facing = cull.front_facing(tri, camera)
@@ -188,8 +321,9 @@ def _rasterize(
     clock.lap("spans")
     # --- 6. fragments and depth test (keys carry the candidate id)
     far_test = bool(np.any(tri[:, 2] < -camera.far))  # some corner beyond the far plane
+    key_id = source + key_offset if key_offset else source
     n_fragments = raster.depth_test_spans(
-        spans, planes, piece_of, camera, out.zkey, source, far_test
+        spans, planes, piece_of, camera, out.zkey, key_id, far_test
     )
     clock.lap("fragments")
     return n_fragments
@@ -304,13 +438,28 @@ def _write_band(
         rgba_packed[band], depth_flat[band], ids_flat[band] = _BACKGROUND_PACKED, 0.0, 0
         if n_covered == 0:
             return
+    where = band if n_covered == band.stop - band.start else visible.pixel  # slice: no scatter
+    _write_pixels(out, scene, shading, visible, where)
+
+
+def _write_pixels(
+    out: FrameBuffers,
+    scene: RenderScene,
+    shading: _ShadingInputs,
+    visible: raster.VisiblePixels,
+    where: slice | np.ndarray | None = None,
+) -> None:
+    """Shade ``visible`` pixels and write rgba, depth and ids at ``where`` (default: their
+    flat indices ``visible.pixel``)."""
+    rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
+    depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
     triangle = shading.tri_index[visible.winner]  # global triangle id of each covered pixel
     light = shading.pixel_light(visible)
     packed = shade_pixels(
         scene.materials, visible, triangle, shading.uv_planes, shading.color_planes, light
     )
     ids = scene.tri_semantic[triangle]
-    where = band if n_covered == band.stop - band.start else visible.pixel  # slice: no scatter
+    where = visible.pixel if where is None else where
     rgba_packed[where], depth_flat[where], ids_flat[where] = packed, visible.depth, ids
 
 

@@ -319,6 +319,21 @@ def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -
     return VisiblePixels(pixel, winner, depth, camera)
 
 
+def visible_from_keys(
+    keys: np.ndarray, pixel: np.ndarray, camera: Camera, id_offset: int = 0
+) -> VisiblePixels:
+    """Pixels ``pixel`` (flat indices, each covered) with their z-buffer ``keys``: winner
+    ``low 32 bits - id_offset`` and depth (high 32 bits), as ``resolve_depth`` reads them."""
+    halves = np.ascontiguousarray(keys).view(np.uint32).reshape(-1, 2)  # (low, high) words
+    if sys.byteorder == "big":
+        halves = halves[:, ::-1]
+    winner = halves[:, 0].astype(np.int64)  # the triangle id
+    if id_offset:
+        winner -= id_offset
+    depth = halves[:, 1].view(np.float32)  # the depth bits
+    return VisiblePixels(np.asarray(pixel, dtype=np.int64), winner, depth, camera)
+
+
 class AttributePlanes:
     """Perspective-correct interpolation of per-vertex attributes at pixel centers.
 

@@ -189,7 +189,6 @@ class RenderScene:
         faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
         faces = np.concatenate(faces or [np.zeros((0, 3), np.int64)])
         self.materials = _material_table(meshes, tri_mesh, np.ascontiguousarray(faces.T))
-        self._vertices_camera = np.empty_like(self.vertices_local)
         self.smooth_meshes = [i for i, m in enumerate(meshes)
                               if self.mesh_light_group[i] >= 0 and m.normals is not None]
         self.tri_smooth = np.isin(tri_mesh, self.smooth_meshes)
@@ -258,16 +257,18 @@ class RenderScene:
         self.visible[index] = bool(visible)
 
     def vertices_in_camera(self, camera_from_world: np.ndarray) -> np.ndarray:
-        """All vertices in the camera frame, ``(3, V)`` float64 (a reused buffer).
+        """All vertices in the camera frame, ``(3, V)`` float64 (a fresh array, so that
+        threads may render one scene from several cameras at once).
 
         ``p_camera = camera_from_world @ world_from_mesh @ p_local`` per mesh.
         """
+        vertices_camera = np.empty_like(self.vertices_local)
         for i, sl in enumerate(self.vertex_slices):
             camera_from_mesh = camera_from_world @ self.world_from_mesh[i]
-            out = self._vertices_camera[:, sl]
+            out = vertices_camera[:, sl]
             np.matmul(camera_from_mesh[:3, :3], self.vertices_local[:, sl], out=out)  # R p
             out += camera_from_mesh[:3, 3:4]  # + t
-        return self._vertices_camera
+        return vertices_camera
 
     def vertex_light_factors(self, world_from_camera: np.ndarray | None = None) -> np.ndarray:
         """Light factor of every vertex of the Gouraud-shaded meshes, ``(1, V)`` float32.

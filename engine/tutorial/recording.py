@@ -3,14 +3,17 @@
 Habitat's tutorial collects every observation of a section in a list and encodes the list
 with ``vut.make_video`` at the end. At 544 x 720 with three sensors one frame is about
 4.7 MB, so the 600-frame ``robot_control`` section would hold 2.8 GB. The job therefore
-streams: each frame is rendered, turned into a video frame with the same
-``make_video_frame`` that ``make_video`` uses, and appended to an open video writer. The
-resulting file is the one ``make_video`` would write from the same observations.
+streams: each frame is rendered and handed to a :class:`render.video.BackgroundVideoWriter`,
+whose thread composes it (``compose_video_frame``: the pixels of ``make_video_frame``,
+which ``make_video`` uses) and feeds ffmpeg while the simulation goes on. The resulting
+file is the one ``make_video`` would write from the same observations.
 
 Wall time of a section is split into three parts:
 
 - rendering: ``sim.get_sensor_observations()`` (all three sensors);
-- encoding: building the video frame (overlays, depth to gray) and the H.264 encoder;
+- encoding: the time the simulation *waited* for the encoder (a full queue, and finishing
+  the file at the end of the section); the encoder thread's own busy time is
+  ``SectionTimings.encoding_background``;
 - physics: everything else, i.e. ``sim.step_physics`` and the control code of the section.
 """
 
@@ -19,10 +22,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import partial
 from typing import Any
 
-import imageio
 import numpy as np
 
 from render import video as vut
@@ -63,6 +64,7 @@ class SectionTimings:
     total: float = 0.0
     rendering: float = 0.0
     encoding: float = 0.0
+    encoding_background: float = 0.0
 
     @property
     def physics(self) -> float:
@@ -134,34 +136,32 @@ class SectionRecorder:
             self._last_world_time = world_time
 
     def _encode(self, observation: dict[str, np.ndarray]) -> None:
-        """Compose the frame exactly as ``make_video`` does and append it to the file."""
-        start = time.perf_counter()
+        """Queue the frame for the encoder thread (opened at the first frame)."""
         if self._writer is None:
             # the encoder settings of render.video.save_video (H.264 in an mp4 container)
-            self._writer = imageio.get_writer(
-                self.video_path, mode="I", fps=self.video.fps, format="FFMPEG", macro_block_size=1
-            )
-        to_image = partial(vut.observation_to_image, depth_clip=self.video.depth_clip)
-        frame = vut.make_video_frame(
+            options = {"fps": self.video.fps, "format": "FFMPEG", "macro_block_size": 1}
+            start = time.perf_counter()
+            self._writer = vut.BackgroundVideoWriter(self.video_path, options, self._compose)
+            self.timings.encoding += time.perf_counter() - start
+        self._writer.append(observation)
+
+    def _compose(self, observation: dict[str, np.ndarray]) -> np.ndarray:
+        """The video frame of one observation, exactly as ``make_video`` composes it."""
+        video = self.video
+        return vut.compose_video_frame(
             observation,
-            self.video.primary_obs,
-            self.video.primary_obs_type,
-            None,
-            self.video.overlay_settings,
-            to_image,
+            video.primary_obs,
+            video.primary_obs_type,
+            video.overlay_settings,
+            video.depth_clip,
         )
-        rgb = np.asarray(frame)[..., :3]
-        even_h, even_w = rgb.shape[0] // 2 * 2, rgb.shape[1] // 2 * 2
-        # yuv420p needs even sides: crop a last odd row / column, as save_video does
-        self._writer.append_data(np.ascontiguousarray(rgb[:even_h, :even_w]))
-        self.timings.encoding += time.perf_counter() - start
 
     def close(self) -> str | None:
         """Finish the video file and the section's wall clock; return the video path."""
         if self._writer is not None:
-            start = time.perf_counter()
-            self._writer.close()
-            self._writer = None
-            self.timings.encoding += time.perf_counter() - start
+            writer, self._writer = self._writer, None
+            writer.close()
+            self.timings.encoding += writer.wait_seconds
+            self.timings.encoding_background += writer.busy_seconds
         self.timings.total = time.perf_counter() - self._start_wall
         return self.video_path if self.video is not None and self.frames > 0 else None

@@ -58,6 +58,7 @@ def summary_dict(results: Sequence[SectionResult], settings: dict[str, Any]) -> 
         t = r.timings
         timings = {"total": t.total, "physics": t.physics, "rendering": t.rendering}
         timings["encoding"] = t.encoding
+        timings["encoding_background"] = t.encoding_background
         sections.append(
             {
                 "name": r.name,

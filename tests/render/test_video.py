@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import partial
+
 import imageio
 import numpy as np
 import pytest
@@ -235,3 +237,100 @@ def test_long_videos_show_a_progress_bar(tmp_path, capsys):
         observations(10, 8, 8), "rgba", "color", str(tmp_path / "short"), fps=60, open_vid=False
     )
     assert "Encoding video" not in capsys.readouterr().err
+
+
+# -- compose_video_frame (NumPy) against make_video_frame (PIL) -----------------------------
+
+
+def random_observation(h: int = 54, w: int = 72, seed: int = 3) -> dict:
+    rng = np.random.default_rng(seed)
+    return {
+        "rgba": rng.integers(0, 256, (h, w, 4), dtype=np.uint8),
+        "rgb": rng.integers(0, 256, (h, w, 3), dtype=np.uint8),
+        "depth": rng.uniform(0.0, 14.0, (h, w)).astype(np.float32),
+        "semantic": rng.integers(0, 2**32, (h, w), dtype=np.uint32),
+    }
+
+
+OVERLAY_CASES = {
+    "none": None,
+    "tutorial": [
+        {"obs": "rgba", "type": "color", "dims": (18, 13), "pos": (10, 10), "border": 2},
+        {"obs": "depth", "type": "depth", "dims": (18, 13), "pos": (10, 33), "border": 2},
+    ],
+    "semantic, upscaled, clipped, colored": [
+        {"obs": "semantic", "type": "semantic", "dims": (90, 20), "pos": (-5, 40), "border": 3,
+         "border_color": (255, 10, 0)},
+        {"obs": "rgb", "type": "color", "dims": (7, 9), "pos": (70, -1), "border": 1},
+        {"obs": "rgba", "type": "color", "dims": (5, 5), "pos": (200, 200), "border": 1},
+    ],
+}
+
+
+@pytest.mark.parametrize("case", list(OVERLAY_CASES))
+@pytest.mark.parametrize("primary", ["rgba", "rgb", "depth", "semantic"])
+def test_numpy_composition_equals_the_pil_frame_bit_for_bit(primary, case):
+    obs = random_observation()
+    kind = {"rgba": "color", "rgb": "color"}.get(primary, primary)
+    overlays = OVERLAY_CASES[case]
+    for clip in (10.0, 4.0):
+        to_image = partial(observation_to_image, depth_clip=clip)
+        reference = np.asarray(make_video_frame(obs, primary, kind, None, overlays, to_image))
+        composed = video.compose_video_frame(obs, primary, kind, overlays, depth_clip=clip)
+        assert composed.dtype == np.uint8 and composed.shape == reference.shape
+        assert composed.tobytes() == reference.tobytes()
+
+
+def test_numpy_composition_leaves_the_observation_unchanged_and_rejects_bad_types():
+    obs = random_observation()
+    before = {k: v.copy() for k, v in obs.items()}
+    video.compose_video_frame(obs, "rgba", "color", OVERLAY_CASES["tutorial"])
+    assert all(np.array_equal(obs[k], before[k]) for k in obs)
+    with pytest.raises(RuntimeError, match="primary image processing failed"):
+        video.compose_video_frame(obs, "rgba", "normals")
+    bad = [{"obs": "rgba", "type": "normals", "dims": (4, 4), "pos": (0, 0), "border": 1}]
+    with pytest.raises(RuntimeError, match="overlay image processing failed"):
+        video.compose_video_frame(obs, "rgba", "color", bad)
+
+
+def test_background_writer_writes_every_frame_and_raises_thread_errors(tmp_path):
+    frames = [np.full((16, 24, 3), 20 * i, np.uint8) for i in range(6)]
+    path = str(tmp_path / "bg.mp4")
+    options = {"fps": 10, "format": "FFMPEG", "macro_block_size": 1}
+    with video.BackgroundVideoWriter(path, options, prepare=lambda i: frames[i]) as writer:
+        for i in range(len(frames)):
+            writer.append(i)
+    assert writer.frames == 6 and writer.busy_seconds > 0.0
+    with imageio.get_reader(path) as reader:
+        assert reader.count_frames() == 6
+        assert abs(int(reader.get_data(5)[8, 12, 0]) - 100) <= 3
+
+    def explode(item):
+        raise ValueError(f"cannot prepare {item}")
+
+    writer = video.BackgroundVideoWriter(str(tmp_path / "bad.mp4"), options, prepare=explode)
+    writer.append(1)
+    with pytest.raises(ValueError, match="cannot prepare 1"):
+        for i in range(100):  # the thread's error surfaces on a later append or on close
+            writer.append(i)
+        writer.close()
+    writer.close()  # the error was reported once; closing again is quiet
+
+
+def test_make_video_hands_the_encoder_the_pil_frames_in_order(monkeypatch, tmp_path):
+    captured = []
+
+    def capture(video_file, frames, fps=60, n_frames=None):
+        captured.extend(frames())
+        return video_file
+
+    monkeypatch.setattr(video, "save_video", capture)
+    obs = [random_observation(seed=s) for s in range(9)]
+    overlays = OVERLAY_CASES["tutorial"]
+    make_video(obs, "rgba", "color", str(tmp_path / "v"), open_vid=False,
+               overlay_settings=overlays, depth_clip=6.0)  # fmt: skip
+    to_image = partial(observation_to_image, depth_clip=6.0)
+    expected = [make_video_frame(o, "rgba", "color", None, overlays, to_image) for o in obs]
+    assert len(captured) == len(expected)
+    for got, want in zip(captured, expected, strict=True):
+        assert got.tobytes() == np.asarray(want).tobytes()

@@ -1,0 +1,145 @@
+"""The renderer's static layer and render threads change no pixel: every observation equals
+a full single-threaded render, across the whole tutorial and across scene changes."""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+import pytest
+
+import engine as habitat_sim
+import engine.simulator
+from engine.datasets import demo_data_path
+from engine.physics.objects import MotionType
+from engine.scene_render import SceneRenderer
+from engine.tutorial.cli import run_tutorial
+from engine.tutorial.scene_setup import make_configuration, place_agent
+from render import shade
+
+
+class CheckedRenderer(SceneRenderer):
+    """Renders observations a second time with a full single-threaded renderer and asserts
+    the two are bit-identical: every frame that used a static layer, and every
+    ``FULL_CHECK_EVERY``-th frame of full renders (threads only); counts the modes."""
+
+    modes: Counter = Counter()
+    FULL_CHECK_EVERY = 4
+
+    def __init__(self, root, static_drawables=None, lights_for=None, **kwargs) -> None:
+        super().__init__(root, static_drawables, lights_for, static_layer=True, threads=2)
+        self.reference = SceneRenderer(root, static_drawables, lights_for, static_layer=False,
+                                       threads=1)
+        self.n_full = 0
+
+    def observe(self, sensors):
+        fast = super().observe(sensors)
+        CheckedRenderer.modes.update(self.last_modes.values())
+        if set(self.last_modes.values()) == {"full"}:
+            self.n_full += 1
+            if self.n_full % self.FULL_CHECK_EVERY:
+                return fast
+        CheckedRenderer.modes["checked"] += 1
+        full = self.reference.observe(sensors)
+        assert fast.keys() == full.keys()
+        for uuid in full:
+            assert fast[uuid].dtype == full[uuid].dtype
+            assert fast[uuid].tobytes() == full[uuid].tobytes(), uuid
+        return fast
+
+
+@pytest.fixture
+def checked(monkeypatch):
+    CheckedRenderer.modes = Counter()
+    monkeypatch.setattr(engine.simulator, "SceneRenderer", CheckedRenderer)
+    return CheckedRenderer
+
+
+def test_every_tutorial_section_renders_the_same_with_the_static_layer_and_threads(
+    checked, tmp_path
+):
+    results = run_tutorial(
+        str(tmp_path), make_video=False, fast=True, progress=False, keep_observations=True
+    )
+    assert sum(r.frames for r in results) > 1900
+    # the onlooker's six sections reuse their layers; the robot's cameras mostly move
+    assert checked.modes["layer"] > 1000
+    assert checked.modes["full"] > 1000
+    assert checked.modes["new layer"] >= 6
+    assert checked.modes["checked"] > 900
+
+
+def small_sim() -> habitat_sim.Simulator:
+    sim = habitat_sim.Simulator(make_configuration(str(demo_data_path()), (48, 64)))
+    place_agent(sim)
+    return sim
+
+
+def test_adding_removing_moving_and_relighting_objects_match_full_renders(checked):
+    sim = small_sim()
+    renderer = sim.get_renderer()
+    templates = sim.get_object_template_manager()
+    templates.load_configs(str(demo_data_path() / "objects/example_objects"))
+    handle = templates.get_template_handles("cheezit")[0]
+    manager = sim.get_rigid_object_manager()
+
+    def frames(n: int = 3) -> list[str]:
+        modes = []
+        for _ in range(n):
+            sim.step_physics(1.0 / 60.0)
+            sim.get_sensor_observations()
+            modes.append(sorted(set(renderer.last_modes.values())))
+        return modes
+
+    assert frames()[-1] == ["layer"]  # the empty apartment, camera at rest
+    box = manager.add_object_by_template_handle(handle)
+    box.translation = [2.39, -0.37, 0.0]  # in view of both cameras, falling
+    assert frames()[-1] == ["layer"]  # a moving object keeps the layer
+    changed = [["full"], ["new layer"], ["layer"]]  # a static change: full, then a new layer
+    box.motion_type = MotionType.STATIC  # now part of the static layer
+    assert frames() == changed
+    box.motion_type = MotionType.KINEMATIC
+    box.translation = [2.2, -0.5, 0.1]
+    assert frames() == changed
+    second = manager.add_object_by_template_handle(handle)
+    second.translation = [2.3, -0.8, 0.3]
+    assert frames()[-1] == ["layer"]  # a new moving object
+    second.motion_type = MotionType.STATIC
+    assert frames() == changed
+    second.root_scene_node.translation = [2.3, -0.7, 0.3]  # a STATIC node moved by hand
+    assert frames(1)[0] == ["full"]
+    frames()
+    shade_ambient = shade.AMBIENT
+    try:
+        shade.AMBIENT = 0.3  # the light setup changed: static objects are lit
+        assert frames(1)[0] == ["full"]
+    finally:
+        shade.AMBIENT = shade_ambient
+    frames()
+    # a new light setup for the default key (which the STATIC object uses): a static change
+    sim.set_light_setup([habitat_sim.gfx.LightInfo(vector=[0.0, -1.0, 0.0, 0.0])])
+    assert frames(1)[0] == ["full"]
+    frames(1)
+    sim.get_agent(0).agent_config.sensor_specifications[0].hfov = 70.0  # a sensor spec
+    assert "full" in frames(1)[0]
+    manager.remove_object_by_id(second.object_id)
+    assert frames(1)[0] == ["full"]
+    frames()
+    manager.remove_all_objects()  # the last (kinematic) object: the layer stays valid
+    assert frames() == [["layer"]] * 3
+    sim.close()
+
+
+def test_the_switches_select_single_threaded_full_renders(checked):
+    sim = small_sim()
+    renderer = sim.get_renderer()
+    renderer.static_layer, renderer.threads = False, 1
+    for _ in range(3):
+        sim.get_sensor_observations()
+        assert set(renderer.last_modes.values()) == {"full"}
+    renderer.static_layer, renderer.threads = True, 2
+    for _ in range(3):
+        observation = sim.get_sensor_observations()
+    assert set(renderer.last_modes.values()) == {"layer"}
+    assert np.any(observation["rgba_camera_1stperson"][..., :3])
+    sim.close()
