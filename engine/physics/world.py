@@ -251,8 +251,8 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         """Broad phase over all collidable bodies, then refresh the manifolds of each pair."""
         b, n = self.bodies, self.bodies.count
         start = timer.perf_counter()
-        has_shapes = np.array([len(s) > 0 for s in b.shapes[:n]], dtype=bool)
-        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n] & has_shapes)[0]
+        # every live object has shapes; the stage without shapes is not collidable
+        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
         rotation = quat_to_matrix(b.body_rotation[:n])
         lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
                              b.body_position[:n], b.body_rotation[:n])
