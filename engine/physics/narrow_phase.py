@@ -5,7 +5,12 @@ at once. A Python loop asks python-fcl about every shape pair (that call is the 
 per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 
 * stage vs polyhedron, grouped by the polyhedron's hull vertex count ``V``: the body's hull
-  vertices lying in the prism of a touched triangle, just below its plane (method 2);
+  vertices lying in the prism of a touched triangle, just below its plane (method 2). The
+  triangle's normal is turned to the stage's *outward side*: the side the body was on
+  when the contact began, remembered by the pair's manifold (its cached normals point
+  from the stage to the body). Only a new contact falls back to the side holding the
+  middle of the body's extent; the body's center is never used, so a thin plate pushed
+  past the surface's plane is still pushed back out, never through;
 * polyhedron vs polyhedron, grouped by ``(V_a, F_a, V_b, F_b)`` vertex and face counts: the
   vertices of one body inside the other, measured against the reference face picked by
   fcl's normal (method 1);
@@ -102,7 +107,8 @@ def narrow_phase(world, pairs: list, rotation: np.ndarray):
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
                                                          probe_c))
     for group in jobs["stage"].values():
-        _stage_group(group, rotation, b.body_position, contacts)
+        _stage_group(group, rotation, b.body_position, contacts,
+                     _cached_normals(world.manifolds, [job.body_b for job in group]))
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
@@ -119,8 +125,36 @@ def _to_world(rotation, position, points):
     return np.einsum("gij,gkj->gki", rotation, points) + position[:, None]
 
 
-def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
-    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage."""
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body) and ``valid (g, S)`` of the manifolds of
+    the stage with ``bodies`` (the stage frame is the world frame)."""
+    rows = [store.row((0, body)) for body in bodies]
+    known = np.array([row is not None for row in rows])
+    index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
+    slots = np.arange(store.normal_local.shape[1])
+    valid = known[:, None] & (slots < store.count[index][:, None])
+    return store.normal_local[index], valid
+
+
+def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+    """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to the triangle's decides when it is within 60
+    degrees of it; otherwise (a new contact) the side holding the middle of the hull's
+    extent along the normal.
+    """
+    cached_normal, valid = cached
+    # n_t . c_k for every triangle t and cached normal k, (g, T, S)
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * valid[:, None, :]
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None],
+                                   axis=2)[..., 0]
+    middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
+    return np.where(np.abs(strongest) > 0.5, np.sign(strongest), middle)
+
+
+def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
+    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`)."""
     stage = jobs[0].shape_a
     table = _triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
@@ -134,9 +168,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = (np.einsum("gti,gvi->gtv", normal, verts)
               - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
-    # each normal faces the side holding the middle of the hull's extent along it (robust
-    # for any vertex distribution and COM, and for bodies sunk in by less than half)
-    side = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)  # (g, T)
+    side = _outward_side(normal, height, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact

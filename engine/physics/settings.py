@@ -39,6 +39,10 @@ class SolverSettings:
         splitting (one NumPy batch per color; the default: fastest, and symmetric, so a
         perfect stack stays perfect) instead of Gauss-Seidel over the point slots (one
         batch per slot; its fixed slot order biases tall stacks into a slow lean).
+    stage_iterations : int
+        Normal-only sweeps over the contacts with the stage (and static or kinematic
+        bodies) after each velocity and position solve, so the stage always wins: a light
+        body under a heavy one is never pushed into the floor (0 disables it).
     use_vectorized : bool
         Solve one graph color at a time with NumPy batches (True) or run the plain scalar
         reference loop (False). Both run the same algebra and agree to rounding (about
@@ -52,6 +56,7 @@ class SolverSettings:
     accumulate_impulses: bool = True
     position_correction: bool = True
     block_jacobi: bool = True
+    stage_iterations: int = 2
     use_vectorized: bool = True
 
 

@@ -28,8 +28,13 @@ def solve_stage(world, moving: np.ndarray, h: float):
     if len(rows) == 0:
         return None
     colors = color_manifolds(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
+    # stage rows (a body the solver does not move) end each color: the solver's last word
+    stage_row = ~(solvable[store.bodies[rows, 0]] & solvable[store.bodies[rows, 1]])
+    colors = [color[np.argsort(stage_row[color], kind="stable")] for color in colors]
     sizes = np.cumsum([0] + [len(color) for color in colors])
     color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist(), strict=True))
+    priority_starts = [int(stop - stage_row[color].sum())
+                       for color, (_, stop) in zip(colors, color_slices, strict=True)]
     rows = rows[np.concatenate(colors)]
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
@@ -48,12 +53,14 @@ def solve_stage(world, moving: np.ndarray, h: float):
     if start is not None and len(start) == n:
         dynamic = b.body_motion_type[:n] == DYNAMIC
         approach_velocity[dynamic] = start[dynamic]
+    lower = _lower_bodies(body_a, body_b, solvable)
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(points_a, points_b, normals, counts, body_a, body_b,
                         b.body_position[:n], inv_mass, inv_inertia, friction, restitution,
                         store.impulse[rows], approach_velocity, color_slices,
-                        split_mass=world.settings.block_jacobi)
+                        split_mass=world.settings.block_jacobi,
+                        priority_starts=priority_starts, lower=lower)
     pseudo = solve_contacts(batch, velocity, h, world.settings)
     b.body_linear_velocity[moving] = velocity[moving, :3]
     b.body_angular_velocity[moving] = velocity[moving, 3:]
@@ -61,6 +68,27 @@ def solve_stage(world, moving: np.ndarray, h: float):
     world.last_batch = batch
     world.last_h = h
     return pseudo
+
+
+def _lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -> np.ndarray:
+    """(m, 2) bool: in each pair of moving bodies, the one fewer contacts away from the
+    stage (or any body the solver does not move); neither when equal or unreached.
+
+    Levels by relaxation over the contact graph: ``level = 0`` for unmoved bodies, then
+    ``level[b] = min(level[b], level[a] + 1)`` over all pairs until nothing changes.
+    """
+    level = np.where(solvable, np.inf, 0.0)
+    for _ in range(32):
+        new = level.copy()
+        np.minimum.at(new, body_a, level[body_b] + 1)
+        np.minimum.at(new, body_b, level[body_a] + 1)
+        new[~solvable] = 0.0
+        if np.array_equal(new, level):
+            break
+        level = new
+    both_moving = solvable[body_a] & solvable[body_b]
+    la, lb = level[body_a], level[body_b]
+    return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)
 
 
 def _velocity_array(b, n: int) -> np.ndarray:

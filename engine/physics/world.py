@@ -31,7 +31,7 @@ from engine import mn
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
-from .contacts import FreshPoints, ManifoldStore
+from .contacts import FreshPoints, ManifoldStore, feature_length
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .narrow_phase import narrow_phase
 from .node_sync import NodeSyncMixin
@@ -335,8 +335,11 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
                 if not has_points[k]:
                     continue
                 rolling = any(s.kind == "sphere" for s in b.shapes[key[0]] + b.shapes[key[1]])
+                thickness = [math.inf if i == STAGE_ID else 2.0 * b.body_min_half_extent[i]
+                             for i in key]
                 row = self.manifolds.add(tuple(key),
-                                         1 if rolling else constants.MAX_MANIFOLD_POINTS)
+                                         1 if rolling else constants.MAX_MANIFOLD_POINTS,
+                                         feature_length(*thickness))
             rows.append(row)
             updated.append(k)
         row_position = np.full(len(pairs), -1, dtype=np.int64)
