@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
@@ -60,11 +61,15 @@ def solve_stage(world, moving: np.ndarray, h: float):
                         b.body_position[:n], inv_mass, inv_inertia, friction, restitution,
                         store.impulse[rows], approach_velocity, color_slices,
                         split_mass=world.settings.block_jacobi,
-                        priority_starts=priority_starts, lower=lower)
+                        priority_starts=priority_starts, lower=lower,
+                        slop=np.minimum(constants.PENETRATION_SLOP, store.feature[rows]))
     pseudo = solve_contacts(batch, velocity, h, world.settings)
     b.body_linear_velocity[moving] = velocity[moving, :3]
     b.body_angular_velocity[moving] = velocity[moving, 3:]
-    store.impulse[rows] = batch.impulse  # zero in empty slots (for warm starting)
+    # warm start next step from resting loads only: an impact's impulse (a point that
+    # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
+    impact = batch.approach_speed < -constants.IMPACT_SPEED
+    store.impulse[rows] = np.where(impact[..., None], 0.0, batch.impulse)  # 0 in empty slots
     world.last_batch = batch
     world.last_h = h
     return pseudo

@@ -27,8 +27,16 @@ velocities are gathered with one flat index, and the normal clamp is written as
 ``d_lambda = max(d_lambda, -lambda)``, the same as clamping ``lambda + d_lambda >= 0``.
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
-pushes penetrations deeper than ``PENETRATION_SLOP`` apart at ``beta (depth - slop) / h``;
+pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
+``PENETRATION_SLOP``, capped at the manifold's feature length for small bodies);
 the pseudo velocity moves the bodies this step and is then discarded, so it adds no energy.
+Bodies created overlapping (a contact deeper than ``DEEP_OVERLAP``) get more sweeps and a
+firmer ``OVERLAP_BAUMGARTE``; the push stays a pseudo velocity capped at
+``MAX_CORRECTION_SPEED`` (2 m/s), so they separate calmly, never launched. This is Bullet's
+split impulse (``m_splitImpulsePenetrationThreshold``, pseudo velocities that are thrown
+away), Box2D v3's soft contact with ``contactPushMaxVelocity`` (3 m/s by default) and
+Jolt's position solve (Baumgarte 0.2 beyond ``mPenetrationSlop`` = 2 cm, at most
+``mMaxPenetrationDistance`` = 0.2 m corrected per step).
 Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
 faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
 
@@ -89,6 +97,7 @@ class ContactBatch:
     split: np.ndarray
     priority_starts: list = field(default_factory=list)
     lower: np.ndarray | None = None
+    slop: np.ndarray | float = constants.PENETRATION_SLOP
     colors: dict = field(default_factory=dict)
 
 
@@ -151,7 +160,7 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
 def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
                 inv_inertia, friction, restitution, impulse, velocity, color_slices,
                 split_mass: bool = False, priority_starts: list | None = None,
-                lower: np.ndarray | None = None):
+                lower: np.ndarray | None = None, slop: np.ndarray | None = None):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
 
     Parameters
@@ -166,6 +175,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
         None: no stage rows.
     lower : (m, 2) bool, which body of a dynamic pair is nearer the stage through contacts
         (for shock propagation; None: no shock pass).
+    slop : (m,) m, penetration left to each manifold by the position solve (None:
+        ``PENETRATION_SLOP``; small bodies get less, see ``ManifoldStore.feature``).
     """
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
@@ -197,7 +208,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         [int(counts[a:b].max()) for a, b in color_slices],
                         np.stack([body_a, body_b], axis=1), split,
                         [stop for _, stop in color_slices] if priority_starts is None
-                        else list(priority_starts), lower)
+                        else list(priority_starts), lower,
+                        constants.PENETRATION_SLOP if slop is None else slop[:, None])
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -414,14 +426,20 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
         return pseudo
     flat = pseudo.reshape(-1)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
-    excess = np.maximum(batch.depth - constants.PENETRATION_SLOP, 0.0)
-    target = np.minimum(constants.POSITION_BAUMGARTE * excess / h, constants.MAX_CORRECTION_SPEED)
+    excess = np.maximum(batch.depth - batch.slop, 0.0)
+    # bodies created overlapping (a contact deeper than DEEP_OVERLAP): more sweeps, firmer
+    overlap = excess.max(initial=0.0) > constants.DEEP_OVERLAP
+    beta = constants.OVERLAP_BAUMGARTE if overlap else constants.POSITION_BAUMGARTE
+    iterations = options.position_iterations
+    if overlap:
+        iterations = max(iterations, options.overlap_position_iterations)
+    target = np.minimum(beta * excess / h, constants.MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
     lam = np.zeros_like(bias)
     colors = _color_blocks(batch, options.block_jacobi)
     work = [[(block, bias[block.normal_index], lam[block.normal_index])
              for block in color.blocks] for color in colors]
-    for _ in range(options.position_iterations):
+    for _ in range(iterations):
         for color, blocks in zip(colors, work, strict=True):
             vab = _gather(flat, color)
             for block, b, block_lam in blocks:
