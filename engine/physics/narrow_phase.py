@@ -126,14 +126,16 @@ def _coincident(b, a: int, c: int) -> bool:
     return float(gap @ gap) < limit * limit
 
 
-def spread_direction(a: int, c: int) -> np.ndarray:
-    """(3,) unit horizontal direction to push coincident bodies a < c apart.
+def spread_direction(a, c) -> np.ndarray:
+    """Unit horizontal direction(s) ``(3,)`` (or ``(k, 3)`` for id arrays) to push
+    coincident bodies a < c apart.
 
     Any fixed direction would line all bodies created at one point up along one axis; a
     direction turning by the golden angle with the pair ids spreads them over a disc.
     """
+    a, c = np.asarray(a), np.asarray(c)
     turn = 2.0 * np.pi * ((a * 0.6180339887498949 + c * 0.7548776662466927) % 1.0)
-    return np.array([np.cos(turn), 0.0, np.sin(turn)])
+    return np.stack([np.cos(turn), np.zeros_like(turn), np.sin(turn)], axis=-1)
 
 
 def _coincident_spheres(b, a, shape_a, c, shape_c, rotation):
@@ -259,10 +261,17 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces; coincident bodies (whose fcl
     # normal is an arbitrary axis) get their pair's spread direction instead
-    n = np.array([spread_direction(job.body_a, job.body_b)
-                  if _coincident(bodies, job.body_a, job.body_b)
-                  else max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
+    n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
                   for job in jobs])
+    a = np.array([job.body_a for job in jobs])
+    c = np.array([job.body_b for job in jobs])
+    gap = position[c] - position[a]
+    # coincident: |x_c - x_a| < fraction * the thinner body's smallest dimension
+    limit = settings.COINCIDENT_FRACTION * 2.0 * np.minimum(bodies.body_min_half_extent[a],
+                                                            bodies.body_min_half_extent[c])
+    coincident = (gap * gap).sum(axis=1) < limit * limit
+    if coincident.any():
+        n[coincident] = spread_direction(a[coincident], c[coincident])
     frame_a = _pose([job.body_a for job in jobs], rotation, position)
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]

@@ -60,7 +60,7 @@ class SolverSettings:
     position_correction: bool = True
     block_jacobi: bool = True
     overlap_position_iterations: int = 6
-    stage_iterations: int = 2
+    stage_iterations: int = 1
     use_vectorized: bool = True
 
 

@@ -79,18 +79,17 @@ def _lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) 
     """(m, 2) bool: in each pair of moving bodies, the one fewer contacts away from the
     stage (or any body the solver does not move); neither when equal or unreached.
 
-    Levels by relaxation over the contact graph: ``level = 0`` for unmoved bodies, then
-    ``level[b] = min(level[b], level[a] + 1)`` over all pairs until nothing changes.
+    The levels are breadth-first distances in the contact graph: level 0 for the unmoved
+    bodies, then every unreached body touching a reached one gets the next level.
     """
     level = np.where(solvable, np.inf, 0.0)
-    for _ in range(32):
-        new = level.copy()
-        np.minimum.at(new, body_a, level[body_b] + 1)
-        np.minimum.at(new, body_b, level[body_a] + 1)
-        new[~solvable] = 0.0
-        if np.array_equal(new, level):
+    for next_level in range(1, len(body_a) + 1):
+        reached_a, reached_b = level[body_a] < np.inf, level[body_b] < np.inf
+        grow_b, grow_a = reached_a & ~reached_b, reached_b & ~reached_a
+        if not (grow_a.any() or grow_b.any()):
             break
-        level = new
+        level[body_b[grow_b]] = next_level
+        level[body_a[grow_a]] = next_level
     both_moving = solvable[body_a] & solvable[body_b]
     la, lb = level[body_a], level[body_b]
     return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)

@@ -221,22 +221,15 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
 
-def _color_blocks(batch: ContactBatch, block_jacobi: bool,
-                  priority: bool = False) -> list[ColorBlocks]:
+def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
     """The colors of the batch as :class:`ColorBlocks`, made once and cached on the batch.
 
     Block Jacobi solves all slots of a color at once (one block); Gauss-Seidel over the
-    slots makes one block per used slot, solved in slot order. ``priority``: only the
-    stage rows at the end of each color (colors without any are left out).
+    slots makes one block per used slot, solved in slot order.
     """
-    key = (block_jacobi, priority)
-    if key not in batch.colors:
+    if block_jacobi not in batch.colors:
         colors = []
         for color, (start, stop) in enumerate(batch.color_slices):
-            if priority:
-                start = batch.priority_starts[color]
-                if start == stop:
-                    continue
             s = slice(start, stop)
             slots = ([slice(None)] if block_jacobi
                      else [slice(k, k + 1) for k in range(batch.color_points[color])])
@@ -244,8 +237,8 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool,
             gather = 6 * batch.pair_index[s, :, None] + np.arange(6)
             colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
                                       [_row_block(batch, s, rows) for rows in slots]))
-        batch.colors[key] = colors
-    return batch.colors[key]
+        batch.colors[block_jacobi] = colors
+    return batch.colors[block_jacobi]
 
 
 def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
@@ -317,79 +310,101 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
-    _stage_rows_last(batch, flat, bias, lam_n, options)
+    _stage_rows_last(batch, flat, bias, options)
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
 
 
-def _stage_rows_last(batch, flat, bias, lam, options) -> None:
+def _stage_rows_last(batch, flat, bias, options) -> None:
     """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
-    over the dynamic pairs with the lower body held fixed (:func:`shock_batch`)."""
-    colors = _color_blocks(batch, True, priority=True)
-    _lumped_sweeps(colors, lumped_rows(batch, bias), flat, options.stage_iterations)
-    shock = shock_batch(batch)
+    over the dynamic pairs with the lower body held fixed (:func:`shock_rows`)."""
+    stage = [(start, stop) for (_, stop), start in zip(batch.color_slices,
+                                                        batch.priority_starts, strict=True)]
+    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, options.stage_iterations)
+    shock = shock_rows(batch)
     if shock is not None:
-        _lumped_sweeps(_color_blocks(shock, True), lumped_rows(shock, bias), flat,
+        _lumped_sweeps(batch, batch.color_slices, shock.with_bias(bias), flat,
                        options.stage_iterations)
 
 
-def lumped_rows(batch: ContactBatch, bias: np.ndarray):
+@dataclass
+class LumpedRows:
+    """Each manifold's points lumped into one normal row (see :func:`lumped_rows`):
+    ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``), the points'
+    averaging ``weight (m, S)`` and ``bias (m, 1, 1)``."""
+
+    jac: np.ndarray
+    w: np.ndarray
+    neg_mass: np.ndarray
+    weight: np.ndarray
+    bias: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, normal_jac, normal_w, active) -> LumpedRows:
+        """``J = mean_i J_i``, ``W = mean_i W_i`` over the ``active (m, S)`` points."""
+        count = np.maximum(active.sum(axis=1), 1)[:, None]
+        jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
+        w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
+        k = (jac * w).sum(axis=1)  # J W^T
+        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, 1e-300), 0.0)
+        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
+
+    def with_bias(self, bias: np.ndarray) -> LumpedRows:
+        """The rows with the mean of their points' biases ``bias (m, S, 1)``."""
+        row_bias = (bias[..., 0] * self.weight).sum(axis=1)
+        return LumpedRows(self.jac, self.w, self.neg_mass, self.weight, row_bias[:, None, None])
+
+
+def lumped_rows(batch: ContactBatch, bias: np.ndarray) -> LumpedRows:
     """Each manifold's points lumped into one normal row: ``J = mean_i J_i``, ``W = mean_i
-    W_i``, ``m_eff = 1 / (J W^T)``, bias = the smallest of its points' biases (the closest
-    point decides); rows without an active point get ``m_eff = 0``.
+    W_i``, ``m_eff = 1 / (J W^T)``, bias = the mean of its points' biases; rows without an
+    active point get ``m_eff = 0`` (made once per batch and cached).
 
-    Returns ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``) and
-    ``bias (m, 1, 1)``. One row per manifold cannot explode the way a clamped block solve
-    of nearly dependent rows can, and it removes a uniform approach in one sweep (mass
-    splitting removes a quarter of a box's per sweep).
+    One row per manifold cannot explode the way a clamped block solve of nearly dependent
+    rows can, and it removes a uniform approach in one sweep (mass splitting removes a
+    quarter of a box's per sweep).
     """
-    active = batch.mask & (batch.normal_mass > 0)  # (m, S)
-    count = np.maximum(active.sum(axis=1), 1)[:, None]
-    jac = (batch.normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
-    w = (batch.normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
-    k = (jac * w).sum(axis=1)  # J W^T
-    neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, 1e-300), 0.0)
-    row_bias = (bias[..., 0] * active).sum(axis=1) / count[:, 0]  # mean of the points'
-    return jac[:, None, :], w[:, :, None], neg_mass[:, None, None], row_bias[:, None, None]
+    if "lumped" not in batch.colors:
+        active = batch.mask & (batch.normal_mass > 0)
+        batch.colors["lumped"] = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
+    return batch.colors["lumped"].with_bias(bias)
 
 
-def _lumped_sweeps(colors, rows, flat, iterations: int) -> None:
-    """``iterations`` push-only sweeps of the lumped rows (:func:`lumped_rows`) of
-    ``colors``: ``d_lambda = max(-m_eff (J V + b), 0)``, ``V += W d_lambda`` (impulses are
-    only added, so a bounce solved before is kept)."""
-    jac, w, neg_mass, bias = rows
-    work = []
-    for color in colors:
-        s = color.blocks[0].normal_index[0]
-        work.append((color, jac[s], w[s], neg_mass[s], bias[s]))
-    for _ in range(iterations):
-        for color, j, wc, m, b in work:
-            vab = _gather(flat, color)
-            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
-            vab += wc @ step
-            _scatter(flat, color, vab)
-
-
-def shock_batch(batch: ContactBatch) -> ContactBatch | None:
-    """The batch seen by the shock pass (Guendelman et al. 2003, "shock propagation"),
+def shock_rows(batch: ContactBatch) -> LumpedRows | None:
+    """The lumped rows of the shock pass (Guendelman et al. 2003, "shock propagation"),
     made once and cached: in each dynamic pair the body nearer the stage (``lower``) gets
-    infinite mass (its half of ``W`` is zeroed, ``m_eff = 1 / (J W')``), the other rows get
-    ``m_eff = 0`` (no impulse). None when no pair has a lower body."""
+    infinite mass (its half of ``W`` is zeroed); the other rows get ``m_eff = 0``. None when
+    no pair has a lower body."""
     if "shock" not in batch.colors:
         shock = None
         lower = batch.lower
         if lower is not None and lower.any():
             # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
             keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
-            w = batch.normal_w * keep[:, :, None]
-            k = (batch.normal_jac * np.swapaxes(w, 1, 2)).sum(axis=-1)  # J W'^T, (m, S)
-            active = batch.mask & lower.any(axis=1)[:, None] & (k > 0)
-            mass = np.where(active, 1.0 / (batch.split * np.maximum(k, 1e-300)), 0.0)
-            shock = ContactBatch(**{**vars(batch), "normal_w": w, "normal_mass": mass,
-                                    "colors": {}, "lower": None})
+            active = batch.mask & (batch.normal_mass > 0) & lower.any(axis=1)[:, None]
+            shock = LumpedRows.of(batch.normal_jac, batch.normal_w * keep[:, :, None], active)
         batch.colors["shock"] = shock
     return batch.colors["shock"]
+
+
+def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> None:
+    """``iterations`` push-only sweeps of the lumped ``rows`` over the manifold ranges
+    ``[(start, stop), ...]`` (one per color): ``d_lambda = max(-m_eff (J V + b), 0)``,
+    ``V += W d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
+    work = []
+    for start, stop in ranges:
+        if start == stop:
+            continue
+        s = slice(start, stop)
+        # flat index of component c of body b: 6 b + c
+        gather = (6 * batch.pair_index[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
+        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], rows.bias[s]))
+    for _ in range(iterations):
+        for gather, j, w, m, b in work:
+            vab = flat[gather]
+            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
+            flat[gather] = vab + w @ step
 
 
 def _restitution(batch, flat, colors, lam_n):
@@ -445,7 +460,7 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
             for block, b, block_lam in blocks:
                 _normal_rows(block, vab, b, block_lam, True)
             _scatter(flat, color, vab)
-    _stage_rows_last(batch, flat, bias, lam, options)
+    _stage_rows_last(batch, flat, bias, options)
     return pseudo
 
 
@@ -492,14 +507,12 @@ def solve_velocities_scalar(batch: ContactBatch, velocity: np.ndarray, h: float,
     stage_rows = [m for (_, stop), first in zip(batch.color_slices, batch.priority_starts,
                                                 strict=True) for m in range(first, stop)]
     bias_array = np.maximum(-batch.depth, 0.0)[..., None] / h
-    shock = shock_batch(batch)
-    for rows, source in ((stage_rows, batch), (range(len(lam)), shock)):
-        if source is None:
-            continue
-        lumped = lumped_rows(source, bias_array)
-        for _ in range(options.stage_iterations):  # the stage rows get the last word
-            for m in rows:
-                _scalar_lumped(source, lumped, m, velocity)
+    shock = shock_rows(batch)
+    for rows, lumped in ((stage_rows, lumped_rows(batch, bias_array)),
+                         (range(len(lam)), None if shock is None else shock.with_bias(bias_array))):
+        for _ in range(options.stage_iterations if lumped is not None else 0):
+            for m in rows:  # the stage rows, then the shock rows, get the last word
+                _scalar_lumped(batch, lumped, m, velocity)
     batch.impulse[:, :, 0] = lam
 
 
@@ -529,11 +542,12 @@ def _scalar_normal(batch, m, group, velocity, bias, lam, accumulate):
     _scalar_apply(batch.normal_w[m], group, steps, velocity, a, b)
 
 
-def _scalar_lumped(batch, lumped, m, velocity):
+def _scalar_lumped(batch, lumped: LumpedRows, m, velocity):
     """One push-only update of manifold m's lumped row (see :func:`lumped_rows`)."""
-    jac, w, neg_mass, bias = (array[m].ravel() for array in lumped)
+    jac, w = lumped.jac[m].ravel(), lumped.w[m].ravel()
     a, b = batch.body_a[m], batch.body_b[m]
-    step = max(neg_mass[0] * (_scalar_row_velocity(jac, velocity, a, b) + bias[0]), 0.0)
+    error = _scalar_row_velocity(jac, velocity, a, b) + lumped.bias[m].item()
+    step = max(lumped.neg_mass[m].item() * error, 0.0)
     for k in range(6):
         velocity[a, k] += w[k] * step
         velocity[b, k] += w[6 + k] * step
