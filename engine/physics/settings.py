@@ -136,7 +136,7 @@ MAX_ANGULAR_SPEED = 100.0
 #: fixed steps, the most a single step_physics call may run (dt / timestep above it raises).
 MAX_STEPS_PER_CALL = 100_000
 #: 1, a body moving more than this fraction of its smallest half extent per step is swept
-#: against static geometry (CCD-lite) so it cannot tunnel through thin walls.
+#: against static geometry (continuous collision, sweep.py) so it cannot tunnel through walls.
 CCD_MOTION_FRACTION = 0.5
 #: sweeps, the most swept tests per fast body and step (one more wall found per sweep).
 CCD_SWEEPS = 3

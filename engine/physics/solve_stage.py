@@ -14,7 +14,7 @@ from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
-from .quaternions import quat_to_matrix
+from .quaternions import live_rotations
 from .solver import SLOTS, build_batch, solve_contacts
 
 
@@ -39,7 +39,7 @@ def solve_stage(world, moving: np.ndarray, h: float):
     rows = rows[np.concatenate(colors)]
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
-    rotation = quat_to_matrix(b.body_rotation[:n])
+    rotation = live_rotations(b)
     points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:n])
     empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
     normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty

@@ -40,15 +40,19 @@ Jolt's position solve (Baumgarte 0.2 beyond ``mPenetrationSlop`` = 2 cm, at most
 Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
 faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
 
-The stage always wins (``SolverSettings.stage_iterations``): a few more normal-only sweeps
-over the *stage rows* (manifolds with a body the solver does not move: the stage, static
-and kinematic bodies) end both the velocity and the position solve. Gauss-Seidel with a
+The stage always wins (``SolverSettings.stage_iterations``): push-only sweeps of one lumped
+normal row per manifold (:func:`lumped_rows`) over the *stage rows* (manifolds with a body
+the solver does not move: the stage, static and kinematic bodies), then over the dynamic
+pairs with the body nearer the stage held fixed (:func:`shock_rows`), end both the
+velocity and the position solve. Gauss-Seidel with a
 mass ratio of 1000 converges far too slowly for a light box under a heavy one to be held
 up by the floor; the last word of the stage rows guarantees the light box does not move
 into the floor this step (it may be squeezed into the heavy box instead, which is
-harmless). Bullet has no such rule (its light bodies sink); Box2D v3 solves static contacts
-after the others in each iteration ("overflow"/static constraints), Jolt relies on many
-iterations and its "mass scale" contact callbacks; Erleben's shock propagation freezes the
+harmless). Bullet has no such rule (its light bodies sink); Box2D v3 keeps the contacts of
+a dynamic and a static body in its last graph colors (``B2_DYNAMIC_COLOR_COUNT`` = colors
+- 4) so every iteration solves them after the dynamic pairs, "to reduce tunneling due to
+push through" (we also put the stage rows last in each color); Jolt relies on iterations
+and contact callbacks that scale masses; Guendelman et al.'s shock propagation freezes the
 bodies below, a stronger form of the same priority.
 """
 
