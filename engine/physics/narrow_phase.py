@@ -5,7 +5,12 @@ at once. A Python loop asks python-fcl about every shape pair (that call is the 
 per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 
 * stage vs polyhedron, grouped by the polyhedron's hull vertex count ``V``: the body's hull
-  vertices lying in the prism of a touched triangle, just below its plane (method 2);
+  vertices lying in the prism of a touched triangle, just below its plane (method 2). The
+  triangle's normal is turned to the stage's *outward side*: the side the body was on
+  when the contact began, remembered by the pair's manifold (its cached normals point
+  from the stage to the body). Only a new contact falls back to the side holding the
+  middle of the body's extent; the body's center is never used, so a thin plate pushed
+  past the surface's plane is still pushed back out, never through;
 * polyhedron vs polyhedron, grouped by ``(V_a, F_a, V_b, F_b)`` vertex and face counts: the
   vertices of one body inside the other, measured against the reference face picked by
   fcl's normal (method 1);
@@ -97,15 +102,52 @@ def narrow_phase(world, pairs: list, rotation: np.ndarray):
                         key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
                                len(shape_c.hull_vertices), len(shape_c.plane_normals))
                         jobs["polyhedra"][key].append(Job(seq, shape_a, a, shape_c, c, found))
+                elif shape_a.kind == shape_c.kind == "sphere" and _coincident(b, a, c):
+                    contacts.add_one(seq, _coincident_spheres(b, a, shape_a, c, shape_c,
+                                                              rotation))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
                                                          probe_c))
     for group in jobs["stage"].values():
-        _stage_group(group, rotation, b.body_position, contacts)
+        _stage_group(group, rotation, b.body_position, contacts,
+                     _cached_normals(world.manifolds, [job.body_b for job in group]))
     for group in jobs["polyhedra"].values():
-        _polyhedron_group(group, rotation, b.body_position, contacts)
+        _polyhedron_group(group, rotation, b.body_position, contacts, b)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
+
+
+def _coincident(b, a: int, c: int) -> bool:
+    """Bodies a and c have (nearly) the same center: closer than ``COINCIDENT_FRACTION`` of
+    the thinner one's smallest dimension (created at one point, say)."""
+    limit = settings.COINCIDENT_FRACTION * 2.0 * min(b.body_min_half_extent[a],
+                                                     b.body_min_half_extent[c])
+    gap = b.body_position[c] - b.body_position[a]
+    return float(gap @ gap) < limit * limit
+
+
+def spread_direction(a, c) -> np.ndarray:
+    """Unit horizontal direction(s) ``(3,)`` (or ``(k, 3)`` for id arrays) to push
+    coincident bodies a < c apart.
+
+    Any fixed direction would line all bodies created at one point up along one axis; a
+    direction turning by the golden angle with the pair ids spreads them over a disc.
+    """
+    a, c = np.asarray(a), np.asarray(c)
+    turn = 2.0 * np.pi * ((a * 0.6180339887498949 + c * 0.7548776662466927) % 1.0)
+    return np.stack([np.cos(turn), np.zeros_like(turn), np.sin(turn)], axis=-1)
+
+
+def _coincident_spheres(b, a, shape_a, c, shape_c, rotation):
+    """Contact of two spheres with (nearly) coincident centers along
+    :func:`spread_direction` (fcl's center-to-center normal is undefined there)."""
+    n = spread_direction(a, c)
+    center_a = rotation[a] @ shape_a.body_from_shape[:3, 3] + b.body_position[a]
+    center_c = rotation[c] @ shape_c.body_from_shape[:3, 3] + b.body_position[c]
+    # A's deepest point inside C and C's inside A: depth = r_a + r_c + (x_a - x_c) . n
+    point_a = center_a + shape_a.radius * n
+    point_b = center_c - shape_c.radius * n
+    return point_a[None], point_b[None], n[None]
 
 
 def _pose(bodies: list, rotation, position):
@@ -119,8 +161,36 @@ def _to_world(rotation, position, points):
     return np.einsum("gij,gkj->gki", rotation, points) + position[:, None]
 
 
-def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
-    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage."""
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body) and ``valid (g, S)`` of the manifolds of
+    the stage with ``bodies`` (the stage frame is the world frame)."""
+    rows = [store.row((0, body)) for body in bodies]
+    known = np.array([row is not None for row in rows])
+    index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
+    slots = np.arange(store.normal_local.shape[1])
+    valid = known[:, None] & (slots < store.count[index][:, None])
+    return store.normal_local[index], valid
+
+
+def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+    """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to the triangle's decides when it is within 60
+    degrees of it; otherwise (a new contact) the side holding the middle of the hull's
+    extent along the normal.
+    """
+    cached_normal, valid = cached
+    # n_t . c_k for every triangle t and cached normal k, (g, T, S)
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * valid[:, None, :]
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None],
+                                   axis=2)[..., 0]
+    middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
+    return np.where(np.abs(strongest) > 0.5, np.sign(strongest), middle)
+
+
+def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
+    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`)."""
     stage = jobs[0].shape_a
     table = _triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
@@ -134,9 +204,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = (np.einsum("gti,gvi->gtv", normal, verts)
               - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
-    # each normal faces the side holding the middle of the hull's extent along it (robust
-    # for any vertex distribution and COM, and for bodies sunk in by less than half)
-    side = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)  # (g, T)
+    side = _outward_side(normal, height, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
@@ -188,12 +256,22 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
     return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)
 
 
-def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
+def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> None:
     """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts."""
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
-    # fcl's deepest normal (A -> B) picks the touching faces
+    # fcl's deepest normal (A -> B) picks the touching faces; coincident bodies (whose fcl
+    # normal is an arbitrary axis) get their pair's spread direction instead
     n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
                   for job in jobs])
+    a = np.array([job.body_a for job in jobs])
+    c = np.array([job.body_b for job in jobs])
+    gap = position[c] - position[a]
+    # coincident: |x_c - x_a| < fraction * the thinner body's smallest dimension
+    limit = settings.COINCIDENT_FRACTION * 2.0 * np.minimum(bodies.body_min_half_extent[a],
+                                                            bodies.body_min_half_extent[c])
+    coincident = (gap * gap).sum(axis=1) < limit * limit
+    if coincident.any():
+        n[coincident] = spread_direction(a[coincident], c[coincident])
     frame_a = _pose([job.body_a for job in jobs], rotation, position)
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]

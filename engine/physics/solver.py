@@ -27,10 +27,33 @@ velocities are gathered with one flat index, and the normal clamp is written as
 ``d_lambda = max(d_lambda, -lambda)``, the same as clamping ``lambda + d_lambda >= 0``.
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
-pushes penetrations deeper than ``PENETRATION_SLOP`` apart at ``beta (depth - slop) / h``;
+pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
+``PENETRATION_SLOP``, capped at the manifold's feature length for small bodies);
 the pseudo velocity moves the bodies this step and is then discarded, so it adds no energy.
+Bodies created overlapping (contacts deeper than ``DEEP_OVERLAP``) get more sweeps and,
+for those contacts, a firmer ``OVERLAP_BAUMGARTE``; the push stays a pseudo velocity capped at
+``MAX_CORRECTION_SPEED`` (2 m/s), so they separate calmly, never launched. This is Bullet's
+split impulse (``m_splitImpulsePenetrationThreshold``, pseudo velocities that are thrown
+away), Box2D v3's soft contact with ``contactPushMaxVelocity`` (3 m/s by default) and
+Jolt's position solve (Baumgarte 0.2 beyond ``mPenetrationSlop`` = 2 cm, at most
+``mMaxPenetrationDistance`` = 0.2 m corrected per step).
 Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
 faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
+
+The stage always wins (``SolverSettings.stage_iterations``): push-only sweeps of one lumped
+normal row per manifold (:func:`lumped_rows`) over the *stage rows* (manifolds with a body
+the solver does not move: the stage, static and kinematic bodies), then over the dynamic
+pairs with the body nearer the stage held fixed (:func:`shock_rows`), end both the
+velocity and the position solve. Gauss-Seidel with a
+mass ratio of 1000 converges far too slowly for a light box under a heavy one to be held
+up by the floor; the last word of the stage rows guarantees the light box does not move
+into the floor this step (it may be squeezed into the heavy box instead, which is
+harmless). Bullet has no such rule (its light bodies sink); Box2D v3 keeps the contacts of
+a dynamic and a static body in its last graph colors (``B2_DYNAMIC_COLOR_COUNT`` = colors
+- 4) so every iteration solves them after the dynamic pairs, "to reduce tunneling due to
+push through" (we also put the stage rows last in each color); Jolt relies on iterations
+and contact callbacks that scale masses; Guendelman et al.'s shock propagation freezes the
+bodies below, a stronger form of the same priority.
 """
 
 from __future__ import annotations
@@ -76,6 +99,9 @@ class ContactBatch:
     color_points: list
     pair_index: np.ndarray
     split: np.ndarray
+    priority_starts: list = field(default_factory=list)
+    lower: np.ndarray | None = None
+    slop: np.ndarray | float = constants.PENETRATION_SLOP
     colors: dict = field(default_factory=dict)
 
 
@@ -137,7 +163,8 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
 
 def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
                 inv_inertia, friction, restitution, impulse, velocity, color_slices,
-                split_mass: bool = False):
+                split_mass: bool = False, priority_starts: list | None = None,
+                lower: np.ndarray | None = None, slop: np.ndarray | None = None):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
 
     Parameters
@@ -148,6 +175,12 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     inv_inertia : (n, 3, 3) world inverse inertia (zero for non-dynamic bodies).
     friction, restitution : (m,) pair coefficients. impulse : (m, S, 3) cached impulses.
     velocity : (n, 6) body velocities [v, w], to record the approach speed.
+    priority_starts : per color, the first of its stage rows (they end each color), or
+        None: no stage rows.
+    lower : (m, 2) bool, which body of a dynamic pair is nearer the stage through contacts
+        (for shock propagation; None: no shock pass).
+    slop : (m,) m, penetration left to each manifold by the position solve (None:
+        ``PENETRATION_SLOP``; small bodies get less, see ``ManifoldStore.feature``).
     """
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
@@ -177,7 +210,10 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1), split)
+                        np.stack([body_a, body_b], axis=1), split,
+                        [stop for _, stop in color_slices] if priority_starts is None
+                        else list(priority_starts), lower,
+                        constants.PENETRATION_SLOP if slop is None else slop[:, None])
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -278,9 +314,101 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
+    _stage_rows_last(batch, flat, bias, options)
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
+
+
+def _stage_rows_last(batch, flat, bias, options) -> None:
+    """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
+    over the dynamic pairs with the lower body held fixed (:func:`shock_rows`)."""
+    stage = [(start, stop) for (_, stop), start in zip(batch.color_slices,
+                                                        batch.priority_starts, strict=True)]
+    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, options.stage_iterations)
+    shock = shock_rows(batch)
+    if shock is not None:
+        _lumped_sweeps(batch, batch.color_slices, shock.with_bias(bias), flat,
+                       options.stage_iterations)
+
+
+@dataclass
+class LumpedRows:
+    """Each manifold's points lumped into one normal row (see :func:`lumped_rows`):
+    ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``), the points'
+    averaging ``weight (m, S)`` and ``bias (m, 1, 1)``."""
+
+    jac: np.ndarray
+    w: np.ndarray
+    neg_mass: np.ndarray
+    weight: np.ndarray
+    bias: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, normal_jac, normal_w, active) -> LumpedRows:
+        """``J = mean_i J_i``, ``W = mean_i W_i`` over the ``active (m, S)`` points."""
+        count = np.maximum(active.sum(axis=1), 1)[:, None]
+        jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
+        w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
+        k = (jac * w).sum(axis=1)  # J W^T
+        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, 1e-300), 0.0)
+        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
+
+    def with_bias(self, bias: np.ndarray) -> LumpedRows:
+        """The rows with the mean of their points' biases ``bias (m, S, 1)``."""
+        row_bias = (bias[..., 0] * self.weight).sum(axis=1)
+        return LumpedRows(self.jac, self.w, self.neg_mass, self.weight, row_bias[:, None, None])
+
+
+def lumped_rows(batch: ContactBatch, bias: np.ndarray) -> LumpedRows:
+    """Each manifold's points lumped into one normal row: ``J = mean_i J_i``, ``W = mean_i
+    W_i``, ``m_eff = 1 / (J W^T)``, bias = the mean of its points' biases; rows without an
+    active point get ``m_eff = 0`` (made once per batch and cached).
+
+    One row per manifold cannot explode the way a clamped block solve of nearly dependent
+    rows can, and it removes a uniform approach in one sweep (mass splitting removes a
+    quarter of a box's per sweep).
+    """
+    if "lumped" not in batch.colors:
+        active = batch.mask & (batch.normal_mass > 0)
+        batch.colors["lumped"] = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
+    return batch.colors["lumped"].with_bias(bias)
+
+
+def shock_rows(batch: ContactBatch) -> LumpedRows | None:
+    """The lumped rows of the shock pass (Guendelman et al. 2003, "shock propagation"),
+    made once and cached: in each dynamic pair the body nearer the stage (``lower``) gets
+    infinite mass (its half of ``W`` is zeroed); the other rows get ``m_eff = 0``. None when
+    no pair has a lower body."""
+    if "shock" not in batch.colors:
+        shock = None
+        lower = batch.lower
+        if lower is not None and lower.any():
+            # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
+            keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
+            active = batch.mask & (batch.normal_mass > 0) & lower.any(axis=1)[:, None]
+            shock = LumpedRows.of(batch.normal_jac, batch.normal_w * keep[:, :, None], active)
+        batch.colors["shock"] = shock
+    return batch.colors["shock"]
+
+
+def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> None:
+    """``iterations`` push-only sweeps of the lumped ``rows`` over the manifold ranges
+    ``[(start, stop), ...]`` (one per color): ``d_lambda = max(-m_eff (J V + b), 0)``,
+    ``V += W d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
+    work = []
+    for start, stop in ranges:
+        if start == stop:
+            continue
+        s = slice(start, stop)
+        # flat index of component c of body b: 6 b + c
+        gather = (6 * batch.pair_index[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
+        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], rows.bias[s]))
+    for _ in range(iterations):
+        for gather, j, w, m, b in work:
+            vab = flat[gather]
+            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
+            flat[gather] = vab + w @ step
 
 
 def _restitution(batch, flat, colors, lam_n):
@@ -317,19 +445,27 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
         return pseudo
     flat = pseudo.reshape(-1)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
-    excess = np.maximum(batch.depth - constants.PENETRATION_SLOP, 0.0)
-    target = np.minimum(constants.POSITION_BAUMGARTE * excess / h, constants.MAX_CORRECTION_SPEED)
+    excess = np.maximum(batch.depth - batch.slop, 0.0)
+    # bodies created overlapping (contacts deeper than DEEP_OVERLAP): more sweeps, and a
+    # firmer push for those contacts
+    deep = excess > constants.DEEP_OVERLAP
+    beta = np.where(deep, constants.OVERLAP_BAUMGARTE, constants.POSITION_BAUMGARTE)
+    iterations = options.position_iterations
+    if deep.any():
+        iterations = max(iterations, options.overlap_position_iterations)
+    target = np.minimum(beta * excess / h, constants.MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
     lam = np.zeros_like(bias)
     colors = _color_blocks(batch, options.block_jacobi)
     work = [[(block, bias[block.normal_index], lam[block.normal_index])
              for block in color.blocks] for color in colors]
-    for _ in range(options.position_iterations):
+    for _ in range(iterations):
         for color, blocks in zip(colors, work, strict=True):
             vab = _gather(flat, color)
             for block, b, block_lam in blocks:
                 _normal_rows(block, vab, b, block_lam, True)
             _scatter(flat, color, vab)
+    _stage_rows_last(batch, flat, bias, options)
     return pseudo
 
 
@@ -373,6 +509,15 @@ def solve_velocities_scalar(batch: ContactBatch, velocity: np.ndarray, h: float,
         for m in range(start, stop):
             for group in groups:
                 _scalar_restitution(batch, m, group, velocity, lam[m])
+    stage_rows = [m for (_, stop), first in zip(batch.color_slices, batch.priority_starts,
+                                                strict=True) for m in range(first, stop)]
+    bias_array = np.maximum(-batch.depth, 0.0)[..., None] / h
+    shock = shock_rows(batch)
+    for rows, lumped in ((stage_rows, lumped_rows(batch, bias_array)),
+                         (range(len(lam)), None if shock is None else shock.with_bias(bias_array))):
+        for _ in range(options.stage_iterations if lumped is not None else 0):
+            for m in rows:  # the stage rows, then the shock rows, get the last word
+                _scalar_lumped(batch, lumped, m, velocity)
     batch.impulse[:, :, 0] = lam
 
 
@@ -400,6 +545,17 @@ def _scalar_normal(batch, m, group, velocity, bias, lam, accumulate):
         steps.append(new - lam[slot])
         lam[slot] = new
     _scalar_apply(batch.normal_w[m], group, steps, velocity, a, b)
+
+
+def _scalar_lumped(batch, lumped: LumpedRows, m, velocity):
+    """One push-only update of manifold m's lumped row (see :func:`lumped_rows`)."""
+    jac, w = lumped.jac[m].ravel(), lumped.w[m].ravel()
+    a, b = batch.body_a[m], batch.body_b[m]
+    error = _scalar_row_velocity(jac, velocity, a, b) + lumped.bias[m].item()
+    step = max(lumped.neg_mass[m].item() * error, 0.0)
+    for k in range(6):
+        velocity[a, k] += w[k] * step
+        velocity[b, k] += w[6 + k] * step
 
 
 def _scalar_friction(batch, m, group, velocity, accumulate):

@@ -6,7 +6,7 @@ after box2d-lite's ``World::Step`` and Box2D v3's stage list:
 1. forces: gravity, applied forces/torques and damping change the velocities;
 2. collision: broad phase (AABB pairs), narrow phase (fcl + our manifolds);
 3. solve: warm start, sequential impulses by graph color, restitution, split impulses;
-4. integrate: positions and rotations, speed clamps, CCD-lite sweeps of fast bodies;
+4. integrate: positions and rotations, speed clamps, swept tests of fast bodies (CCD);
 5. sleep: islands at rest fall asleep, disturbed ones wake.
 
 ``step_physics(dt)`` wraps it the way Habitat wraps ``btDiscreteDynamicsWorld::
@@ -33,11 +33,11 @@ from .bodies import DYNAMIC, KINEMATIC, STATIC, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
 from .collision_groups import assign_group, filter_pairs
 from .constraints import ConstraintStore
-from .contacts import FreshPoints, ManifoldStore
+from .contacts import FreshPoints, ManifoldStore, feature_length
 from .integrate import clamp_speeds, integrate_positions, integrate_velocities
 from .narrow_phase import narrow_phase
 from .node_sync import NodeSyncMixin
-from .quaternions import quat_to_matrix
+from .quaternions import live_rotations, quat_to_matrix
 from .settings import SolverSettings
 from .shapes import mesh_shape, probe_geometry
 from .sleeping import moving_kinematic_mask, update_sleep, wake_touched
@@ -257,12 +257,13 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         """Broad phase over all collidable bodies, then refresh the manifolds of each pair."""
         b, n = self.bodies, self.bodies.count
         start = timer.perf_counter()
-        has_shapes = np.array([len(s) > 0 for s in b.shapes[:n]], dtype=bool)
-        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n] & has_shapes)[0]
-        rotation = quat_to_matrix(b.body_rotation[:n])
-        lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
-                             b.body_position[:n], b.body_rotation[:n])
-        b.body_aabb_min[:n], b.body_aabb_max[:n] = lo - AABB_MARGIN, hi + AABB_MARGIN
+        # every live object has shapes; the stage without shapes is not collidable
+        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+        rotation = live_rotations(b)
+        live = np.flatnonzero(b.body_alive[:n])  # freed slots cost nothing
+        lo, hi = world_aabbs(b.body_shape_center[live], b.body_shape_half[live],
+                             b.body_position[live], b.body_rotation[live])
+        b.body_aabb_min[live], b.body_aabb_max[live] = lo - AABB_MARGIN, hi + AABB_MARGIN
         # the stage also covers the speculative distance of its contacts
         b.body_aabb_min[STAGE_ID] -= constants.STAGE_SPECULATIVE_DISTANCE
         b.body_aabb_max[STAGE_ID] += constants.STAGE_SPECULATIVE_DISTANCE
@@ -342,8 +343,11 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
                 if not has_points[k]:
                     continue
                 rolling = any(s.kind == "sphere" for s in b.shapes[key[0]] + b.shapes[key[1]])
+                thickness = [math.inf if i == STAGE_ID else 2.0 * b.body_min_half_extent[i]
+                             for i in key]
                 row = self.manifolds.add(tuple(key),
-                                         1 if rolling else constants.MAX_MANIFOLD_POINTS)
+                                         1 if rolling else constants.MAX_MANIFOLD_POINTS,
+                                         feature_length(*thickness))
             rows.append(row)
             updated.append(k)
         row_position = np.full(len(pairs), -1, dtype=np.int64)

@@ -2,10 +2,6 @@
 
 The soak itself raises on the first NaN or inconsistent count (manager, wrappers, live
 bodies); this test then checks the memory growth and the objects lost through the stage.
-
-``ROBUST_PHYSICS_MERGED``: the fall-through fixes live on another branch. While it is False
-a loss is reported as an expected failure (xfail) with the lost objects listed; set it to True
-once that branch is merged, and the loss check becomes a strict assertion.
 """
 
 from __future__ import annotations
@@ -16,7 +12,6 @@ from pathlib import Path
 
 import pytest
 
-ROBUST_PHYSICS_MERGED = False  # flip to True when the robust-physics branch is merged
 #: MB, resident-memory growth allowed between the warm-up and the end of the soak
 MEMORY_GROWTH_BUDGET_MB = 50.0
 
@@ -53,7 +48,4 @@ def test_soak_memory_is_bounded(report):
 
 
 def test_soak_loses_no_dynamic_object(report):
-    if report.lost and not ROBUST_PHYSICS_MERGED:
-        pytest.xfail(f"{len(report.lost)} dynamic objects left the stage (fall-through fixes "
-                     f"are on the robust-physics branch): {report.lost}")
     assert report.lost == [], report.summary()
