@@ -8,3 +8,5 @@ inherited by every Ray process the tests start.
 import os
 
 os.environ["RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"] = "0"
+# no usage statistics sent from test clusters
+os.environ["RAY_USAGE_STATS_ENABLED"] = "0"
