@@ -91,7 +91,7 @@ def run_batch(
         for result in _backend_results(backend, episode_fn, tasks, workers, max_retries,
                                        ray_address):
             if store is not None:
-                store.write(result)
+                result = store.write(result)
             results[result.index] = result
             bar.add(result)
     finally:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -100,12 +101,23 @@ class ResultStore:
             records[record.index] = record
         return records
 
-    def write(self, result: EpisodeResult) -> None:
-        """Append one record and flush it to disk."""
-        line = json.dumps(result.to_dict(), default=to_json_value)
+    def write(self, result: EpisodeResult) -> EpisodeResult:
+        """Append one record, flush it to disk and return it.
+
+        A value JSON cannot hold turns the record into a failed one (in memory too), so the
+        file and the returned results always agree.
+        """
+        try:
+            line = json.dumps(result.to_dict(), default=to_json_value)
+        except (TypeError, ValueError) as error:
+            result = replace(result, status="failed", value=None,
+                             error=f"TypeError: the episode's value is not JSON serializable "
+                                   f"(needed with output_dir): {error}")
+            line = json.dumps(result.to_dict(), default=to_json_value)
         self._handle.write(line + "\n")
         self._handle.flush()
         os.fsync(self._handle.fileno())
+        return result
 
     def close(self) -> None:
         self._handle.close()

@@ -152,6 +152,17 @@ def test_a_torn_last_line_is_ignored_and_rerun(tmp_path: Path):
     assert [r.index for r in read_results(out)] == [0, 1]
 
 
+def test_a_value_json_cannot_hold_fails_its_episode_only(tmp_path: Path):
+    def returns_an_object(p, seed):
+        return {"thing": object()} if p["bad"] else {"seed": seed}
+
+    results = run_batch(returns_an_object, [{"bad": False}, {"bad": True}], backend="serial",
+                        output_dir=tmp_path, progress=False)
+    assert [r.status for r in results] == ["ok", "failed"]
+    assert "not JSON serializable" in results[1].error
+    assert [r.status for r in read_results(tmp_path)] == ["ok", "failed"]
+
+
 def test_bad_arguments_are_refused_before_anything_runs(tmp_path: Path):
     with pytest.raises(ValueError, match="backend"):
         run_batch(toss_cube, [{}], backend="threads")
