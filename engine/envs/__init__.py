@@ -7,7 +7,7 @@ Importing this package registers:
   500 actions at most;
 - ``rigidsim/PushObject-v0`` (:class:`~engine.envs.push_object.PushObjectEnv`): the
   locobot pushes a cube onto a target patch, continuous velocity commands, dense reward,
-  200 steps at most.
+  200 steps at most (:func:`~engine.envs.push_object.scripted_push_action` solves it).
 
     import gymnasium as gym
     import engine.envs  # noqa: F401  (registers the ids)
@@ -27,12 +27,19 @@ except ImportError as error:  # pragma: no cover - depends on the installation
     raise ImportError("engine.envs needs gymnasium: pip install 'rigidsim[gym]'") from error
 
 from engine.envs.point_nav import ACTIONS, PointNavEnv
-from engine.envs.push_object import PushObjectEnv
+from engine.envs.push_object import PushObjectEnv, scripted_push_action
 
 POINT_NAV_ID = "rigidsim/PointNav-v0"
 PUSH_OBJECT_ID = "rigidsim/PushObject-v0"
 
-__all__ = ["ACTIONS", "POINT_NAV_ID", "PUSH_OBJECT_ID", "PointNavEnv", "PushObjectEnv"]
+__all__ = [
+    "ACTIONS",
+    "POINT_NAV_ID",
+    "PUSH_OBJECT_ID",
+    "PointNavEnv",
+    "PushObjectEnv",
+    "scripted_push_action",
+]
 
 
 def _register() -> None:

@@ -199,3 +199,33 @@ def _add_box(templates, objects, cube_handle: str, handle: str, half_size, mass:
     template = templates.get_template_by_handle(cube_handle).copy()
     template.scale, template.mass = list(half_size), float(mass)
     return objects.add_object_by_template_id(templates.register_template(template, handle))
+
+
+# ------------------------------------------------------------------------------------------
+# A scripted baseline: get behind the cube, then push it towards the target
+# ------------------------------------------------------------------------------------------
+BEHIND_DISTANCE = 0.35  # m behind the cube's center: robot radius 0.18 + cube half size 0.1 + gap
+
+
+def scripted_push_action(observation: np.ndarray) -> np.ndarray:
+    """A hand-written controller for PushObject (a baseline for learned policies).
+
+    With ``u`` the unit vector from the cube to the target, the robot first drives to the
+    point ``cube - 0.35 u`` behind the cube, then towards the target, pushing the cube ahead.
+    Steering is proportional to the signed angle to the current goal (positive = left,
+    ``atan2(f_z g_x - f_x g_z, f . g)`` for forward ``f`` and goal offset ``g`` in the
+    x-z plane); the forward command fades as ``cos^3`` of that angle so it turns first.
+    """
+    robot, cube, target = observation[0:2], observation[4:6], observation[6:8]
+    forward = np.array([-observation[3], -observation[2]])  # (x, z) of local -Z at yaw
+    push = (target - cube) / max(float(np.linalg.norm(target - cube)), 1e-9)
+    behind = cube - BEHIND_DISTANCE * push
+    offset = robot - cube
+    lateral = abs(push[0] * offset[1] - push[1] * offset[0])  # distance off the push line
+    in_position = np.linalg.norm(behind - robot) < 0.08 or (offset @ push < -0.25
+                                                             and lateral < 0.05)
+    goal = (target if in_position else behind) - robot
+    angle = math.atan2(forward[1] * goal[0] - forward[0] * goal[1], forward @ goal)
+    turn = np.clip(2.0 * angle, -1.0, 1.0)
+    speed = min(2.0 * float(np.linalg.norm(goal)), 1.0) * max(0.0, math.cos(angle)) ** 3
+    return np.array([speed, turn], dtype=np.float32)

@@ -15,7 +15,13 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import engine.envs  # noqa: F401  (registers the ids)
-from engine.envs import POINT_NAV_ID, PUSH_OBJECT_ID, PointNavEnv, PushObjectEnv
+from engine.envs import (
+    POINT_NAV_ID,
+    PUSH_OBJECT_ID,
+    PointNavEnv,
+    PushObjectEnv,
+    scripted_push_action,
+)
 from engine.envs.greedy_follower import TURN_LEFT, greedy_action, run_greedy_episode
 from engine.envs.push_object import CONTROL_DT, MAX_LINEAR_SPEED
 
@@ -135,6 +141,25 @@ def test_pushing_straight_moves_the_cube_along_the_heading():
     moved = observation[4:6] - cube_start
     assert np.linalg.norm(moved) > 0.2  # it was reached and pushed
     assert moved @ forward / np.linalg.norm(moved) > 0.9  # along the heading (25 degrees)
+
+
+def test_the_scripted_pusher_puts_the_cube_on_the_target():
+    env = PushObjectEnv()
+    try:
+        observation, info = env.reset(seed=5)
+        assert info["cube_target"] > 0.4 and not info["success"]
+        total = 0.0
+        for _ in range(100):
+            observation, reward, terminated, _, info = env.step(scripted_push_action(observation))
+            total += reward
+            if terminated:
+                break
+    finally:
+        env.close()
+    assert info["success"] and info["cube_target"] < 0.15
+    # the cube rests on the floor (top face y = 0): its center 0.1 m up, within 5 mm
+    assert info["cube_position"][1] == pytest.approx(0.1, abs=0.005)
+    assert total > 10.0  # the success bonus plus the progress terms
 
 
 @pytest.mark.parametrize("env_id", [POINT_NAV_ID, PUSH_OBJECT_ID])
