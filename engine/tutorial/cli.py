@@ -3,12 +3,15 @@
 Runs every section of the tutorial in order on the demo apartment, with a progress bar per
 section (in simulated world seconds), writes the nine videos and a ``summary.json`` to
 ``--output-dir`` and prints a table: world time, frames and wall time per section, split into
-physics, rendering and encoding (see :mod:`engine.tutorial.recording`).
+physics, rendering and encoding (see :mod:`engine.tutorial.recording`). ``--jobs N`` runs
+groups of sections in N worker processes (:mod:`engine.tutorial.parallel`); the videos are
+the same bit for bit.
 
 Example
 -------
     python -m engine.tutorial --output-dir ./tutorial_output
     python -m engine.tutorial --fast --no-make-video --seed 3
+    python -m engine.tutorial --jobs 1 --sections basics,dynamic_control
 """
 
 from __future__ import annotations
@@ -59,6 +62,19 @@ SECTIONS: list[tuple[str, Callable[[TutorialContext], SectionResult], float]] = 
     ("navmesh, sliding", partial(embodied_agent_navmesh, allow_sliding=True), 6.0),
     ("navmesh, no sliding", partial(embodied_agent_navmesh, allow_sliding=False), 6.0),
 ]
+# The name each section reports (SectionResult.name, summary.json), in the same order.
+SECTION_NAMES = [
+    "basics",
+    "object_user_configurations",
+    "dynamic_control",
+    "kinematic_interactions",
+    "kinematic_update",
+    "velocity_control",
+    "local_velocity_control",
+    "embodied_agent",
+    "embodied_agent_navmesh_sliding",
+    "embodied_agent_navmesh_no_sliding",
+]
 
 
 # progress in simulated world seconds, e.g. "basics  60%|######    | 0.90/1.50 world s [00:01]"
@@ -83,7 +99,20 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--fast", action="store_true", help=fast_help)
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
-    return parser.parse_args(argv)
+    parser.add_argument(
+        "--jobs", type=int, default=os.cpu_count() or 1,
+        help="worker processes running groups of sections at once (default: all cores); "
+        "the videos are the same bit for bit whatever the number",
+    )
+    parser.add_argument(
+        "--sections", type=lambda text: text.split(","), default=None,
+        help="comma-separated section names to record (default: all): "
+        + ", ".join(SECTION_NAMES),
+    )
+    args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error(f"--jobs must be >= 1, got {args.jobs}")
+    return args
 
 
 def run_tutorial(
@@ -93,8 +122,10 @@ def run_tutorial(
     seed: int = 0,
     progress: bool = True,
     keep_observations: bool = False,
+    jobs: int = 1,
+    sections: Sequence[str] | None = None,
 ) -> list[SectionResult]:
-    """Run every tutorial section in order and return their results.
+    """Run the tutorial's sections and return their results in the tutorial's order.
 
     Parameters
     ----------
@@ -107,9 +138,51 @@ def run_tutorial(
     seed : int
         Seeds the simulator and the navmesh section's random turns.
     progress : bool
-        Show a tqdm bar per section.
+        Show a tqdm bar per section (per group of sections with ``jobs > 1``).
     keep_observations : bool
         Keep every observation dict in the results (memory heavy at full resolution).
+    jobs : int
+        Worker processes; with more than one, groups of sections run at once
+        (:mod:`engine.tutorial.parallel`) and give the same videos bit for bit.
+    sections : sequence of str or None
+        Names of the sections to run (``SECTION_NAMES``); default all. The sections before
+        them still run, without video, to build the world they start from.
+    """
+    selected = select_sections(sections)
+    if jobs > 1:
+        from engine.tutorial.parallel import run_in_parallel  # it imports this module
+
+        return run_in_parallel(selected, jobs, output_dir=output_dir, make_video=make_video,
+                               fast=fast, seed=seed, progress=progress,
+                               keep_observations=keep_observations)
+    return run_sections(selected, output_dir, make_video, fast, seed, progress,
+                        keep_observations)
+
+
+def select_sections(names: Sequence[str] | None) -> list[int]:
+    """Indices into ``SECTIONS`` of the named sections (all when ``names`` is None)."""
+    if names is None:
+        return list(range(len(SECTIONS)))
+    unknown = [name for name in names if name not in SECTION_NAMES]
+    if unknown or not names:
+        raise ValueError(f"unknown sections {unknown or names!r}; choose from {SECTION_NAMES}")
+    return sorted({SECTION_NAMES.index(name) for name in names})
+
+
+def run_sections(
+    selected: Sequence[int],
+    output_dir: str,
+    make_video: bool = True,
+    fast: bool = False,
+    seed: int = 0,
+    progress: bool = True,
+    keep_observations: bool = False,
+) -> list[SectionResult]:
+    """Run sections ``0 .. max(selected)`` in order on one simulator; record those in
+    ``selected`` and return their results.
+
+    The others run without rendering (rendering never changes the simulation), so every
+    recorded section starts from exactly the world the full tutorial would give it.
     """
     if make_video:
         os.makedirs(output_dir, exist_ok=True)
@@ -119,7 +192,13 @@ def run_tutorial(
         place_agent(sim)
         context = TutorialContext(sim, data_path, None, random.Random(seed))
         results = []
-        for label, section, world_seconds in SECTIONS:
+        for index, (label, section, world_seconds) in enumerate(SECTIONS[: max(selected) + 1]):
+            if index not in selected:  # a prerequisite: simulate only
+                context.new_recorder = partial(
+                    _new_recorder, sim, output_dir, False, False, None
+                )
+                section(context)
+                continue
             bar = tqdm(total=world_seconds, desc=label, bar_format=BAR_FORMAT, disable=not progress)
             with bar:
                 advance = partial(_advance_bar, bar)
@@ -157,10 +236,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parse_args(argv)
     start = time.perf_counter()
     results = run_tutorial(
-        args.output_dir, args.make_video, args.fast, args.seed, progress=not args.quiet
+        args.output_dir, args.make_video, args.fast, args.seed, progress=not args.quiet,
+        jobs=args.jobs, sections=args.sections,
     )
     resolution = FAST_RESOLUTION if args.fast else TUTORIAL_RESOLUTION
     settings = {"resolution": list(resolution), "seed": args.seed, "make_video": args.make_video}
+    settings["jobs"] = args.jobs
     settings["wall_time"] = time.perf_counter() - start
     summary_path = write_summary(results, settings, args.output_dir)
     print(format_summary(results))

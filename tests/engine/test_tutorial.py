@@ -43,8 +43,9 @@ REST_TOL = 0.01
 def job(tmp_path_factory: pytest.TempPathFactory) -> dict:
     out = tmp_path_factory.mktemp("tutorial_output")
     cmd = [sys.executable, "-m", "engine.tutorial", "--fast", "--quiet", "--seed", "0"]
-    completed = subprocess.run(
-        [*cmd, "--output-dir", str(out)], capture_output=True, text=True, timeout=600
+    completed = subprocess.run(  # two worker processes (engine.tutorial.parallel)
+        [*cmd, "--jobs", "2", "--output-dir", str(out)], capture_output=True, text=True,
+        timeout=600,
     )
     assert completed.returncode == 0, completed.stderr[-4000:]
     summary = json.loads((out / "summary.json").read_text())
@@ -140,6 +141,20 @@ def test_no_make_video_simulates_the_same_world_bit_for_bit(job: dict, job_witho
     assert [s["frames"] for s in sections] == [s["frames"] for s in job["sections"]]
     assert all(s["video"] is None for s in sections)
     assert not list(Path(job_without_video["out"]).glob("*.mp4"))
+
+
+def test_one_process_writes_the_same_videos_as_two(job: dict, tmp_path: Path) -> None:
+    # --jobs 1 on two sections of different groups: one simulator runs the tutorial up to
+    # kinematic_update, rendering only the two; the job above ran them in two workers
+    cmd = [sys.executable, "-m", "engine.tutorial", "--fast", "--quiet", "--jobs", "1"]
+    cmd += ["--sections", "basics,kinematic_update", "--output-dir", str(tmp_path)]
+    completed = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert completed.returncode == 0, completed.stderr[-4000:]
+    for name in ("sim_basics", "kinematic_update"):
+        one = (tmp_path / f"{name}.mp4").read_bytes()
+        assert one == (Path(job["out"]) / f"{name}.mp4").read_bytes(), name
+    assert sorted(p.name for p in tmp_path.glob("*.mp4")) == [
+        "kinematic_update.mp4", "sim_basics.mp4"]
 
 
 # ------------------------------------------------------------------------------------------
