@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from engine.envs.point_nav import ACTIONS, SUCCESS_DISTANCE, PointNavEnv
+from engine.utils.common import quat_rotate_vector
 from navmesh import ShortestPath
 
 STOP, MOVE_FORWARD, TURN_LEFT, TURN_RIGHT = range(len(ACTIONS))
@@ -34,7 +35,7 @@ def greedy_action(env: PointNavEnv, turn_degrees: float = 10.0) -> int:
     points = np.asarray(path.points)
     if len(points) < 2:
         return STOP
-    forward = np.asarray(state.rotation.transform_vector([0.0, 0.0, -1.0]))
+    forward = quat_rotate_vector(state.rotation, [0.0, 0.0, -1.0])
     to_corner = points[1] - np.asarray(state.position)
     # signed angle from forward to the corner about +Y (module docstring)
     cross_y = forward[2] * to_corner[0] - forward[0] * to_corner[2]

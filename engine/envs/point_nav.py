@@ -42,6 +42,7 @@ from gymnasium import spaces
 import engine as habitat_sim
 from engine import mn
 from engine.datasets import demo_data_path
+from engine.utils.common import quat_rotate_vector
 from navmesh import ShortestPath
 
 ACTIONS = ("stop", "move_forward", "turn_left", "turn_right")
@@ -168,7 +169,7 @@ class PointNavEnv(gym.Env):
         """``[rho, phi]`` of the goal in the agent's frame (see the module docstring)."""
         state = self._sim.get_agent(0).get_state()
         # d = R^-1 (goal - position): the goal in the agent's frame
-        d = np.asarray(state.rotation.inverted().transform_vector(self._goal - state.position))
+        d = quat_rotate_vector(state.rotation.inverse(), self._goal - state.position)
         rho = math.hypot(d[0], d[2])
         phi = math.atan2(-d[0], -d[2])
         return np.array([rho, phi], dtype=np.float32)
