@@ -37,6 +37,8 @@ from __future__ import annotations
 import numpy as np
 
 STATIC, KINEMATIC, DYNAMIC = 0, 1, 2
+#: body index (and Habitat object id) of the stage.
+STAGE_ID = 0
 
 _VECTORS = ("position", "linear_velocity", "angular_velocity", "force", "torque",
             "inertia", "aabb_min", "aabb_max", "shape_center", "shape_half", "solver_velocity",

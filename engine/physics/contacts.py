@@ -20,7 +20,10 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
 Normals point from body A to body B; depth ``(p_a - p_b) . n`` is positive when overlapping.
 Padded arrays: a row's first ``count`` slots hold its points, in no particular order; the
 other slots are zero. Per-row choices ("the deepest point of each row") are masked
-``argmax`` over the slot axis.
+``argmax`` over the slot axis. Choices compare values rounded to ``TIE_QUANTUM``
+(:func:`tie_key`): symmetric bodies (a cylinder on its side) have exact ties, and the first
+slot must win them whatever the rounding of the arithmetic before, so that the per-pair
+reference path (:func:`reference_contacts.update_manifold`) makes the same choices.
 """
 
 from __future__ import annotations
@@ -277,7 +280,7 @@ def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points) 
 def _distinct(points: FreshPoints, radius: float) -> FreshPoints:
     """Each row's points, deepest first, dropping any within ``radius`` of a kept one."""
     depth = np.where(points.valid, points.depth(), -np.inf)
-    by_depth = np.argsort(-depth, axis=1, kind="stable")
+    by_depth = np.argsort(-tie_key(depth), axis=1, kind="stable")
     points = points.take(by_depth, per_row(points.valid, by_depth))
     # |p_i - p_j|^2 between the (at most four) points of each row, in B's world anchors
     dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
@@ -349,9 +352,14 @@ def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
     return array[np.arange(len(index))[:, None], index]
 
 
+def tie_key(values: np.ndarray) -> np.ndarray:
+    """``values`` rounded to multiples of ``TIE_QUANTUM``: equal keys are ties."""
+    return np.round(values / settings.TIE_QUANTUM)
+
+
 def _masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Per row, the first slot holding the largest valid value (0 for empty rows)."""
-    return np.where(valid, values, -np.inf).argmax(axis=1)
+    return np.where(valid, tie_key(values), -np.inf).argmax(axis=1)
 
 
 def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
@@ -391,12 +399,12 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     # the fourth point lies on the other side of edge p0-p1 with the largest area
     opposite = np.where(supporting & ~chosen, -np.sign(area[rows, third])[:, None] * area,
                         -np.inf)
-    fourth = opposite.argmax(axis=1)
+    fourth = tie_key(opposite).argmax(axis=1)
     chosen[rows, fourth] |= (count >= 4) & np.isfinite(opposite[rows, fourth])
     # fill the slots left over with the deepest remaining points
     remaining = count - chosen.sum(axis=1)
     rest = np.where(valid & ~chosen, depth, -np.inf)
-    rank = np.argsort(-rest, axis=1, kind="stable")
+    rank = np.argsort(-tie_key(rest), axis=1, kind="stable")
     take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(per_row(rest, rank))
     chosen[np.arange(len(rank))[:, None], rank] |= take
     return chosen

@@ -13,15 +13,16 @@ per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 
 Each group is a handful of ``(g, ...)`` array operations, whatever its size ``g``. The
 result is flat: ``pair_position (q,)`` (index into the pair list, ascending) and world
-``point_a, point_b, normal (q, 3)``, normals from A to B, in the order the scalar code
-would produce them (shape pairs in body order, A's reference points before B's).
+``point_a, point_b, normal (q, 3)``, normals from A to B, in the order the per-pair
+reference path (:func:`reference_contacts.pair_contacts`) produces them: shape pairs in body
+order; within a pair, vertex order, A's reference face's points before B's.
 """
 
 from __future__ import annotations
 
 from collections import defaultdict
 from itertools import chain
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -34,6 +35,10 @@ from .collide import (
     fcl_raw_contacts,
     round_contacts,
 )
+
+if TYPE_CHECKING:
+    from .bodies import Bodies
+    from .collision_stage import CollisionObjects
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
 
@@ -75,15 +80,20 @@ class _Contacts:
         return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
 
 
-def narrow_phase(world, pairs: list, rotation: np.ndarray):
-    """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring)."""
-    b = world.bodies
+def narrow_phase(bodies: Bodies, objects: CollisionObjects, pairs: list,
+                 rotation: np.ndarray):
+    """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring).
+
+    ``rotation (n, 3, 3)``: every body's world_from_body matrix. Must agree with
+    :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
+    """
+    b = bodies
     jobs = {"stage": defaultdict(list), "polyhedra": defaultdict(list)}
     contacts, pair_of_seq = _Contacts(), []
     for position, (a, c) in enumerate(pairs):
-        for shape_a, obj_a in zip(b.shapes[a], world.fcl_objects[a], strict=True):
-            for shape_c, obj_c, probe_c in zip(b.shapes[c], world.fcl_objects[c],
-                                               world.probe_objects[c], strict=True):
+        for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
+            for shape_c, obj_c, probe_c in zip(b.shapes[c], objects.shape_objects[c],
+                                               objects.probe_objects[c], strict=True):
                 seq = len(pair_of_seq)
                 pair_of_seq.append(position)
                 if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
@@ -198,6 +208,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]
     found = np.zeros(len(jobs), dtype=bool)
+    n_first = len(shapes_b[0].hull_vertices)  # B's vertices: the sort keys of A's face
     # A's face against B's vertices (sign +1), then B's face against A's vertices (sign -1)
     for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
             ((shapes_a, frame_a, shapes_b, frame_b, 1.0),
@@ -206,7 +217,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
             ref, ref_frame, _to_world(*inc_frame, np.stack([s.hull_vertices for s in inc])),
             sign * n)
         found[g] = True
-        local = direction * verts.shape[1] + v  # A's reference points first
+        local = direction * n_first + v  # A's reference points first, then B's
         contact_normal = sign * face_normal[g]  # always A -> B
         if sign > 0:
             contacts.add(seq[g], local, on_face, verts[g, v], contact_normal)
@@ -230,7 +241,8 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     alignment = (face_normals * towards[:, None]).sum(axis=2)
     face = alignment.argmax(axis=1)
     jobs = np.arange(len(face))
-    facing = alignment[jobs, face] >= 0.7  # else no face of this body faces the other
+    # else no face of this body faces the other
+    facing = alignment[jobs, face] >= settings.REFERENCE_FACE_ALIGNMENT
     normal = face_normals[jobs, face]
     tolerance = settings.SPECULATIVE_DISTANCE
     # inside the hull planes n_f . p <= c_f + tol, p in the reference body frame R^T (x - x_r)

@@ -85,8 +85,23 @@ SPLIT_TOUCH_DISTANCE = 0.004
 #: (the supporting points); farther, speculative points only fill the slots left over, so a
 #: can lying on its side keeps both ends of its bottom line rather than its far sides.
 SUPPORT_DEPTH_BAND = 0.004
+#: 1 (cosine), a polyhedron face serves as reference face of a contact only if its outward
+#: normal is at least this aligned with fcl's contact normal (about 45 degrees).
+REFERENCE_FACE_ALIGNMENT = 0.7
+#: 1, tangent_basis builds t1 from the world X axis unless |n_x| reaches this (then Y):
+#: just below 1/sqrt(3), so the chosen axis is never nearly parallel to n.
+TANGENT_AXIS_SWITCH = 0.57
+#: m (or m^2 for areas), manifold choices (deepest point, farthest point, largest area)
+#: treat values closer than this as ties, won by the lower slot, so rounding never decides.
+TIE_QUANTUM = 1e-9
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
+
+# --- broad phase ------------------------------------------------------------------------
+#: m, broad-phase AABB inflation of every body (keeps touching pairs found).
+AABB_MARGIN = 0.005
+#: pairs, fewest candidate pairs for which the oriented-box pre-test pays for its NumPy calls.
+MIN_PAIRS_FOR_BOX_TEST = 8
 
 # --- restitution and friction -----------------------------------------------------------
 #: m/s, approach speeds below this do not bounce (kills micro bounces of resting bodies).
@@ -102,6 +117,11 @@ TIME_TO_SLEEP = 0.5
 #: m, a body with a contact deeper than this is still being pushed apart by the position
 #: solve (whose pseudo velocities the rest test cannot see), so it does not count as resting.
 SLEEP_MAX_PENETRATION = 0.01
+
+# --- numerics ---------------------------------------------------------------------------
+#: 1 (unit of whatever it divides), smallest positive divisor: ``x / max(y, TINY)`` guards a
+#: division by a length, mass or speed that may be exactly 0.
+TINY = 1e-300
 
 # --- robustness -------------------------------------------------------------------------
 #: m/s, linear speeds are clamped to this (keeps a bad impulse from launching a body).

@@ -60,7 +60,6 @@ class ContactBatch:
 
     body_a: np.ndarray
     body_b: np.ndarray
-    mask: np.ndarray
     normal_jac: np.ndarray
     normal_w: np.ndarray
     normal_mass: np.ndarray
@@ -74,8 +73,7 @@ class ContactBatch:
     impulse: np.ndarray
     color_slices: list
     color_points: list
-    pair_index: np.ndarray
-    split: np.ndarray
+    pair_bodies: np.ndarray
     colors: dict = field(default_factory=dict)
 
 
@@ -115,10 +113,10 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
     # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
     axis = np.zeros_like(normal)
-    axis[..., 0] = np.abs(normal[..., 0]) < 0.57
+    axis[..., 0] = np.abs(normal[..., 0]) < constants.TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
     t1 = cross(normal, axis)
-    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), 1e-300)
+    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), constants.TINY)
     return t1, cross(normal, t1)
 
 
@@ -166,18 +164,18 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     split = n_touching if split_mass else np.ones((len(counts), 1))
     # m_eff = 1 / (n_split J M^-1 J^T)
     k_normal = (normal_jac * normal_w).sum(axis=-1)
-    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, 1e-300)), 0.0)
+    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, constants.TINY)), 0.0)
     k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
     tangent_mass = np.where(np.repeat(mask, 2, axis=1),
-                            1.0 / (split * np.maximum(k_tangent, 1e-300)), 0.0)
+                            1.0 / (split * np.maximum(k_tangent, constants.TINY)), 0.0)
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
-    return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
+    return ContactBatch(body_a, body_b, normal_jac, np.swapaxes(normal_w, 1, 2),
                         normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1), split)
+                        np.stack([body_a, body_b], axis=1))
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -202,7 +200,7 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
             slots = ([slice(None)] if block_jacobi
                      else [slice(k, k + 1) for k in range(batch.color_points[color])])
             # flat index of component c of body b: 6 b + c
-            gather = 6 * batch.pair_index[s, :, None] + np.arange(6)
+            gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
             colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
                                       [_row_block(batch, s, rows) for rows in slots]))
         batch.colors[block_jacobi] = colors
@@ -252,7 +250,7 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
     new = lam_t + step if accumulate else step
     limit = block.friction * lam_n  # mu lambda_n, (k, r, 1)
     norm = np.hypot(new[:, 0::2], new[:, 1::2])  # |lambda_t| = sqrt(t1^2 + t2^2), (k, r, 1)
-    scale = np.minimum(1.0, limit / np.maximum(norm, 1e-300))  # back onto the circle
+    scale = np.minimum(1.0, limit / np.maximum(norm, constants.TINY))  # back onto the circle
     new *= scale.repeat(2, axis=1)  # the same scale for t1 and t2
     step = new - lam_t if accumulate else new
     lam_t += step
@@ -339,104 +337,5 @@ def solve_contacts(batch: ContactBatch, velocity: np.ndarray, h: float, options)
         warm_start(batch, velocity)
     else:
         batch.impulse[:] = 0.0
-    if options.use_vectorized:
-        solve_velocities(batch, velocity, h, options)
-    else:
-        solve_velocities_scalar(batch, velocity, h, options)
+    solve_velocities(batch, velocity, h, options)
     return solve_positions(batch, len(velocity), h, options)
-
-
-def solve_velocities_scalar(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
-    """Reference path: the algebra of :func:`solve_velocities` with plain Python loops.
-
-    For every color, every manifold, every group of point slots (one slot at a time for
-    Gauss-Seidel; all four for block Jacobi, where each slot reads the velocities from
-    before the group's update)::
-
-        v_n = J_i . V;  dl = -m_i (v_n + b_i);  l_i = max(l_i + dl, 0);  V += W_i dl
-
-    Manifolds of one color share no dynamic body, so visiting them one by one here gives
-    the same numbers as the vectorized batch over the whole color.
-    """
-    lam = batch.impulse[:, :, 0].tolist()
-    bias = (np.maximum(-batch.depth, 0.0) / h).tolist()
-    groups = [list(range(SLOTS))] if options.block_jacobi else [[k] for k in range(SLOTS)]
-    for _ in range(options.velocity_iterations):
-        for start, stop in batch.color_slices:
-            for m in range(start, stop):
-                for group in groups:
-                    _scalar_normal(batch, m, group, velocity, bias[m], lam[m],
-                                   options.accumulate_impulses)
-                    batch.impulse[m, group, 0] = [lam[m][k] for k in group]
-                    _scalar_friction(batch, m, group, velocity, options.accumulate_impulses)
-    for start, stop in batch.color_slices:
-        for m in range(start, stop):
-            for group in groups:
-                _scalar_restitution(batch, m, group, velocity, lam[m])
-    batch.impulse[:, :, 0] = lam
-
-
-def _scalar_row_velocity(jac_row, velocity, a, b):
-    total = 0.0
-    for k in range(6):
-        total += jac_row[k] * velocity[a, k] + jac_row[6 + k] * velocity[b, k]
-    return total
-
-
-def _scalar_apply(w, rows, steps, velocity, a, b):
-    """``V += sum_i W[:, row_i] step_i`` for the rows of one group."""
-    for k in range(6):
-        velocity[a, k] += sum(w[k, row] * step for row, step in zip(rows, steps, strict=True))
-        velocity[b, k] += sum(w[6 + k, row] * step for row, step in zip(rows, steps, strict=True))
-
-
-def _scalar_normal(batch, m, group, velocity, bias, lam, accumulate):
-    a, b = batch.body_a[m], batch.body_b[m]
-    steps = []
-    for slot in group:
-        vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
-        step = -batch.normal_mass[m, slot] * (vn + bias[slot])
-        new = max(lam[slot] + step, 0.0) if accumulate else lam[slot] + max(step, 0.0)
-        steps.append(new - lam[slot])
-        lam[slot] = new
-    _scalar_apply(batch.normal_w[m], group, steps, velocity, a, b)
-
-
-def _scalar_friction(batch, m, group, velocity, accumulate):
-    a, b = batch.body_a[m], batch.body_b[m]
-    rows, steps = [], []
-    for slot in group:
-        old = batch.impulse[m, slot, 1:].copy()
-        new = [0.0, 0.0]
-        for t in range(2):
-            vt = _scalar_row_velocity(batch.tangent_jac[m, 2 * slot + t], velocity, a, b)
-            step = -batch.tangent_mass[m, 2 * slot + t] * vt
-            new[t] = old[t] + step if accumulate else step
-        limit = batch.friction[m, 0] * batch.impulse[m, slot, 0]
-        norm = (new[0] ** 2 + new[1] ** 2) ** 0.5
-        scale = min(1.0, limit / max(norm, 1e-300))
-        for t in range(2):
-            value = new[t] * scale
-            step = value - old[t] if accumulate else value
-            batch.impulse[m, slot, 1 + t] = old[t] + step
-            rows.append(2 * slot + t)
-            steps.append(step)
-    _scalar_apply(batch.tangent_w[m], rows, steps, velocity, a, b)
-
-
-def _scalar_restitution(batch, m, group, velocity, lam):
-    """Bounce the loaded, fast-approaching points to ``v_n = -e v_n0``."""
-    a, b = batch.body_a[m], batch.body_b[m]
-    e = batch.restitution[m, 0]
-    rows, steps = [], []
-    for slot in group:
-        fast = batch.approach_speed[m, slot] < -constants.RESTITUTION_VELOCITY_THRESHOLD
-        if not (e > 0 and fast and lam[slot] > 0):
-            continue
-        vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
-        step = -batch.normal_mass[m, slot] * (vn + e * batch.approach_speed[m, slot])
-        new = max(lam[slot] + step, 0.0)
-        rows.append(slot)
-        steps.append(new - lam[slot])
-        lam[slot] = new
-    _scalar_apply(batch.normal_w[m], rows, steps, velocity, a, b)

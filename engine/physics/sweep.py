@@ -14,13 +14,14 @@ from __future__ import annotations
 import numpy as np
 
 from . import settings
-from .bodies import DYNAMIC
+from .bodies import DYNAMIC, Bodies
 from .queries import cast_ray_bodies
 
 
-def sweep_fast_bodies(world, moving: np.ndarray, old_position: np.ndarray) -> None:
-    """Pull back bodies in ``moving`` that passed through static geometry this step."""
-    b = world.bodies
+def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarray) -> None:
+    """Pull back bodies in ``moving (k,)`` that passed through static geometry this step;
+    ``old_position (k, 3)`` are their centers before the step."""
+    b = bodies
     if len(moving) == 0:
         return
     travel = b.body_position[moving] - old_position

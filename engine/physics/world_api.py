@@ -72,8 +72,7 @@ class WorldApiMixin:
         b.body_angular_velocity[index] = 0.0
         for key in [k for k in self.manifolds if index in k]:
             del self.manifolds[key]
-        self.fcl_objects.pop(index, None)
-        self.probe_objects.pop(index, None)
+        self.collision_objects.remove(index)
         b.shapes[index] = []
         self.nodes.pop(index, None)
         self.velocity_controls.pop(index, None)
@@ -86,7 +85,7 @@ class WorldApiMixin:
         b = self.bodies
         b.body_position[index] = position
         b.body_rotation[index] = rotation / np.linalg.norm(rotation)
-        if index in self.fcl_objects:
+        if index in self.collision_objects:
             self._update_fcl(index)
         self._write_node(index)
         if wake:
@@ -193,8 +192,8 @@ class WorldApiMixin:
                 continue
             if other != 0:
                 self._update_fcl(other, rotation[other])
-            for obj_a in self.fcl_objects[index]:
-                for obj_b in self.fcl_objects[other]:
+            for obj_a in self.collision_objects.shape_objects[index]:
+                for obj_b in self.collision_objects.shape_objects[other]:
                     if fcl.collide(obj_a, obj_b, _TEST_REQUEST, fcl.CollisionResult()):
                         return True
         return False
@@ -203,7 +202,7 @@ class WorldApiMixin:
         """Contact points of every manifold (last step's impulses as forces)."""
         from .solver import tangent_basis
 
-        h = getattr(self, "last_h", self._timestep)
+        h = self._timestep / self._substeps()  # the impulses were applied over one solver step
         b, n, store = self.bodies, self.bodies.count, self.manifolds
         rows = np.array([store.row(key) for key in sorted(store)], dtype=np.int64)
         rows = rows[store.count[rows] > 0]

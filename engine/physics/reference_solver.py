@@ -1,0 +1,261 @@
+"""Reference path of the solve stage: sequential impulses one contact point at a time.
+
+The plain version of :mod:`solver` (the batched NumPy solver), written like box2d-lite's
+``Arbiter::PreStep`` / ``Arbiter::ApplyImpulse`` (Catto, GDC 2005/2006). It builds its own
+anchors, tangents and effective masses (nothing is shared with ``solver.build_batch``), so
+tests that compare the two paths cross-check the Jacobians and effective masses too.
+
+For a contact point with unit normal ``n`` (A -> B), anchors ``r_a = p - x_a``,
+``r_b = p - x_b`` (p the midpoint of the two anchors) and a direction ``d`` (n, t1 or t2):
+
+* relative velocity ``dv = (v_b + w_b x r_b) - (v_a + w_a x r_a)``, ``v_d = dv . d``;
+* effective mass ``m_d = 1 / (n_split (1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d)
+  + (r_b x d) . I_b^-1 (r_b x d)))``, with ``n_split`` the manifold's touching points when
+  ``block_jacobi`` mass splitting is on, else 1;
+* an impulse ``P = lambda d`` changes ``v_a -= P / m_a``, ``w_a -= I_a^-1 (r_a x P)``,
+  ``v_b += P / m_b``, ``w_b += I_b^-1 (r_b x P)``.
+
+Per iteration, per graph color, per manifold: the normal rows (``dl = -m_n (v_n + b)``,
+accumulated impulse clamped ``>= 0``) then the friction rows (2-D tangent impulse clamped to
+the circle ``|lambda_t| <= mu lambda_n``). With ``block_jacobi`` all points of a manifold
+read the velocities from before their common update (a Jacobi block); otherwise one point
+after the other (Gauss-Seidel). Then the restitution pass, and the split-impulse position
+solve on pseudo velocities. The batched :func:`solver.solve_contacts` must agree with
+:func:`solve_reference` to rounding (tested).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import settings as constants
+from .bodies import Bodies
+from .contacts import SLOTS, ManifoldStore
+from .quaternions import quat_to_matrix
+from .reference_contacts import cross3, dot, rotate
+from .settings import SolverSettings
+
+
+@dataclass
+class ContactRow:
+    """One contact point prepared for the solver (box2d-lite's ``Contact``)."""
+
+    r_a: np.ndarray  # (3,) m, from A's center to the contact point, world frame
+    r_b: np.ndarray  # (3,) m, from B's center
+    directions: list  # [n, t1, t2], unit (3,) world vectors
+    masses: list  # [m_n, m_t1, m_t2] effective masses, kg
+    depth: float  # m, > 0 overlapping, < 0 a speculative gap
+    approach_speed: float  # m/s, v_n at the start of the step (< 0 approaching)
+    impulse: list  # [lambda_n, lambda_t1, lambda_t2] accumulated, N s
+
+
+@dataclass
+class ManifoldRows:
+    """The contact rows of one manifold and its pair coefficients."""
+
+    body_a: int
+    body_b: int
+    friction: float
+    restitution: float
+    points: list
+
+
+class Bodies6:
+    """Velocities ``[v, w]`` of all bodies as Python lists, with inverse masses and world
+    inverse inertias: what the scalar solver reads and writes."""
+
+    def __init__(self, velocity: np.ndarray, inv_mass: np.ndarray, inv_inertia: np.ndarray):
+        self.v = [np.array(row[:3]) for row in velocity]
+        self.w = [np.array(row[3:]) for row in velocity]
+        self.inv_mass = inv_mass
+        self.inv_inertia = inv_inertia
+
+    def relative_velocity(self, a: int, b: int, row: ContactRow) -> np.ndarray:
+        """``dv = (v_b + w_b x r_b) - (v_a + w_a x r_a)`` at the contact point."""
+        return (self.v[b] + cross3(self.w[b], row.r_b)) - (self.v[a] + cross3(self.w[a], row.r_a))
+
+    def apply(self, a: int, b: int, row: ContactRow, impulse: np.ndarray) -> None:
+        """Apply ``+impulse`` to B and ``-impulse`` to A at the contact point."""
+        self.v[a] = self.v[a] - self.inv_mass[a] * impulse
+        self.w[a] = self.w[a] - rotate(self.inv_inertia[a], cross3(row.r_a, impulse))
+        self.v[b] = self.v[b] + self.inv_mass[b] * impulse
+        self.w[b] = self.w[b] + rotate(self.inv_inertia[b], cross3(row.r_b, impulse))
+
+    def array(self) -> np.ndarray:
+        return np.array([np.concatenate([v, w]) for v, w in zip(self.v, self.w, strict=True)])
+
+
+def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit tangents: ``t1 = normalize(n x axis)`` with ``axis`` X unless ``|n_x|``
+    reaches ``TANGENT_AXIS_SWITCH`` (then Y), and ``t2 = n x t1``."""
+    axis = (np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < constants.TANGENT_AXIS_SWITCH
+            else np.array([0.0, 1.0, 0.0]))
+    t1 = cross3(normal, axis)
+    t1 = t1 / max(np.sqrt(dot(t1, t1)), constants.TINY)
+    return t1, cross3(normal, t1)
+
+
+def effective_mass(bodies: Bodies6, a: int, b: int, r_a, r_b, direction, n_split) -> float:
+    """``1 / (n_split J M^-1 J^T)`` for the row along ``direction``."""
+    ra_x_d, rb_x_d = cross3(r_a, direction), cross3(r_b, direction)
+    k = (bodies.inv_mass[a] + bodies.inv_mass[b]
+         + dot(ra_x_d, rotate(bodies.inv_inertia[a], ra_x_d))
+         + dot(rb_x_d, rotate(bodies.inv_inertia[b], rb_x_d)))
+    return 1.0 / (n_split * max(k, constants.TINY))
+
+
+def build_rows(bodies: Bodies, store: ManifoldStore, rows: np.ndarray, state: Bodies6,
+               approach: Bodies6, settings: SolverSettings) -> list[ManifoldRows]:
+    """Contact rows of the manifolds ``rows`` (box2d-lite's ``Arbiter::PreStep``)."""
+    manifolds = []
+    for row in rows.tolist():
+        a, b = (int(i) for i in store.bodies[row])
+        ra, xa = quat_to_matrix(bodies.body_rotation[a]), bodies.body_position[a]
+        rb, xb = quat_to_matrix(bodies.body_rotation[b]), bodies.body_position[b]
+        points = []
+        for slot in range(store.count[row]):
+            point_a = rotate(ra, store.local_a[row, slot]) + xa
+            point_b = rotate(rb, store.local_b[row, slot]) + xb
+            normal = rotate(ra, store.normal_local[row, slot])
+            middle = 0.5 * (point_a + point_b)
+            impulse = (store.impulse[row, slot].tolist() if settings.warm_starting
+                       else [0.0, 0.0, 0.0])
+            points.append(ContactRow(middle - xa, middle - xb, [normal, *tangent_basis(normal)],
+                                     [], dot(point_a - point_b, normal), 0.0, impulse))
+        touching = sum(p.depth > -constants.SPLIT_TOUCH_DISTANCE for p in points)
+        n_split = max(touching, 1) if settings.block_jacobi else 1
+        for p in points:
+            p.masses = [effective_mass(state, a, b, p.r_a, p.r_b, d, n_split)
+                        for d in p.directions]
+            p.approach_speed = dot(approach.relative_velocity(a, b, p), p.directions[0])
+        manifolds.append(ManifoldRows(a, b, bodies.body_friction[a] * bodies.body_friction[b],
+                                      bodies.body_restitution[a] * bodies.body_restitution[b],
+                                      points))
+    return manifolds
+
+
+def solve_reference(bodies: Bodies, store: ManifoldStore, problem, h: float,
+                    settings: SolverSettings) -> tuple[np.ndarray, np.ndarray]:
+    """Reference for ``solve_stage._solve_batched``: updates ``problem.velocity`` and the
+    store's impulses; returns pseudo velocities ``(n, 6)`` and depths ``(m, S)``."""
+    state = Bodies6(problem.velocity, problem.inv_mass, problem.inv_inertia)
+    approach = Bodies6(problem.approach_velocity, problem.inv_mass, problem.inv_inertia)
+    manifolds = build_rows(bodies, store, problem.rows, state, approach, settings)
+    if settings.warm_starting:
+        for m in manifolds:
+            for p in m.points:  # P = lambda_n n + lambda_t1 t1 + lambda_t2 t2
+                state.apply(m.body_a, m.body_b, p, sum(
+                    lam * d for lam, d in zip(p.impulse, p.directions, strict=True)))
+    groups = _slot_groups(settings.block_jacobi)
+    for _ in range(settings.velocity_iterations):
+        for m in manifolds:
+            for group in groups(m):
+                _normal_impulses(state, m, group, h, settings.accumulate_impulses)
+                _friction_impulses(state, m, group, settings.accumulate_impulses)
+    for m in manifolds:
+        for group in groups(m):
+            _restitution_impulses(state, m, group)
+    problem.velocity[...] = state.array()
+    depth = np.zeros((len(manifolds), SLOTS))
+    for k, (row, m) in enumerate(zip(problem.rows.tolist(), manifolds, strict=True)):
+        for slot, p in enumerate(m.points):
+            store.impulse[row, slot] = p.impulse
+            depth[k, slot] = p.depth
+    pseudo = solve_positions_reference(manifolds, problem.inv_mass, problem.inv_inertia, h,
+                                       settings)
+    return pseudo, depth
+
+
+def _slot_groups(block_jacobi: bool):
+    """Points solved together: all of a manifold's (Jacobi block) or one at a time."""
+    if block_jacobi:
+        return lambda m: [m.points] if m.points else []
+    return lambda m: [[p] for p in m.points]
+
+
+def _normal_impulses(state: Bodies6, m: ManifoldRows, group: list, h: float,
+                     accumulate: bool) -> None:
+    """Normal rows: ``dl = -m_n (v_n + b)`` with the speculative bias ``b = max(-d, 0) / h``
+    (a gap d < 0 may close by |d| / h this step); clamp, then apply together."""
+    steps = []
+    for p in group:
+        vn = dot(state.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
+        step = -p.masses[0] * (vn + max(-p.depth, 0.0) / h)
+        if accumulate:  # clamp the accumulated impulse: lambda + dl >= 0
+            step = max(step, -p.impulse[0])
+        else:  # clamp each increment (box2d-lite's toggle)
+            step = max(step, 0.0)
+        p.impulse[0] += step
+        steps.append(step)
+    for p, step in zip(group, steps, strict=True):
+        state.apply(m.body_a, m.body_b, p, step * p.directions[0])
+
+
+def _friction_impulses(state: Bodies6, m: ManifoldRows, group: list, accumulate: bool) -> None:
+    """Friction rows of each point: a 2-D impulse clamped to ``|lambda_t| <= mu lambda_n``."""
+    steps = []
+    for p in group:
+        dv = state.relative_velocity(m.body_a, m.body_b, p)
+        old = p.impulse[1:]
+        new = [(old[t] if accumulate else 0.0) - p.masses[1 + t] * dot(dv, p.directions[1 + t])
+               for t in range(2)]
+        limit = m.friction * p.impulse[0]
+        scale = min(1.0, limit / max(np.hypot(new[0], new[1]), constants.TINY))
+        new = [value * scale for value in new]
+        step = [new[t] - old[t] for t in range(2)] if accumulate else new
+        p.impulse[1:] = [old[t] + step[t] for t in range(2)]
+        steps.append(step)
+    for p, step in zip(group, steps, strict=True):
+        state.apply(m.body_a, m.body_b, p, step[0] * p.directions[1] + step[1] * p.directions[2])
+
+
+def _restitution_impulses(state: Bodies6, m: ManifoldRows, group: list) -> None:
+    """Bounce the loaded points that approached faster than the threshold: ``v_n = -e v_n0``."""
+    steps = []
+    for p in group:
+        fast = p.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
+        if not (m.restitution > 0 and fast and p.impulse[0] > 0):
+            steps.append(0.0)
+            continue
+        vn = dot(state.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
+        step = -p.masses[0] * (vn + m.restitution * p.approach_speed)
+        step = max(p.impulse[0] + step, 0.0) - p.impulse[0]
+        p.impulse[0] += step
+        steps.append(step)
+    for p, step in zip(group, steps, strict=True):
+        state.apply(m.body_a, m.body_b, p, step * p.directions[0])
+
+
+def solve_positions_reference(manifolds: list[ManifoldRows], inv_mass: np.ndarray,
+                              inv_inertia: np.ndarray, h: float,
+                              settings: SolverSettings) -> np.ndarray:
+    """Split impulses: pseudo velocities ``(n, 6)`` that push penetrations deeper than
+    ``PENETRATION_SLOP`` apart at ``min(beta (d - slop) / h, MAX_CORRECTION_SPEED)``.
+
+    The same normal rows as the velocity solve, on pseudo velocities starting at zero with
+    their own accumulated impulses; they move the bodies this step and are then discarded,
+    so they add no kinetic energy (Catto; Bullet's split impulse).
+    """
+    pseudo = Bodies6(np.zeros((len(inv_mass), 6)), inv_mass, inv_inertia)
+    if not settings.position_correction or settings.position_iterations == 0:
+        return pseudo.array()
+    groups = _slot_groups(settings.block_jacobi)
+    pushed = {id(p): 0.0 for m in manifolds for p in m.points}  # accumulated pseudo impulse
+    for _ in range(settings.position_iterations):
+        for m in manifolds:
+            for group in groups(m):
+                steps = []
+                for p in group:
+                    target = min(constants.POSITION_BAUMGARTE
+                                 * max(p.depth - constants.PENETRATION_SLOP, 0.0) / h,
+                                 constants.MAX_CORRECTION_SPEED)
+                    vn = dot(pseudo.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
+                    step = -p.masses[0] * (vn - target)
+                    step = max(step, -pushed[id(p)])  # accumulated pseudo impulse >= 0
+                    pushed[id(p)] += step
+                    steps.append(step)
+                for p, step in zip(group, steps, strict=True):
+                    pseudo.apply(m.body_a, m.body_b, p, step * p.directions[0])
+    return pseudo.array()
