@@ -1,7 +1,11 @@
 """State arrays of every rigid body in the world (MuJoCo-style ``body_<quantity>`` arrays).
 
 Body index ``i`` is the Habitat object id: index 0 is the stage, objects start at 1.
-Removed bodies keep their slot with ``body_alive[i] = False``. Arrays grow by doubling.
+Arrays grow by doubling. A removed body's slot is cleared (``body_alive[i] = False``, every
+array zeroed) and pushed on a free list; the next new body takes the most recently freed
+slot, as Habitat's ``PhysicsManager::allocateObjectID`` pops its ``recycledObjectIDs_``
+(a stack), so ``count`` and every per-step array stay as long as the most bodies ever
+alive at once: adding and removing objects forever leaks nothing.
 
 =========================  ===========  ===========================================
 array                      shape        meaning (frame, units)
@@ -62,6 +66,7 @@ class Bodies:
         self.body_rotation = np.tile([0.0, 0.0, 0.0, 1.0], (capacity, 1))
         self.body_motion_type = np.zeros(capacity, dtype=np.int64)
         self.shapes: list[list] = [[] for _ in range(capacity)]
+        self.free_slots: list[int] = []  # freed object slots, most recently freed last
 
     @property
     def capacity(self) -> int:
@@ -81,10 +86,37 @@ class Bodies:
         while index >= self.capacity:
             self._grow()
         self.count = max(self.count, index + 1)
+        self._clear(index)
         self.body_alive[index] = True
         self.body_awake[index] = True
         self.body_collidable[index] = True
         self.body_rotation[index] = (0.0, 0.0, 0.0, 1.0)
+
+    def next_slot(self) -> int:
+        """The slot a new body gets: the most recently freed one, else a new one at the end."""
+        return self.free_slots[-1] if self.free_slots else self.count
+
+    def allocate(self) -> int:
+        """Reserve and return :meth:`next_slot` (cleared, alive, awake, collidable)."""
+        index = self.next_slot()
+        if self.free_slots:
+            self.free_slots.pop()
+        self.add(index)
+        return index
+
+    def release(self, index: int) -> None:
+        """Free slot ``index``: clear its state (``body_alive`` False) and recycle it."""
+        self._clear(index)
+        if index != 0 and index not in self.free_slots:
+            self.free_slots.append(index)
+
+    def _clear(self, index: int) -> None:
+        """Zero every ``body_*`` array at ``index`` (identity rotation, no shapes)."""
+        for name, value in vars(self).items():
+            if name.startswith("body_"):
+                value[index] = 0
+        self.body_rotation[index] = (0.0, 0.0, 0.0, 1.0)
+        self.shapes[index] = []
 
     @property
     def body_inv_mass(self) -> np.ndarray:

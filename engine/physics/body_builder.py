@@ -77,6 +77,7 @@ def describe_object(template) -> BodyDescription:
     else:
         com = np.asarray(template.com, dtype=np.float64)
     shapes = _collision_shapes(template, collision_handle, render_handle, com)
+    _check_size(template, shapes)
     mass = float(template.mass)
     inertia = np.asarray(template.inertia, dtype=np.float64)
     if not np.any(inertia):
@@ -85,6 +86,21 @@ def describe_object(template) -> BodyDescription:
         raise ValueError(f"template {template.handle!r}: inertia must be positive, got {inertia}")
     return BodyDescription(shapes, render, com, mass, inertia, points.min(0) - com,
                            points.max(0) - com)
+
+
+def _check_size(template, shapes: list[Shape]) -> None:
+    """Refuse collision shapes thinner than ``MIN_BODY_DIMENSION`` (or with a degenerate
+    hull): contact geometry below that size is lost to rounding and fcl's tolerances."""
+    from .settings import MIN_BODY_DIMENSION
+
+    for shape in shapes:
+        thickness = 2.0 * shape.min_half_extent
+        degenerate = shape.plane_normals is not None and len(shape.plane_normals) < 4
+        if not thickness >= MIN_BODY_DIMENSION or degenerate:
+            raise ValueError(
+                f"template {template.handle!r}: collision shape is {thickness:.3g} m thick in "
+                f"its smallest dimension; the minimum is {MIN_BODY_DIMENSION} m "
+                f"(engine.physics.settings.MIN_BODY_DIMENSION); scale {list(template.scale)}")
 
 
 def _collision_shapes(template, collision_handle, render_handle, com) -> list[Shape]:

@@ -126,8 +126,8 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
     (n,)`` bool: the bodies that can move this step (awake dynamic, moving kinematic).
     """
     b, n = bodies, bodies.count
-    has_shapes = np.array([len(s) > 0 for s in b.shapes[:n]], dtype=bool)
-    candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n] & has_shapes)[0]
+    # every live object has shapes; the stage without shapes is not collidable
+    candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
     lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
                          b.body_position[:n], b.body_rotation[:n])
     b.body_aabb_min[:n] = lo - constants.AABB_MARGIN

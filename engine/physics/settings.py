@@ -124,6 +124,10 @@ SLEEP_MAX_PENETRATION = 0.01
 TINY = 1e-300
 
 # --- robustness -------------------------------------------------------------------------
+#: m, the thinnest collision shape an object may have (smallest dimension of its body-frame
+#: box); thinner templates are refused when the object is added. Bodies down to 5 mm (and
+#: plates down to 1 mm) are tested not to fall through the stage.
+MIN_BODY_DIMENSION = 1e-4
 #: m/s, linear speeds are clamped to this (keeps a bad impulse from launching a body).
 MAX_LINEAR_SPEED = 200.0
 #: rad/s, angular speeds are clamped to this.

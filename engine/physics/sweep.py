@@ -31,9 +31,7 @@ def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarr
     if not np.any(fast):
         return
     n = b.count
-    obstacle = (b.body_alive[:n] & b.body_collidable[:n]
-                & (b.body_motion_type[:n] != DYNAMIC)
-                & np.array([len(s) > 0 for s in b.shapes[:n]]))
+    obstacle = b.body_alive[:n] & b.body_collidable[:n] & (b.body_motion_type[:n] != DYNAMIC)
     for k in np.nonzero(fast)[0]:
         index = moving[k]
         direction = travel[k] / length[k]

@@ -48,8 +48,7 @@ class WorldApiMixin:
     def add_body(self, description, template) -> int:
         """Create a DYNAMIC body from a BodyDescription and its template; returns its id."""
         b = self.bodies
-        index = b.count
-        b.add(index)
+        index = b.allocate()  # a recycled slot if any (Habitat's recycled object ids)
         b.body_mass[index] = description.mass
         b.body_inertia[index] = description.inertia
         b.body_motion_type[index] = DYNAMIC
@@ -63,17 +62,18 @@ class WorldApiMixin:
         return index
 
     def remove_body(self, index: int) -> None:
-        """Kill body ``index`` (its slot stays, ``body_alive`` False) and wake its neighbors."""
+        """Remove body ``index`` and wake its neighbors; its slot (cleared, ``body_alive``
+        False) is recycled for the next new body, and nothing else keeps a reference to it."""
         self.wake_neighbors(index)
         b = self.bodies
-        b.body_alive[index] = False
-        b.body_awake[index] = False
-        b.body_linear_velocity[index] = 0.0
-        b.body_angular_velocity[index] = 0.0
         for key in [k for k in self.manifolds if index in k]:
             del self.manifolds[key]
+        b.release(index)
         self.collision_objects.remove(index)
-        b.shapes[index] = []
+        self.render_meshes.pop(index, None)
+        self._node_stamp.pop(index, None)
+        if index < len(self._node_written_pose):
+            self._node_written_pose[index] = np.nan  # never written (a reused slot rewrites)
         self.nodes.pop(index, None)
         self.velocity_controls.pop(index, None)
         self.creation_state.pop(index, None)
