@@ -158,6 +158,8 @@ class ManifoldStore(MutableMapping):
                fresh: FreshPoints) -> None:
         """Refresh, merge the fresh points into and reduce the manifolds ``rows``.
 
+        Reference: :func:`reference_contacts.update_manifold`, one row at a time (tested).
+
         ``fresh`` holds this step's narrow-phase points, padded per row (same row order).
         """
         if len(rows) == 0:
@@ -366,6 +368,8 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
                    count: np.ndarray, valid: np.ndarray,
                    preferred: np.ndarray | None = None) -> np.ndarray:
     """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
+
+    Reference: :func:`reference_contacts.select_support` (one row).
 
     Parameters
     ----------

@@ -130,7 +130,9 @@ def _to_world(rotation, position, points):
 
 
 def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
-    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage."""
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage.
+
+    Reference: :func:`reference_contacts.stage_polyhedron_contacts` (one shape pair)."""
     stage = jobs[0].shape_a
     table = _triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
@@ -199,7 +201,9 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
 
 
 def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
-    """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts."""
+    """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts.
+
+    Reference: :func:`reference_contacts.polyhedron_contacts` (one shape pair)."""
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces
     n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal

@@ -18,8 +18,9 @@ manifolds of one color touch distinct dynamic bodies and are solved by one NumPy
 colors remain Gauss-Seidel. The (up to) four points of one manifold share their bodies: they
 are solved together as a Jacobi block with *mass splitting* (Tonge et al. 2012): each point
 sees ``n_points x`` the inverse mass, i.e. ``m_eff / n_points``, which keeps the block
-convergent. :func:`solve_velocities_scalar` runs the very same algebra with plain loops; a
-test checks both agree (to rounding: the sums run in a different order).
+convergent. :mod:`reference_solver` is the plain version of this module (its own anchors,
+Jacobians and effective masses, one point at a time); tests check both agree to rounding
+(the sums run in a different order). Each batched function names the reference it mirrors.
 
 The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the inner loop
 is kept to few calls: each color's :class:`RowBlock` views are made once per batch, body
@@ -137,6 +138,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                 inv_inertia, friction, restitution, impulse, velocity, color_slices,
                 split_mass: bool = False):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
+
+    Reference: :func:`reference_solver.build_rows` (one point at a time).
 
     Parameters
     ----------
@@ -258,7 +261,9 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
 
 
 def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
-    """Velocity iterations (normal then friction per color), then the restitution pass."""
+    """Velocity iterations (normal then friction per color), then the restitution pass.
+
+    Reference: the loops of :func:`reference_solver.solve_reference`."""
     flat = velocity.reshape(-1)  # (n * 6,), a view when velocity is contiguous
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
     bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
@@ -309,7 +314,9 @@ def _restitution_rows(block, vab, target, lam):
 
 
 def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
-    """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop."""
+    """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop.
+
+    Reference: :func:`reference_solver.solve_positions_reference`."""
     pseudo = np.zeros((n_bodies, 6))
     if not options.position_correction or options.position_iterations == 0:
         return pseudo
