@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn_matrices import Matrix3x3
+from engine.mn_matrices import Matrix3x3, quaternion_to_matrix
 from engine.mn_vectors import Rad, Vector3, finite_array, radians
 
 __all__ = [
@@ -59,18 +59,6 @@ def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
             aw * by - ax * bz + ay * bw + az * bx,
             aw * bz + ax * by - ay * bx + az * bw,
             aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    )
-
-
-def quaternion_to_matrix(xyzw: np.ndarray) -> np.ndarray:
-    """3x3 rotation matrix of a unit ``[x, y, z, w]`` quaternion (see the module docstring)."""
-    x, y, z, w = xyzw
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
         ]
     )
 

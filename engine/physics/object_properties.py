@@ -1,4 +1,5 @@
-"""Properties and actions of ``ManagedRigidObject`` (Habitat's names, including ``intertia``).
+"""``ManagedRigidObject``: one rigid object's properties and actions (Habitat's names,
+including ``intertia``), a thin handle on one body of the :class:`PhysicsWorld`.
 
 Every getter returns a copy; every setter validates first (ValueError/TypeError naming the
 value) and only then writes the world's ``body_*`` arrays, so bad input changes nothing.
@@ -8,6 +9,7 @@ forces and impulses act only on DYNAMIC objects. Pose and velocity writes wake t
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Any
 
@@ -18,6 +20,7 @@ from engine import mn
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .integrate import world_inverse_inertia
+from .motion_type import MotionType
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .velocity_control import RigidState
 
@@ -38,8 +41,39 @@ def _angle(value: Any) -> float:
                                 "angle")))
 
 
-class ObjectPropertiesMixin:
-    """Mixed into ``ManagedRigidObject``; ``self._check()`` returns the body index."""
+class DeadObjectError(RuntimeError):
+    """Raised when a removed object (``is_alive == False``) is used."""
+
+
+class ManagedRigidObject:
+    """A rigid object in the world (Habitat's ``ManagedRigidObject``).
+
+    Frames: ``translation`` is the center of mass in the world frame (m); ``rotation`` the
+    world_from_object quaternion; velocities world frame (m/s, rad/s); forces world frame (N)
+    at a world-frame offset from the COM.
+    """
+
+    def __init__(self, world, index, handle, template, description, root, visual) -> None:
+        self._world, self._index, self._handle = world, index, handle
+        self._template = copy.copy(template.copy())
+        self._user_attributes = template.get_user_config().copy()
+        self._description = description
+        self._root_node, self._visual_node = root, visual
+        self._alive = True
+
+    @property
+    def is_alive(self) -> bool:
+        """False once the object was removed from the world."""
+        return self._alive
+
+    def _check(self) -> int:
+        if not self._alive:
+            raise DeadObjectError(f"rigid object {self._handle!r} was removed (is_alive False)")
+        return self._index
+
+    def __repr__(self) -> str:
+        state = "alive" if self._alive else "removed"
+        return f"<ManagedRigidObject {self._handle!r} id={self._index} {state}>"
 
     # -- identity ------------------------------------------------------------------------------
     @property
@@ -98,14 +132,13 @@ class ObjectPropertiesMixin:
     # -- motion type ---------------------------------------------------------------------------
     @property
     def motion_type(self):
-        from .objects import MotionType
-
         return MotionType(int(self._world.bodies.body_motion_type[self._check()]))
 
     @motion_type.setter
     def motion_type(self, value: Any) -> None:
         index = self._check()
-        if isinstance(value, bool) or not isinstance(value, int) or value not in (0, 1, 2):
+        valid = (STATIC, KINEMATIC, DYNAMIC)
+        if isinstance(value, bool) or not isinstance(value, int) or value not in valid:
             raise ValueError(f"motion_type must be STATIC, KINEMATIC or DYNAMIC, got {value!r}")
         b = self._world.bodies
         if b.body_motion_type[index] == int(value):
@@ -415,4 +448,4 @@ class ObjectPropertiesMixin:
             drawable.semantic_id = int(value)
 
 
-__all__ = ["KINEMATIC", "ObjectPropertiesMixin"]
+__all__ = ["KINEMATIC", "DeadObjectError", "ManagedRigidObject"]
