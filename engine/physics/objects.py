@@ -78,13 +78,13 @@ class RigidObjectManager:
                                  description, root, visual)
         if attachment_node is not None:
             matrix = attachment_node.world_matrix()
-            world._node_pose[index] = None
+            world.node_sync.forget(index)
             from .quaternions import matrix_to_quat
 
             rotation = matrix[:3, :3] / np.linalg.norm(matrix[:3, :3], axis=0)
             world.set_body_pose(index, matrix[:3, 3].copy(), matrix_to_quat(rotation))
             world.creation_state[index] = (matrix[:3, 3].copy(), matrix_to_quat(rotation))
-        world._write_node(index)
+        world.node_sync.write_node(index)
         self._objects[index] = obj
         return obj
 

@@ -61,7 +61,7 @@ from .integrate import (
     integrate_stage,
     integrate_velocities,
 )
-from .node_sync import NodeSyncMixin
+from .node_sync import NodeSync
 from .profiling import StageTimer
 from .quaternions import quat_to_matrix
 from .settings import SolverSettings
@@ -73,7 +73,7 @@ from .world_api import WorldApiMixin
 __all__ = ["STAGE_ID", "PhysicsWorld"]
 
 
-class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
+class PhysicsWorld(WorldApiMixin):
     """The rigid-body world behind ``Simulator`` (see the module docstring)."""
 
     def __init__(self, physics_attributes, root_node, object_template_manager,
@@ -99,7 +99,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
         self.velocity_controls: dict[int, Any] = {}
         self.render_meshes: dict[int, list] = {}
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._init_node_sync()
+        self.node_sync = NodeSync(self.bodies, self.nodes)
         self._time = 0.0
         self._accumulator = 0.0
         self.n_overlapping_pairs = 0
@@ -174,7 +174,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
             raise ValueError(f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
                              f"the limit per call is {constants.MAX_STEPS_PER_CALL}")
         self._accumulator = accumulated - n_steps * self._timestep
-        self._sync_from_nodes()
+        self._read_user_moves()
         self._apply_velocity_control(dt)
         for _ in range(n_steps):
             for _ in range(self._substeps()):
@@ -182,7 +182,13 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
             self._time += self._timestep
         self.bodies.body_force[:] = 0.0
         self.bodies.body_torque[:] = 0.0
-        self._write_nodes()
+        self.node_sync.write_nodes()
+
+    def _read_user_moves(self) -> None:
+        """Bodies of KINEMATIC/STATIC objects whose nodes the user moved take those poses."""
+        for index in self.node_sync.read_user_moves():
+            self._update_fcl(index)
+            self.wake_neighbors(index)
 
     def _substeps(self) -> int:
         return max(1, int(self.settings.substeps))
@@ -214,7 +220,7 @@ class PhysicsWorld(WorldApiMixin, NodeSyncMixin):
     # ------------------------------------------------------------------------------------
     def perform_discrete_collision_detection(self) -> None:
         """Run the collision stage without stepping (refreshes contact points)."""
-        self._sync_from_nodes()
+        self._read_user_moves()
         self.n_overlapping_pairs = collision_stage(self.bodies, self.collision_objects,
                                                    self.manifolds, self.settings, self.timer)
 

@@ -71,13 +71,10 @@ class WorldApiMixin:
         b.release(index)
         self.collision_objects.remove(index)
         self.render_meshes.pop(index, None)
-        self._node_stamp.pop(index, None)
-        if index < len(self._node_written_pose):
-            self._node_written_pose[index] = np.nan  # never written (a reused slot rewrites)
+        self.node_sync.forget(index)
         self.nodes.pop(index, None)
         self.velocity_controls.pop(index, None)
         self.creation_state.pop(index, None)
-        self._node_pose.pop(index, None)
 
     def set_body_pose(self, index: int, position: np.ndarray, rotation: np.ndarray,
                       wake: bool = True) -> None:
@@ -87,7 +84,7 @@ class WorldApiMixin:
         b.body_rotation[index] = rotation / np.linalg.norm(rotation)
         if index in self.collision_objects:
             self._update_fcl(index)
-        self._write_node(index)
+        self.node_sync.write_node(index)
         if wake:
             self.wake(index)
             self.wake_neighbors(index)
@@ -124,7 +121,7 @@ class WorldApiMixin:
             b.body_rotation[index] = rotation
             b.body_awake[index] = True
             self._update_fcl(index)
-            self._write_node(index)
+            self.node_sync.write_node(index)
         n = b.count
         for name in ("body_linear_velocity", "body_angular_velocity", "body_force",
                      "body_torque", "body_solver_velocity", "body_solver_angular_velocity"):
