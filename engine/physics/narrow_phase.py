@@ -5,7 +5,12 @@ at once. A Python loop asks python-fcl about every shape pair (that call is the 
 per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 
 * stage vs polyhedron, grouped by the polyhedron's hull vertex count ``V``: the body's hull
-  vertices lying in the prism of a touched triangle, just below its plane (method 2);
+  vertices lying in the prism of a touched triangle, just below its plane (method 2). The
+  triangle's normal is turned to the stage's *outward side*: the side the body was on
+  when the contact began, remembered by the pair's manifold (its cached normals point
+  from the stage to the body). Only a new contact falls back to the side holding the
+  middle of the body's extent; the body's center is never used, so a thin plate pushed
+  past the surface's plane is still pushed back out, never through;
 * polyhedron vs polyhedron, grouped by ``(V_a, F_a, V_b, F_b)`` vertex and face counts: the
   vertices of one body inside the other, measured against the reference face picked by
   fcl's normal (method 1);
@@ -35,10 +40,12 @@ from .collide import (
     fcl_raw_contacts,
     round_contacts,
 )
+from .contacts import tie_key
 
 if TYPE_CHECKING:
     from .bodies import Bodies
     from .collision_stage import CollisionObjects
+    from .contacts import ManifoldStore
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
 
@@ -80,11 +87,12 @@ class _Contacts:
         return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
 
 
-def narrow_phase(bodies: Bodies, objects: CollisionObjects, pairs: list,
-                 rotation: np.ndarray):
+def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
+                 pairs: list, rotation: np.ndarray):
     """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring).
 
-    ``rotation (n, 3, 3)``: every body's world_from_body matrix. Must agree with
+    ``rotation (n, 3, 3)``: every body's world_from_body matrix; ``store``: the manifolds
+    before this step's update (their normals keep a stage contact on its side). Must agree with
     :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
     """
     b = bodies
@@ -112,7 +120,8 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, pairs: list,
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
                                                          probe_c))
     for group in jobs["stage"].values():
-        _stage_group(group, rotation, b.body_position, contacts)
+        _stage_group(group, rotation, b.body_position, contacts,
+                     _cached_normals(store, [job.body_b for job in group]))
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
@@ -129,8 +138,37 @@ def _to_world(rotation, position, points):
     return np.einsum("gij,gkj->gki", rotation, points) + position[:, None]
 
 
-def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
-    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage.
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body) and ``valid (g, S)`` of the manifolds of
+    the stage with ``bodies`` (the stage frame is the world frame)."""
+    rows = [store.row((0, body)) for body in bodies]
+    known = np.array([row is not None for row in rows])
+    index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
+    slots = np.arange(store.normal_local.shape[1])
+    valid = known[:, None] & (slots < store.count[index][:, None])
+    return store.normal_local[index], valid
+
+
+def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+    """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to the triangle's decides when it is within 60
+    degrees of it; otherwise (a new contact) the side holding the middle of the hull's
+    extent along the normal.
+    """
+    cached_normal, valid = cached
+    # n_t . c_k for every triangle t and cached normal k, (g, T, S)
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * valid[:, None, :]
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None],
+                                   axis=2)[..., 0]
+    middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest),
+                    middle)
+
+
+def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
+    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`).
 
     Reference: :func:`reference_contacts.stage_polyhedron_contacts` (one shape pair)."""
     stage = jobs[0].shape_a
@@ -146,9 +184,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = (np.einsum("gti,gvi->gtv", normal, verts)
               - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
-    # each normal faces the side holding the middle of the hull's extent along it (robust
-    # for any vertex distribution and COM, and for bodies sunk in by less than half)
-    side = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)  # (g, T)
+    side = _outward_side(normal, height, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
@@ -206,8 +242,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     Reference: :func:`reference_contacts.polyhedron_contacts` (one shape pair)."""
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces
-    n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
-                  for job in jobs])
+    n = np.array([deepest_record(job.contacts).normal for job in jobs])
     frame_a = _pose([job.body_a for job in jobs], rotation, position)
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]
@@ -232,6 +267,13 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
         contacts.add_one(seq[k], _midpoint_contacts(mid, normals, depths))
 
 
+def deepest_record(records: list):
+    """fcl's deepest contact record; near-equal depths (``TIE_QUANTUM``) go to the first,
+    so the choice does not hang on the rounding of the poses."""
+    keys = tie_key(np.abs([record.penetration_depth for record in records]))
+    return records[int(np.argmax(keys))]
+
+
 def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     """Vertices ``verts (g, V, 3)`` inside the reference hulls, on their face facing ``towards``.
 
@@ -243,7 +285,7 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     offsets = np.stack([s.plane_offsets for s in ref_shapes])  # (g, F)
     face_normals = np.einsum("gij,gfj->gfi", rotation, planes)  # outward, world frame
     alignment = (face_normals * towards[:, None]).sum(axis=2)
-    face = alignment.argmax(axis=1)
+    face = tie_key(alignment).argmax(axis=1)  # the first of (nearly) equally aligned faces
     jobs = np.arange(len(face))
     # else no face of this body faces the other
     facing = alignment[jobs, face] >= settings.REFERENCE_FACE_ALIGNMENT
