@@ -35,6 +35,7 @@ reference path (:func:`reference_contacts.update_manifold`) makes the same choic
 from __future__ import annotations
 
 from collections.abc import Iterator, MutableMapping
+from typing import Any
 
 import numpy as np
 
@@ -164,8 +165,9 @@ class ManifoldStore(MutableMapping):
                            self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
 
     # -- the per-step update ---------------------------------------------------------------
-    def update(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
-               fresh: FreshPoints) -> None:
+    def update(  # type: ignore[override]  # not MutableMapping.update: the step's merge
+            self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
+            fresh: FreshPoints) -> None:
         """Refresh, merge the fresh points into and reduce the manifolds ``rows``.
 
         Reference: :func:`reference_contacts.update_manifold`, one row at a time (tested).
@@ -243,17 +245,18 @@ class FreshPoints:
 class LocalPoints:
     """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
 
-    def __init__(self, local_a, local_b, normal_local, impulse, valid) -> None:
+    def __init__(self, local_a: np.ndarray, local_b: np.ndarray, normal_local: np.ndarray,
+                 impulse: np.ndarray, valid: np.ndarray) -> None:
         self.local_a, self.local_b = local_a, local_b
         self.normal_local, self.impulse, self.valid = normal_local, impulse, valid
 
     def where(self, keep: np.ndarray) -> LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
         order = np.argsort(~keep, axis=1, kind="stable")
-        return LocalPoints(*(per_row(array, order)
-                             for array in (self.local_a, self.local_b, self.normal_local,
-                                           self.impulse)),
-                           per_row(keep, order))
+        local_a, local_b, normal_local, impulse = (
+            per_row(array, order)
+            for array in (self.local_a, self.local_b, self.normal_local, self.impulse))
+        return LocalPoints(local_a, local_b, normal_local, impulse, per_row(keep, order))
 
     def world(self, frame_a, frame_b):
         """World anchors of A and B and world normals ``(r, k, 3)``; ``frame_x`` holds each
@@ -348,7 +351,8 @@ def _combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> Local
     joined = [np.concatenate([getattr(cached, name), getattr(fresh, name)], axis=1)
               for name in ("local_a", "local_b", "normal_local", "impulse")]
     valid = np.concatenate([keep_cached, fresh.valid], axis=1)
-    return LocalPoints(*joined, valid).where(valid)
+    local_a, local_b, normal_local, impulse = joined
+    return LocalPoints(local_a, local_b, normal_local, impulse, valid).where(valid)
 
 
 def _band(feature: np.ndarray) -> np.ndarray:
@@ -379,7 +383,7 @@ def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
     return array[np.arange(len(index))[:, None], index]
 
 
-def tie_key(values: np.ndarray) -> np.ndarray:
+def tie_key(values: Any) -> Any:
     """``values`` rounded to multiples of ``TIE_QUANTUM``: equal keys are ties."""
     return np.round(values / settings.TIE_QUANTUM)
 

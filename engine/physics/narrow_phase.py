@@ -96,8 +96,10 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
     :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
     """
     b = bodies
-    jobs = {"stage": defaultdict(list), "polyhedra": defaultdict(list)}
-    contacts, pair_of_seq = _Contacts(), []
+    # jobs grouped by array sizes: stage jobs by V, polyhedron jobs by (V_a, F_a, V_b, F_b)
+    jobs: dict[str, defaultdict[Any, list[Job]]] = {"stage": defaultdict(list),
+                                                    "polyhedra": defaultdict(list)}
+    contacts, pair_of_seq = _Contacts(), list[int]()
     for position, (a, c) in enumerate(pairs):
         for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(b.shapes[c], objects.shape_objects[c],
@@ -107,14 +109,14 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
                 if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
                     if found:
-                        key = len(shape_c.hull_vertices)
-                        jobs["stage"][key].append(Job(seq, shape_a, a, shape_c, c, found))
+                        job = Job(seq, shape_a, a, shape_c, c, found)
+                        jobs["stage"][len(shape_c.hull_vertices)].append(job)
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, obj_c)
                     if found:
-                        key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
-                               len(shape_c.hull_vertices), len(shape_c.plane_normals))
-                        jobs["polyhedra"][key].append(Job(seq, shape_a, a, shape_c, c, found))
+                        sizes = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
+                                 len(shape_c.hull_vertices), len(shape_c.plane_normals))
+                        jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
@@ -127,10 +129,11 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
 
 
-def _pose(bodies: list, rotation, position):
+def _pose(bodies: list, rotation: np.ndarray,
+          position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of ``bodies``."""
-    bodies = np.array(bodies, dtype=np.int64)
-    return rotation[bodies], position[bodies]
+    index = np.array(bodies, dtype=np.int64)
+    return rotation[index], position[index]
 
 
 def _to_world(rotation, position, points):
@@ -252,9 +255,10 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
             ((shapes_a, frame_a, shapes_b, frame_b, 1.0),
              (shapes_b, frame_b, shapes_a, frame_a, -1.0))):
+        inc_rotation, inc_position = inc_frame
+        inc_vertices = np.stack([s.hull_vertices for s in inc])
         g, v, on_face, verts, face_normal = _reference_face_contacts(
-            ref, ref_frame, _to_world(*inc_frame, np.stack([s.hull_vertices for s in inc])),
-            sign * n)
+            ref, ref_frame, _to_world(inc_rotation, inc_position, inc_vertices), sign * n)
         found[g] = True
         local = direction * n_first + v  # A's reference points first, then B's
         contact_normal = sign * face_normal[g]  # always A -> B

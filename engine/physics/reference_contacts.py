@@ -146,16 +146,17 @@ def stage_polyhedron_contacts(stage, hull, pose, found: list,
         side = outward_side(normal, height, cached)
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
-        heights.append(height)
+        heights.append(height)  # (T, V) signed heights, m
     contacts = []
     for k, vertex in enumerate(vertices):
-        best = None  # (height, triangle position) of the shallowest candidate triangle
+        # (height, triangle position) of the shallowest candidate triangle
+        best: tuple[float, int] | None = None
         for i, t in enumerate(triangle_ids):
-            height = heights[i][k]
-            if (height < settings.STAGE_SPECULATIVE_DISTANCE and height > -0.5 * extent
+            above = heights[i][k]  # m, height of this vertex above triangle t
+            if (above < settings.STAGE_SPECULATIVE_DISTANCE and above > -0.5 * extent
                     and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
-                    and (best is None or height > best[0])):
-                best = (height, i)
+                    and (best is None or above > best[0])):
+                best = (above, i)
         if best is not None:
             normal, depth = normals[best[1]], -best[0]
             contacts.append(Contact(vertex + normal * depth, vertex, normal))

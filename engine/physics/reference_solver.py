@@ -319,8 +319,8 @@ def _lumped_push(state: Bodies6, m: ManifoldRows, frozen: int | None, bias_of) -
     active = [(j, w, p) for j, w, p in rows if dot12(j, w) > 0]
     if not active:
         return
-    jac = sum(j for j, _, _ in active) / len(active)
-    w = sum(w for _, w, _ in active) / len(active)
+    jac = np.sum([j for j, _, _ in active], axis=0) / len(active)  # mean J of the points
+    w = np.sum([w for _, w, _ in active], axis=0) / len(active)  # mean W
     k = dot12(jac, w)
     if k <= 0:
         return

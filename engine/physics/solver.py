@@ -377,12 +377,13 @@ def shock_batch(batch: ContactBatch) -> ContactBatch | None:
     if "shock" not in batch.colors:
         shock = None
         lower = batch.lower
-        if lower is not None and lower.any():
+        if lower is not None and bool(lower.any()):
+            lower = np.asarray(lower, dtype=bool)
             # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
             keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
             w = batch.normal_w * keep[:, :, None]
             k = (batch.normal_jac * np.swapaxes(w, 1, 2)).sum(axis=-1)  # J W'^T, (m, S)
-            active = batch.mask & lower.any(axis=1)[:, None] & (k > 0)
+            active = batch.mask & np.any(lower, axis=1)[:, None] & (k > 0)
             mass = np.where(active, 1.0 / (batch.split * np.maximum(k, constants.TINY)), 0.0)
             shock = ContactBatch(**{**vars(batch), "normal_w": w, "normal_mass": mass,
                                     "colors": {}, "lower": None})
