@@ -84,3 +84,14 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
 def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Rotate vectors ``(..., 3)`` by unit quaternions ``(..., 4)``: ``R(q) v``."""
     return (quat_to_matrix(q) @ v[..., None])[..., 0]
+
+
+def live_rotations(bodies) -> np.ndarray:
+    """``(n, 3, 3)`` rotation matrices of all ``n = bodies.count`` slots: computed for the
+    live bodies, identity for freed slots (whose quaternion is the identity anyway), so a
+    world that once held many objects pays only for those alive."""
+    n = bodies.count
+    rotation = np.tile(np.eye(3), (n, 1, 1))
+    live = np.flatnonzero(bodies.body_alive[:n])
+    rotation[live] = quat_to_matrix(bodies.body_rotation[live])
+    return rotation
