@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 # one rotation matrix -> [x, y, z, w] (Shepperd's method): the scalar path lives in engine.mn
-from engine.mn_rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
+from engine.mn.rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
 
 X, Y, Z, W = range(4)
 
