@@ -62,6 +62,8 @@ def lifecycle(rounds: int, n_objects: int) -> None:
     print(f"lifecycle: {rounds} rounds of adding and removing {n_objects} boxes")
     print(f"{'round':>5} {'memory MB':>10} {'d MB':>6} {'slots':>6} {'1-object step ms':>17}"
           f" {'ratio':>6}")
+    print(f"{'fresh':>5} {resident_mb():>10.1f} {'':>6} {world.bodies.count:>6}"
+          f" {one_object_step_ms(world, templates, handle):>17.2f}")
     first_mb = first_ms = None
     for round_ in range(rounds):
         objects = [add(world, templates, handle,

@@ -74,8 +74,9 @@ PENETRATION_SLOP = 0.004
 POSITION_BAUMGARTE = 0.2
 #: m, beyond the slop: a contact this deep switches the position solve to
 #: ``overlap_position_iterations`` sweeps (bodies created overlapping).
-DEEP_OVERLAP = 0.02
-#: 1, the Baumgarte fraction used instead of ``POSITION_BAUMGARTE`` in that case.
+DEEP_OVERLAP = 0.01
+#: 1, the Baumgarte fraction of the contacts deeper than ``DEEP_OVERLAP`` (the others keep
+#: ``POSITION_BAUMGARTE``, so a falling pile's brief impacts do not disturb its neighbors).
 OVERLAP_BAUMGARTE = 0.4
 #: m/s, upper bound of the position-correction pseudo velocity (no launches).
 MAX_CORRECTION_SPEED = 2.0

@@ -31,8 +31,8 @@ Position correction (split impulses, Catto / Bullet): a separate pseudo velocity
 pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
 ``PENETRATION_SLOP``, capped at the manifold's feature length for small bodies);
 the pseudo velocity moves the bodies this step and is then discarded, so it adds no energy.
-Bodies created overlapping (a contact deeper than ``DEEP_OVERLAP``) get more sweeps and a
-firmer ``OVERLAP_BAUMGARTE``; the push stays a pseudo velocity capped at
+Bodies created overlapping (contacts deeper than ``DEEP_OVERLAP``) get more sweeps and,
+for those contacts, a firmer ``OVERLAP_BAUMGARTE``; the push stays a pseudo velocity capped at
 ``MAX_CORRECTION_SPEED`` (2 m/s), so they separate calmly, never launched. This is Bullet's
 split impulse (``m_splitImpulsePenetrationThreshold``, pseudo velocities that are thrown
 away), Box2D v3's soft contact with ``contactPushMaxVelocity`` (3 m/s by default) and
@@ -461,11 +461,12 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
     flat = pseudo.reshape(-1)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
     excess = np.maximum(batch.depth - batch.slop, 0.0)
-    # bodies created overlapping (a contact deeper than DEEP_OVERLAP): more sweeps, firmer
-    overlap = excess.max(initial=0.0) > constants.DEEP_OVERLAP
-    beta = constants.OVERLAP_BAUMGARTE if overlap else constants.POSITION_BAUMGARTE
+    # bodies created overlapping (contacts deeper than DEEP_OVERLAP): more sweeps, and a
+    # firmer push for those contacts
+    deep = excess > constants.DEEP_OVERLAP
+    beta = np.where(deep, constants.OVERLAP_BAUMGARTE, constants.POSITION_BAUMGARTE)
     iterations = options.position_iterations
-    if overlap:
+    if deep.any():
         iterations = max(iterations, options.overlap_position_iterations)
     target = np.minimum(beta * excess / h, constants.MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target

@@ -33,7 +33,7 @@ def spawn_at_one_point(primitive: str, n: int):
 
 
 @pytest.mark.parametrize(("primitive", "seconds"),
-                         [("icosphereSolid_subdivs_1", 1.5), ("cubeSolid", 2.0)],
+                         [("icosphereSolid_subdivs_1", 1.5), ("cubeSolid", 3.0)],
                          ids=["spheres", "cubes"])
 def test_thirty_bodies_created_at_one_point_separate_calmly(primitive, seconds):
     world, bodies = spawn_at_one_point(primitive, 30)
