@@ -247,14 +247,19 @@ def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
     if not settings.position_correction or settings.position_iterations == 0:
         return pseudo.array()
     slop = {id(p): problem.slop[k] for k, m in enumerate(manifolds) for p in m.points}
-    # bodies created overlapping (a contact deeper than DEEP_OVERLAP beyond the slop): more
-    # sweeps and a firmer Baumgarte factor, still capped at MAX_CORRECTION_SPEED
-    overlap = any(p.depth - slop[id(p)] > constants.DEEP_OVERLAP
-                  for m in manifolds for p in m.points)
-    beta = constants.OVERLAP_BAUMGARTE if overlap else constants.POSITION_BAUMGARTE
+    # bodies created overlapping (contacts deeper than DEEP_OVERLAP beyond the slop): more
+    # sweeps, and a firmer Baumgarte factor for those contacts; still capped at
+    # MAX_CORRECTION_SPEED
+    deep = {id(p): p.depth - slop[id(p)] > constants.DEEP_OVERLAP
+            for m in manifolds for p in m.points}
     iterations = settings.position_iterations
-    if overlap:
+    if any(deep.values()):
         iterations = max(iterations, settings.overlap_position_iterations)
+
+    def target_of(p: ContactRow) -> float:
+        beta = constants.OVERLAP_BAUMGARTE if deep[id(p)] else constants.POSITION_BAUMGARTE
+        return _position_target(p, h, slop[id(p)], beta)
+
     groups = _slot_groups(settings.block_jacobi)
     pushed = {id(p): 0.0 for m in manifolds for p in m.points}  # accumulated pseudo impulse
     for _ in range(iterations):
@@ -262,7 +267,7 @@ def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
             for group in groups(m):
                 steps = []
                 for p in group:
-                    target = _position_target(p, h, slop[id(p)], beta)
+                    target = target_of(p)
                     vn = dot(pseudo.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
                     step = -p.masses[0] * (vn - target)
                     step = max(step, -pushed[id(p)])  # accumulated pseudo impulse >= 0
@@ -270,8 +275,7 @@ def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
                     steps.append(step)
                 for p, step in zip(group, steps, strict=True):
                     pseudo.apply(m.body_a, m.body_b, p, step * p.directions[0])
-    stage_rows_last(pseudo, manifolds, problem,
-                    lambda p: -_position_target(p, h, slop[id(p)], beta), settings)
+    stage_rows_last(pseudo, manifolds, problem, lambda p: -target_of(p), settings)
     return pseudo.array()
 
 
