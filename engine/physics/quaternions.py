@@ -81,11 +81,6 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
     return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
 
 
-def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate vectors ``(..., 3)`` by unit quaternions ``(..., 4)``: ``R(q) v``."""
-    return (quat_to_matrix(q) @ v[..., None])[..., 0]
-
-
 def live_rotations(bodies) -> np.ndarray:
     """``(n, 3, 3)`` rotation matrices of all ``n = bodies.count`` slots: computed for the
     live bodies, identity for freed slots (whose quaternion is the identity anyway), so a
