@@ -16,8 +16,10 @@ compare; absolute times vary a lot on a shared machine.
 
 Usage::
 
-    python benchmarks/bench_physics.py          # full: 10 s per scene (500-pile: 3 s)
-    python benchmarks/bench_physics.py --quick  # 2 s per scene, 500-pile skipped
+    python benchmarks/bench_physics.py              # full: 10 s per scene (500-pile: 3 s)
+    python benchmarks/bench_physics.py --quick      # 2 s per scene, 500-pile skipped
+    python benchmarks/bench_physics.py --reference  # also time the reference path
+                                                    # (use_vectorized=False) on each scene
 """
 
 from __future__ import annotations
@@ -67,8 +69,9 @@ def pyramid_positions(base: int = 6):
     return positions, [[0, 0, 0, 1.0]] * len(positions)
 
 
-def run_rigidsim(positions, rotations, seconds):
+def run_rigidsim(positions, rotations, seconds, vectorized=True):
     world, templates = make_world(floor_half=20.0)
+    world.settings.use_vectorized = vectorized
     handle = register_primitive(templates, "cubeSolid", (HALF, HALF, HALF))
     boxes = []
     for p, q in zip(positions, rotations, strict=True):
@@ -125,6 +128,8 @@ def quality(name, start, final):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="2 s per scene, no 500 pile")
+    parser.add_argument("--reference", action="store_true",
+                        help="also run the reference path (use_vectorized=False)")
     args = parser.parse_args()
     seconds = 2.0 if args.quick else 10.0
     scenes = [("pile-10", pile_positions(10), seconds), ("pile-100", pile_positions(100), seconds),
@@ -146,7 +151,8 @@ def main() -> None:
         total = sum(profile.values()) or 1.0
         split = [profile.get("broad phase", 0.0), profile.get("collide", 0.0)
                  - profile.get("broad phase", 0.0), profile.get("solve", 0.0),
-                 profile.get("forces", 0.0) + profile.get("integrate+sleep", 0.0)]
+                 profile.get("forces", 0.0) + profile.get("integrate", 0.0)
+                 + profile.get("sleep", 0.0)]
         split_text = "/".join(f"{100 * s / total:.0f}" for s in split)
         if have_bullet:
             bullet_wall, bullet_final = run_pybullet(positions, rotations, sim_seconds)
@@ -158,6 +164,10 @@ def main() -> None:
         print(f"{name:<10} {sim_seconds:5.1f} {ours:13.1f} {theirs:13.1f} {ratio} "
               f"{asleep:4d}/{len(positions):<3d} {quality(name, start, final)} | {bullet_quality}"
               f"   {split_text}")
+        if args.reference:
+            reference_wall = run_rigidsim(positions, rotations, sim_seconds, False)[0]
+            print(f"{'':<10} reference path: {reference_wall / sim_seconds * 1000:.1f} ms/s "
+                  f"({reference_wall / wall:.1f}x the vectorized path)")
         if settled is not None and name.startswith("pile"):
             print(f"{'':<10} settled: all {len(positions)} asleep after {settled[0]:.2f} s "
                   f"simulated, {settled[1]:.2f} s wall ({settled[0] / settled[1]:.2f}x real time)")

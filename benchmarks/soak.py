@@ -37,7 +37,7 @@ from tqdm import tqdm
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import engine as habitat_sim  # noqa: E402
-from engine.datasets import demo_data_path  # noqa: E402
+from engine.demo import demo_data_path  # noqa: E402
 from engine.physics import MotionType  # noqa: E402
 from engine.sensors import CameraSensorSpec, SensorType  # noqa: E402
 

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from engine import mn
-from engine.mn_vectors import stable_norm
+from engine.mn.vectors import stable_norm
 
 if TYPE_CHECKING:  # pragma: no cover
     from engine.assets import MeshData

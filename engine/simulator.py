@@ -163,7 +163,7 @@ class Simulator:
         self._stage_attributes = stage_attributes
         self._world = PhysicsWorld(physics_attributes, self.root_node,
                                    self._object_template_manager,
-                                   self._asset_template_manager, seed=sim_cfg.random_seed)
+                                   self._asset_template_manager)
         self._world.set_stage(stage_meshes or None, stage_attributes)
         self._renderer = SceneRenderer(self.root_node, self._static_drawable_ids,
                                        lights_for=self._lights_for)

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.mn_vectors import finite_array
+from engine.mn.vectors import finite_array
 
 __all__ = ["ConfigValType", "Configuration"]
 

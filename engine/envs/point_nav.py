@@ -41,7 +41,7 @@ from gymnasium import spaces
 
 import engine as habitat_sim
 from engine import mn
-from engine.datasets import demo_data_path
+from engine.demo import demo_data_path
 from engine.utils.common import quat_rotate_vector
 from navmesh import ShortestPath
 

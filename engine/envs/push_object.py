@@ -35,7 +35,7 @@ from gymnasium import spaces
 
 import engine as habitat_sim
 from engine import mn
-from engine.datasets import demo_data_path
+from engine.demo import demo_data_path
 
 MotionType = habitat_sim.physics.MotionType
 

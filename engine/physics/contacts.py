@@ -26,12 +26,16 @@ whole cube, leaving one corner point that tips it over and through the floor).
 Normals point from body A to body B; depth ``(p_a - p_b) . n`` is positive when overlapping.
 Padded arrays: a row's first ``count`` slots hold its points, in no particular order; the
 other slots are zero. Per-row choices ("the deepest point of each row") are masked
-``argmax`` over the slot axis.
+``argmax`` over the slot axis. Choices compare values rounded to ``TIE_QUANTUM``
+(:func:`tie_key`): symmetric bodies (a cylinder on its side) have exact ties, and the first
+slot must win them whatever the rounding of the arithmetic before, so that the per-pair
+reference path (:func:`reference_contacts.update_manifold`) makes the same choices.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterator, MutableMapping
+from typing import Any
 
 import numpy as np
 
@@ -161,9 +165,12 @@ class ManifoldStore(MutableMapping):
                            self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
 
     # -- the per-step update ---------------------------------------------------------------
-    def update(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
-               fresh: FreshPoints) -> None:
+    def update(  # type: ignore[override]  # not MutableMapping.update: the step's merge
+            self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
+            fresh: FreshPoints) -> None:
         """Refresh, merge the fresh points into and reduce the manifolds ``rows``.
+
+        Reference: :func:`reference_contacts.update_manifold`, one row at a time (tested).
 
         ``fresh`` holds this step's narrow-phase points, padded per row (same row order).
         """
@@ -238,17 +245,18 @@ class FreshPoints:
 class LocalPoints:
     """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
 
-    def __init__(self, local_a, local_b, normal_local, impulse, valid) -> None:
+    def __init__(self, local_a: np.ndarray, local_b: np.ndarray, normal_local: np.ndarray,
+                 impulse: np.ndarray, valid: np.ndarray) -> None:
         self.local_a, self.local_b = local_a, local_b
         self.normal_local, self.impulse, self.valid = normal_local, impulse, valid
 
     def where(self, keep: np.ndarray) -> LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
         order = np.argsort(~keep, axis=1, kind="stable")
-        return LocalPoints(*(per_row(array, order)
-                             for array in (self.local_a, self.local_b, self.normal_local,
-                                           self.impulse)),
-                           per_row(keep, order))
+        local_a, local_b, normal_local, impulse = (
+            per_row(array, order)
+            for array in (self.local_a, self.local_b, self.normal_local, self.impulse))
+        return LocalPoints(local_a, local_b, normal_local, impulse, per_row(keep, order))
 
     def world(self, frame_a, frame_b):
         """World anchors of A and B and world normals ``(r, k, 3)``; ``frame_x`` holds each
@@ -289,7 +297,7 @@ def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points,
 def _distinct(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
     """Each row's points, deepest first, dropping any within ``radius (r,)`` of a kept one."""
     depth = np.where(points.valid, points.depth(), -np.inf)
-    by_depth = np.argsort(-depth, axis=1, kind="stable")
+    by_depth = np.argsort(-tie_key(depth), axis=1, kind="stable")
     points = points.take(by_depth, per_row(points.valid, by_depth))
     # |p_i - p_j|^2 between the (at most four) points of each row, in B's world anchors
     dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
@@ -343,7 +351,8 @@ def _combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> Local
     joined = [np.concatenate([getattr(cached, name), getattr(fresh, name)], axis=1)
               for name in ("local_a", "local_b", "normal_local", "impulse")]
     valid = np.concatenate([keep_cached, fresh.valid], axis=1)
-    return LocalPoints(*joined, valid).where(valid)
+    local_a, local_b, normal_local, impulse = joined
+    return LocalPoints(local_a, local_b, normal_local, impulse, valid).where(valid)
 
 
 def _band(feature: np.ndarray) -> np.ndarray:
@@ -374,9 +383,14 @@ def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
     return array[np.arange(len(index))[:, None], index]
 
 
+def tie_key(values: Any) -> Any:
+    """``values`` rounded to multiples of ``TIE_QUANTUM``: equal keys are ties."""
+    return np.round(values / settings.TIE_QUANTUM)
+
+
 def _masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Per row, the first slot holding the largest valid value (0 for empty rows)."""
-    return np.where(valid, values, -np.inf).argmax(axis=1)
+    return np.where(valid, tie_key(values), -np.inf).argmax(axis=1)
 
 
 def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
@@ -384,6 +398,8 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
                    preferred: np.ndarray | None = None,
                    band: np.ndarray | None = None) -> np.ndarray:
     """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
+
+    Reference: :func:`reference_contacts.select_support` (one row).
 
     Parameters
     ----------
@@ -403,9 +419,9 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     band = np.full(len(count), settings.SUPPORT_DEPTH_BAND) if band is None else band
     supporting = valid & (depth >= deepest_depth[:, None] - band[:, None])
     bonus = np.zeros(depth.shape) if preferred is None else preferred.astype(np.float64)
-    scale = 1.0 + 0.1 * bonus
+    scale = 1.0 + settings.PREFERRED_SIZE_BONUS * bonus
     chosen = np.zeros_like(valid)
-    first = _masked_argmax(depth + 1e-3 * bonus, supporting)
+    first = _masked_argmax(depth + settings.PREFERRED_DEPTH_BONUS * bonus, supporting)
     chosen[rows, first] = valid[rows, first]
     p0 = points[rows, first]
     far = ((points - p0[:, None]) ** 2).sum(axis=2) * scale  # |p - p0|^2
@@ -419,12 +435,12 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     # the fourth point lies on the other side of edge p0-p1 with the largest area
     opposite = np.where(supporting & ~chosen, -np.sign(area[rows, third])[:, None] * area,
                         -np.inf)
-    fourth = opposite.argmax(axis=1)
+    fourth = tie_key(opposite).argmax(axis=1)
     chosen[rows, fourth] |= (count >= 4) & np.isfinite(opposite[rows, fourth])
     # fill the slots left over with the deepest remaining points
     remaining = count - chosen.sum(axis=1)
     rest = np.where(valid & ~chosen, depth, -np.inf)
-    rank = np.argsort(-rest, axis=1, kind="stable")
+    rank = np.argsort(-tie_key(rest), axis=1, kind="stable")
     take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(per_row(rest, rank))
     chosen[np.arange(len(rank))[:, None], rank] |= take
     return chosen

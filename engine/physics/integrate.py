@@ -19,17 +19,52 @@ an explicit gyroscopic term blows up at 1/60 s.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from engine.mn_vectors import stable_norm
+from engine.mn.vectors import stable_norm
 
+from . import settings
+from .bodies import DYNAMIC
 from .quaternions import quat_multiply, quat_to_matrix, rotation_quat
+
+if TYPE_CHECKING:
+    from .bodies import Bodies
+
+
+def awake_dynamic_bodies(bodies: Bodies) -> np.ndarray:
+    """``(k,)`` indices of the bodies the step moves: alive, awake and DYNAMIC."""
+    n = bodies.count
+    mask = (bodies.body_alive[:n] & bodies.body_awake[:n]
+            & (bodies.body_motion_type[:n] == DYNAMIC))
+    return np.nonzero(mask)[0]
+
+
+def body_velocities(bodies: Bodies) -> np.ndarray:
+    """``(n, 6)`` copy of every body's [v, w] (world frame, m/s and rad/s)."""
+    n = bodies.count
+    return np.hstack([bodies.body_linear_velocity[:n], bodies.body_angular_velocity[:n]])
+
+
+def integrate_stage(bodies: Bodies, moving: np.ndarray, pseudo_velocity: np.ndarray | None,
+                    h: float) -> None:
+    """Stage 4 of the step: clamp speeds, advance the poses of ``moving (k,)`` by ``h``
+    (plus the split-impulse ``pseudo_velocity (n, 6)``), then sweep fast bodies (CCD-lite)."""
+    from .sweep import sweep_fast_bodies
+
+    clamp_speeds(bodies, moving, settings.MAX_LINEAR_SPEED, settings.MAX_ANGULAR_SPEED)
+    old_position = bodies.body_position[moving].copy()
+    extra_linear = None if pseudo_velocity is None else pseudo_velocity[moving, :3]
+    extra_angular = None if pseudo_velocity is None else pseudo_velocity[moving, 3:]
+    integrate_positions(bodies, moving, h, extra_linear, extra_angular)
+    sweep_fast_bodies(bodies, moving, old_position)
 
 
 def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarray:
     """``(k, 3, 3)`` world inverse inertia ``R diag(1/I) R^T`` from quaternions ``(k, 4)``."""
     r = quat_to_matrix(rotation)
-    inv_diag = 1.0 / np.maximum(inertia, 1e-300)
+    inv_diag = 1.0 / np.maximum(inertia, settings.TINY)
     # I_w^-1[i, j] = sum_k R[i, k] / I_k R[j, k]
     return (r * inv_diag[:, None, :]) @ np.swapaxes(r, 1, 2)
 
@@ -58,7 +93,7 @@ def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: floa
                                                                max_angular)):
         velocity = getattr(bodies, name)[index]
         speed = stable_norm(velocity, axis=1)  # |v| without overflow above 1e154 m/s
-        scale = np.minimum(1.0, limit / np.maximum(speed, 1e-300))
+        scale = np.minimum(1.0, limit / np.maximum(speed, settings.TINY))
         getattr(bodies, name)[index] = velocity * scale[:, None]
 
 
@@ -88,7 +123,7 @@ def integrate_positions(bodies, index: np.ndarray, h: float, linear_extra=None,
     energy_new = 0.5 * np.sum(momentum * w_new, axis=1)
     # never gain energy: w *= sqrt(E_old / E_new) when E_new > E_old
     scale = np.sqrt(np.where(energy_new > energy_old,
-                             energy_old / np.maximum(energy_new, 1e-300), 1.0))
+                             energy_old / np.maximum(energy_new, settings.TINY), 1.0))
     bodies.body_rotation[index] = q_new
     bodies.body_angular_velocity[index] = w_new * scale[:, None]
 

@@ -18,15 +18,16 @@ per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 
 Each group is a handful of ``(g, ...)`` array operations, whatever its size ``g``. The
 result is flat: ``pair_position (q,)`` (index into the pair list, ascending) and world
-``point_a, point_b, normal (q, 3)``, normals from A to B, in the order the scalar code
-would produce them (shape pairs in body order, A's reference points before B's).
+``point_a, point_b, normal (q, 3)``, normals from A to B, in the order the per-pair
+reference path (:func:`reference_contacts.pair_contacts`) produces them: shape pairs in body
+order; within a pair, vertex order, A's reference face's points before B's.
 """
 
 from __future__ import annotations
 
 from collections import defaultdict
 from itertools import chain
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -39,6 +40,12 @@ from .collide import (
     fcl_raw_contacts,
     round_contacts,
 )
+from .contacts import tie_key
+
+if TYPE_CHECKING:
+    from .bodies import Bodies
+    from .collision_stage import CollisionObjects
+    from .contacts import ManifoldStore
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
 
@@ -80,44 +87,52 @@ class _Contacts:
         return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
 
 
-def narrow_phase(world, pairs: list, rotation: np.ndarray):
-    """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring)."""
-    b = world.bodies
-    jobs = {"stage": defaultdict(list), "polyhedra": defaultdict(list)}
-    contacts, pair_of_seq = _Contacts(), []
+def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
+                 pairs: list, rotation: np.ndarray):
+    """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring).
+
+    ``rotation (n, 3, 3)``: every body's world_from_body matrix; ``store``: the manifolds
+    before this step's update (their normals keep a stage contact on its side). Must agree with
+    :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
+    """
+    b = bodies
+    # jobs grouped by array sizes: stage jobs by V, polyhedron jobs by (V_a, F_a, V_b, F_b)
+    jobs: dict[str, defaultdict[Any, list[Job]]] = {"stage": defaultdict(list),
+                                                    "polyhedra": defaultdict(list)}
+    contacts, pair_of_seq = _Contacts(), list[int]()
     for position, (a, c) in enumerate(pairs):
-        for shape_a, obj_a in zip(b.shapes[a], world.fcl_objects[a], strict=True):
-            for shape_c, obj_c, probe_c in zip(b.shapes[c], world.fcl_objects[c],
-                                               world.probe_objects[c], strict=True):
+        for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
+            for shape_c, obj_c, probe_c in zip(b.shapes[c], objects.shape_objects[c],
+                                               objects.probe_objects[c], strict=True):
                 seq = len(pair_of_seq)
                 pair_of_seq.append(position)
                 if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
                     if found:
-                        key = len(shape_c.hull_vertices)
-                        jobs["stage"][key].append(Job(seq, shape_a, a, shape_c, c, found))
+                        job = Job(seq, shape_a, a, shape_c, c, found)
+                        jobs["stage"][len(shape_c.hull_vertices)].append(job)
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, obj_c)
                     if found:
-                        key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
-                               len(shape_c.hull_vertices), len(shape_c.plane_normals))
-                        jobs["polyhedra"][key].append(Job(seq, shape_a, a, shape_c, c, found))
-                elif shape_a.kind == shape_c.kind == "sphere" and _coincident(b, a, c):
-                    contacts.add_one(seq, _coincident_spheres(b, a, shape_a, c, shape_c,
-                                                              rotation))
+                        sizes = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
+                                 len(shape_c.hull_vertices), len(shape_c.plane_normals))
+                        jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
+                elif shape_a.kind == shape_c.kind == "sphere" and coincident(b, a, c):
+                    contacts.add_one(seq, coincident_spheres(b, a, shape_a, c, shape_c,
+                                                             rotation))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
                                                          probe_c))
     for group in jobs["stage"].values():
         _stage_group(group, rotation, b.body_position, contacts,
-                     _cached_normals(world.manifolds, [job.body_b for job in group]))
+                     _cached_normals(store, [job.body_b for job in group]))
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts, b)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
 
 
-def _coincident(b, a: int, c: int) -> bool:
+def coincident(b, a: int, c: int) -> bool:
     """Bodies a and c have (nearly) the same center: closer than ``COINCIDENT_FRACTION`` of
     the thinner one's smallest dimension (created at one point, say)."""
     limit = settings.COINCIDENT_FRACTION * 2.0 * min(b.body_min_half_extent[a],
@@ -138,7 +153,7 @@ def spread_direction(a, c) -> np.ndarray:
     return np.stack([np.cos(turn), np.zeros_like(turn), np.sin(turn)], axis=-1)
 
 
-def _coincident_spheres(b, a, shape_a, c, shape_c, rotation):
+def coincident_spheres(b, a, shape_a, c, shape_c, rotation):
     """Contact of two spheres with (nearly) coincident centers along
     :func:`spread_direction` (fcl's center-to-center normal is undefined there)."""
     n = spread_direction(a, c)
@@ -150,10 +165,11 @@ def _coincident_spheres(b, a, shape_a, c, shape_c, rotation):
     return point_a[None], point_b[None], n[None]
 
 
-def _pose(bodies: list, rotation, position):
+def _pose(bodies: list, rotation: np.ndarray,
+          position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of ``bodies``."""
-    bodies = np.array(bodies, dtype=np.int64)
-    return rotation[bodies], position[bodies]
+    index = np.array(bodies, dtype=np.int64)
+    return rotation[index], position[index]
 
 
 def _to_world(rotation, position, points):
@@ -185,12 +201,15 @@ def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
     strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None],
                                    axis=2)[..., 0]
     middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
-    return np.where(np.abs(strongest) > 0.5, np.sign(strongest), middle)
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest),
+                    middle)
 
 
 def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
     """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
-    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`)."""
+    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`).
+
+    Reference: :func:`reference_contacts.stage_polyhedron_contacts` (one shape pair)."""
     stage = jobs[0].shape_a
     table = _triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
@@ -209,7 +228,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
     candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
-                 & (height > -0.5 * extent[:, None, None])
+                 & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
                  & _in_prisms(table, ids, tris, verts))
     # each vertex keeps its shallowest triangle (the surface it is really resting on)
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
@@ -252,17 +271,18 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
     # barycentric (v, w) of the projection: [d00 d01; d01 d11] [v; w] = [d20; d21]
     bary_v = (d11[..., None] * d20 - d01[..., None] * d21) / denom[..., None]
     bary_w = (d00[..., None] * d21 - d01[..., None] * d20) / denom[..., None]
-    tolerance = 1e-9
+    tolerance = settings.BARYCENTRIC_TOLERANCE
     return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)
 
 
 def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> None:
-    """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts."""
+    """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts.
+
+    Reference: :func:`reference_contacts.polyhedron_contacts` (one shape pair)."""
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces; coincident bodies (whose fcl
     # normal is an arbitrary axis) get their pair's spread direction instead
-    n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
-                  for job in jobs])
+    n = np.array([deepest_record(job.contacts).normal for job in jobs])
     a = np.array([job.body_a for job in jobs])
     c = np.array([job.body_b for job in jobs])
     gap = position[c] - position[a]
@@ -276,15 +296,17 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]
     found = np.zeros(len(jobs), dtype=bool)
+    n_first = len(shapes_b[0].hull_vertices)  # B's vertices: the sort keys of A's face
     # A's face against B's vertices (sign +1), then B's face against A's vertices (sign -1)
     for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
             ((shapes_a, frame_a, shapes_b, frame_b, 1.0),
              (shapes_b, frame_b, shapes_a, frame_a, -1.0))):
+        inc_rotation, inc_position = inc_frame
+        inc_vertices = np.stack([s.hull_vertices for s in inc])
         g, v, on_face, verts, face_normal = _reference_face_contacts(
-            ref, ref_frame, _to_world(*inc_frame, np.stack([s.hull_vertices for s in inc])),
-            sign * n)
+            ref, ref_frame, _to_world(inc_rotation, inc_position, inc_vertices), sign * n)
         found[g] = True
-        local = direction * verts.shape[1] + v  # A's reference points first
+        local = direction * n_first + v  # A's reference points first, then B's
         contact_normal = sign * face_normal[g]  # always A -> B
         if sign > 0:
             contacts.add(seq[g], local, on_face, verts[g, v], contact_normal)
@@ -293,6 +315,15 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
     for k in np.flatnonzero(~found).tolist():  # no face faces the other body: fcl's points
         mid, normals, depths, _ = contact_arrays(jobs[k].contacts)
         contacts.add_one(seq[k], _midpoint_contacts(mid, normals, depths))
+
+
+def deepest_record(records: list):
+    """fcl's deepest contact record; near-equal depths (``TIE_QUANTUM``) go to the first,
+    so the choice does not hang on the rounding of the poses (plain Python: a job has only
+    a few records, and NumPy calls would cost more than they save)."""
+    # tie_key of |depth|: Python's round, like np.round, rounds halves to even
+    keys = [round(abs(record.penetration_depth) / settings.TIE_QUANTUM) for record in records]
+    return records[keys.index(max(keys))]
 
 
 def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
@@ -306,9 +337,10 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     offsets = np.stack([s.plane_offsets for s in ref_shapes])  # (g, F)
     face_normals = np.einsum("gij,gfj->gfi", rotation, planes)  # outward, world frame
     alignment = (face_normals * towards[:, None]).sum(axis=2)
-    face = alignment.argmax(axis=1)
+    face = tie_key(alignment).argmax(axis=1)  # the first of (nearly) equally aligned faces
     jobs = np.arange(len(face))
-    facing = alignment[jobs, face] >= 0.7  # else no face of this body faces the other
+    # else no face of this body faces the other
+    facing = alignment[jobs, face] >= settings.REFERENCE_FACE_ALIGNMENT
     normal = face_normals[jobs, face]
     tolerance = settings.SPECULATIVE_DISTANCE
     # inside the hull planes n_f . p <= c_f + tol, p in the reference body frame R^T (x - x_r)

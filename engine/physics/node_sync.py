@@ -5,10 +5,10 @@ Habitat keeps a rigid object's pose in two places, the physics body and its scen
 same, with the physics world as the truth for DYNAMIC objects:
 
 * after every ``step_physics`` call, each moved body's pose is written to its root node as
-  ``local = parent_world^-1 world`` (:meth:`NodeSyncMixin._write_nodes`);
+  ``local = parent_world^-1 world`` (:meth:`NodeSync.write_nodes`);
 * before every call, a KINEMATIC or STATIC object whose node the user moved (for example an
   agent node carrying an embodied robot) gets the node's world pose
-  (:meth:`NodeSyncMixin._sync_from_nodes`).
+  (:meth:`NodeSync.read_user_moves`).
 
 A write is skipped when it would assign the very same numbers: the body has not moved since
 the node's last write, and the node, its parent and the parent's pose are unchanged. Node
@@ -24,9 +24,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from engine import mn
-from engine.mn_vectors import stable_norm
+from engine.mn.vectors import stable_norm
 
-from .bodies import DYNAMIC, STATIC
+from .bodies import DYNAMIC, STATIC, Bodies
 from .quaternions import matrix_to_quat, quat_to_matrix
 
 _IDENTITY = np.eye(4)
@@ -65,21 +65,23 @@ class NodeStamp(NamedTuple):
     parent_world: np.ndarray | None
 
 
-class NodeSyncMixin:
-    """The scene-node half of :class:`PhysicsWorld` (see the module docstring).
+class NodeSync:
+    """Keeps the scene nodes of a world's bodies in step with them (module docstring).
 
-    State: ``_node_pose[index]`` the node world matrix last written or read back,
+    Holds the world's ``bodies`` and ``nodes`` (``{body index: root SceneNode}``) and its own
+    state: ``_node_pose[index]`` the node world matrix last written or read back,
     ``_node_stamp[index]`` its :class:`NodeStamp`, ``_node_written_pose (n, 7)`` the body
     pose ``[x, q]`` of each node's last write (NaN: never written).
     """
 
-    def _init_node_sync(self) -> None:
+    def __init__(self, bodies: Bodies, nodes: dict[int, Any]) -> None:
+        self.bodies, self.nodes = bodies, nodes
         self._node_pose: dict[int, np.ndarray] = {}
         self._node_stamp: dict[int, NodeStamp] = {}
         self._node_written_pose = np.zeros((0, 7))
 
     # -- bodies -> nodes -------------------------------------------------------------------
-    def _write_nodes(self) -> None:
+    def write_nodes(self) -> None:
         """Write the pose of every body that can have moved to its root scene node."""
         b, n = self.bodies, self.bodies.count
         parent_cache: dict[int, tuple] = {}  # id(parent) -> (parent, world, inverse, local)
@@ -96,12 +98,12 @@ class NodeSyncMixin:
                     self._parent_matrices(parent, parent_cache)[0], _IDENTITY):
                 under_root.append(index)
             else:
-                self._write_node(index, parent_cache)
+                self.write_node(index, parent_cache)
         if under_root:
             self._write_root_children(np.array(under_root, dtype=np.int64))
 
     def _write_root_children(self, indices: np.ndarray) -> None:
-        """:meth:`_write_node` for nodes whose parent is an identity root, all at once.
+        """:meth:`write_node` for nodes whose parent is an identity root, all at once.
 
         Their local transform is the body pose itself (``local = I^-1 world``), so the
         node gets the body's translation and quaternion, and its world matrix is
@@ -124,7 +126,7 @@ class NodeSyncMixin:
             self._node_stamp[index] = NodeStamp(node.parent, node._translation, node._rotation,
                                                 node._scaling, pose[k], _IDENTITY)
 
-    def _write_node(self, index: int, parent_cache: dict | None = None) -> None:
+    def write_node(self, index: int, parent_cache: dict | None = None) -> None:
         """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.
 
         ``parent_cache`` (optional) shares each parent's matrices across one pass over all
@@ -145,7 +147,7 @@ class NodeSyncMixin:
         world[:3, 3] = b.body_position[index]
         if self._node_pose.get(index) is not None and np.array_equal(self._node_pose[index], world):
             return
-        local = world if parent is None else parent_inv @ world
+        local = world if parent_inv is None else parent_inv @ world
         node.translation = local[:3, 3]
         rotation = matrix_to_quat(local[:3, :3])  # Magnum's fromMatrix sign
         if b.body_motion_type[index] != DYNAMIC:  # kinematic / static: no sign flips
@@ -202,16 +204,26 @@ class NodeSyncMixin:
             cache[id(parent)] = entry  # the parent is kept alive, so its id stays unique
         return entry[1:]
 
+    def forget(self, index: int) -> None:
+        """Drop what is known about body ``index``'s node: the next write rewrites it."""
+        self._node_pose.pop(index, None)
+        self._node_stamp.pop(index, None)
+        if index < len(self._node_written_pose):
+            self._node_written_pose[index] = np.nan  # never written (a reused slot rewrites)
+
     # -- nodes -> bodies -------------------------------------------------------------------
-    def _sync_from_nodes(self) -> None:
-        """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies."""
+    def read_user_moves(self) -> list[int]:
+        """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies;
+        returns the indices of the bodies moved (their fcl objects and neighbors need it).
+        Every node is checked before any body changes."""
         b = self.bodies
         moved = []  # (index, world matrix, rotation): all checked before any body changes
         for index, node in self.nodes.items():
             if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
                 continue
             world = node.world_matrix()
-            if np.array_equal(world, self._node_pose.get(index)):
+            last = self._node_pose.get(index)
+            if last is not None and np.array_equal(world, last):
                 continue
             scale = stable_norm(world[:3, :3], axis=0)
             if not (np.all(np.isfinite(world)) and np.all(scale > 0.0)):
@@ -224,5 +236,4 @@ class NodeSyncMixin:
             b.body_rotation[index] = same_sign_as(matrix_to_quat(rotation),
                                                   b.body_rotation[index])
             self._node_pose[index] = world.copy()
-            self._update_fcl(index)
-            self.wake_neighbors(index)
+        return [index for index, _, _ in moved]

@@ -1,4 +1,5 @@
-"""Properties and actions of ``ManagedRigidObject`` (Habitat's names, including ``intertia``).
+"""``ManagedRigidObject``: one rigid object's properties and actions (Habitat's names,
+including ``intertia``), a thin handle on one body of the :class:`PhysicsWorld`.
 
 Every getter returns a copy; every setter validates first (ValueError/TypeError naming the
 value) and only then writes the world's ``body_*`` arrays, so bad input changes nothing.
@@ -12,6 +13,7 @@ forces and impulses act only on DYNAMIC objects. Pose and velocity writes wake t
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 from typing import Any
@@ -20,12 +22,14 @@ import numpy as np
 
 from engine import mn
 from engine.attributes import check_inertia
-from engine.mn_vectors import stable_norm
+from engine.fixed_fields import public_names, unknown_attribute_error
+from engine.mn.vectors import stable_norm
 
 from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .collision_groups import assign_group
 from .integrate import world_inverse_inertia
+from .motion_type import MotionType
 from .node_sync import canonical_sign
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .velocity_control import RigidState
@@ -64,8 +68,51 @@ def _angle(value: Any) -> float:
                                 "angle")))
 
 
-class ObjectPropertiesMixin:
-    """Mixed into ``ManagedRigidObject``; ``self._check()`` returns the body index."""
+class DeadObjectError(RuntimeError):
+    """Raised when a removed object (``is_alive == False``) is used."""
+
+
+class ManagedRigidObject:
+    """A rigid object in the world (Habitat's ``ManagedRigidObject``).
+
+    Frames: ``translation`` is the center of mass in the world frame (m); ``rotation`` the
+    world_from_object quaternion; velocities world frame (m/s, rad/s); forces world frame (N)
+    at a world-frame offset from the COM.
+    """
+
+    def __init__(self, world, index, handle, template, description, root, visual) -> None:
+        self._world, self._index, self._handle = world, index, handle
+        self._template = copy.copy(template.copy())
+        self._user_attributes = template.get_user_config().copy()
+        self._description = description
+        self._root_node, self._visual_node = root, visual
+        self._alive = True
+
+    @property
+    def is_alive(self) -> bool:
+        """False once the object was removed from the world."""
+        return self._alive
+
+    def _check(self) -> int:
+        if not self._alive:
+            raise DeadObjectError(f"rigid object {self._handle!r} was removed (is_alive False)")
+        return self._index
+
+    def __repr__(self) -> str:
+        state = "alive" if self._alive else "removed"
+        return f"<ManagedRigidObject {self._handle!r} id={self._index} {state}>"
+
+    # -- fixed fields (Habitat's wrapper is a C++ binding: no new attributes) ---------------
+    def __setattr__(self, name: str, value) -> None:
+        if name.startswith("_") or isinstance(getattr(type(self), name, None), property):
+            object.__setattr__(self, name, value)  # read-only properties raise themselves
+            return
+        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
 
     # -- identity ------------------------------------------------------------------------------
     @property
@@ -156,14 +203,13 @@ class ObjectPropertiesMixin:
     # -- motion type ---------------------------------------------------------------------------
     @property
     def motion_type(self):
-        from .objects import MotionType
-
         return MotionType(int(self._world.bodies.body_motion_type[self._check()]))
 
     @motion_type.setter
     def motion_type(self, value: Any) -> None:
         index = self._check()
-        if isinstance(value, bool) or not isinstance(value, int) or value not in (0, 1, 2):
+        valid = (STATIC, KINEMATIC, DYNAMIC)
+        if isinstance(value, bool) or not isinstance(value, int) or value not in valid:
             raise ValueError(f"motion_type must be STATIC, KINEMATIC or DYNAMIC, got {value!r}")
         b = self._world.bodies
         if b.body_motion_type[index] == int(value):
@@ -564,4 +610,4 @@ class ObjectPropertiesMixin:
             drawable.semantic_id = int(value)
 
 
-__all__ = ["KINEMATIC", "ObjectPropertiesMixin"]
+__all__ = ["KINEMATIC", "DeadObjectError", "ManagedRigidObject"]

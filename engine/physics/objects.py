@@ -1,4 +1,5 @@
-"""Habitat's object API: ``MotionType``, ``RigidObjectManager`` and ``ManagedRigidObject``.
+"""Habitat's object API: ``RigidObjectManager`` (``MotionType`` in :mod:`motion_type`,
+``ManagedRigidObject`` in :mod:`object_properties`).
 
 A ``ManagedRigidObject`` is a thin handle on one body of the :class:`PhysicsWorld`: every
 property reads or writes the world's ``body_*`` arrays, so an object is never out of sync
@@ -13,41 +14,17 @@ NNNN = 1 + the largest counter in use for that stem (0000 for the first).
 
 from __future__ import annotations
 
-import copy
 import dataclasses
-import enum
 import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from engine.fixed_fields import public_names, unknown_attribute_error
-
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .body_builder import describe_object
-from .object_properties import ObjectPropertiesMixin
-
-
-class DeadObjectError(RuntimeError):
-    """Raised when a removed object (``is_alive == False``) is used."""
-
-
-class MotionType(enum.IntEnum):
-    """How an object moves. Set with ``obj.motion_type = MotionType.KINEMATIC``."""
-
-    def __new__(cls, value: int, doc: str):
-        member = int.__new__(cls, value)
-        member._value_ = value
-        member.__doc__ = doc
-        return member
-
-    UNDEFINED = (-1, "Not a valid motion type; setting it raises ValueError.")
-    STATIC = (0, "Never moves: pose setters are silently ignored; other bodies collide with "
-                 "it. Use for furniture you do not want to move (and to bake into a navmesh).")
-    KINEMATIC = (1, "Moved only by its pose setters or velocity control; pushes dynamic "
-                    "bodies and is never pushed. Use for robots and scripted motion.")
-    DYNAMIC = (2, "Moved by gravity, forces, impulses and contacts. The default.")
+from .motion_type import MotionType
+from .object_properties import DeadObjectError, ManagedRigidObject
 
 
 class RigidObjectManager:
@@ -107,13 +84,13 @@ class RigidObjectManager:
                                  description, root, visual)
         if attachment_node is not None:
             matrix = attachment_node.world_matrix()
-            world._node_pose[index] = None
+            world.node_sync.forget(index)
             from .quaternions import matrix_to_quat
 
             rotation = matrix[:3, :3] / np.linalg.norm(matrix[:3, :3], axis=0)
             world.set_body_pose(index, matrix[:3, 3].copy(), matrix_to_quat(rotation))
             world.creation_state[index] = (matrix[:3, 3].copy(), matrix_to_quat(rotation))
-        world._write_node(index)
+        world.node_sync.write_node(index)
         self._objects[index] = obj
         return obj
 
@@ -199,49 +176,6 @@ class RigidObjectManager:
 
     def get_library_has_id(self, object_id: int) -> bool:
         return self.get_object_by_id(object_id) is not None
-
-
-class ManagedRigidObject(ObjectPropertiesMixin):
-    """A rigid object in the world (Habitat's ``ManagedRigidObject``).
-
-    Frames: ``translation`` is the center of mass in the world frame (m); ``rotation`` the
-    world_from_object quaternion; velocities world frame (m/s, rad/s); forces world frame (N)
-    at a world-frame offset from the COM.
-    """
-
-    def __init__(self, world, index, handle, template, description, root, visual) -> None:
-        self._world, self._index, self._handle = world, index, handle
-        self._template = copy.copy(template.copy())
-        self._user_attributes = template.get_user_config().copy()
-        self._description = description
-        self._root_node, self._visual_node = root, visual
-        self._alive = True
-
-    @property
-    def is_alive(self) -> bool:
-        """False once the object was removed from the world."""
-        return self._alive
-
-    def _check(self) -> int:
-        if not self._alive:
-            raise DeadObjectError(f"rigid object {self._handle!r} was removed (is_alive False)")
-        return self._index
-
-    def __repr__(self) -> str:
-        state = "alive" if self._alive else "removed"
-        return f"<ManagedRigidObject {self._handle!r} id={self._index} {state}>"
-
-    # -- fixed fields (Habitat's wrapper is a C++ binding: no new attributes) ---------------
-    def __setattr__(self, name: str, value) -> None:
-        if name.startswith("_") or isinstance(getattr(type(self), name, None), property):
-            object.__setattr__(self, name, value)  # read-only properties raise themselves
-            return
-        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
-
-    def __getattr__(self, name: str):
-        if name.startswith("_"):
-            raise AttributeError(name)
-        raise unknown_attribute_error(type(self).__name__, name, public_names(type(self)))
 
 
 __all__ = ["DYNAMIC", "KINEMATIC", "STATIC", "DeadObjectError", "ManagedRigidObject",

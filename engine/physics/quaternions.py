@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 # one rotation matrix -> [x, y, z, w] (Shepperd's method): the scalar path lives in engine.mn
-from engine.mn_rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
+from engine.mn.rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
 
 X, Y, Z, W = range(4)
 
@@ -79,11 +79,6 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
     # sin(theta/2) / theta -> 1/2 as theta -> 0 (the axis is irrelevant at zero angle)
     scale = np.where(angle > 1e-12, np.sin(angle / 2) / np.where(angle > 1e-12, angle, 1.0), 0.5)
     return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
-
-
-def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate vectors ``(..., 3)`` by unit quaternions ``(..., 4)``: ``R(q) v``."""
-    return (quat_to_matrix(q) @ v[..., None])[..., 0]
 
 
 def live_rotations(bodies) -> np.ndarray:

@@ -30,11 +30,13 @@ body), in the same order, so both agree (tested).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .quaternions import cross
 
-__all__ = ["apply_rolling_friction", "combined_coefficients"]
+__all__ = ["ContactLoads", "apply_rolling_friction", "combined_coefficients"]
 
 #: Bullet's clamp of combined friction coefficients.
 MAX_COMBINED = 10.0
@@ -50,21 +52,32 @@ def combined_coefficients(bodies, body_a: np.ndarray, body_b: np.ndarray):
     return np.clip(rolling, 0.0, MAX_COMBINED), np.clip(spinning, 0.0, MAX_COMBINED)
 
 
-def apply_rolling_friction(batch, velocity: np.ndarray, inv_inertia: np.ndarray,
+class ContactLoads(NamedTuple):
+    """What rolling friction reads of the solved manifolds, in solver (color) order: the
+    bodies ``body_a, body_b (m,)``, the graph colors ``color_slices``, each manifold's unit
+    normal ``normal (m, 3)`` (from A to B) and its total normal impulse ``lambda_n (m,)``, N s.
+    The batched solve builds it from its ``ContactBatch``, the reference from its rows."""
+
+    body_a: np.ndarray
+    body_b: np.ndarray
+    color_slices: list[tuple[int, int]]
+    normal: np.ndarray
+    lambda_n: np.ndarray
+
+
+def apply_rolling_friction(loads: ContactLoads, velocity: np.ndarray, inv_inertia: np.ndarray,
                            rolling: np.ndarray, spinning: np.ndarray,
                            vectorized: bool) -> None:
     """Change the angular velocities in ``velocity (n, 6)`` by the rolling and spinning
-    impulses of every manifold of ``batch`` (a no-op when all coefficients are zero)."""
+    impulses of every manifold of ``loads`` (a no-op when all coefficients are zero)."""
     if not (np.any(rolling > 0.0) or np.any(spinning > 0.0)):
         return
-    normal = batch.normal_jac[:, 0, 6:9]  # (m, 3): every slot of a manifold shares n
-    lambda_n = batch.impulse[:, :, 0].sum(axis=1)  # (m,) total normal impulse
     if vectorized:
-        rolling_friction_vectorized(batch, velocity, inv_inertia, normal, lambda_n, rolling,
-                                    spinning)
+        rolling_friction_vectorized(loads, velocity, inv_inertia, loads.normal, loads.lambda_n,
+                                    rolling, spinning)
     else:
-        rolling_friction_scalar(batch, velocity, inv_inertia, normal, lambda_n, rolling,
-                                spinning)
+        rolling_friction_scalar(loads, velocity, inv_inertia, loads.normal, loads.lambda_n,
+                                rolling, spinning)
 
 
 def _tangents(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -47,9 +47,12 @@ class SolverSettings:
         bodies) after each velocity and position solve, so the stage always wins: a light
         body under a heavy one is never pushed into the floor (0 disables it).
     use_vectorized : bool
-        Solve one graph color at a time with NumPy batches (True) or run the plain scalar
-        reference loop (False). Both run the same algebra and agree to rounding (about
-        1e-9 after many steps); they are not bitwise equal (different summation order).
+        Route the collision and solve stages through the batched NumPy code (True) or the
+        plain reference path (False): contacts and manifolds one body pair at a time
+        (:mod:`reference_contacts`), Jacobians, effective masses, velocity and position
+        solves one contact point at a time (:mod:`reference_solver`). Both apply the same
+        rules and agree to rounding (1e-9 over 2 s, tested); not bitwise (other sum order).
+        The reference is 10-50x slower: it exists to be read and stepped through.
     """
 
     velocity_iterations: int = 15
@@ -100,12 +103,41 @@ SPLIT_TOUCH_DISTANCE = 0.004
 #: (the supporting points); farther, speculative points only fill the slots left over, so a
 #: can lying on its side keeps both ends of its bottom line rather than its far sides.
 SUPPORT_DEPTH_BAND = 0.004
+#: 1 (cosine), a polyhedron face serves as reference face of a contact only if its outward
+#: normal is at least this aligned with fcl's contact normal (about 45 degrees).
+REFERENCE_FACE_ALIGNMENT = 0.7
+#: 1, tangent_basis builds t1 from the world X axis unless |n_x| reaches this (then Y):
+#: just below 1/sqrt(3), so the chosen axis is never nearly parallel to n.
+TANGENT_AXIS_SWITCH = 0.57
+#: m (or m^2 for areas), manifold choices (deepest point, farthest point, largest area)
+#: treat values closer than this as ties, won by the lower slot, so rounding never decides.
+TIE_QUANTUM = 1e-9
+#: 1 (cosine), a cached stage normal within 60 degrees of a touched triangle's normal
+#: decides which side of the triangle is outward (the side the contact began on).
+OUTWARD_SIDE_ALIGNMENT = 0.5
+#: m, a fresh point matching a cached one counts this much deeper when the manifold picks
+#: its deepest point (hysteresis: near-ties keep last step's points).
+PREFERRED_DEPTH_BONUS = 1e-3
+#: 1, and its distances and areas count this fraction larger (10 %).
+PREFERRED_SIZE_BONUS = 0.1
+#: 1, a hull vertex more than this fraction of the hull's extent below a stage triangle is
+#: on the triangle's other side (a thin wall), not in contact with it.
+STAGE_BELOW_FRACTION = 0.5
+#: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
+#: so a vertex over a shared edge of two triangles is in contact with both.
+BARYCENTRIC_TOLERANCE = 1e-9
 #: 1, two bodies whose centers are closer than this fraction of the thinner one's smallest
 #: dimension count as coincident (created at one point): they are pushed apart along a
 #: direction that turns with their ids, so a crowd spawned at one point spreads over a disc.
 COINCIDENT_FRACTION = 0.05
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
+
+# --- broad phase ------------------------------------------------------------------------
+#: m, broad-phase AABB inflation of every body (keeps touching pairs found).
+AABB_MARGIN = 0.005
+#: pairs, fewest candidate pairs for which the oriented-box pre-test pays for its NumPy calls.
+MIN_PAIRS_FOR_BOX_TEST = 8
 
 # --- restitution and friction -----------------------------------------------------------
 #: m/s, a contact point approaching faster than this is an impact: its impulse is not kept
@@ -124,6 +156,11 @@ TIME_TO_SLEEP = 0.5
 #: m, a body with a contact deeper than this is still being pushed apart by the position
 #: solve (whose pseudo velocities the rest test cannot see), so it does not count as resting.
 SLEEP_MAX_PENETRATION = 0.01
+
+# --- numerics ---------------------------------------------------------------------------
+#: 1 (unit of whatever it divides), smallest positive divisor: ``x / max(y, TINY)`` guards a
+#: division by a length, mass or speed that may be exactly 0.
+TINY = 1e-300
 
 # --- robustness -------------------------------------------------------------------------
 #: m, the thinnest collision shape an object may have (smallest dimension of its body-frame

@@ -1,32 +1,107 @@
 """Solve stage of ``World.step``: gather manifolds, color them, run the contact solver.
 
-Inputs => outputs: manifolds with points, body poses and velocities => new body velocities,
-manifold impulses (for warm starting next step), split-impulse pseudo velocities ``(n, 6)``.
+Inputs => outputs (``n`` bodies, ``m`` manifolds with points, ``S = 4`` slots each)::
+
+    Bodies (poses, velocities (n, 3), masses, inertias), ManifoldStore (m rows),
+    moving (k,) awake dynamic body indices, start_velocity (n, 6), h s, SolverSettings
+        => Bodies.body_linear/angular_velocity of ``moving`` updated,
+           ManifoldStore.impulse (m, S, 3) (warm start of the next step),
+           SolveResult: pseudo_velocity (n, 6) split-impulse velocities (None: no contact),
+           overlapping_bodies (j,) bodies of contacts deeper than SLEEP_MAX_PENETRATION
+
 Sleeping and non-dynamic bodies enter with zero inverse mass (they are not moved);
 KINEMATIC bodies enter with the velocity their velocity control gives them, so they push.
+``settings.use_vectorized`` picks the batched solver (:mod:`solver`) or the scalar reference
+(:mod:`reference_solver`), which builds its own Jacobians and effective masses.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from . import settings as constants
-from .bodies import DYNAMIC, KINEMATIC
+from .bodies import DYNAMIC, KINEMATIC, Bodies
 from .coloring import color_manifolds
+from .contacts import ManifoldStore
 from .integrate import world_inverse_inertia
 from .quaternions import live_rotations
-from .rolling_friction import apply_rolling_friction, combined_coefficients
+from .rolling_friction import ContactLoads, apply_rolling_friction, combined_coefficients
+from .settings import SolverSettings
 from .solver import SLOTS, build_batch, solve_contacts
 
 
-def solve_stage(world, moving: np.ndarray, h: float):
-    """Solve all contacts that touch an awake dynamic body; returns pseudo velocities or None."""
-    b, n, store = world.bodies, world.bodies.count, world.manifolds
+@dataclass
+class SolveResult:
+    """What the solve stage hands to the integrate and sleep stages.
+
+    ``pseudo_velocity (n, 6)``: split-impulse [v, w] moving bodies this step only (None when
+    no contact was solved); ``overlapping_bodies (j,)``: bodies of a contact deeper than
+    ``SLEEP_MAX_PENETRATION`` (not resting while the position solve separates them).
+    """
+
+    pseudo_velocity: np.ndarray | None
+    overlapping_bodies: np.ndarray
+
+
+@dataclass
+class SolverInput:
+    """The manifolds to solve, in color order, and the body quantities the solver reads.
+
+    ``rows (m,)`` store rows sorted by color, ``color_slices`` ``(start, stop)`` into them;
+    ``priority_starts`` per color, the first of its *stage rows* (manifolds with a body the
+    solver does not move; they end each color and get the last word, see :mod:`solver`);
+    ``lower (m, 2)`` bool, which body of a pair of moving bodies is fewer contacts from the
+    stage (shock propagation); ``slop (m,)`` m, the penetration each manifold's position
+    solve leaves (``PENETRATION_SLOP``, capped at the feature length for small bodies);
+    ``inv_mass (n,)`` 1/kg, ``inv_inertia (n, 3, 3)`` world frame, 1/(kg m^2) (zero for
+    bodies that do not move); ``velocity (n, 6)`` [v, w] that the solver updates;
+    ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures.
+    """
+
+    rows: np.ndarray
+    color_slices: list[tuple[int, int]]
+    priority_starts: list[int]
+    lower: np.ndarray
+    slop: np.ndarray
+    inv_mass: np.ndarray
+    inv_inertia: np.ndarray
+    velocity: np.ndarray
+    approach_velocity: np.ndarray
+
+
+def solve_stage(bodies: Bodies, store: ManifoldStore, moving: np.ndarray,
+                start_velocity: np.ndarray, h: float, settings: SolverSettings) -> SolveResult:
+    """Solve all contacts that touch an awake dynamic body (see the module docstring)."""
+    problem = gather_solver_input(bodies, store, moving, start_velocity)
+    if problem is None:
+        return SolveResult(None, np.zeros(0, dtype=np.int64))
+    if settings.use_vectorized:
+        pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings)
+    else:
+        from .reference_solver import solve_reference
+
+        pseudo, depth, loads = solve_reference(bodies, store, problem, h, settings)
+    # rolling and spinning resistance (rolling_friction.py), a no-op when all are zero
+    apply_rolling_friction(loads, problem.velocity, problem.inv_inertia,
+                           *combined_coefficients(bodies, loads.body_a, loads.body_b),
+                           settings.use_vectorized)
+    bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
+    bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
+    deep = depth.max(axis=1) > constants.SLEEP_MAX_PENETRATION
+    overlapping = store.bodies[problem.rows[deep]].ravel()
+    return SolveResult(pseudo, overlapping)
+
+
+def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray,
+                        start_velocity: np.ndarray) -> SolverInput | None:
+    """Manifolds with points touching a ``moving`` body, colored; None when there are none."""
+    b, n = bodies, bodies.count
     solvable = np.zeros(n, dtype=bool)
     solvable[moving] = True
     rows = store.rows_with_points()
     rows = rows[solvable[store.bodies[rows, 0]] | solvable[store.bodies[rows, 1]]]
-    world.last_batch = None
     if len(rows) == 0:
         return None
     colors = color_manifolds(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
@@ -38,48 +113,53 @@ def solve_stage(world, moving: np.ndarray, h: float):
     priority_starts = [int(stop - stage_row[color].sum())
                        for color, (_, stop) in zip(colors, color_slices, strict=True)]
     rows = rows[np.concatenate(colors)]
-    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
-    counts = store.count[rows]
-    rotation = live_rotations(b)
-    points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:n])
-    empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
-    normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
-    inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], 1e-300), 0.0)
+    inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], constants.TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
     velocity = _velocity_array(b, n)
     # restitution uses the approach speed at the start of the step (before this step's
     # gravity): the impact happened during the previous step, not after one more h g
     approach_velocity = velocity.copy()
-    start = getattr(world, "step_start_velocity", None)
-    if start is not None and len(start) == n:
-        dynamic = b.body_motion_type[:n] == DYNAMIC
-        approach_velocity[dynamic] = start[dynamic]
-    lower = _lower_bodies(body_a, body_b, solvable)
+    dynamic = b.body_motion_type[:n] == DYNAMIC
+    approach_velocity[dynamic] = start_velocity[dynamic]
+    lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
+    slop = np.minimum(constants.PENETRATION_SLOP, store.feature[rows])
+    return SolverInput(rows, color_slices, priority_starts, lower, slop, inv_mass, inv_inertia,
+                       velocity, approach_velocity)
+
+
+def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h: float,
+                   settings: SolverSettings) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+    """Batched path: padded arrays, one NumPy batch per color. Returns the pseudo
+    velocities ``(n, 6)``, the contact depths ``(m, S)`` (0 in empty slots) and the
+    manifolds' normal loads (rolling friction's input)."""
+    b, n, rows = bodies, bodies.count, problem.rows
+    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
+    counts = store.count[rows]
+    rotation = live_rotations(b)
+    points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:n])
+    empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
+    normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(points_a, points_b, normals, counts, body_a, body_b,
-                        b.body_position[:n], inv_mass, inv_inertia, friction, restitution,
-                        store.impulse[rows], approach_velocity, color_slices,
-                        split_mass=world.settings.block_jacobi,
-                        priority_starts=priority_starts, lower=lower,
-                        slop=np.minimum(constants.PENETRATION_SLOP, store.feature[rows]))
-    pseudo = solve_contacts(batch, velocity, h, world.settings)
-    # rolling and spinning resistance (rolling_friction.py), a no-op when all are zero
-    apply_rolling_friction(batch, velocity, inv_inertia, *combined_coefficients(b, body_a, body_b),
-                           world.settings.use_vectorized)
-    b.body_linear_velocity[moving] = velocity[moving, :3]
-    b.body_angular_velocity[moving] = velocity[moving, 3:]
+                        b.body_position[:n], problem.inv_mass, problem.inv_inertia, friction,
+                        restitution, store.impulse[rows], problem.approach_velocity,
+                        problem.color_slices, split_mass=settings.block_jacobi,
+                        priority_starts=problem.priority_starts, lower=problem.lower,
+                        slop=problem.slop)
+    pseudo = solve_contacts(batch, problem.velocity, h, settings)
+    # every slot of a manifold shares its normal; lambda_n is the total normal impulse
+    loads = ContactLoads(batch.body_a, batch.body_b, batch.color_slices,
+                         batch.normal_jac[:, 0, 6:9], batch.impulse[:, :, 0].sum(axis=1))
     # warm start next step from resting loads only: an impact's impulse (a point that
     # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
     impact = batch.approach_speed < -constants.IMPACT_SPEED
     store.impulse[rows] = np.where(impact[..., None], 0.0, batch.impulse)  # 0 in empty slots
-    world.last_batch = batch
-    world.last_h = h
-    return pseudo
+    return pseudo, batch.depth, loads
 
 
-def _lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -> np.ndarray:
+def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -> np.ndarray:
     """(m, 2) bool: in each pair of moving bodies, the one fewer contacts away from the
     stage (or any body the solver does not move); neither when equal or unreached.
 
@@ -99,7 +179,7 @@ def _lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) 
     return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)
 
 
-def _velocity_array(b, n: int) -> np.ndarray:
+def _velocity_array(b: Bodies, n: int) -> np.ndarray:
     """``(n, 6)`` [v, w]: dynamic bodies their velocity, kinematic their controlled one."""
     velocity = np.zeros((n, 6))
     dynamic = b.body_motion_type[:n] == DYNAMIC

@@ -18,8 +18,9 @@ manifolds of one color touch distinct dynamic bodies and are solved by one NumPy
 colors remain Gauss-Seidel. The (up to) four points of one manifold share their bodies: they
 are solved together as a Jacobi block with *mass splitting* (Tonge et al. 2012): each point
 sees ``n_points x`` the inverse mass, i.e. ``m_eff / n_points``, which keeps the block
-convergent. :func:`solve_velocities_scalar` runs the very same algebra with plain loops; a
-test checks both agree (to rounding: the sums run in a different order).
+convergent. :mod:`reference_solver` is the plain version of this module (its own anchors,
+Jacobians and effective masses, one point at a time); tests check both agree to rounding
+(the sums run in a different order). Each batched function names the reference it mirrors.
 
 The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the inner loop
 is kept to few calls: each color's :class:`RowBlock` views are made once per batch, body
@@ -77,8 +78,13 @@ class ContactBatch:
     ``tangent_jac (m, 2S, 12)``, ``tangent_w (m, 12, 2S)``, ``tangent_mass (m, 2S)``;
     ``friction (m, 1)``, ``restitution (m, 1)``; ``depth``, ``approach_speed (m, S)``;
     ``impulse (m, S, 3)`` accumulated (normal, t1, t2) in N s; ``color_slices`` list of
-    ``(start, stop)`` into the manifold axis. For the vectorized loop: ``colors``, the
-    :class:`ColorBlocks` of each color, keyed by ``block_jacobi`` (filled on first use).
+    ``(start, stop)`` into the manifold axis, ``color_points`` the most points of a manifold
+    in each color; ``pair_bodies (m, 2)`` [body_a, body_b]; ``mask (m, S)`` slots holding a
+    point; ``split (m, 1)`` the mass-splitting count of each manifold; ``priority_starts``
+    per color, the first of its stage rows; ``lower (m, 2)`` the body nearer the stage (shock
+    propagation, None: no shock pass); ``slop`` (m, 1) m, penetration left by the position
+    solve. For the vectorized loop: ``colors``, the :class:`ColorBlocks` of each color keyed
+    by ``block_jacobi``, and the cached lumped rows (filled on first use).
     """
 
     body_a: np.ndarray
@@ -97,7 +103,7 @@ class ContactBatch:
     impulse: np.ndarray
     color_slices: list
     color_points: list
-    pair_index: np.ndarray
+    pair_bodies: np.ndarray
     split: np.ndarray
     priority_starts: list = field(default_factory=list)
     lower: np.ndarray | None = None
@@ -141,10 +147,10 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
     # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
     axis = np.zeros_like(normal)
-    axis[..., 0] = np.abs(normal[..., 0]) < 0.57
+    axis[..., 0] = np.abs(normal[..., 0]) < constants.TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
     t1 = cross(normal, axis)
-    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), 1e-300)
+    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), constants.TINY)
     return t1, cross(normal, t1)
 
 
@@ -166,6 +172,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                 split_mass: bool = False, priority_starts: list | None = None,
                 lower: np.ndarray | None = None, slop: np.ndarray | None = None):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
+
+    Reference: :func:`reference_solver.build_rows` (one point at a time).
 
     Parameters
     ----------
@@ -199,10 +207,10 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     split = n_touching if split_mass else np.ones((len(counts), 1))
     # m_eff = 1 / (n_split J M^-1 J^T)
     k_normal = (normal_jac * normal_w).sum(axis=-1)
-    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, 1e-300)), 0.0)
+    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, constants.TINY)), 0.0)
     k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
     tangent_mass = np.where(np.repeat(mask, 2, axis=1),
-                            1.0 / (split * np.maximum(k_tangent, 1e-300)), 0.0)
+                            1.0 / (split * np.maximum(k_tangent, constants.TINY)), 0.0)
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
     return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
@@ -238,7 +246,7 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
             slots = ([slice(None)] if block_jacobi
                      else [slice(k, k + 1) for k in range(batch.color_points[color])])
             # flat index of component c of body b: 6 b + c
-            gather = 6 * batch.pair_index[s, :, None] + np.arange(6)
+            gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
             colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
                                       [_row_block(batch, s, rows) for rows in slots]))
         batch.colors[block_jacobi] = colors
@@ -288,7 +296,7 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
     new = lam_t + step if accumulate else step
     limit = block.friction * lam_n  # mu lambda_n, (k, r, 1)
     norm = np.hypot(new[:, 0::2], new[:, 1::2])  # |lambda_t| = sqrt(t1^2 + t2^2), (k, r, 1)
-    scale = np.minimum(1.0, limit / np.maximum(norm, 1e-300))  # back onto the circle
+    scale = np.minimum(1.0, limit / np.maximum(norm, constants.TINY))  # back onto the circle
     new *= scale.repeat(2, axis=1)  # the same scale for t1 and t2
     step = new - lam_t if accumulate else new
     lam_t += step
@@ -296,7 +304,9 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
 
 
 def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
-    """Velocity iterations (normal then friction per color), then the restitution pass."""
+    """Velocity iterations (normal then friction per color), then the restitution pass.
+
+    Reference: the loops of :func:`reference_solver.solve_reference`."""
     flat = velocity.reshape(-1)  # (n * 6,), a view when velocity is contiguous
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
     bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
@@ -322,7 +332,9 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
 
 def _stage_rows_last(batch, flat, bias, options) -> None:
     """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
-    over the dynamic pairs with the lower body held fixed (:func:`shock_rows`)."""
+    over the dynamic pairs with the lower body held fixed (:func:`shock_rows`).
+
+    Reference: :func:`reference_solver.stage_rows_last`."""
     stage = [(start, stop) for (_, stop), start in zip(batch.color_slices,
                                                         batch.priority_starts, strict=True)]
     _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, options.stage_iterations)
@@ -351,7 +363,7 @@ class LumpedRows:
         jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
         w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
         k = (jac * w).sum(axis=1)  # J W^T
-        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, 1e-300), 0.0)
+        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, constants.TINY), 0.0)
         return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
 
     def with_bias(self, bias: np.ndarray) -> LumpedRows:
@@ -383,10 +395,10 @@ def shock_rows(batch: ContactBatch) -> LumpedRows | None:
     if "shock" not in batch.colors:
         shock = None
         lower = batch.lower
-        if lower is not None and lower.any():
+        if lower is not None and bool(np.any(lower)):
             # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
             keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
-            active = batch.mask & (batch.normal_mass > 0) & lower.any(axis=1)[:, None]
+            active = batch.mask & (batch.normal_mass > 0) & np.any(lower, axis=1)[:, None]
             shock = LumpedRows.of(batch.normal_jac, batch.normal_w * keep[:, :, None], active)
         batch.colors["shock"] = shock
     return batch.colors["shock"]
@@ -402,8 +414,9 @@ def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> No
             continue
         s = slice(start, stop)
         # flat index of component c of body b: 6 b + c
-        gather = (6 * batch.pair_index[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
-        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], rows.bias[s]))
+        gather = (6 * batch.pair_bodies[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
+        bias = rows.bias if rows.bias is not None else np.zeros((len(rows.jac), 1, 1))
+        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], bias[s]))
     for _ in range(iterations):
         for gather, j, w, m, b in work:
             vab = flat[gather]
@@ -439,7 +452,9 @@ def _restitution_rows(block, vab, target, lam):
 
 
 def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
-    """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop."""
+    """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop.
+
+    Reference: :func:`reference_solver.solve_positions_reference`."""
     pseudo = np.zeros((n_bodies, 6))
     if not options.position_correction or options.position_iterations == 0:
         return pseudo
@@ -475,124 +490,5 @@ def solve_contacts(batch: ContactBatch, velocity: np.ndarray, h: float, options)
         warm_start(batch, velocity)
     else:
         batch.impulse[:] = 0.0
-    if options.use_vectorized:
-        solve_velocities(batch, velocity, h, options)
-    else:
-        solve_velocities_scalar(batch, velocity, h, options)
+    solve_velocities(batch, velocity, h, options)
     return solve_positions(batch, len(velocity), h, options)
-
-
-def solve_velocities_scalar(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
-    """Reference path: the algebra of :func:`solve_velocities` with plain Python loops.
-
-    For every color, every manifold, every group of point slots (one slot at a time for
-    Gauss-Seidel; all four for block Jacobi, where each slot reads the velocities from
-    before the group's update)::
-
-        v_n = J_i . V;  dl = -m_i (v_n + b_i);  l_i = max(l_i + dl, 0);  V += W_i dl
-
-    Manifolds of one color share no dynamic body, so visiting them one by one here gives
-    the same numbers as the vectorized batch over the whole color.
-    """
-    lam = batch.impulse[:, :, 0].tolist()
-    bias = (np.maximum(-batch.depth, 0.0) / h).tolist()
-    groups = [list(range(SLOTS))] if options.block_jacobi else [[k] for k in range(SLOTS)]
-    for _ in range(options.velocity_iterations):
-        for start, stop in batch.color_slices:
-            for m in range(start, stop):
-                for group in groups:
-                    _scalar_normal(batch, m, group, velocity, bias[m], lam[m],
-                                   options.accumulate_impulses)
-                    batch.impulse[m, group, 0] = [lam[m][k] for k in group]
-                    _scalar_friction(batch, m, group, velocity, options.accumulate_impulses)
-    for start, stop in batch.color_slices:
-        for m in range(start, stop):
-            for group in groups:
-                _scalar_restitution(batch, m, group, velocity, lam[m])
-    stage_rows = [m for (_, stop), first in zip(batch.color_slices, batch.priority_starts,
-                                                strict=True) for m in range(first, stop)]
-    bias_array = np.maximum(-batch.depth, 0.0)[..., None] / h
-    shock = shock_rows(batch)
-    for rows, lumped in ((stage_rows, lumped_rows(batch, bias_array)),
-                         (range(len(lam)), None if shock is None else shock.with_bias(bias_array))):
-        for _ in range(options.stage_iterations if lumped is not None else 0):
-            for m in rows:  # the stage rows, then the shock rows, get the last word
-                _scalar_lumped(batch, lumped, m, velocity)
-    batch.impulse[:, :, 0] = lam
-
-
-def _scalar_row_velocity(jac_row, velocity, a, b):
-    total = 0.0
-    for k in range(6):
-        total += jac_row[k] * velocity[a, k] + jac_row[6 + k] * velocity[b, k]
-    return total
-
-
-def _scalar_apply(w, rows, steps, velocity, a, b):
-    """``V += sum_i W[:, row_i] step_i`` for the rows of one group."""
-    for k in range(6):
-        velocity[a, k] += sum(w[k, row] * step for row, step in zip(rows, steps, strict=True))
-        velocity[b, k] += sum(w[6 + k, row] * step for row, step in zip(rows, steps, strict=True))
-
-
-def _scalar_normal(batch, m, group, velocity, bias, lam, accumulate):
-    a, b = batch.body_a[m], batch.body_b[m]
-    steps = []
-    for slot in group:
-        vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
-        step = -batch.normal_mass[m, slot] * (vn + bias[slot])
-        new = max(lam[slot] + step, 0.0) if accumulate else lam[slot] + max(step, 0.0)
-        steps.append(new - lam[slot])
-        lam[slot] = new
-    _scalar_apply(batch.normal_w[m], group, steps, velocity, a, b)
-
-
-def _scalar_lumped(batch, lumped: LumpedRows, m, velocity):
-    """One push-only update of manifold m's lumped row (see :func:`lumped_rows`)."""
-    jac, w = lumped.jac[m].ravel(), lumped.w[m].ravel()
-    a, b = batch.body_a[m], batch.body_b[m]
-    error = _scalar_row_velocity(jac, velocity, a, b) + lumped.bias[m].item()
-    step = max(lumped.neg_mass[m].item() * error, 0.0)
-    for k in range(6):
-        velocity[a, k] += w[k] * step
-        velocity[b, k] += w[6 + k] * step
-
-
-def _scalar_friction(batch, m, group, velocity, accumulate):
-    a, b = batch.body_a[m], batch.body_b[m]
-    rows, steps = [], []
-    for slot in group:
-        old = batch.impulse[m, slot, 1:].copy()
-        new = [0.0, 0.0]
-        for t in range(2):
-            vt = _scalar_row_velocity(batch.tangent_jac[m, 2 * slot + t], velocity, a, b)
-            step = -batch.tangent_mass[m, 2 * slot + t] * vt
-            new[t] = old[t] + step if accumulate else step
-        limit = batch.friction[m, 0] * batch.impulse[m, slot, 0]
-        norm = (new[0] ** 2 + new[1] ** 2) ** 0.5
-        scale = min(1.0, limit / max(norm, 1e-300))
-        for t in range(2):
-            value = new[t] * scale
-            step = value - old[t] if accumulate else value
-            batch.impulse[m, slot, 1 + t] = old[t] + step
-            rows.append(2 * slot + t)
-            steps.append(step)
-    _scalar_apply(batch.tangent_w[m], rows, steps, velocity, a, b)
-
-
-def _scalar_restitution(batch, m, group, velocity, lam):
-    """Bounce the loaded, fast-approaching points to ``v_n = -e v_n0``."""
-    a, b = batch.body_a[m], batch.body_b[m]
-    e = batch.restitution[m, 0]
-    rows, steps = [], []
-    for slot in group:
-        fast = batch.approach_speed[m, slot] < -constants.RESTITUTION_VELOCITY_THRESHOLD
-        if not (e > 0 and fast and lam[slot] > 0):
-            continue
-        vn = _scalar_row_velocity(batch.normal_jac[m, slot], velocity, a, b)
-        step = -batch.normal_mass[m, slot] * (vn + e * batch.approach_speed[m, slot])
-        new = max(lam[slot] + step, 0.0)
-        rows.append(slot)
-        steps.append(new - lam[slot])
-        lam[slot] = new
-    _scalar_apply(batch.normal_w[m], rows, steps, velocity, a, b)

@@ -44,16 +44,17 @@ from __future__ import annotations
 import numpy as np
 
 from . import settings
-from .bodies import DYNAMIC
+from .bodies import DYNAMIC, Bodies
 from .quaternions import quat_to_matrix
 
 #: hull vertices swept per body at most (evenly spread over the hull's list).
 MAX_SWEPT_VERTICES = 64
 
 
-def sweep_fast_bodies(world, moving: np.ndarray, old_position: np.ndarray) -> None:
-    """Push back bodies in ``moving`` that passed into static geometry this step."""
-    b = world.bodies
+def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarray) -> None:
+    """Push back bodies in ``moving (k,)`` that passed into static geometry this step;
+    ``old_position (k, 3)`` are their centers before the step."""
+    b = bodies
     if len(moving) == 0:
         return
     travel = b.body_position[moving] - old_position
@@ -68,16 +69,16 @@ def sweep_fast_bodies(world, moving: np.ndarray, old_position: np.ndarray) -> No
         index = int(moving[k])
         step = travel[k].copy()
         for _ in range(settings.CCD_SWEEPS):  # a corner: each sweep finds one more wall
-            correction = sweep_body(world, index, step, obstacle)
+            correction = sweep_body(bodies, index, step, obstacle)
             if not np.any(correction):
                 break
             b.body_position[index] += correction
             step += correction  # sweep again from the start to the corrected end
 
 
-def sweep_body(world, index: int, travel: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
+def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
     """(3,) displacement taking body ``index`` out of the surfaces its step crossed."""
-    b = world.bodies
+    b = bodies
     position = b.body_position[index]
     rotation = quat_to_matrix(b.body_rotation[index][None])[0]
     vertices = np.concatenate([s.hull_vertices for s in b.shapes[index]])
@@ -90,7 +91,7 @@ def sweep_body(world, index: int, travel: np.ndarray, obstacle: np.ndarray) -> n
     starts = np.vstack([position[None], world_vertices]) - travel  # the step's start
     lo = np.minimum(starts.min(0), starts.min(0) + travel) - 1e-6
     hi = np.maximum(starts.max(0), starts.max(0) + travel) + 1e-6
-    triangles = _obstacle_triangles(world, obstacle, lo, hi)
+    triangles = _obstacle_triangles(bodies, obstacle, lo, hi)
     if len(triangles) == 0:
         return np.zeros(3)
     s, normal = first_hits(starts, u, triangles)
@@ -113,10 +114,10 @@ def sweep_body(world, index: int, travel: np.ndarray, obstacle: np.ndarray) -> n
     return correction
 
 
-def _obstacle_triangles(world, obstacle: np.ndarray, lo: np.ndarray,
+def _obstacle_triangles(bodies: Bodies, obstacle: np.ndarray, lo: np.ndarray,
                         hi: np.ndarray) -> np.ndarray:
     """World triangles ``(t, 3, 3)`` of obstacle bodies whose boxes meet the box lo..hi."""
-    b, n = world.bodies, world.bodies.count
+    b, n = bodies, bodies.count
     near = obstacle & np.all((b.body_aabb_min[:n] <= hi) & (b.body_aabb_max[:n] >= lo), axis=1)
     parts = []
     for index in np.nonzero(near)[0].tolist():

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.mn_vectors import stable_norm
+from engine.mn.vectors import stable_norm
 
 
 class RigidState:

@@ -8,29 +8,58 @@ meshes for the navmesh, and a state hash for determinism tests.
 from __future__ import annotations
 
 import hashlib
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import fcl
 import numpy as np
 
 from engine import mn
-from engine.mn_vectors import stable_norm
+from engine.mn.vectors import stable_norm
 
-from .bodies import DYNAMIC, STATIC
+from .bodies import DYNAMIC, STATIC, Bodies
 from .collision_groups import (
     CollisionGroups,
     assign_group,
     filter_pairs,
     interacts_with_group,
 )
+from .contacts import ManifoldStore
 from .quaternions import quat_to_matrix
 from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodies
+
+if TYPE_CHECKING:
+    from .collision_stage import CollisionObjects
+    from .node_sync import NodeSync
 
 _TEST_REQUEST = fcl.CollisionRequest()
 
 
 class WorldApiMixin:
-    """Methods of :class:`PhysicsWorld` that do not step (see the module docstring)."""
+    """Methods of :class:`PhysicsWorld` that do not step (see the module docstring).
+
+    The world's state they use, declared for readers and the type checker (set by
+    ``PhysicsWorld.__init__``):
+    """
+
+    bodies: Bodies
+    manifolds: ManifoldStore
+    collision_objects: CollisionObjects
+    node_sync: NodeSync
+    nodes: dict[int, Any]
+    velocity_controls: dict[int, Any]
+    render_meshes: dict[int, list]
+    creation_state: dict[int, tuple[np.ndarray, np.ndarray]]
+    n_overlapping_pairs: int
+    _timestep: float
+    _time: float
+    _accumulator: float
+    _gravity: np.ndarray
+    # methods of PhysicsWorld used here: move a body's fcl objects, attach its shapes, and
+    # the number of solver substeps per fixed step
+    _update_fcl: Callable[..., None]
+    _install_shapes: Callable[[int, list], None]
+    _substeps: Callable[[], int]
 
     # -- time and gravity ----------------------------------------------------------------
     def get_world_time(self) -> float:
@@ -80,16 +109,12 @@ class WorldApiMixin:
         for key in [k for k in self.manifolds if index in k]:
             del self.manifolds[key]
         b.release(index)
-        self.fcl_objects.pop(index, None)
-        self.probe_objects.pop(index, None)
+        self.collision_objects.remove(index)
         self.render_meshes.pop(index, None)
-        self._node_stamp.pop(index, None)
-        if index < len(self._node_written_pose):
-            self._node_written_pose[index] = np.nan  # never written (a reused slot rewrites)
+        self.node_sync.forget(index)
         self.nodes.pop(index, None)
         self.velocity_controls.pop(index, None)
         self.creation_state.pop(index, None)
-        self._node_pose.pop(index, None)
 
     def set_body_pose(self, index: int, position: np.ndarray, rotation: np.ndarray,
                       wake: bool = True) -> None:
@@ -97,9 +122,9 @@ class WorldApiMixin:
         b = self.bodies
         b.body_position[index] = position
         b.body_rotation[index] = rotation / np.linalg.norm(rotation)
-        if index in self.fcl_objects:
+        if index in self.collision_objects:
             self._update_fcl(index)
-        self._write_node(index)
+        self.node_sync.write_node(index)
         if wake:
             self.wake(index)
             self.wake_neighbors(index)
@@ -136,7 +161,7 @@ class WorldApiMixin:
             b.body_rotation[index] = rotation
             b.body_awake[index] = True
             self._update_fcl(index)
-            self._write_node(index)
+            self.node_sync.write_node(index)
         n = b.count
         for name in ("body_linear_velocity", "body_angular_velocity", "body_force",
                      "body_torque", "body_solver_velocity", "body_solver_angular_velocity"):
@@ -244,8 +269,8 @@ class WorldApiMixin:
                 continue
             if other != 0:
                 self._update_fcl(other, rotation[other])
-            for obj_a in self.fcl_objects[index]:
-                for obj_b in self.fcl_objects[other]:
+            for obj_a in self.collision_objects.shape_objects[index]:
+                for obj_b in self.collision_objects.shape_objects[other]:
                     if fcl.collide(obj_a, obj_b, _TEST_REQUEST, fcl.CollisionResult()):
                         return True
         return False
@@ -254,7 +279,7 @@ class WorldApiMixin:
         """Contact points of every manifold (last step's impulses as forces)."""
         from .solver import tangent_basis
 
-        h = getattr(self, "last_h", self._timestep)
+        h = self._timestep / self._substeps()  # the impulses were applied over one solver step
         b, n, store = self.bodies, self.bodies.count, self.manifolds
         rows = np.array([store.row(key) for key in sorted(store)], dtype=np.int64)
         rows = rows[store.count[rows] > 0]
@@ -276,7 +301,7 @@ class WorldApiMixin:
 
     def get_physics_num_active_contact_points(self) -> int:
         """Number of manifold points touching at least one awake dynamic body."""
-        return sum(len(m) for (a, c), m in self.manifolds.items()
+        return sum(int(len(m)) for (a, c), m in self.manifolds.items()
                    if self._is_moving(a) or self._is_moving(c))
 
     def _is_moving(self, index: int) -> bool:

@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from engine.batch import run_batch
-from engine.datasets import demo_data_path
+from engine.demo import demo_data_path
 from engine.tutorial.cli import SECTION_NAMES, run_sections
 from engine.tutorial.context import SectionResult
 

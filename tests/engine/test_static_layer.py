@@ -10,7 +10,7 @@ import pytest
 
 import engine as habitat_sim
 import engine.simulator
-from engine.datasets import demo_data_path
+from engine.demo import demo_data_path
 from engine.physics.objects import MotionType
 from engine.scene_render import SceneRenderer
 from engine.tutorial.cli import run_tutorial

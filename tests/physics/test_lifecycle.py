@@ -54,10 +54,11 @@ def test_stale_wrapper_stays_dead_when_its_slot_is_reused(scene):
 
 def _sizes(world) -> tuple:
     """Every per-body container of the world, by length."""
-    return (world.bodies.count, world.bodies.capacity, len(world.fcl_objects),
-            len(world.probe_objects), len(world.nodes), len(world.velocity_controls),
-            len(world.render_meshes), len(world.creation_state), len(world._node_pose),
-            len(world._node_stamp), len(world.manifolds), len(world.manifolds.count))
+    objects, sync = world.collision_objects, world.node_sync
+    return (world.bodies.count, world.bodies.capacity, len(objects.shape_objects),
+            len(objects.probe_objects), len(world.nodes), len(world.velocity_controls),
+            len(world.render_meshes), len(world.creation_state), len(sync._node_pose),
+            len(sync._node_stamp), len(world.manifolds), len(world.manifolds.count))
 
 
 def test_ten_rounds_of_adding_and_removing_objects_leave_every_container_bounded(scene):

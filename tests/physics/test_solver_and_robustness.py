@@ -1,4 +1,7 @@
-"""Solver paths agree; fast bodies do not tunnel; determinism; VALIDATION.md section 7."""
+"""Graph coloring; fast bodies do not tunnel; determinism; VALIDATION.md section 7.
+
+The two solver paths are compared in test_reference_path.py, the switches in
+test_solver_switches.py."""
 
 from __future__ import annotations
 
@@ -30,22 +33,6 @@ def _pile_world(**solver_options):
     return world
 
 
-@pytest.mark.parametrize("block_jacobi", [False, True])
-def test_vectorized_and_scalar_solvers_give_the_same_motion(block_jacobi):
-    fast = _pile_world(block_jacobi=block_jacobi, use_vectorized=True)
-    slow = _pile_world(block_jacobi=block_jacobi, use_vectorized=False)
-    for _ in range(30):
-        fast.step_physics(1.0 / 60.0)
-        slow.step_physics(1.0 / 60.0)
-    n = fast.bodies.count
-    # same algebra in a different summation order: agreement to round-off, amplified by
-    # 60 contact-rich steps (1e-9 m is far below any physical scale here)
-    np.testing.assert_allclose(fast.bodies.body_position[:n], slow.bodies.body_position[:n],
-                               atol=1e-9)
-    np.testing.assert_allclose(fast.bodies.body_linear_velocity[:n],
-                               slow.bodies.body_linear_velocity[:n], atol=1e-8)
-
-
 def test_graph_coloring_puts_each_dynamic_body_once_per_color():
     rng = np.random.default_rng(1)
     body_a = rng.integers(0, 12, size=60)
@@ -56,21 +43,6 @@ def test_graph_coloring_puts_each_dynamic_body_once_per_color():
     for color in colors:
         used = [b for m in color for b in (body_a[m], body_b[m]) if is_dynamic[b]]
         assert len(used) == len(set(used))
-
-
-def test_switches_change_the_result_and_warm_starting_helps_a_stack():
-    def lean(**options):
-        world, templates = make_world()
-        for name, value in options.items():
-            setattr(world.settings, name, value)
-        handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
-        boxes = [add(world, templates, handle, [0.002 * (i % 2), 0.1 + 0.201 * i, 0.0])
-                 for i in range(6)]
-        run(world, 1.0)
-        return abs(boxes[-1].translation[0] - 0.002 * 1)
-
-    assert lean() < 0.005
-    assert lean(warm_starting=False) > lean()
 
 
 def test_small_fast_sphere_does_not_tunnel_through_a_thin_static_wall():

@@ -6,7 +6,7 @@ translation; a ``Matrix3`` is the same for 2D (3x3 homogeneous, Magnum's 2D tran
 matrix; a plain 3x3 matrix is ``Matrix3x3``). Magnum's quirk is kept: ``Matrix4.translation(v)``
 and ``Matrix4.rotation(angle, axis)`` construct on the class, while ``m.translation`` and
 ``m.rotation()`` read an instance. ``==`` is Magnum's fuzzy compare of every element
-(:func:`engine.mn_vectors.fuzzy_equal`).
+(:func:`engine.mn.vectors.fuzzy_equal`).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn_vectors import Vector2, Vector3, finite_array, fuzzy_equal, radians
+from engine.mn.vectors import Vector2, Vector3, finite_array, fuzzy_equal, radians
 
 __all__ = ["Matrix3", "Matrix3x3", "Matrix4", "Range2D", "Range3D"]
 
@@ -201,16 +201,37 @@ class Matrix4(_MatrixN):
         return Matrix4.from_(rotation.T, -rotation.T @ self._data[:3, 3])
 
 
+def quaternion_to_matrix(xyzw: np.ndarray) -> np.ndarray:
+    """3x3 rotation matrix of a unit ``[x, y, z, w]`` quaternion (see the module docstring)."""
+    x, y, z, w = xyzw
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def axis_angle_matrix(angle: Any, axis: Any) -> np.ndarray:
+    """3x3 rotation by ``angle`` (:class:`Deg` or :class:`Rad`) about ``axis`` (normalized
+    here), through the unit quaternion ``(u sin(theta/2), cos(theta/2))``."""
+    axis_array = finite_array(axis, 3, "axis")
+    axis_length = np.linalg.norm(axis_array)
+    if axis_length < 1e-12:
+        raise ValueError(f"rotation axis must be non-zero, got {axis_array.tolist()}")
+    half = 0.5 * radians(angle)
+    return quaternion_to_matrix(np.append(axis_array / axis_length * math.sin(half),
+                                          math.cos(half)))
+
+
 class _DualRotation:
     """``Matrix4.rotation(angle, axis)`` on the class, ``m.rotation()`` on an instance."""
 
     def __get__(self, instance: Matrix4 | None, owner: type) -> Any:
         if instance is None:
-            from engine.mn_rotations import Quaternion  # rotations build on these matrices
-
-            return lambda angle, axis: owner.from_(
-                Quaternion.rotation(angle, axis).to_matrix(), (0.0, 0.0, 0.0)
-            )
+            return lambda angle, axis: owner.from_(axis_angle_matrix(angle, axis),
+                                                   (0.0, 0.0, 0.0))
         return instance.rotation_normalized
 
 

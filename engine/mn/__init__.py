@@ -4,9 +4,9 @@ rigidsim code writes ``from engine import mn`` and then uses the same names as M
 bindings: :class:`Vector2`, :class:`Vector3`, :class:`Vector4`, :class:`Vector2i`,
 :class:`Vector3i`, :class:`Color3`, :class:`Color4`, :class:`Quaternion`, :class:`Deg`,
 :class:`Rad`, :class:`Matrix3x3`, :class:`Matrix3`, :class:`Matrix4`, :class:`Range2D`,
-:class:`Range3D` and the free functions and constants of ``mn.math`` (:mod:`engine.mn_math`).
+:class:`Range3D` and the free functions and constants of ``mn.math`` (:mod:`engine.mn.math`).
 Float types compare with Magnum's fuzzy ``==`` (relative epsilon 1e-5, see
-:mod:`engine.mn_vectors`). The types are thin wrappers around NumPy arrays so that they mix
+:mod:`engine.mn.vectors`). The types are thin wrappers around NumPy arrays so that they mix
 freely with lists and ``np.ndarray`` (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``).
 
 Conventions (declared once, used everywhere in rigidsim)
@@ -25,16 +25,16 @@ instance, the translation part (``m.translation``).
 """
 from __future__ import annotations
 
-from engine import mn_math as math
-from engine.mn_matrices import Matrix3, Matrix3x3, Matrix4, Range2D, Range3D
-from engine.mn_rotations import (
+from engine.mn import math
+from engine.mn.matrices import Matrix3, Matrix3x3, Matrix4, Range2D, Range3D
+from engine.mn.rotations import (
     Quaternion,
     matrix_to_quaternion,
     quaternion_multiply,
     quaternion_to_matrix,
     to_quaternion,
 )
-from engine.mn_vectors import (
+from engine.mn.vectors import (
     Color3,
     Color4,
     Deg,

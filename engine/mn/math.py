@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn_rotations import Quaternion
-from engine.mn_vectors import Rad, Vector2, Vector3, _VectorN, radians
+from engine.mn.rotations import Quaternion
+from engine.mn.vectors import Rad, Vector2, Vector3, _VectorN, radians
 
 pi = _math.pi
 pi_half = _math.pi / 2.0

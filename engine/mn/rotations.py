@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn_matrices import Matrix3x3
-from engine.mn_vectors import (
+from engine.mn.matrices import Matrix3x3, quaternion_to_matrix
+from engine.mn.vectors import (
     FLOAT_EPSILON,
     Rad,
     Vector3,
@@ -71,18 +71,6 @@ def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
-def quaternion_to_matrix(xyzw: np.ndarray) -> np.ndarray:
-    """3x3 rotation matrix of a unit ``[x, y, z, w]`` quaternion (see the module docstring)."""
-    x, y, z, w = xyzw
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
 def matrix_to_quaternion(matrix: np.ndarray) -> np.ndarray:
     """``[x, y, z, w]`` of a 3x3 rotation matrix (Shepperd's method, stable for every angle)."""
     m = np.asarray(matrix, dtype=np.float64)
@@ -118,7 +106,7 @@ class Quaternion:
     * ``Quaternion(((x, y, z), w))``: one ``(vector, scalar)`` tuple;
     * ``Quaternion(vector)``: a pure quaternion ``(vector, 0)`` (scalar zero, as Magnum).
 
-    ``==`` is Magnum's fuzzy compare of the four components (see :mod:`engine.mn_vectors`);
+    ``==`` is Magnum's fuzzy compare of the four components (see :mod:`engine.mn.vectors`);
     ``q`` and ``-q`` are the same rotation but not equal quaternions, as in Magnum.
     """
 

@@ -1,0 +1,231 @@
+"""Collision stage of ``World.step``: which bodies touch, and where.
+
+Inputs => outputs (``n`` bodies, ``p`` broad-phase pairs, ``q`` contact points)::
+
+    Bodies (poses, AABBs, shapes), CollisionObjects (fcl objects), ManifoldStore
+        => Bodies.body_aabb_min/max (n, 3) updated, fcl objects moved,
+           ManifoldStore rows refreshed / created / deleted,
+           returns the number of broad-phase pairs p (Habitat's "active overlapping pairs")
+
+Sub-stages, in order:
+
+1. broad phase (:func:`broad_phase`): world AABBs of all bodies, inflated by
+   ``AABB_MARGIN`` (the stage also by ``STAGE_SPECULATIVE_DISTANCE``), then the overlapping
+   pairs ``(p, 2)`` with at least one moving body and at least one dynamic body;
+2. box pre-test (:func:`separated_box_pairs`): pairs with no manifold whose body-frame boxes
+   (oriented, exact) are disjoint skip the narrow phase;
+3. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
+   into each pair's persistent manifold. ``settings.use_vectorized`` chooses the batched
+   path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.update`) or the per-pair
+   reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
+4. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
+   one of their bodies moved lose their manifold; a sleeping pair keeps it for waking.
+"""
+
+from __future__ import annotations
+
+import math
+
+import fcl
+import numpy as np
+
+from . import settings as constants
+from .bodies import DYNAMIC, STAGE_ID, Bodies
+from .collide import boxes_separated, overlapping_pairs, world_aabbs
+from .collision_groups import filter_pairs
+from .contacts import FreshPoints, ManifoldStore, feature_length
+from .narrow_phase import narrow_phase
+from .profiling import StageTimer
+from .quaternions import live_rotations
+from .settings import SolverSettings
+from .shapes import Shape, probe_geometry
+from .sleeping import moving_kinematic_mask
+
+
+class CollisionObjects:
+    """The fcl collision objects of every body, kept at the bodies' poses.
+
+    ``shape_objects[i]``: one ``fcl.CollisionObject`` per shape of body ``i``;
+    ``probe_objects[i]``: the same shapes grown by ``STAGE_SPECULATIVE_DISTANCE`` (None for
+    the stage mesh), used to find stage triangles near a body (speculative contacts).
+    """
+
+    def __init__(self) -> None:
+        self.shape_objects: dict[int, list] = {}
+        self.probe_objects: dict[int, list] = {}
+
+    def install(self, index: int, shapes: list[Shape]) -> None:
+        """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
+        self.shape_objects[index] = [fcl.CollisionObject(s.geometry, fcl.Transform())
+                                     for s in shapes]
+        self.probe_objects[index] = [
+            None if s.kind == "mesh" else fcl.CollisionObject(
+                probe_geometry(s, constants.STAGE_SPECULATIVE_DISTANCE), fcl.Transform())
+            for s in shapes]
+
+    def remove(self, index: int) -> None:
+        self.shape_objects.pop(index, None)
+        self.probe_objects.pop(index, None)
+
+    def __contains__(self, index: int) -> bool:
+        return index in self.shape_objects
+
+    def move(self, bodies: Bodies, indices: np.ndarray, rotations: np.ndarray) -> None:
+        """Move the fcl objects of bodies ``indices (k,)`` (rotation matrices ``(k, 3, 3)``):
+        all shape poses ``world_from_shape = world_from_body @ body_from_shape`` at once."""
+        owners, objects, offsets = [], [], []
+        for k, index in enumerate(indices.tolist()):
+            for shape, obj, probe in zip(bodies.shapes[index], self.shape_objects[index],
+                                         self.probe_objects[index], strict=True):
+                owners.append(k)
+                objects.append((obj, probe))
+                offsets.append(shape.body_from_shape)
+        if not owners:
+            return
+        offset = np.array(offsets)
+        r = rotations[owners]
+        # world_from_shape = [R R_off | R t_off + x] for every shape at once
+        shape_rotation = r @ offset[:, :3, :3]
+        shape_position = (r @ offset[:, :3, 3:])[..., 0] + bodies.body_position[indices[owners]]
+        for (obj, probe), rot, pos in zip(objects, shape_rotation, shape_position,
+                                          strict=True):
+            obj.setRotation(rot)
+            obj.setTranslation(pos)
+            if probe is not None:
+                probe.setRotation(rot)
+                probe.setTranslation(pos)
+
+
+def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
+                    settings: SolverSettings, timer: StageTimer | None = None) -> int:
+    """Run the four sub-stages of the module docstring; returns the broad-phase pair count."""
+    timer = timer or StageTimer()
+    rotation = live_rotations(bodies)  # (n, 3, 3) world_from_body (identity: freed slots)
+    # ---- 1. broad phase: AABB pairs with a moving, dynamic member -------------------------
+    pairs, active = timer.run("broad phase", broad_phase, bodies)
+    # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
+    touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
+    # ---- 3. narrow phase + manifold update (batched or reference) -------------------------
+    if touching:
+        involved = np.unique(np.array(touching))
+        involved = involved[involved != STAGE_ID]  # the stage never moves
+        objects.move(bodies, involved, rotation[involved])
+    if settings.use_vectorized:
+        update_manifolds(bodies, objects, store, touching, rotation)
+    else:
+        from .reference_contacts import update_manifolds_reference
+
+        update_manifolds_reference(bodies, objects, store, touching, rotation)
+    # ---- 4. stale manifolds: pairs that separated lose their points -----------------------
+    drop_stale_manifolds(bodies, store, pairs, active)
+    return len(pairs)
+
+
+def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
+    """World AABBs (written to ``body_aabb_min/max``) and the overlapping pairs.
+
+    Returns ``pairs (p, 2)`` sorted, ``a < c``, each with a dynamic body, and ``active
+    (n,)`` bool: the bodies that can move this step (awake dynamic, moving kinematic).
+    """
+    b, n = bodies, bodies.count
+    # every live object has shapes; the stage without shapes is not collidable
+    candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+    live = np.flatnonzero(b.body_alive[:n])  # freed slots cost nothing
+    lo, hi = world_aabbs(b.body_shape_center[live], b.body_shape_half[live],
+                         b.body_position[live], b.body_rotation[live])
+    b.body_aabb_min[live] = lo - constants.AABB_MARGIN
+    b.body_aabb_max[live] = hi + constants.AABB_MARGIN
+    # the stage also covers the speculative distance of its contacts
+    b.body_aabb_min[STAGE_ID] -= constants.STAGE_SPECULATIVE_DISTANCE
+    b.body_aabb_max[STAGE_ID] += constants.STAGE_SPECULATIVE_DISTANCE
+    dynamic = b.body_motion_type[:n] == DYNAMIC
+    active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
+    pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
+    pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
+    pairs = filter_pairs(b, pairs)  # collision groups and masks (collision_groups.py)
+    return pairs, active
+
+
+def touching_candidates(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
+                        rotation: np.ndarray) -> list[tuple[int, int]]:
+    """The pairs ``[(a, c), ...]`` for the narrow phase: ``pairs`` minus those without a
+    manifold whose body-frame boxes are disjoint (:func:`separated_box_pairs`).
+
+    The box test costs a fixed ~40 NumPy calls, so it runs only when at least
+    ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped.
+    """
+    pair_list = [(a, c) for a, c in pairs.tolist()]
+    check = [k for k, (a, c) in enumerate(pair_list) if a != STAGE_ID and (a, c) not in store]
+    if len(check) < constants.MIN_PAIRS_FOR_BOX_TEST:
+        return pair_list
+    apart = set(np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)].tolist())
+    return [pair for k, pair in enumerate(pair_list) if k not in apart]
+
+
+def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """(p,) bool: body pairs (stage excluded) whose body-frame AABBs cannot touch.
+
+    Every body's shapes lie inside its body-frame AABB (center ``c``, half extents ``h``),
+    an oriented box in the world. Rotated boxes' world AABBs overlap long before the
+    boxes touch, so this exact oriented-box test skips many narrow-phase calls that could
+    only answer "no contact".
+    """
+    b = bodies
+    a, c = pairs[:, 0], pairs[:, 1]
+    # box center in the world: x + R c
+    center_a = b.body_position[a] + (rotation[a] @ b.body_shape_center[a][:, :, None])[..., 0]
+    center_c = b.body_position[c] + (rotation[c] @ b.body_shape_center[c][:, :, None])[..., 0]
+    margin = constants.AABB_MARGIN
+    apart = boxes_separated(center_a, rotation[a], b.body_shape_half[a] + margin,
+                            center_c, rotation[c], b.body_shape_half[c] + margin)
+    return apart & (a != STAGE_ID)
+
+
+def update_manifolds(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
+                     pairs: list[tuple[int, int]], rotation: np.ndarray) -> None:
+    """Batched: narrow phase for ``pairs``, then refresh/merge/reduce their manifolds.
+
+    Must agree with :func:`reference_contacts.update_manifolds_reference` (tested). A pair
+    gets a manifold row when it first has contact points; pairs with a sphere keep a single
+    (rolling) point.
+    """
+    pair_position, point_a, point_b, normal = narrow_phase(bodies, objects, store, pairs,
+                                                           rotation)
+    has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
+    rows, updated = [], []
+    for k, key in enumerate(pairs):
+        row = store.row(key)
+        if row is None:
+            if not has_points[k]:
+                continue
+            row = add_manifold_row(bodies, store, key)
+        rows.append(row)
+        updated.append(k)
+    row_position = np.full(len(pairs), -1, dtype=np.int64)
+    row_position[updated] = np.arange(len(updated))  # pair position -> row position
+    fresh = FreshPoints(len(rows), row_position[pair_position], point_a, point_b, normal)
+    store.update(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
+
+
+def add_manifold_row(bodies: Bodies, store: ManifoldStore, key: tuple[int, int]) -> int:
+    """A new manifold row for pair ``key``: 1 point when a sphere rolls, else 4; its feature
+    length from the bodies' thickness (the stage counts as infinitely thick)."""
+    rolling = any(s.kind == "sphere" for s in bodies.shapes[key[0]] + bodies.shapes[key[1]])
+    thickness = [math.inf if i == STAGE_ID else 2.0 * bodies.body_min_half_extent[i]
+                 for i in key]
+    return store.add(key, 1 if rolling else constants.MAX_MANIFOLD_POINTS,
+                     feature_length(*thickness))
+
+
+def drop_stale_manifolds(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
+                         active: np.ndarray) -> None:
+    """Delete the manifolds of pairs that left the broad phase while one of them moved
+    (or died); a sleeping pair keeps its manifold for when it wakes."""
+    b, n = bodies, bodies.count
+    rows = store.rows()
+    a, c = store.bodies[rows, 0], store.bodies[rows, 1]
+    # a pair (a, c) as the single integer a n + c, to test membership in one call
+    listed = np.isin(a * n + c, pairs[:, 0] * n + pairs[:, 1])
+    moved = active[a] | active[c] | ~b.body_alive[a] | ~b.body_alive[c]
+    for key in store.bodies[rows[~listed & moved]].tolist():
+        del store[tuple(key)]

@@ -1,0 +1,454 @@
+"""Reference path of the collision stage: contacts and manifolds one body pair at a time.
+
+This is the plain version of :mod:`narrow_phase` (batched contact generation) and of
+:meth:`contacts.ManifoldStore.update` (batched manifold refresh, merge and reduction), the
+size of box2d-lite's ``Collide`` + ``Arbiter::Update``: loops over shapes, vertices and
+triangles a student can step through in a debugger. ``SolverSettings.use_vectorized =
+False`` routes the world through it, and tests prove that both paths produce the same
+contact points, manifolds and trajectories (to rounding). The rules are those of
+:mod:`collide` and :mod:`contacts`; each function names the batched code it mirrors.
+
+Vectors are ``(3,)`` float arrays in the world frame unless named ``_local`` (body frame).
+Matrix-vector products are written out as three dot products (:func:`rotate`,
+:func:`unrotate`) so they round exactly like the batched ``einsum`` calls.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import settings
+from .bodies import Bodies
+from .collide import (
+    _POLYHEDRA,
+    _triangle_table,
+    contact_arrays,
+    fcl_raw_contacts,
+    round_contacts,
+)
+from .contacts import SLOTS, ManifoldStore, tie_key
+from .narrow_phase import coincident, coincident_spheres, deepest_record, spread_direction
+
+
+def dot(u: np.ndarray, v: np.ndarray) -> float:
+    """``u . v`` of two 3-vectors, summed in index order."""
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``u x v`` of two 3-vectors."""
+    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                     u[0] * v[1] - u[1] * v[0]])
+
+
+def rotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``R v``: a body-frame vector in the world frame."""
+    return np.array([dot(r[0], v), dot(r[1], v), dot(r[2], v)])
+
+
+def unrotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``R^T v``: a world vector in the body frame."""
+    return np.array([dot(r[:, 0], v), dot(r[:, 1], v), dot(r[:, 2], v)])
+
+
+@dataclass
+class Contact:
+    """One contact point: world anchors on A and B, unit normal from A to B.
+
+    ``depth = (point_a - point_b) . normal`` is positive when the bodies overlap.
+    """
+
+    point_a: np.ndarray
+    point_b: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def depth(self) -> float:
+        return dot(self.point_a - self.point_b, self.normal)
+
+
+# ------------------------------------------------------------------------------------------
+# contact generation (mirrors narrow_phase.narrow_phase)
+# ------------------------------------------------------------------------------------------
+def pair_contacts(bodies: Bodies, objects, store: ManifoldStore, a: int, c: int,
+                  rotation: np.ndarray) -> list[Contact]:
+    """Contacts of body pair ``(a, c)``, ``a < c``, in the narrow phase's order: shape pairs
+    in body order, then the order of each rule below (``rotation (n, 3, 3)``: all bodies;
+    ``store``: the manifolds before this step's update, whose normals keep a stage contact
+    on the side it began on)."""
+    contacts: list[Contact] = []
+    pose_a = (rotation[a], bodies.body_position[a])
+    pose_c = (rotation[c], bodies.body_position[c])
+    for shape_a, obj_a in zip(bodies.shapes[a], objects.shape_objects[a], strict=True):
+        for shape_c, obj_c, probe_c in zip(bodies.shapes[c], objects.shape_objects[c],
+                                           objects.probe_objects[c], strict=True):
+            if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
+                found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
+                if found:
+                    contacts += stage_polyhedron_contacts(shape_a, shape_c, pose_c, found,
+                                                          cached_stage_normals(store, c))
+            elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
+                found = fcl_raw_contacts(obj_a, obj_c)
+                if found:
+                    # bodies created at one point: fcl's normal is arbitrary, use the
+                    # pair's spread direction (narrow_phase.spread_direction)
+                    spread = spread_direction(a, c) if coincident(bodies, a, c) else None
+                    contacts += polyhedron_contacts(shape_a, pose_a, shape_c, pose_c, found,
+                                                    spread)
+            elif shape_a.kind == shape_c.kind == "sphere" and coincident(bodies, a, c):
+                result = coincident_spheres(bodies, a, shape_a, c, shape_c, rotation)
+                contacts += [Contact(*point) for point in zip(*result, strict=True)]
+            else:  # spheres and capsules: the per-pair code is shared by both paths
+                result = round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
+                if result is not None:
+                    contacts += [Contact(*point) for point in zip(*result, strict=True)]
+    return contacts
+
+
+def cached_stage_normals(store: ManifoldStore, body: int) -> list[np.ndarray]:
+    """World normals (stage -> body) of the points of the stage's manifold with ``body``
+    (the stage frame is the world frame); empty for a new contact."""
+    row = store.row((0, body))
+    return [] if row is None else [store.normal_local[row, s] for s in range(store.count[row])]
+
+
+def outward_side(normal: np.ndarray, heights: list[float], cached: list[np.ndarray]) -> float:
+    """+1 or -1 turning a triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to it decides when it is within 60 degrees
+    (``|n . c| > 0.5``): the body stays on the side where the contact began. A new contact
+    takes the side holding the middle of the hull's extent along the normal.
+    """
+    alignments = [dot(normal, c) for c in cached]
+    if alignments:
+        strongest = alignments[int(np.argmax(np.abs(alignments)))]
+        if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
+            return float(np.sign(strongest))
+    return -1.0 if max(heights) + min(heights) < 0 else 1.0
+
+
+def stage_polyhedron_contacts(stage, hull, pose, found: list,
+                              cached: list[np.ndarray]) -> list[Contact]:
+    """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles fcl found.
+
+    Mirrors ``narrow_phase._stage_group``. For every touched triangle t (normal n_t turned to
+    the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
+    and hull vertex v, the signed height
+    ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
+    it is not more than half the hull's extent below the plane, and its projection falls
+    inside the triangle. Each vertex keeps its shallowest triangle (the largest h).
+    """
+    table = _triangle_table(stage)
+    triangle_ids = sorted({int(record.b1) for record in found if record.b1 >= 0})
+    rotation, position = pose
+    vertices = [rotate(rotation, v) + position for v in hull.hull_vertices]
+    extent = max(max(v[axis] for v in vertices) - min(v[axis] for v in vertices)
+                 for axis in range(3))
+    normals, heights = [], []
+    for t in triangle_ids:
+        normal, corner = table["normal"][t], stage.ray_triangles[t][0]
+        height = [dot(normal, v) - dot(normal, corner) for v in vertices]
+        side = outward_side(normal, height, cached)
+        normal, height = normal * side, [value * side for value in height]
+        normals.append(normal)
+        heights.append(height)  # (T, V) signed heights, m
+    contacts = []
+    for k, vertex in enumerate(vertices):
+        # (height, triangle position) of the shallowest candidate triangle
+        best: tuple[float, int] | None = None
+        for i, t in enumerate(triangle_ids):
+            above = heights[i][k]  # m, height of this vertex above triangle t
+            if (above < settings.STAGE_SPECULATIVE_DISTANCE
+                    and above > -settings.STAGE_BELOW_FRACTION * extent
+                    and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+                    and (best is None or above > best[0])):
+                best = (above, i)
+        if best is not None:
+            normal, depth = normals[best[1]], -best[0]
+            contacts.append(Contact(vertex + normal * depth, vertex, normal))
+    if not contacts and triangle_ids:  # an edge crossing a face: fcl's points
+        mid, _, depths, _ = contact_arrays(found)
+        depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+        contacts = _midpoint_contacts(mid, [normals[0]] * len(mid), depths)
+    return contacts
+
+
+def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.ndarray) -> bool:
+    """True when ``point`` projected on triangle t's plane lies inside the triangle.
+
+    Barycentric ``(v, w)`` solve ``[d00 d01; d01 d11] [v; w] = [d20; d21]`` with the Gram
+    entries of the edges e0, e1 from ``corner`` (Ericson 3.4); inside when ``v, w >= 0`` and
+    ``v + w <= 1`` (within ``BARYCENTRIC_TOLERANCE``).
+    """
+    relative = point - corner
+    d20, d21 = dot(relative, table["e0"][t]), dot(relative, table["e1"][t])
+    d00, d01, d11, denom = (table[key][t] for key in ("d00", "d01", "d11", "denom"))
+    v = (d11 * d20 - d01 * d21) / denom
+    w = (d00 * d21 - d01 * d20) / denom
+    tolerance = settings.BARYCENTRIC_TOLERANCE
+    return bool(v >= -tolerance and w >= -tolerance and v + w <= 1 + tolerance)
+
+
+def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list,
+                        spread: np.ndarray | None = None) -> list[Contact]:
+    """Vertex contacts of two polyhedra (method 1 of :mod:`collide`).
+
+    Mirrors ``narrow_phase._polyhedron_group``. fcl's deepest normal ``n`` (A -> B) picks a
+    reference face on A (the face most aligned with ``n``) and one on B (most aligned with
+    ``-n``); a face counts only if ``n_face . (+-n) >= REFERENCE_FACE_ALIGNMENT``. Every
+    vertex of the other body inside the reference hull (its planes inflated by
+    ``SPECULATIVE_DISTANCE``) and at most that far above the face becomes a contact,
+    A's face first. Without any, fcl's own points are used. ``spread``: the direction that
+    replaces fcl's normal for bodies created at one point (``narrow_phase.coincident``).
+    """
+    deepest = deepest_record(found)  # the first of near-equal depths
+    n = np.asarray(deepest.normal, dtype=np.float64) if spread is None else spread
+    contacts: list[Contact] = []
+    for reference, pose_ref, incident, pose_inc, sign in (
+            (shape_a, pose_a, shape_b, pose_b, 1.0), (shape_b, pose_b, shape_a, pose_a, -1.0)):
+        rotation_inc, position_inc = pose_inc
+        vertices = [rotate(rotation_inc, v) + position_inc for v in incident.hull_vertices]
+        for vertex, on_face, face_normal in _reference_face_contacts(reference, pose_ref,
+                                                                     vertices, sign * n):
+            if sign > 0:
+                contacts.append(Contact(on_face, vertex, face_normal))
+            else:
+                contacts.append(Contact(vertex, on_face, -face_normal))
+    if not contacts:  # no face faces the other body: fcl's points
+        mid, normals, depths, _ = contact_arrays(found)
+        contacts = _midpoint_contacts(mid, list(normals), depths)
+    return contacts
+
+
+def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarray) -> list:
+    """``[(vertex, point on the face, face normal)]`` of ``vertices`` inside ``reference``."""
+    rotation, position = pose
+    face_normals = [rotate(rotation, plane) for plane in reference.plane_normals]
+    alignment = [dot(normal, towards) for normal in face_normals]
+    face = int(np.argmax(tie_key(np.array(alignment))))  # the first of equally aligned faces
+    if alignment[face] < settings.REFERENCE_FACE_ALIGNMENT:
+        return []
+    normal = face_normals[face]
+    tolerance = settings.SPECULATIVE_DISTANCE
+    # the face plane n . x = c_f + n . x_ref in the world
+    plane_offset = reference.plane_offsets[face] + dot(normal, position)
+    contacts = []
+    for vertex in vertices:
+        local = unrotate(rotation, vertex - position)
+        inside = all(dot(local, plane) - offset <= tolerance
+                     for plane, offset in zip(reference.plane_normals, reference.plane_offsets,
+                                              strict=True))
+        depth = plane_offset - dot(vertex, normal)
+        if inside and depth > -tolerance:
+            contacts.append((vertex, vertex + depth * normal, normal))
+    return contacts
+
+
+def _midpoint_contacts(mid, normals, depths) -> list[Contact]:
+    """fcl midpoints -> contacts: A's point half a depth along +n, B's half a depth back."""
+    contacts = []
+    for point, normal, depth in zip(mid, normals, depths, strict=True):
+        half = 0.5 * depth * normal
+        contacts.append(Contact(point + half, point - half, normal))
+    return contacts
+
+
+# ------------------------------------------------------------------------------------------
+# manifold update (mirrors ManifoldStore.update)
+# ------------------------------------------------------------------------------------------
+@dataclass
+class ManifoldPoint:
+    """A persistent point: anchors in the body frames, normal in A's frame, and the solver's
+    accumulated impulse ``[normal, tangent1, tangent2]`` in N s."""
+
+    local_a: np.ndarray
+    local_b: np.ndarray
+    normal_local: np.ndarray
+    impulse: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def world(self, frame_a, frame_b) -> Contact:
+        (ra, xa), (rb, xb) = frame_a, frame_b
+        return Contact(rotate(ra, self.local_a) + xa, rotate(rb, self.local_b) + xb,
+                       rotate(ra, self.normal_local))
+
+
+def update_manifolds_reference(bodies: Bodies, objects, store: ManifoldStore,
+                               pairs: list[tuple[int, int]], rotation: np.ndarray) -> None:
+    """Reference for ``collision_stage.update_manifolds``: per pair, its contacts, then
+    its manifold refreshed, merged and reduced (:func:`update_manifold`)."""
+    from .collision_stage import add_manifold_row
+
+    for key in pairs:
+        contacts = pair_contacts(bodies, objects, store, key[0], key[1], rotation)
+        row = store.row(key)
+        if row is None:
+            if not contacts:
+                continue
+            row = add_manifold_row(bodies, store, key)
+        frame_a = (rotation[key[0]], bodies.body_position[key[0]])
+        frame_b = (rotation[key[1]], bodies.body_position[key[1]])
+        cached = [ManifoldPoint(store.local_a[row, s].copy(), store.local_b[row, s].copy(),
+                                store.normal_local[row, s].copy(), store.impulse[row, s].copy())
+                  for s in range(store.count[row])]
+        points = update_manifold(cached, contacts, frame_a, frame_b, int(store.max_points[row]),
+                                 float(store.feature[row]))
+        store.count[row] = len(points)
+        for array in (store.local_a, store.local_b, store.normal_local, store.impulse):
+            array[row] = 0.0
+        for slot, point in enumerate(points):
+            store.local_a[row, slot], store.local_b[row, slot] = point.local_a, point.local_b
+            store.normal_local[row, slot], store.impulse[row, slot] = (point.normal_local,
+                                                                        point.impulse)
+
+
+def update_manifold(cached: list[ManifoldPoint], fresh: list[Contact], frame_a, frame_b,
+                    max_points: int,
+                    feature: float = settings.CONTACT_MATCH_DISTANCE) -> list[ManifoldPoint]:
+    """One manifold's step (box2d-lite's ``Arbiter::Update``, with Bullet's persistence).
+
+    ``feature`` (m) is the pair's feature length (``contacts.feature_length``): the match,
+    drift and support-band distances are capped at it, so a small body keeps distinct points.
+
+    1. keep the cached points still in contact (:func:`still_touching`);
+    2. too many fresh points: keep the supporting polygon, preferring points that match
+       cached ones; drop fresh points within ``feature`` of a deeper one;
+    3. fresh points inherit the impulse of the nearest unused cached point closer than
+       ``feature`` (warm starting); a rolling point always inherits;
+    4. three or more fresh points replace the cache, fewer join its unmatched points;
+    5. more than ``max_points``: the supporting polygon's points.
+    """
+    cached = [p for p in cached if still_touching(p, frame_a, frame_b, feature)]
+    (ra, xa), (rb, xb) = frame_a, frame_b
+    band = min(settings.SUPPORT_DEPTH_BAND, feature)
+    if len(fresh) > max_points:
+        fresh = _support_of_fresh(fresh, cached, rb, xb, max_points, feature, band)
+    fresh = _distinct(fresh, feature)
+    points = [ManifoldPoint(unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb),
+                            unrotate(ra, c.normal)) for c in fresh]
+    used = _inherit_impulses(points, cached, max_points, feature)
+    if len(points) >= 3:
+        merged = points
+    else:
+        merged = [p for p, is_used in zip(cached, used, strict=True) if not is_used] + points
+    if len(merged) > max_points:
+        world = [p.world(frame_a, frame_b) for p in merged]
+        chosen = select_support([c.point_b for c in world], [c.depth for c in world],
+                                world[0].normal, max_points, band=band)
+        merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
+    return merged
+
+
+def still_touching(point: ManifoldPoint, frame_a, frame_b,
+                   feature: float = settings.CONTACT_DRIFT_DISTANCE) -> bool:
+    """A cached point persists while its bodies separate less than
+    ``CONTACT_BREAKING_DISTANCE`` along the normal and its anchors drift apart less than
+    ``CONTACT_DRIFT_DISTANCE`` (capped at the feature length) tangentially."""
+    contact = point.world(frame_a, frame_b)
+    gap = contact.point_a - contact.point_b
+    depth = dot(gap, contact.normal)
+    drift_sq = dot(gap, gap) - depth**2  # |tangential part of the gap|^2
+    return bool(depth > -settings.CONTACT_BREAKING_DISTANCE
+                and drift_sq < min(settings.CONTACT_DRIFT_DISTANCE, feature)**2)
+
+
+def _support_of_fresh(fresh: list[Contact], cached: list[ManifoldPoint], rb, xb,
+                      max_points: int, feature: float, band: float) -> list[Contact]:
+    """The fresh points spanning the supporting polygon; near-ties go to points matching a
+    cached one within ``feature`` (hysteresis: a face on many coplanar vertices keeps the
+    same four)."""
+    limit = feature**2
+    preferred = []
+    for contact in fresh:
+        local_b = unrotate(rb, contact.point_b - xb)
+        preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit
+                             for p in cached))
+    depths = [c.depth for c in fresh]
+    deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
+    chosen = select_support([c.point_b for c in fresh], depths, fresh[deepest].normal,
+                            max_points, preferred, band)
+    return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
+
+
+def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
+    """Deepest first, drop any point within ``radius`` of a kept one (B's world anchors)."""
+    # stable sort, deepest first: equal depths (to TIE_QUANTUM) keep their order
+    by_depth = sorted(fresh, key=lambda c: -tie_key(c.depth))
+    kept: list[Contact] = []
+    for contact in by_depth:
+        if all(dot(contact.point_b - k.point_b, contact.point_b - k.point_b) >= radius * radius
+               for k in kept):
+            kept.append(contact)
+    return kept
+
+
+def _inherit_impulses(points: list[ManifoldPoint], cached: list[ManifoldPoint],
+                      max_points: int, feature: float) -> list[bool]:
+    """Greedy one-to-one matching in B's frame; returns which cached points were used."""
+    used = [False] * len(cached)
+    if max_points == 1:  # a rolling point keeps the impulse of the cached one
+        for point in points:
+            point.impulse = cached[0].impulse.copy() if cached else np.zeros(3)
+        return [True] * len(cached)
+    limit = feature**2
+    for point in points:
+        best, best_sq = None, np.inf
+        for i, old in enumerate(cached):
+            gap = point.local_b - old.local_b
+            if not used[i] and dot(gap, gap) < best_sq:
+                best, best_sq = i, dot(gap, gap)
+        if best is not None and best_sq < limit:
+            point.impulse = cached[best].impulse.copy()
+            used[best] = True
+    return used
+
+
+def select_support(points: list, depths: list, normal: np.ndarray, count: int,
+                   preferred: list | None = None,
+                   band: float = settings.SUPPORT_DEPTH_BAND) -> list[bool]:
+    """Up to ``count`` of the points spanning the largest supporting area (mirrors
+    ``contacts.select_support`` for one row).
+
+    Supporting points lie within ``band`` (m) of the deepest. Among them: the
+    deepest (``p0``), the farthest from it (``p1``), the one spanning the largest triangle
+    with those two, then the largest on the other side of edge p0-p1. Preferred points win
+    near-ties (1 mm of depth, 10 % of distance or area). Slots left over take the remaining
+    points, deepest first.
+    """
+    k = len(points)
+    lowest = max(depths) - band
+    supporting = [d >= lowest for d in depths]
+    bonus = [float(p) for p in preferred] if preferred is not None else [0.0] * k
+    scale = [1.0 + settings.PREFERRED_SIZE_BONUS * b for b in bonus]
+    chosen = [False] * k
+
+    def best_of(values):  # the first supporting slot holding the largest value
+        masked = [tie_key(v) if s else -np.inf for v, s in zip(values, supporting, strict=True)]
+        return int(np.argmax(masked))
+
+    first = best_of([d + settings.PREFERRED_DEPTH_BONUS * b
+                     for d, b in zip(depths, bonus, strict=True)])
+    chosen[first] = True
+    p0 = points[first]
+    second = best_of([dot(p - p0, p - p0) * s for p, s in zip(points, scale, strict=True)])
+    chosen[second] |= count >= 2
+    edge = points[second] - p0
+    # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
+    area = [dot(cross3(edge, p - p0), normal) * s for p, s in zip(points, scale, strict=True)]
+    third = best_of([abs(a) for a in area])
+    chosen[third] |= count >= 3
+    side = -np.sign(area[third])
+    opposite = [side * a if s and not c else -np.inf
+                for a, s, c in zip(area, supporting, chosen, strict=True)]
+    fourth = int(np.argmax(tie_key(np.array(opposite))))
+    chosen[fourth] |= count >= 4 and bool(np.isfinite(opposite[fourth]))
+    remaining = count - sum(chosen)
+    rest = sorted((i for i in range(k) if not chosen[i]), key=lambda i: -tie_key(depths[i]))
+    for i in rest[:max(remaining, 0)]:
+        chosen[i] = True
+    return chosen
+
+
+__all__ = ["SLOTS", "Contact", "ManifoldPoint", "pair_contacts", "select_support",
+           "update_manifold", "update_manifolds_reference"]

@@ -1,0 +1,116 @@
+"""Every ``SolverSettings`` switch does what it exists for (box2d-lite's demo toggles).
+
+Each test turns one idea off (or down) and checks the physical symptom the idea prevents:
+a stack that cannot rest, a box left inside the floor, a stack that leans. ``use_vectorized``
+is covered by tests/physics/test_reference_path.py.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from helpers import add, make_world, register_primitive, run
+
+BOX_HALF = 0.1
+
+
+def stack(n_boxes: int = 6, seconds: float = 1.5, **settings):
+    """A stack of ``n_boxes`` 20 cm boxes, exactly aligned, after ``seconds``; returns the
+    boxes and the largest |v_y| seen after the first 0.5 s."""
+    world, templates = make_world()
+    for name, value in settings.items():
+        setattr(world.settings, name, value)
+    handle = register_primitive(templates, "cubeSolid", (BOX_HALF,) * 3)
+    boxes = [add(world, templates, handle, [0.0, BOX_HALF + 2 * BOX_HALF * i, 0.0])
+             for i in range(n_boxes)]
+    run(world, 0.5)
+    largest_vy = 0.0
+    for _ in range(int(round((seconds - 0.5) * 60))):
+        world.step_physics(1.0 / 60.0)
+        largest_vy = max(largest_vy, max(abs(box.linear_velocity[1]) for box in boxes))
+    return boxes, largest_vy
+
+
+def top_height(boxes) -> float:
+    return float(boxes[-1].translation[1])
+
+
+RESTING_TOP = BOX_HALF + 2 * BOX_HALF * 5  # center of the 6th box when nothing sinks
+
+
+def test_default_stack_rests_and_sleeps():
+    boxes, largest_vy = stack()
+    assert abs(top_height(boxes) - RESTING_TOP) < 0.01  # 1 cm for six contacts' slop
+    assert largest_vy < 0.01 and not any(box.awake for box in boxes)
+
+
+def test_without_accumulated_impulses_a_stack_cannot_rest():
+    # clamping each increment (>= 0) instead of the accumulated impulse means an impulse
+    # can only grow within a step: an overshoot (or a warm-started impulse grown too large)
+    # can never be taken back, so the stack is pushed apart and falls back, over and over
+    boxes, largest_vy = stack()
+    assert largest_vy < 0.01
+    boxes, largest_vy = stack(accumulate_impulses=False)
+    assert largest_vy > 0.1
+    assert any(box.awake for box in boxes)
+
+
+def test_without_warm_starting_a_stack_sags_and_shakes():
+    # 15 iterations from zero impulses cannot carry six boxes' weight down the stack in one
+    # step: every step the stack sinks a little and is pushed back (warm starting carries
+    # last step's impulses over, so a resting stack starts each step already solved)
+    warm, warm_vy = stack()
+    cold, cold_vy = stack(warm_starting=False)
+    assert cold_vy > 0.01 > 100 * warm_vy
+    assert top_height(cold) < top_height(warm) - 0.002
+
+
+def test_more_velocity_iterations_and_substeps_make_a_stiffer_stack():
+    # without the stage's last word, 2 iterations let the stack sink into itself;
+    # substeps give the solver more passes per frame
+    def sag(**settings) -> float:
+        boxes, _ = stack(seconds=1.0, stage_iterations=0, **settings)
+        return RESTING_TOP - top_height(boxes)
+
+    soft = sag(velocity_iterations=2)
+    assert soft > 0.02
+    assert sag(velocity_iterations=2, substeps=4) < 0.25 * soft
+    assert sag() < 0.01
+
+
+def test_stage_iterations_hold_up_a_stack_the_iterations_cannot():
+    # the stage rows get the last word: even with 2 iterations the floor holds the stack
+    held, _ = stack(seconds=1.0, velocity_iterations=2)
+    sunk, _ = stack(seconds=1.0, velocity_iterations=2, stage_iterations=0)
+    assert RESTING_TOP - top_height(held) < 0.01
+    assert RESTING_TOP - top_height(sunk) > 0.02
+
+
+def box_started_in_floor(**settings) -> float:
+    """Height of a 20 cm box placed 3 cm into the floor, after 1 s."""
+    world, templates = make_world()
+    for name, value in settings.items():
+        setattr(world.settings, name, value)
+    box = add(world, templates, register_primitive(templates, "cubeSolid", (BOX_HALF,) * 3),
+              [0.0, BOX_HALF - 0.03, 0.0])
+    run(world, 1.0)
+    return float(box.translation[1])
+
+
+def test_position_correction_pushes_a_sunken_box_out_and_only_it_does():
+    assert box_started_in_floor() > BOX_HALF - 0.006  # out to within the slop (4 mm)
+    # without the split-impulse solve nothing removes the overlap: it stays 3 cm deep
+    np.testing.assert_allclose(box_started_in_floor(position_correction=False),
+                               BOX_HALF - 0.03, atol=0.001)
+    np.testing.assert_allclose(box_started_in_floor(position_iterations=0), BOX_HALF - 0.03,
+                               atol=0.001)
+
+
+def test_block_jacobi_keeps_a_perfect_stack_perfect():
+    # the 4 corners solved together are symmetric; one slot after the other (Gauss-Seidel)
+    # favours the first corner and the stack starts to lean
+    def lean(block_jacobi: bool) -> float:
+        boxes, _ = stack(10, seconds=3.0, block_jacobi=block_jacobi)
+        return max(float(np.hypot(b.translation[0], b.translation[2])) for b in boxes)
+
+    assert lean(True) < 1e-9
+    assert lean(False) > 1e-3
