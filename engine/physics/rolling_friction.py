@@ -42,7 +42,8 @@ __all__ = ["ContactLoads", "apply_rolling_friction", "combined_coefficients"]
 MAX_COMBINED = 10.0
 
 
-def combined_coefficients(bodies, body_a: np.ndarray, body_b: np.ndarray):
+def combined_coefficients(bodies, body_a: np.ndarray,
+                          body_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(rolling, spinning)`` pair coefficients ``(m,)``: ``x_a f_b + x_b f_a``, in [0, 10]."""
     f_a, f_b = bodies.body_friction[body_a], bodies.body_friction[body_b]
     rolling = (bodies.body_rolling_friction[body_a] * f_b

@@ -30,6 +30,7 @@ from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodi
 
 if TYPE_CHECKING:
     from .collision_stage import CollisionObjects
+    from .constraints import ConstraintStore
     from .node_sync import NodeSync
 
 _TEST_REQUEST = fcl.CollisionRequest()
@@ -44,6 +45,7 @@ class WorldApiMixin:
 
     bodies: Bodies
     manifolds: ManifoldStore
+    constraints: ConstraintStore
     collision_objects: CollisionObjects
     node_sync: NodeSync
     nodes: dict[int, Any]
