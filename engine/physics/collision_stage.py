@@ -107,15 +107,16 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
     if touching:
         involved = np.unique(np.array(touching))
         involved = involved[involved != STAGE_ID]  # the stage never moves
-        objects.move(bodies, involved, rotation[involved])
+        timer.run("fcl update", objects.move, bodies, involved, rotation[involved])
     if settings.use_vectorized:
-        update_manifolds(bodies, objects, store, touching, rotation)
+        update_manifolds(bodies, objects, store, touching, rotation, timer)
     else:
         from .reference_contacts import update_manifolds_reference
 
-        update_manifolds_reference(bodies, objects, store, touching, rotation)
+        timer.run("narrow phase", update_manifolds_reference, bodies, objects, store,
+                  touching, rotation)
     # ---- 4. stale manifolds: pairs that separated lose their points -----------------------
-    drop_stale_manifolds(bodies, store, pairs, active)
+    timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
 
 
@@ -178,14 +179,25 @@ def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray)
 
 
 def update_manifolds(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
-                     pairs: list[tuple[int, int]], rotation: np.ndarray) -> None:
+                     pairs: list[tuple[int, int]], rotation: np.ndarray,
+                     timer: StageTimer | None = None) -> None:
     """Batched: narrow phase for ``pairs``, then refresh/merge/reduce their manifolds.
 
     Must agree with :func:`reference_contacts.update_manifolds_reference` (tested). A pair
     gets a manifold row when it first has contact points; pairs with a sphere keep a single
     (rolling) point.
     """
-    pair_position, point_a, point_b, normal = narrow_phase(bodies, objects, pairs, rotation)
+    timer = timer or StageTimer()
+    pair_position, point_a, point_b, normal = timer.run("narrow phase", narrow_phase, bodies,
+                                                        objects, pairs, rotation)
+    timer.run("manifolds", _merge_into_store, bodies, store, pairs, rotation,
+              pair_position, point_a, point_b, normal)
+
+
+def _merge_into_store(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
+                      rotation: np.ndarray, pair_position: np.ndarray, point_a: np.ndarray,
+                      point_b: np.ndarray, normal: np.ndarray) -> None:
+    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
     for k, key in enumerate(pairs):
