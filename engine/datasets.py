@@ -7,7 +7,7 @@ writes them once into a cache folder, laid out like Habitat's ``data/`` folder::
     data/
       scene_datasets/demo/apartment.glb                   stage mesh, Y up, meters
       scene_datasets/demo/apartment.stage_config.json     up [0,1,0], front [0,0,-1]
-      scene_datasets/demo/apartment.navmesh               when the navmesh package can build it
+      scene_datasets/demo/apartment.navmesh               the stage's navmesh (navmesh package)
       test_assets/objects/sphere.object_config.json       + sphere.glb
       objects/example_objects/{cheezit,chefcan,largeclamp,banana,mug}.object_config.json
       objects/locobot_merged/locobot_merged.object_config.json                 + .glb
@@ -115,8 +115,8 @@ def write_demo_dataset(data: Path) -> None:
     write_glb(apartment_parts(), stage_glb)
     stage_config = dict(STAGE_CONFIG)
     navmesh_file = stage_dir / f"{STAGE_NAME}.navmesh"
-    if _write_navmesh(stage_glb, navmesh_file):
-        stage_config["nav_asset"] = navmesh_file.name
+    _write_navmesh(stage_glb, navmesh_file)
+    stage_config["nav_asset"] = navmesh_file.name
     _write_json(stage_dir / f"{STAGE_NAME}.stage_config.json", stage_config)
     for name, (folder, build) in OBJECTS.items():
         parts, config = build()
@@ -126,18 +126,14 @@ def write_demo_dataset(data: Path) -> None:
     (data / "VERSION").write_text(DATASET_VERSION + "\n")
 
 
-def _write_navmesh(stage_glb: Path, out: Path) -> bool:
+def _write_navmesh(stage_glb: Path, out: Path) -> None:
     """Build the stage's navmesh with ``navmesh.PathFinder`` and save it to ``out``.
 
-    Returns False (and writes nothing) when the navmesh package does not provide
-    ``PathFinder`` / ``NavMeshSettings`` yet; raises RuntimeError if a build fails.
-    The stage config is Y-up, so the stage frame is the world frame here.
+    Raises RuntimeError if the build fails or comes out empty. The stage config is Y-up, so
+    the stage frame is the world frame here.
     """
-    try:
-        from navmesh import NavMeshSettings, PathFinder
-    except ImportError:
-        return False
     from engine.assets import load_meshes, merge_meshes
+    from navmesh import NavMeshSettings, PathFinder
 
     stage = merge_meshes(load_meshes(stage_glb))
     pathfinder = PathFinder()
@@ -148,7 +144,6 @@ def _write_navmesh(stage_glb: Path, out: Path) -> bool:
         raise RuntimeError(f"building the navmesh of {stage_glb} failed: {error}") from error
     if not saved:
         raise RuntimeError(f"the navmesh of {stage_glb} came out empty; nothing to save")
-    return True
 
 
 def _write_json(path: Path, content: dict) -> None:

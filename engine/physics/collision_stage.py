@@ -24,13 +24,15 @@ Sub-stages, in order:
 
 from __future__ import annotations
 
+import math
+
 import fcl
 import numpy as np
 
 from . import settings as constants
 from .bodies import DYNAMIC, STAGE_ID, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
-from .contacts import FreshPoints, ManifoldStore
+from .contacts import FreshPoints, ManifoldStore, feature_length
 from .narrow_phase import narrow_phase
 from .profiling import StageTimer
 from .quaternions import quat_to_matrix
@@ -189,7 +191,7 @@ def update_manifolds(bodies: Bodies, objects: CollisionObjects, store: ManifoldS
     """
     timer = timer or StageTimer()
     pair_position, point_a, point_b, normal = timer.run("narrow phase", narrow_phase, bodies,
-                                                        objects, pairs, rotation)
+                                                        objects, store, pairs, rotation)
     timer.run("manifolds", _merge_into_store, bodies, store, pairs, rotation,
               pair_position, point_a, point_b, normal)
 
@@ -205,7 +207,7 @@ def _merge_into_store(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[in
         if row is None:
             if not has_points[k]:
                 continue
-            row = store.add(key, manifold_capacity(bodies, key))
+            row = add_manifold_row(bodies, store, key)
         rows.append(row)
         updated.append(k)
     row_position = np.full(len(pairs), -1, dtype=np.int64)
@@ -214,10 +216,14 @@ def _merge_into_store(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[in
     store.update(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
 
 
-def manifold_capacity(bodies: Bodies, key: tuple[int, int]) -> int:
-    """Points a new manifold of pair ``key`` may keep: 1 when a sphere rolls, else 4."""
+def add_manifold_row(bodies: Bodies, store: ManifoldStore, key: tuple[int, int]) -> int:
+    """A new manifold row for pair ``key``: 1 point when a sphere rolls, else 4; its feature
+    length from the bodies' thickness (the stage counts as infinitely thick)."""
     rolling = any(s.kind == "sphere" for s in bodies.shapes[key[0]] + bodies.shapes[key[1]])
-    return 1 if rolling else constants.MAX_MANIFOLD_POINTS
+    thickness = [math.inf if i == STAGE_ID else 2.0 * bodies.body_min_half_extent[i]
+                 for i in key]
+    return store.add(key, 1 if rolling else constants.MAX_MANIFOLD_POINTS,
+                     feature_length(*thickness))
 
 
 def drop_stale_manifolds(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,

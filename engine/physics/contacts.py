@@ -17,6 +17,12 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
+Small bodies: every row has a *feature length* ``f`` (:func:`feature_length`), a quarter of
+the thinnest body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE``. The match, drift
+and support-band distances above are capped at ``f``, so the corners of a 1 cm cube stay
+four distinct points instead of merging into one (a 2 cm match radius would swallow the
+whole cube, leaving one corner point that tips it over and through the floor).
+
 Normals point from body A to body B; depth ``(p_a - p_b) . n`` is positive when overlapping.
 Padded arrays: a row's first ``count`` slots hold its points, in no particular order; the
 other slots are zero. Per-row choices ("the deepest point of each row") are masked
@@ -29,6 +35,7 @@ reference path (:func:`reference_contacts.update_manifold`) makes the same choic
 from __future__ import annotations
 
 from collections.abc import Iterator, MutableMapping
+from typing import Any
 
 import numpy as np
 
@@ -73,13 +80,14 @@ class ManifoldStore(MutableMapping):
         self.bodies = np.zeros((0, 2), dtype=np.int64)
         self.count = np.zeros(0, dtype=np.int64)
         self.max_points = np.zeros(0, dtype=np.int64)
+        self.feature = np.zeros(0)
         self.local_a = self.local_b = self.normal_local = self.impulse = np.zeros((0, SLOTS, 3))
         self._grow(capacity)
 
     def _grow(self, capacity: int) -> None:
         old = len(self.count)
-        for name in ("bodies", "count", "max_points", "local_a", "local_b", "normal_local",
-                     "impulse"):
+        for name in ("bodies", "count", "max_points", "feature", "local_a", "local_b",
+                     "normal_local", "impulse"):
             array = getattr(self, name)
             grown = np.zeros((capacity,) + array.shape[1:], dtype=array.dtype)
             grown[:old] = array
@@ -113,14 +121,17 @@ class ManifoldStore(MutableMapping):
             del self[key]
 
     # -- rows --------------------------------------------------------------------------------
-    def add(self, key: tuple[int, int], max_points: int) -> int:
-        """Row of a new, empty manifold for body pair ``key``."""
+    def add(self, key: tuple[int, int], max_points: int,
+            feature: float = settings.CONTACT_MATCH_DISTANCE) -> int:
+        """Row of a new, empty manifold for body pair ``key`` (``feature``: its feature
+        length in m, see the module docstring)."""
         if not self._free:
             self._grow(2 * len(self.count))
         row = self._free.pop(0)
         self._rows[key] = row
         self.bodies[row] = key
         self.max_points[row] = max_points
+        self.feature[row] = feature
         return row
 
     def row(self, key: tuple[int, int]) -> int | None:
@@ -154,8 +165,9 @@ class ManifoldStore(MutableMapping):
                            self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
 
     # -- the per-step update ---------------------------------------------------------------
-    def update(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
-               fresh: FreshPoints) -> None:
+    def update(  # type: ignore[override]  # not MutableMapping.update: the step's merge
+            self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
+            fresh: FreshPoints) -> None:
         """Refresh, merge the fresh points into and reduce the manifolds ``rows``.
 
         Reference: :func:`reference_contacts.update_manifold`, one row at a time (tested).
@@ -167,14 +179,15 @@ class ManifoldStore(MutableMapping):
         a, b = self.bodies[rows, 0], self.bodies[rows, 1]
         frame_a = (rotation[a], position[a])
         frame_b = (rotation[b], position[b])
-        cached = self._refreshed(rows, frame_a, frame_b)
+        feature = self.feature[rows]
+        cached = self._refreshed(rows, frame_a, frame_b, feature)
         max_points = self.max_points[rows]
-        points = _select_fresh(fresh, cached, frame_b, max_points)
-        points = _distinct(points, settings.CONTACT_MATCH_DISTANCE)
+        points = _select_fresh(fresh, cached, frame_b, max_points, feature)
+        points = _distinct(points, feature)
         local = _to_local(points, frame_a, frame_b)
-        used = _inherit_impulses(local, cached, max_points)
+        used = _inherit_impulses(local, cached, max_points, feature)
         merged = _combine(local, cached, used)
-        merged = _reduce(merged, frame_a, frame_b, max_points)
+        merged = _reduce(merged, frame_a, frame_b, max_points, feature)
         self._clear_rows(rows)
         width = min(SLOTS, merged.valid.shape[1])
         valid = merged.valid[:, :width, None]
@@ -183,7 +196,7 @@ class ManifoldStore(MutableMapping):
             getattr(self, name)[rows, :width] = np.where(valid, getattr(merged, name)[:, :width],
                                                          0.0)
 
-    def _refreshed(self, rows, frame_a, frame_b) -> LocalPoints:
+    def _refreshed(self, rows, frame_a, frame_b, feature) -> LocalPoints:
         """Cached points of ``rows`` that are still in contact (see step 1), compacted."""
         cached = self._points(rows)
         point_a, point_b, normal = cached.world(frame_a, frame_b)
@@ -191,7 +204,7 @@ class ManifoldStore(MutableMapping):
         depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
         drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
         keep = ((depth > -settings.CONTACT_BREAKING_DISTANCE)
-                & (drift_sq < settings.CONTACT_DRIFT_DISTANCE**2))
+                & (drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None]**2))
         return cached.where(cached.valid & keep)
 
 
@@ -232,17 +245,18 @@ class FreshPoints:
 class LocalPoints:
     """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
 
-    def __init__(self, local_a, local_b, normal_local, impulse, valid) -> None:
+    def __init__(self, local_a: np.ndarray, local_b: np.ndarray, normal_local: np.ndarray,
+                 impulse: np.ndarray, valid: np.ndarray) -> None:
         self.local_a, self.local_b = local_a, local_b
         self.normal_local, self.impulse, self.valid = normal_local, impulse, valid
 
     def where(self, keep: np.ndarray) -> LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
         order = np.argsort(~keep, axis=1, kind="stable")
-        return LocalPoints(*(per_row(array, order)
-                             for array in (self.local_a, self.local_b, self.normal_local,
-                                           self.impulse)),
-                           per_row(keep, order))
+        local_a, local_b, normal_local, impulse = (
+            per_row(array, order)
+            for array in (self.local_a, self.local_b, self.normal_local, self.impulse))
+        return LocalPoints(local_a, local_b, normal_local, impulse, per_row(keep, order))
 
     def world(self, frame_a, frame_b):
         """World anchors of A and B and world normals ``(r, k, 3)``; ``frame_x`` holds each
@@ -254,7 +268,8 @@ class LocalPoints:
         return point_a, point_b, np.einsum("rij,rsj->rsi", ra, self.normal_local)
 
 
-def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points) -> FreshPoints:
+def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points,
+                  feature) -> FreshPoints:
     """Rows with more fresh points than they may keep: the supporting polygon only.
 
     Among near-ties the points matching cached ones win (hysteresis), so a flat face
@@ -269,18 +284,18 @@ def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points) 
         local_b = np.einsum("rji,rsj->rsi", rb, fresh.point_b - xb[:, None])
         gap_sq = ((local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
         gap_sq = np.where(cached.valid[:, None, :], gap_sq, np.inf)
-        preferred = gap_sq.min(axis=2) < settings.CONTACT_MATCH_DISTANCE**2
+        preferred = gap_sq.min(axis=2) < feature[:, None] ** 2
         deepest = _masked_argmax(depth, fresh.valid)
         normal = fresh.normal[np.arange(len(depth)), deepest]
         support = select_support(fresh.point_b, depth, normal, max_points, fresh.valid,
-                                 preferred)
+                                 preferred, _band(feature))
         chosen = np.where(too_many[:, None], support, fresh.valid)
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
     return fresh.take(order, per_row(chosen, order))
 
 
-def _distinct(points: FreshPoints, radius: float) -> FreshPoints:
-    """Each row's points, deepest first, dropping any within ``radius`` of a kept one."""
+def _distinct(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
+    """Each row's points, deepest first, dropping any within ``radius (r,)`` of a kept one."""
     depth = np.where(points.valid, points.depth(), -np.inf)
     by_depth = np.argsort(-tie_key(depth), axis=1, kind="stable")
     points = points.take(by_depth, per_row(points.valid, by_depth))
@@ -288,7 +303,7 @@ def _distinct(points: FreshPoints, radius: float) -> FreshPoints:
     dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
     kept = np.zeros_like(points.valid)
     for k in range(points.valid.shape[1]):  # greedy, deepest first: k sees the kept j < k
-        near_kept = (kept & (dist_sq[:, k] < radius * radius)).any(axis=1)
+        near_kept = (kept & (dist_sq[:, k] < (radius * radius)[:, None])).any(axis=1)
         kept[:, k] = points.valid[:, k] & ~near_kept
     order = np.argsort(~kept, axis=1, kind="stable")
     return points.take(order, per_row(kept, order))
@@ -303,16 +318,17 @@ def _to_local(points: FreshPoints, frame_a, frame_b) -> LocalPoints:
     return LocalPoints(local_a, local_b, normal, np.zeros(local_a.shape), points.valid)
 
 
-def _inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points) -> np.ndarray:
+def _inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points,
+                      feature) -> np.ndarray:
     """Give matched fresh points their cached impulses; returns the used cached slots.
 
     Greedy one-to-one matching, deepest fresh point first: each takes the nearest unused
-    cached point (in B's frame) closer than ``CONTACT_MATCH_DISTANCE``. A single rolling
+    cached point (in B's frame) closer than the row's feature length. A single rolling
     point (``max_points == 1``) always keeps the impulse of the cached one.
     """
     rows = np.arange(len(max_points))
     used = np.zeros_like(cached.valid)
-    limit = settings.CONTACT_MATCH_DISTANCE**2
+    limit = feature**2
     # |cached_i - fresh_j|^2 in B's frame, (r, fresh j, cached i)
     dist_sq = ((fresh.local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
     for j in range(fresh.valid.shape[1]):
@@ -335,17 +351,30 @@ def _combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> Local
     joined = [np.concatenate([getattr(cached, name), getattr(fresh, name)], axis=1)
               for name in ("local_a", "local_b", "normal_local", "impulse")]
     valid = np.concatenate([keep_cached, fresh.valid], axis=1)
-    return LocalPoints(*joined, valid).where(valid)
+    local_a, local_b, normal_local, impulse = joined
+    return LocalPoints(local_a, local_b, normal_local, impulse, valid).where(valid)
 
 
-def _reduce(points: LocalPoints, frame_a, frame_b, max_points) -> LocalPoints:
+def _band(feature: np.ndarray) -> np.ndarray:
+    """(r,) m, the support depth band of each row: ``SUPPORT_DEPTH_BAND`` capped at ``f``."""
+    return np.minimum(settings.SUPPORT_DEPTH_BAND, feature)
+
+
+def feature_length(thickness_a: float, thickness_b: float) -> float:
+    """m, a pair's feature length: a quarter of the thinner body's smallest dimension, at
+    most ``CONTACT_MATCH_DISTANCE`` (pass ``inf`` for the stage)."""
+    return min(settings.CONTACT_MATCH_DISTANCE, 0.25 * min(thickness_a, thickness_b))
+
+
+def _reduce(points: LocalPoints, frame_a, frame_b, max_points, feature) -> LocalPoints:
     """Rows holding more than ``max_points``: keep the supporting polygon's points."""
     over = points.valid.sum(axis=1) > max_points
     if not over.any():
         return points
     point_a, point_b, normal = points.world(frame_a, frame_b)
     depth = ((point_a - point_b) * normal).sum(axis=2)
-    chosen = select_support(point_b, depth, normal[:, 0], max_points, points.valid)
+    chosen = select_support(point_b, depth, normal[:, 0], max_points, points.valid,
+                            band=_band(feature))
     return points.where(np.where(over[:, None], chosen, points.valid))
 
 
@@ -354,7 +383,7 @@ def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
     return array[np.arange(len(index))[:, None], index]
 
 
-def tie_key(values: np.ndarray) -> np.ndarray:
+def tie_key(values: Any) -> Any:
     """``values`` rounded to multiples of ``TIE_QUANTUM``: equal keys are ties."""
     return np.round(values / settings.TIE_QUANTUM)
 
@@ -366,7 +395,8 @@ def _masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
 
 def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
                    count: np.ndarray, valid: np.ndarray,
-                   preferred: np.ndarray | None = None) -> np.ndarray:
+                   preferred: np.ndarray | None = None,
+                   band: np.ndarray | None = None) -> np.ndarray:
     """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
 
     Reference: :func:`reference_contacts.select_support` (one row).
@@ -377,6 +407,7 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     count : (r,) int, how many to keep. valid : (r, k) bool, slots holding points.
     preferred : (r, k) bool, points matching cached ones; they win near-ties (1 mm of depth,
         10 % of distance or area).
+    band : (r,) m, the depth band of supporting points (``SUPPORT_DEPTH_BAND`` if None).
 
     Supporting points lie within ``SUPPORT_DEPTH_BAND`` of the row's deepest point. Among
     them: the deepest, the farthest from it, the one spanning the largest triangle with
@@ -385,7 +416,8 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     """
     rows = np.arange(len(count))
     deepest_depth = np.where(valid, depth, -np.inf).max(axis=1, initial=-np.inf)
-    supporting = valid & (depth >= deepest_depth[:, None] - settings.SUPPORT_DEPTH_BAND)
+    band = np.full(len(count), settings.SUPPORT_DEPTH_BAND) if band is None else band
+    supporting = valid & (depth >= deepest_depth[:, None] - band[:, None])
     bonus = np.zeros(depth.shape) if preferred is None else preferred.astype(np.float64)
     scale = 1.0 + 0.1 * bonus
     chosen = np.zeros_like(valid)

@@ -5,7 +5,12 @@ at once. A Python loop asks python-fcl about every shape pair (that call is the 
 per-pair work) and sorts the pairs into *jobs* of equal array sizes:
 
 * stage vs polyhedron, grouped by the polyhedron's hull vertex count ``V``: the body's hull
-  vertices lying in the prism of a touched triangle, just below its plane (method 2);
+  vertices lying in the prism of a touched triangle, just below its plane (method 2). The
+  triangle's normal is turned to the stage's *outward side*: the side the body was on
+  when the contact began, remembered by the pair's manifold (its cached normals point
+  from the stage to the body). Only a new contact falls back to the side holding the
+  middle of the body's extent; the body's center is never used, so a thin plate pushed
+  past the surface's plane is still pushed back out, never through;
 * polyhedron vs polyhedron, grouped by ``(V_a, F_a, V_b, F_b)`` vertex and face counts: the
   vertices of one body inside the other, measured against the reference face picked by
   fcl's normal (method 1);
@@ -35,10 +40,12 @@ from .collide import (
     fcl_raw_contacts,
     round_contacts,
 )
+from .contacts import tie_key
 
 if TYPE_CHECKING:
     from .bodies import Bodies
     from .collision_stage import CollisionObjects
+    from .contacts import ManifoldStore
 
 _EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
 
@@ -80,16 +87,19 @@ class _Contacts:
         return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
 
 
-def narrow_phase(bodies: Bodies, objects: CollisionObjects, pairs: list,
-                 rotation: np.ndarray):
+def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
+                 pairs: list, rotation: np.ndarray):
     """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring).
 
-    ``rotation (n, 3, 3)``: every body's world_from_body matrix. Must agree with
+    ``rotation (n, 3, 3)``: every body's world_from_body matrix; ``store``: the manifolds
+    before this step's update (their normals keep a stage contact on its side). Must agree with
     :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
     """
     b = bodies
-    jobs = {"stage": defaultdict(list), "polyhedra": defaultdict(list)}
-    contacts, pair_of_seq = _Contacts(), []
+    # jobs grouped by array sizes: stage jobs by V, polyhedron jobs by (V_a, F_a, V_b, F_b)
+    jobs: dict[str, defaultdict[Any, list[Job]]] = {"stage": defaultdict(list),
+                                                    "polyhedra": defaultdict(list)}
+    contacts, pair_of_seq = _Contacts(), list[int]()
     for position, (a, c) in enumerate(pairs):
         for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(b.shapes[c], objects.shape_objects[c],
@@ -99,29 +109,31 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, pairs: list,
                 if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
                     if found:
-                        key = len(shape_c.hull_vertices)
-                        jobs["stage"][key].append(Job(seq, shape_a, a, shape_c, c, found))
+                        job = Job(seq, shape_a, a, shape_c, c, found)
+                        jobs["stage"][len(shape_c.hull_vertices)].append(job)
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, obj_c)
                     if found:
-                        key = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
-                               len(shape_c.hull_vertices), len(shape_c.plane_normals))
-                        jobs["polyhedra"][key].append(Job(seq, shape_a, a, shape_c, c, found))
+                        sizes = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
+                                 len(shape_c.hull_vertices), len(shape_c.plane_normals))
+                        jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
                                                          probe_c))
     for group in jobs["stage"].values():
-        _stage_group(group, rotation, b.body_position, contacts)
+        _stage_group(group, rotation, b.body_position, contacts,
+                     _cached_normals(store, [job.body_b for job in group]))
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
 
 
-def _pose(bodies: list, rotation, position):
+def _pose(bodies: list, rotation: np.ndarray,
+          position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of ``bodies``."""
-    bodies = np.array(bodies, dtype=np.int64)
-    return rotation[bodies], position[bodies]
+    index = np.array(bodies, dtype=np.int64)
+    return rotation[index], position[index]
 
 
 def _to_world(rotation, position, points):
@@ -129,8 +141,37 @@ def _to_world(rotation, position, points):
     return np.einsum("gij,gkj->gki", rotation, points) + position[:, None]
 
 
-def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
-    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage.
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body) and ``valid (g, S)`` of the manifolds of
+    the stage with ``bodies`` (the stage frame is the world frame)."""
+    rows = [store.row((0, body)) for body in bodies]
+    known = np.array([row is not None for row in rows])
+    index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
+    slots = np.arange(store.normal_local.shape[1])
+    valid = known[:, None] & (slots < store.count[index][:, None])
+    return store.normal_local[index], valid
+
+
+def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+    """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to the triangle's decides when it is within 60
+    degrees of it; otherwise (a new contact) the side holding the middle of the hull's
+    extent along the normal.
+    """
+    cached_normal, valid = cached
+    # n_t . c_k for every triangle t and cached normal k, (g, T, S)
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * valid[:, None, :]
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None],
+                                   axis=2)[..., 0]
+    middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest),
+                    middle)
+
+
+def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
+    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`).
 
     Reference: :func:`reference_contacts.stage_polyhedron_contacts` (one shape pair)."""
     stage = jobs[0].shape_a
@@ -146,9 +187,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts) -> None:
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = (np.einsum("gti,gvi->gtv", normal, verts)
               - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
-    # each normal faces the side holding the middle of the hull's extent along it (robust
-    # for any vertex distribution and COM, and for bodies sunk in by less than half)
-    side = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)  # (g, T)
+    side = _outward_side(normal, height, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
@@ -206,8 +245,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     Reference: :func:`reference_contacts.polyhedron_contacts` (one shape pair)."""
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
     # fcl's deepest normal (A -> B) picks the touching faces
-    n = np.array([max(job.contacts, key=lambda c: abs(c.penetration_depth)).normal
-                  for job in jobs])
+    n = np.array([deepest_record(job.contacts).normal for job in jobs])
     frame_a = _pose([job.body_a for job in jobs], rotation, position)
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]
@@ -217,9 +255,10 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
             ((shapes_a, frame_a, shapes_b, frame_b, 1.0),
              (shapes_b, frame_b, shapes_a, frame_a, -1.0))):
+        inc_rotation, inc_position = inc_frame
+        inc_vertices = np.stack([s.hull_vertices for s in inc])
         g, v, on_face, verts, face_normal = _reference_face_contacts(
-            ref, ref_frame, _to_world(*inc_frame, np.stack([s.hull_vertices for s in inc])),
-            sign * n)
+            ref, ref_frame, _to_world(inc_rotation, inc_position, inc_vertices), sign * n)
         found[g] = True
         local = direction * n_first + v  # A's reference points first, then B's
         contact_normal = sign * face_normal[g]  # always A -> B
@@ -230,6 +269,13 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
     for k in np.flatnonzero(~found).tolist():  # no face faces the other body: fcl's points
         mid, normals, depths, _ = contact_arrays(jobs[k].contacts)
         contacts.add_one(seq[k], _midpoint_contacts(mid, normals, depths))
+
+
+def deepest_record(records: list):
+    """fcl's deepest contact record; near-equal depths (``TIE_QUANTUM``) go to the first,
+    so the choice does not hang on the rounding of the poses."""
+    keys = tie_key(np.abs([record.penetration_depth for record in records]))
+    return records[int(np.argmax(keys))]
 
 
 def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
@@ -243,7 +289,7 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     offsets = np.stack([s.plane_offsets for s in ref_shapes])  # (g, F)
     face_normals = np.einsum("gij,gfj->gfi", rotation, planes)  # outward, world frame
     alignment = (face_normals * towards[:, None]).sum(axis=2)
-    face = alignment.argmax(axis=1)
+    face = tie_key(alignment).argmax(axis=1)  # the first of (nearly) equally aligned faces
     jobs = np.arange(len(face))
     # else no face of this body faces the other
     facing = alignment[jobs, face] >= settings.REFERENCE_FACE_ALIGNMENT

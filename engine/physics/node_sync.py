@@ -122,7 +122,7 @@ class NodeSync:
         world[:3, 3] = b.body_position[index]
         if self._node_pose.get(index) is not None and np.array_equal(self._node_pose[index], world):
             return
-        local = world if parent is None else parent_inv @ world
+        local = world if parent_inv is None else parent_inv @ world
         node.translation = local[:3, 3]
         node.rotation = mn.Quaternion.from_xyzw(matrix_to_quat(local[:3, :3]))
         if parent is not None and parent._parent is None:
@@ -192,7 +192,8 @@ class NodeSync:
             if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
                 continue
             world = node.world_matrix()
-            if np.array_equal(world, self._node_pose.get(index)):
+            last = self._node_pose.get(index)
+            if last is not None and np.array_equal(world, last):
                 continue
             rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
             b.body_position[index] = world[:3, 3]

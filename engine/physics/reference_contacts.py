@@ -29,6 +29,7 @@ from .collide import (
     round_contacts,
 )
 from .contacts import SLOTS, ManifoldStore, tie_key
+from .narrow_phase import deepest_record
 
 
 def dot(u: np.ndarray, v: np.ndarray) -> float:
@@ -71,10 +72,12 @@ class Contact:
 # ------------------------------------------------------------------------------------------
 # contact generation (mirrors narrow_phase.narrow_phase)
 # ------------------------------------------------------------------------------------------
-def pair_contacts(bodies: Bodies, objects, a: int, c: int,
+def pair_contacts(bodies: Bodies, objects, store: ManifoldStore, a: int, c: int,
                   rotation: np.ndarray) -> list[Contact]:
     """Contacts of body pair ``(a, c)``, ``a < c``, in the narrow phase's order: shape pairs
-    in body order, then the order of each rule below (``rotation (n, 3, 3)``: all bodies)."""
+    in body order, then the order of each rule below (``rotation (n, 3, 3)``: all bodies;
+    ``store``: the manifolds before this step's update, whose normals keep a stage contact
+    on the side it began on)."""
     contacts: list[Contact] = []
     pose_a = (rotation[a], bodies.body_position[a])
     pose_c = (rotation[c], bodies.body_position[c])
@@ -84,7 +87,8 @@ def pair_contacts(bodies: Bodies, objects, a: int, c: int,
             if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
                 if found:
-                    contacts += stage_polyhedron_contacts(shape_a, shape_c, pose_c, found)
+                    contacts += stage_polyhedron_contacts(shape_a, shape_c, pose_c, found,
+                                                          cached_stage_normals(store, c))
             elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, obj_c)
                 if found:
@@ -96,11 +100,35 @@ def pair_contacts(bodies: Bodies, objects, a: int, c: int,
     return contacts
 
 
-def stage_polyhedron_contacts(stage, hull, pose, found: list) -> list[Contact]:
+def cached_stage_normals(store: ManifoldStore, body: int) -> list[np.ndarray]:
+    """World normals (stage -> body) of the points of the stage's manifold with ``body``
+    (the stage frame is the world frame); empty for a new contact."""
+    row = store.row((0, body))
+    return [] if row is None else [store.normal_local[row, s] for s in range(store.count[row])]
+
+
+def outward_side(normal: np.ndarray, heights: list[float], cached: list[np.ndarray]) -> float:
+    """+1 or -1 turning a triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to it decides when it is within 60 degrees
+    (``|n . c| > 0.5``): the body stays on the side where the contact began. A new contact
+    takes the side holding the middle of the hull's extent along the normal.
+    """
+    alignments = [dot(normal, c) for c in cached]
+    if alignments:
+        strongest = alignments[int(np.argmax(np.abs(alignments)))]
+        if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
+            return float(np.sign(strongest))
+    return -1.0 if max(heights) + min(heights) < 0 else 1.0
+
+
+def stage_polyhedron_contacts(stage, hull, pose, found: list,
+                              cached: list[np.ndarray]) -> list[Contact]:
     """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles fcl found.
 
-    Mirrors ``narrow_phase._stage_group``. For every touched triangle t (normal n_t facing
-    the middle of the hull's extent along it) and hull vertex v, the signed height
+    Mirrors ``narrow_phase._stage_group``. For every touched triangle t (normal n_t turned to
+    the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
+    and hull vertex v, the signed height
     ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
     it is not more than half the hull's extent below the plane, and its projection falls
     inside the triangle. Each vertex keeps its shallowest triangle (the largest h).
@@ -115,19 +143,20 @@ def stage_polyhedron_contacts(stage, hull, pose, found: list) -> list[Contact]:
     for t in triangle_ids:
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
         height = [dot(normal, v) - dot(normal, corner) for v in vertices]
-        if max(height) + min(height) < 0:  # face the middle of the hull's extent
-            normal, height = -normal, [-value for value in height]
+        side = outward_side(normal, height, cached)
+        normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
-        heights.append(height)
+        heights.append(height)  # (T, V) signed heights, m
     contacts = []
     for k, vertex in enumerate(vertices):
-        best = None  # (height, triangle position) of the shallowest candidate triangle
+        # (height, triangle position) of the shallowest candidate triangle
+        best: tuple[float, int] | None = None
         for i, t in enumerate(triangle_ids):
-            height = heights[i][k]
-            if (height < settings.STAGE_SPECULATIVE_DISTANCE and height > -0.5 * extent
+            above = heights[i][k]  # m, height of this vertex above triangle t
+            if (above < settings.STAGE_SPECULATIVE_DISTANCE and above > -0.5 * extent
                     and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
-                    and (best is None or height > best[0])):
-                best = (height, i)
+                    and (best is None or above > best[0])):
+                best = (above, i)
         if best is not None:
             normal, depth = normals[best[1]], -best[0]
             contacts.append(Contact(vertex + normal * depth, vertex, normal))
@@ -164,7 +193,7 @@ def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list) -> list[C
     ``SPECULATIVE_DISTANCE``) and at most that far above the face becomes a contact,
     A's face first. Without any, fcl's own points are used.
     """
-    deepest = max(found, key=lambda record: abs(record.penetration_depth))
+    deepest = deepest_record(found)  # the first of near-equal depths
     n = np.asarray(deepest.normal, dtype=np.float64)
     contacts: list[Contact] = []
     for reference, pose_ref, incident, pose_inc, sign in (
@@ -188,7 +217,7 @@ def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarra
     rotation, position = pose
     face_normals = [rotate(rotation, plane) for plane in reference.plane_normals]
     alignment = [dot(normal, towards) for normal in face_normals]
-    face = int(np.argmax(alignment))
+    face = int(np.argmax(tie_key(np.array(alignment))))  # the first of equally aligned faces
     if alignment[face] < settings.REFERENCE_FACE_ALIGNMENT:
         return []
     normal = face_normals[face]
@@ -239,21 +268,22 @@ def update_manifolds_reference(bodies: Bodies, objects, store: ManifoldStore,
                                pairs: list[tuple[int, int]], rotation: np.ndarray) -> None:
     """Reference for ``collision_stage.update_manifolds``: per pair, its contacts, then
     its manifold refreshed, merged and reduced (:func:`update_manifold`)."""
-    from .collision_stage import manifold_capacity
+    from .collision_stage import add_manifold_row
 
     for key in pairs:
-        contacts = pair_contacts(bodies, objects, key[0], key[1], rotation)
+        contacts = pair_contacts(bodies, objects, store, key[0], key[1], rotation)
         row = store.row(key)
         if row is None:
             if not contacts:
                 continue
-            row = store.add(key, manifold_capacity(bodies, key))
+            row = add_manifold_row(bodies, store, key)
         frame_a = (rotation[key[0]], bodies.body_position[key[0]])
         frame_b = (rotation[key[1]], bodies.body_position[key[1]])
         cached = [ManifoldPoint(store.local_a[row, s].copy(), store.local_b[row, s].copy(),
                                 store.normal_local[row, s].copy(), store.impulse[row, s].copy())
                   for s in range(store.count[row])]
-        points = update_manifold(cached, contacts, frame_a, frame_b, int(store.max_points[row]))
+        points = update_manifold(cached, contacts, frame_a, frame_b, int(store.max_points[row]),
+                                 float(store.feature[row]))
         store.count[row] = len(points)
         for array in (store.local_a, store.local_b, store.normal_local, store.impulse):
             array[row] = 0.0
@@ -264,25 +294,30 @@ def update_manifolds_reference(bodies: Bodies, objects, store: ManifoldStore,
 
 
 def update_manifold(cached: list[ManifoldPoint], fresh: list[Contact], frame_a, frame_b,
-                    max_points: int) -> list[ManifoldPoint]:
-    """One manifold's step (box2d-lite's ``Arbiter::Update``, with Bullet's persistence):
+                    max_points: int,
+                    feature: float = settings.CONTACT_MATCH_DISTANCE) -> list[ManifoldPoint]:
+    """One manifold's step (box2d-lite's ``Arbiter::Update``, with Bullet's persistence).
+
+    ``feature`` (m) is the pair's feature length (``contacts.feature_length``): the match,
+    drift and support-band distances are capped at it, so a small body keeps distinct points.
 
     1. keep the cached points still in contact (:func:`still_touching`);
     2. too many fresh points: keep the supporting polygon, preferring points that match
-       cached ones; drop fresh points within ``CONTACT_MATCH_DISTANCE`` of a deeper one;
+       cached ones; drop fresh points within ``feature`` of a deeper one;
     3. fresh points inherit the impulse of the nearest unused cached point closer than
-       ``CONTACT_MATCH_DISTANCE`` (warm starting); a rolling point always inherits;
+       ``feature`` (warm starting); a rolling point always inherits;
     4. three or more fresh points replace the cache, fewer join its unmatched points;
     5. more than ``max_points``: the supporting polygon's points.
     """
-    cached = [p for p in cached if still_touching(p, frame_a, frame_b)]
+    cached = [p for p in cached if still_touching(p, frame_a, frame_b, feature)]
     (ra, xa), (rb, xb) = frame_a, frame_b
+    band = min(settings.SUPPORT_DEPTH_BAND, feature)
     if len(fresh) > max_points:
-        fresh = _support_of_fresh(fresh, cached, rb, xb, max_points)
-    fresh = _distinct(fresh, settings.CONTACT_MATCH_DISTANCE)
+        fresh = _support_of_fresh(fresh, cached, rb, xb, max_points, feature, band)
+    fresh = _distinct(fresh, feature)
     points = [ManifoldPoint(unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb),
                             unrotate(ra, c.normal)) for c in fresh]
-    used = _inherit_impulses(points, cached, max_points)
+    used = _inherit_impulses(points, cached, max_points, feature)
     if len(points) >= 3:
         merged = points
     else:
@@ -290,28 +325,30 @@ def update_manifold(cached: list[ManifoldPoint], fresh: list[Contact], frame_a, 
     if len(merged) > max_points:
         world = [p.world(frame_a, frame_b) for p in merged]
         chosen = select_support([c.point_b for c in world], [c.depth for c in world],
-                                world[0].normal, max_points)
+                                world[0].normal, max_points, band=band)
         merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
     return merged
 
 
-def still_touching(point: ManifoldPoint, frame_a, frame_b) -> bool:
+def still_touching(point: ManifoldPoint, frame_a, frame_b,
+                   feature: float = settings.CONTACT_DRIFT_DISTANCE) -> bool:
     """A cached point persists while its bodies separate less than
     ``CONTACT_BREAKING_DISTANCE`` along the normal and its anchors drift apart less than
-    ``CONTACT_DRIFT_DISTANCE`` tangentially."""
+    ``CONTACT_DRIFT_DISTANCE`` (capped at the feature length) tangentially."""
     contact = point.world(frame_a, frame_b)
     gap = contact.point_a - contact.point_b
     depth = dot(gap, contact.normal)
     drift_sq = dot(gap, gap) - depth**2  # |tangential part of the gap|^2
     return bool(depth > -settings.CONTACT_BREAKING_DISTANCE
-                and drift_sq < settings.CONTACT_DRIFT_DISTANCE**2)
+                and drift_sq < min(settings.CONTACT_DRIFT_DISTANCE, feature)**2)
 
 
 def _support_of_fresh(fresh: list[Contact], cached: list[ManifoldPoint], rb, xb,
-                      max_points: int) -> list[Contact]:
+                      max_points: int, feature: float, band: float) -> list[Contact]:
     """The fresh points spanning the supporting polygon; near-ties go to points matching a
-    cached one (hysteresis: a face on many coplanar vertices keeps the same four)."""
-    limit = settings.CONTACT_MATCH_DISTANCE**2
+    cached one within ``feature`` (hysteresis: a face on many coplanar vertices keeps the
+    same four)."""
+    limit = feature**2
     preferred = []
     for contact in fresh:
         local_b = unrotate(rb, contact.point_b - xb)
@@ -320,7 +357,7 @@ def _support_of_fresh(fresh: list[Contact], cached: list[ManifoldPoint], rb, xb,
     depths = [c.depth for c in fresh]
     deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
     chosen = select_support([c.point_b for c in fresh], depths, fresh[deepest].normal,
-                            max_points, preferred)
+                            max_points, preferred, band)
     return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
 
 
@@ -337,14 +374,14 @@ def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
 
 
 def _inherit_impulses(points: list[ManifoldPoint], cached: list[ManifoldPoint],
-                      max_points: int) -> list[bool]:
+                      max_points: int, feature: float) -> list[bool]:
     """Greedy one-to-one matching in B's frame; returns which cached points were used."""
     used = [False] * len(cached)
     if max_points == 1:  # a rolling point keeps the impulse of the cached one
         for point in points:
             point.impulse = cached[0].impulse.copy() if cached else np.zeros(3)
         return [True] * len(cached)
-    limit = settings.CONTACT_MATCH_DISTANCE**2
+    limit = feature**2
     for point in points:
         best, best_sq = None, np.inf
         for i, old in enumerate(cached):
@@ -358,19 +395,20 @@ def _inherit_impulses(points: list[ManifoldPoint], cached: list[ManifoldPoint],
 
 
 def select_support(points: list, depths: list, normal: np.ndarray, count: int,
-                   preferred: list | None = None) -> list[bool]:
+                   preferred: list | None = None,
+                   band: float = settings.SUPPORT_DEPTH_BAND) -> list[bool]:
     """Up to ``count`` of the points spanning the largest supporting area (mirrors
     ``contacts.select_support`` for one row).
 
-    Supporting points lie within ``SUPPORT_DEPTH_BAND`` of the deepest. Among them: the
+    Supporting points lie within ``band`` (m) of the deepest. Among them: the
     deepest (``p0``), the farthest from it (``p1``), the one spanning the largest triangle
     with those two, then the largest on the other side of edge p0-p1. Preferred points win
     near-ties (1 mm of depth, 10 % of distance or area). Slots left over take the remaining
     points, deepest first.
     """
     k = len(points)
-    band = max(depths) - settings.SUPPORT_DEPTH_BAND
-    supporting = [d >= band for d in depths]
+    lowest = max(depths) - band
+    supporting = [d >= lowest for d in depths]
     bonus = [float(p) for p in preferred] if preferred is not None else [0.0] * k
     scale = [1.0 + 0.1 * b for b in bonus]
     chosen = [False] * k

@@ -19,8 +19,10 @@ Per iteration, per graph color, per manifold: the normal rows (``dl = -m_n (v_n 
 accumulated impulse clamped ``>= 0``) then the friction rows (2-D tangent impulse clamped to
 the circle ``|lambda_t| <= mu lambda_n``). With ``block_jacobi`` all points of a manifold
 read the velocities from before their common update (a Jacobi block); otherwise one point
-after the other (Gauss-Seidel). Then the restitution pass, and the split-impulse position
-solve on pseudo velocities. The batched :func:`solver.solve_contacts` must agree with
+after the other (Gauss-Seidel). Then the restitution pass and the stage's last word
+(:func:`stage_rows_last`: lumped push-only rows of the contacts with unmoved bodies, then
+shock propagation), and the split-impulse position solve on pseudo velocities, which also
+ends with the stage's last word. The batched :func:`solver.solve_contacts` must agree with
 :func:`solve_reference` to rounding (tested).
 """
 
@@ -157,14 +159,14 @@ def solve_reference(bodies: Bodies, store: ManifoldStore, problem, h: float,
     for m in manifolds:
         for group in groups(m):
             _restitution_impulses(state, m, group)
+    stage_rows_last(state, manifolds, problem, lambda p: max(-p.depth, 0.0) / h, settings)
     problem.velocity[...] = state.array()
     depth = np.zeros((len(manifolds), SLOTS))
     for k, (row, m) in enumerate(zip(problem.rows.tolist(), manifolds, strict=True)):
         for slot, p in enumerate(m.points):
             store.impulse[row, slot] = p.impulse
             depth[k, slot] = p.depth
-    pseudo = solve_positions_reference(manifolds, problem.inv_mass, problem.inv_inertia, h,
-                                       settings)
+    pseudo = solve_positions_reference(manifolds, problem, h, settings)
     return pseudo, depth
 
 
@@ -228,8 +230,7 @@ def _restitution_impulses(state: Bodies6, m: ManifoldRows, group: list) -> None:
         state.apply(m.body_a, m.body_b, p, step * p.directions[0])
 
 
-def solve_positions_reference(manifolds: list[ManifoldRows], inv_mass: np.ndarray,
-                              inv_inertia: np.ndarray, h: float,
+def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
                               settings: SolverSettings) -> np.ndarray:
     """Split impulses: pseudo velocities ``(n, 6)`` that push penetrations deeper than
     ``PENETRATION_SLOP`` apart at ``min(beta (d - slop) / h, MAX_CORRECTION_SPEED)``.
@@ -238,7 +239,8 @@ def solve_positions_reference(manifolds: list[ManifoldRows], inv_mass: np.ndarra
     their own accumulated impulses; they move the bodies this step and are then discarded,
     so they add no kinetic energy (Catto; Bullet's split impulse).
     """
-    pseudo = Bodies6(np.zeros((len(inv_mass), 6)), inv_mass, inv_inertia)
+    pseudo = Bodies6(np.zeros((len(problem.inv_mass), 6)), problem.inv_mass,
+                     problem.inv_inertia)
     if not settings.position_correction or settings.position_iterations == 0:
         return pseudo.array()
     groups = _slot_groups(settings.block_jacobi)
@@ -248,9 +250,7 @@ def solve_positions_reference(manifolds: list[ManifoldRows], inv_mass: np.ndarra
             for group in groups(m):
                 steps = []
                 for p in group:
-                    target = min(constants.POSITION_BAUMGARTE
-                                 * max(p.depth - constants.PENETRATION_SLOP, 0.0) / h,
-                                 constants.MAX_CORRECTION_SPEED)
+                    target = _position_target(p, h)
                     vn = dot(pseudo.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
                     step = -p.masses[0] * (vn - target)
                     step = max(step, -pushed[id(p)])  # accumulated pseudo impulse >= 0
@@ -258,4 +258,79 @@ def solve_positions_reference(manifolds: list[ManifoldRows], inv_mass: np.ndarra
                     steps.append(step)
                 for p, step in zip(group, steps, strict=True):
                     pseudo.apply(m.body_a, m.body_b, p, step * p.directions[0])
+    stage_rows_last(pseudo, manifolds, problem, lambda p: -_position_target(p, h), settings)
     return pseudo.array()
+
+
+def _position_target(p: ContactRow, h: float) -> float:
+    """m/s, the separation speed that removes ``beta (depth - slop)`` this step."""
+    return min(constants.POSITION_BAUMGARTE * max(p.depth - constants.PENETRATION_SLOP, 0.0)
+               / h, constants.MAX_CORRECTION_SPEED)
+
+
+# ------------------------------------------------------------------------------------------
+# the stage's last word (mirrors solver._stage_rows_last)
+# ------------------------------------------------------------------------------------------
+def jacobian_row(p: ContactRow) -> np.ndarray:
+    """``J = [-n, -(r_a x n), n, r_b x n]`` (12,) of a point's normal row."""
+    n = p.directions[0]
+    return np.concatenate([-n, -cross3(p.r_a, n), n, cross3(p.r_b, n)])
+
+
+def mobility_row(state: Bodies6, a: int, b: int, p: ContactRow,
+                 frozen: int | None = None) -> np.ndarray:
+    """``W = M^-1 J^T`` (12,): the velocity change per unit normal impulse; the body
+    ``frozen`` (0: A, 1: B) gets infinite mass (its 6 entries are zero)."""
+    n = p.directions[0]
+    w = np.concatenate([-state.inv_mass[a] * n, -rotate(state.inv_inertia[a], cross3(p.r_a, n)),
+                        state.inv_mass[b] * n, rotate(state.inv_inertia[b], cross3(p.r_b, n))])
+    if frozen is not None:
+        w[6 * frozen: 6 * frozen + 6] = 0.0
+    return w
+
+
+def stage_rows_last(state: Bodies6, manifolds: list[ManifoldRows], problem, bias_of,
+                    settings: SolverSettings) -> None:
+    """The stage wins: ``stage_iterations`` sweeps over the *stage rows* (manifolds with a
+    body the solver does not move, the end of each color), then as many over the pairs of
+    moving bodies with the body nearer the stage held fixed (shock propagation,
+    Guendelman et al. 2003). Each manifold acts as one *lumped* normal row: ``J`` and ``W``
+    the means over its points, ``m = 1 / (J . W)``, bias the mean of its points' biases
+    (``bias_of(point)``); a push-only impulse ``max(-m (J V + b), 0)``."""
+    stage_rows = [m for (_, stop), first in zip(problem.color_slices, problem.priority_starts,
+                                                strict=True) for m in range(first, stop)]
+    for _ in range(settings.stage_iterations):
+        for k in stage_rows:
+            _lumped_push(state, manifolds[k], None, bias_of)
+    frozen = [0 if lower[0] else 1 if lower[1] else None for lower in problem.lower.tolist()]
+    if not any(f is not None for f in frozen):
+        return
+    for _ in range(settings.stage_iterations):
+        for m, fixed in zip(manifolds, frozen, strict=True):
+            if fixed is not None:
+                _lumped_push(state, m, fixed, bias_of)
+
+
+def _lumped_push(state: Bodies6, m: ManifoldRows, frozen: int | None, bias_of) -> None:
+    """One push-only update of manifold ``m``'s lumped row (``frozen``: see
+    :func:`mobility_row`). Points whose row has no mobility (``J . W <= 0``) are left out."""
+    a, b = m.body_a, m.body_b
+    rows = [(jacobian_row(p), mobility_row(state, a, b, p, frozen), p) for p in m.points]
+    active = [(j, w, p) for j, w, p in rows if dot12(j, w) > 0]
+    if not active:
+        return
+    jac = np.sum([j for j, _, _ in active], axis=0) / len(active)  # mean J of the points
+    w = np.sum([w for _, w, _ in active], axis=0) / len(active)  # mean W
+    k = dot12(jac, w)
+    if k <= 0:
+        return
+    bias = sum(bias_of(p) for _, _, p in active) / len(active)
+    velocity = np.concatenate([state.v[a], state.w[a], state.v[b], state.w[b]])
+    step = max(-(dot12(jac, velocity) + bias) / k, 0.0)
+    state.v[a], state.w[a] = state.v[a] + w[0:3] * step, state.w[a] + w[3:6] * step
+    state.v[b], state.w[b] = state.v[b] + w[6:9] * step, state.w[b] + w[9:12] * step
+
+
+def dot12(u: np.ndarray, v: np.ndarray) -> float:
+    """``u . v`` of two 12-vectors."""
+    return float(sum(x * y for x, y in zip(u.tolist(), v.tolist(), strict=True)))

@@ -39,6 +39,10 @@ class SolverSettings:
         splitting (one NumPy batch per color; the default: fastest, and symmetric, so a
         perfect stack stays perfect) instead of Gauss-Seidel over the point slots (one
         batch per slot; its fixed slot order biases tall stacks into a slow lean).
+    stage_iterations : int
+        Normal-only sweeps over the contacts with the stage (and static or kinematic
+        bodies) after each velocity and position solve, so the stage always wins: a light
+        body under a heavy one is never pushed into the floor (0 disables it).
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
@@ -55,6 +59,7 @@ class SolverSettings:
     accumulate_impulses: bool = True
     position_correction: bool = True
     block_jacobi: bool = True
+    stage_iterations: int = 2
     use_vectorized: bool = True
 
 
@@ -97,6 +102,9 @@ TANGENT_AXIS_SWITCH = 0.57
 #: m (or m^2 for areas), manifold choices (deepest point, farthest point, largest area)
 #: treat values closer than this as ties, won by the lower slot, so rounding never decides.
 TIE_QUANTUM = 1e-9
+#: 1 (cosine), a cached stage normal within 60 degrees of a touched triangle's normal
+#: decides which side of the triangle is outward (the side the contact began on).
+OUTWARD_SIDE_ALIGNMENT = 0.5
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
 

@@ -49,6 +49,10 @@ class SolverInput:
     """The manifolds to solve, in color order, and the body quantities the solver reads.
 
     ``rows (m,)`` store rows sorted by color, ``color_slices`` ``(start, stop)`` into them;
+    ``priority_starts`` per color, the first of its *stage rows* (manifolds with a body the
+    solver does not move; they end each color and get the last word, see :mod:`solver`);
+    ``lower (m, 2)`` bool, which body of a pair of moving bodies is fewer contacts from the
+    stage (shock propagation);
     ``inv_mass (n,)`` 1/kg, ``inv_inertia (n, 3, 3)`` world frame, 1/(kg m^2) (zero for
     bodies that do not move); ``velocity (n, 6)`` [v, w] that the solver updates;
     ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures.
@@ -56,6 +60,8 @@ class SolverInput:
 
     rows: np.ndarray
     color_slices: list[tuple[int, int]]
+    priority_starts: list[int]
+    lower: np.ndarray
     inv_mass: np.ndarray
     inv_inertia: np.ndarray
     velocity: np.ndarray
@@ -92,8 +98,13 @@ def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray
     if len(rows) == 0:
         return None
     colors = color_manifolds(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
+    # stage rows (a body the solver does not move) end each color: the solver's last word
+    stage_row = ~(solvable[store.bodies[rows, 0]] & solvable[store.bodies[rows, 1]])
+    colors = [color[np.argsort(stage_row[color], kind="stable")] for color in colors]
     sizes = np.cumsum([0] + [len(color) for color in colors])
     color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist(), strict=True))
+    priority_starts = [int(stop - stage_row[color].sum())
+                       for color, (_, stop) in zip(colors, color_slices, strict=True)]
     rows = rows[np.concatenate(colors)]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], constants.TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
@@ -104,7 +115,9 @@ def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray
     approach_velocity = velocity.copy()
     dynamic = b.body_motion_type[:n] == DYNAMIC
     approach_velocity[dynamic] = start_velocity[dynamic]
-    return SolverInput(rows, color_slices, inv_mass, inv_inertia, velocity, approach_velocity)
+    lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
+    return SolverInput(rows, color_slices, priority_starts, lower, inv_mass, inv_inertia,
+                       velocity, approach_velocity)
 
 
 def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h: float,
@@ -123,10 +136,32 @@ def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h
     batch = build_batch(points_a, points_b, normals, counts, body_a, body_b,
                         b.body_position[:n], problem.inv_mass, problem.inv_inertia, friction,
                         restitution, store.impulse[rows], problem.approach_velocity,
-                        problem.color_slices, split_mass=settings.block_jacobi)
+                        problem.color_slices, split_mass=settings.block_jacobi,
+                        priority_starts=problem.priority_starts, lower=problem.lower)
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
     store.impulse[rows] = batch.impulse  # zero in empty slots (for warm starting)
     return pseudo, batch.depth
+
+
+def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -> np.ndarray:
+    """(m, 2) bool: in each pair of moving bodies, the one fewer contacts away from the
+    stage (or any body the solver does not move); neither when equal or unreached.
+
+    Levels by relaxation over the contact graph: ``level = 0`` for unmoved bodies, then
+    ``level[b] = min(level[b], level[a] + 1)`` over all pairs until nothing changes.
+    """
+    level = np.where(solvable, np.inf, 0.0)
+    for _ in range(32):
+        new = level.copy()
+        np.minimum.at(new, body_a, level[body_b] + 1)
+        np.minimum.at(new, body_b, level[body_a] + 1)
+        new[~solvable] = 0.0
+        if np.array_equal(new, level):
+            break
+        level = new
+    both_moving = solvable[body_a] & solvable[body_b]
+    la, lb = level[body_a], level[body_b]
+    return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)
 
 
 def _velocity_array(b: Bodies, n: int) -> np.ndarray:

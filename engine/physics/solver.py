@@ -32,6 +32,17 @@ pushes penetrations deeper than ``PENETRATION_SLOP`` apart at ``beta (depth - sl
 the pseudo velocity moves the bodies this step and is then discarded, so it adds no energy.
 Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
 faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
+
+The stage always wins (``SolverSettings.stage_iterations``): a few more normal-only sweeps
+over the *stage rows* (manifolds with a body the solver does not move: the stage, static
+and kinematic bodies) end both the velocity and the position solve. Gauss-Seidel with a
+mass ratio of 1000 converges far too slowly for a light box under a heavy one to be held
+up by the floor; the last word of the stage rows guarantees the light box does not move
+into the floor this step (it may be squeezed into the heavy box instead, which is
+harmless). Bullet has no such rule (its light bodies sink); Box2D v3 solves static contacts
+after the others in each iteration ("overflow"/static constraints), Jolt relies on many
+iterations and its "mass scale" contact callbacks; Erleben's shock propagation freezes the
+bodies below, a stronger form of the same priority.
 """
 
 from __future__ import annotations
@@ -55,8 +66,13 @@ class ContactBatch:
     ``tangent_jac (m, 2S, 12)``, ``tangent_w (m, 12, 2S)``, ``tangent_mass (m, 2S)``;
     ``friction (m, 1)``, ``restitution (m, 1)``; ``depth``, ``approach_speed (m, S)``;
     ``impulse (m, S, 3)`` accumulated (normal, t1, t2) in N s; ``color_slices`` list of
-    ``(start, stop)`` into the manifold axis. For the vectorized loop: ``colors``, the
-    :class:`ColorBlocks` of each color, keyed by ``block_jacobi`` (filled on first use).
+    ``(start, stop)`` into the manifold axis, ``color_points`` the most points of a manifold
+    in each color; ``pair_bodies (m, 2)`` [body_a, body_b]; ``mask (m, S)`` slots holding a
+    point; ``split (m, 1)`` the mass-splitting count of each manifold; ``priority_starts``
+    per color, the first of its stage rows; ``lower (m, 2)`` the body nearer the stage (shock
+    propagation, None: no shock pass). For the vectorized loop: ``colors``, the
+    :class:`ColorBlocks` of each color, keyed by ``(block_jacobi, priority)`` (filled on
+    first use).
     """
 
     body_a: np.ndarray
@@ -75,6 +91,10 @@ class ContactBatch:
     color_slices: list
     color_points: list
     pair_bodies: np.ndarray
+    mask: np.ndarray
+    split: np.ndarray
+    priority_starts: list = field(default_factory=list)
+    lower: np.ndarray | None = None
     colors: dict = field(default_factory=dict)
 
 
@@ -136,7 +156,8 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
 
 def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
                 inv_inertia, friction, restitution, impulse, velocity, color_slices,
-                split_mass: bool = False):
+                split_mass: bool = False, priority_starts: list | None = None,
+                lower: np.ndarray | None = None):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
 
     Reference: :func:`reference_solver.build_rows` (one point at a time).
@@ -149,6 +170,10 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     inv_inertia : (n, 3, 3) world inverse inertia (zero for non-dynamic bodies).
     friction, restitution : (m,) pair coefficients. impulse : (m, S, 3) cached impulses.
     velocity : (n, 6) body velocities [v, w], to record the approach speed.
+    priority_starts : per color, the first of its stage rows (they end each color), or
+        None: no stage rows.
+    lower : (m, 2) bool, which body of a dynamic pair is nearer the stage through contacts
+        (for shock propagation; None: no shock pass).
     """
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
@@ -178,7 +203,9 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1))
+                        np.stack([body_a, body_b], axis=1), mask, split,
+                        [stop for _, stop in color_slices] if priority_starts is None
+                        else list(priority_starts), lower)
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -190,15 +217,22 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
 
-def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
+def _color_blocks(batch: ContactBatch, block_jacobi: bool,
+                  priority: bool = False) -> list[ColorBlocks]:
     """The colors of the batch as :class:`ColorBlocks`, made once and cached on the batch.
 
     Block Jacobi solves all slots of a color at once (one block); Gauss-Seidel over the
-    slots makes one block per used slot, solved in slot order.
+    slots makes one block per used slot, solved in slot order. ``priority``: only the
+    stage rows at the end of each color (colors without any are left out).
     """
-    if block_jacobi not in batch.colors:
+    key = (block_jacobi, priority)
+    if key not in batch.colors:
         colors = []
         for color, (start, stop) in enumerate(batch.color_slices):
+            if priority:
+                start = batch.priority_starts[color]
+                if start == stop:
+                    continue
             s = slice(start, stop)
             slots = ([slice(None)] if block_jacobi
                      else [slice(k, k + 1) for k in range(batch.color_points[color])])
@@ -206,8 +240,8 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
             gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
             colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
                                       [_row_block(batch, s, rows) for rows in slots]))
-        batch.colors[block_jacobi] = colors
-    return batch.colors[block_jacobi]
+        batch.colors[key] = colors
+    return batch.colors[key]
 
 
 def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
@@ -281,9 +315,80 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
+    _stage_rows_last(batch, flat, bias, lam_n, options)
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
+
+
+def _stage_rows_last(batch, flat, bias, lam, options) -> None:
+    """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
+    over the dynamic pairs with the lower body held fixed (:func:`shock_batch`)."""
+    colors = _color_blocks(batch, True, priority=True)
+    _lumped_sweeps(colors, lumped_rows(batch, bias), flat, options.stage_iterations)
+    shock = shock_batch(batch)
+    if shock is not None:
+        _lumped_sweeps(_color_blocks(shock, True), lumped_rows(shock, bias), flat,
+                       options.stage_iterations)
+
+
+def lumped_rows(batch: ContactBatch, bias: np.ndarray):
+    """Each manifold's points lumped into one normal row: ``J = mean_i J_i``, ``W = mean_i
+    W_i``, ``m_eff = 1 / (J W^T)``, bias = the smallest of its points' biases (the closest
+    point decides); rows without an active point get ``m_eff = 0``.
+
+    Returns ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``) and
+    ``bias (m, 1, 1)``. One row per manifold cannot explode the way a clamped block solve
+    of nearly dependent rows can, and it removes a uniform approach in one sweep (mass
+    splitting removes a quarter of a box's per sweep).
+    """
+    active = batch.mask & (batch.normal_mass > 0)  # (m, S)
+    count = np.maximum(active.sum(axis=1), 1)[:, None]
+    jac = (batch.normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
+    w = (batch.normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
+    k = (jac * w).sum(axis=1)  # J W^T
+    neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, constants.TINY), 0.0)
+    row_bias = (bias[..., 0] * active).sum(axis=1) / count[:, 0]  # mean of the points'
+    return jac[:, None, :], w[:, :, None], neg_mass[:, None, None], row_bias[:, None, None]
+
+
+def _lumped_sweeps(colors, rows, flat, iterations: int) -> None:
+    """``iterations`` push-only sweeps of the lumped rows (:func:`lumped_rows`) of
+    ``colors``: ``d_lambda = max(-m_eff (J V + b), 0)``, ``V += W d_lambda`` (impulses are
+    only added, so a bounce solved before is kept)."""
+    jac, w, neg_mass, bias = rows
+    work = []
+    for color in colors:
+        s = color.blocks[0].normal_index[0]
+        work.append((color, jac[s], w[s], neg_mass[s], bias[s]))
+    for _ in range(iterations):
+        for color, j, wc, m, b in work:
+            vab = _gather(flat, color)
+            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
+            vab += wc @ step
+            _scatter(flat, color, vab)
+
+
+def shock_batch(batch: ContactBatch) -> ContactBatch | None:
+    """The batch seen by the shock pass (Guendelman et al. 2003, "shock propagation"),
+    made once and cached: in each dynamic pair the body nearer the stage (``lower``) gets
+    infinite mass (its half of ``W`` is zeroed, ``m_eff = 1 / (J W')``), the other rows get
+    ``m_eff = 0`` (no impulse). None when no pair has a lower body."""
+    if "shock" not in batch.colors:
+        shock = None
+        lower = batch.lower
+        if lower is not None and bool(lower.any()):
+            lower = np.asarray(lower, dtype=bool)
+            # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
+            keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
+            w = batch.normal_w * keep[:, :, None]
+            k = (batch.normal_jac * np.swapaxes(w, 1, 2)).sum(axis=-1)  # J W'^T, (m, S)
+            active = batch.mask & np.any(lower, axis=1)[:, None] & (k > 0)
+            mass = np.where(active, 1.0 / (batch.split * np.maximum(k, constants.TINY)), 0.0)
+            shock = ContactBatch(**{**vars(batch), "normal_w": w, "normal_mass": mass,
+                                    "colors": {}, "lower": None})
+        batch.colors["shock"] = shock
+    return batch.colors["shock"]
 
 
 def _restitution(batch, flat, colors, lam_n):
@@ -335,6 +440,7 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
             for block, b, block_lam in blocks:
                 _normal_rows(block, vab, b, block_lam, True)
             _scatter(flat, color, vab)
+    _stage_rows_last(batch, flat, bias, lam, options)
     return pseudo
 
 

@@ -65,10 +65,11 @@ def test_batched_narrow_phase_matches_the_per_pair_reference(seconds):
     world = tumbling_world(seconds)
     pairs, rotation = candidate_pairs(world)
     position, point_a, point_b, normal = narrow_phase(world.bodies, world.collision_objects,
-                                                      pairs, rotation)
+                                                      world.manifolds, pairs, rotation)
     n_points = 0
     for k, (a, c) in enumerate(pairs):
-        reference = pair_contacts(world.bodies, world.collision_objects, a, c, rotation)
+        reference = pair_contacts(world.bodies, world.collision_objects, world.manifolds, a, c,
+                                  rotation)
         mine = position == k
         assert len(reference) == mine.sum(), (a, c)
         for contact, pa, pb, n in zip(reference, point_a[mine], point_b[mine], normal[mine],
