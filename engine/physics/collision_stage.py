@@ -14,11 +14,16 @@ Sub-stages, in order:
    pairs ``(p, 2)`` with at least one moving body and at least one dynamic body;
 2. box pre-test (:func:`separated_box_pairs`): pairs with no manifold whose body-frame boxes
    (oriented, exact) are disjoint skip the narrow phase;
-3. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
+3. contact cache (:func:`changed_pairs`, ``settings.contact_cache``): a pair with a
+   manifold whose relative pose moved less than ``CONTACT_CACHE_DISTANCE`` since its last
+   narrow-phase query keeps its manifold unchanged (its points stay attached to the bodies,
+   the solver measures their depths from the current poses): a resting pile costs no
+   narrow phase. The same pairs are skipped on both paths;
+4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
    into each pair's persistent manifold. ``settings.use_vectorized`` chooses the batched
    path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.update`) or the per-pair
    reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
-4. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
+5. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
    one of their bodies moved lose their manifold; a sleeping pair keeps it for waking.
 """
 
@@ -105,7 +110,11 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
     pairs, active = timer.run("broad phase", broad_phase, bodies)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
     touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
-    # ---- 3. narrow phase + manifold update (batched or reference) -------------------------
+    # ---- 3. contact cache: pairs that barely moved relative to each other keep their
+    #         manifold as it is (no narrow phase, no manifold update) -----------------------
+    if settings.contact_cache:
+        touching = timer.run("manifolds", changed_pairs, bodies, store, touching, rotation)
+    # ---- 4. narrow phase + manifold update (batched or reference) -------------------------
     if touching:
         involved = np.unique(np.array(touching))
         involved = involved[involved != STAGE_ID]  # the stage never moves
@@ -117,7 +126,9 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
 
         timer.run("narrow phase", update_manifolds_reference, bodies, objects, store,
                   touching, rotation)
-    # ---- 4. stale manifolds: pairs that separated lose their points -----------------------
+    queried = [row for row in map(store.row, touching) if row is not None]
+    store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
+    # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
     timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
 
@@ -159,6 +170,25 @@ def touching_candidates(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
         return pair_list
     apart = set(np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)].tolist())
     return [pair for k, pair in enumerate(pair_list) if k not in apart]
+
+
+def changed_pairs(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
+                  rotation: np.ndarray) -> list[tuple[int, int]]:
+    """``pairs`` minus those with a manifold whose relative pose moved less than
+    ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query (their manifold stays)."""
+    rows = np.array([store.row(key) if key in store else -1 for key in pairs], dtype=np.int64)
+    known = np.flatnonzero(rows >= 0)
+    if len(known) == 0:
+        return pairs
+    b = bodies
+    other = b.body_shape_center[store.bodies[rows[known], 1]]
+    # radius of B's body-frame box around its center of mass: |c| + |h|
+    radius_b = (np.linalg.norm(other, axis=1)
+                + np.linalg.norm(b.body_shape_half[store.bodies[rows[known], 1]], axis=1))
+    unchanged = store.unchanged_rows(rows[known], rotation, b.body_position, radius_b,
+                                     constants.CONTACT_CACHE_DISTANCE)
+    skip = set(known[unchanged].tolist())
+    return [pair for k, pair in enumerate(pairs) if k not in skip]
 
 
 def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray) -> np.ndarray:

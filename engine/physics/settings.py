@@ -43,6 +43,11 @@ class SolverSettings:
         Normal-only sweeps over the contacts with the stage (and static or kinematic
         bodies) after each velocity and position solve, so the stage always wins: a light
         body under a heavy one is never pushed into the floor (0 disables it).
+    contact_cache : bool
+        Skip the narrow phase and the manifold update of a pair whose relative pose moved
+        less than ``CONTACT_CACHE_DISTANCE`` since its last query (Bullet's persistent
+        manifold idea: its points stay attached to the bodies, the solver recomputes their
+        depths from the current poses). Off: every pair is queried every step.
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
@@ -60,6 +65,7 @@ class SolverSettings:
     position_correction: bool = True
     block_jacobi: bool = True
     stage_iterations: int = 2
+    contact_cache: bool = True
     use_vectorized: bool = True
 
 
@@ -105,6 +111,9 @@ TIE_QUANTUM = 1e-9
 #: 1 (cosine), a cached stage normal within 60 degrees of a touched triangle's normal
 #: decides which side of the triangle is outward (the side the contact began on).
 OUTWARD_SIDE_ALIGNMENT = 0.5
+#: m, a pair whose bodies moved relative to each other by less than this (at any point of
+#: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
+CONTACT_CACHE_DISTANCE = 0.0005
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
 
