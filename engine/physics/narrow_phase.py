@@ -274,8 +274,10 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
 def deepest_record(records: list):
     """fcl's deepest contact record; near-equal depths (``TIE_QUANTUM``) go to the first,
     so the choice does not hang on the rounding of the poses."""
-    keys = tie_key(np.abs([record.penetration_depth for record in records]))
-    return records[int(np.argmax(keys))]
+    # tie_key in plain Python (a few records: NumPy calls would cost more than the math);
+    # round() rounds half to even like np.round, and max() keeps the first largest key
+    keys = [round(abs(record.penetration_depth) / settings.TIE_QUANTUM) for record in records]
+    return records[max(range(len(keys)), key=keys.__getitem__)]
 
 
 def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):

@@ -120,6 +120,9 @@ MAX_FCL_CONTACTS = 32
 # --- broad phase ------------------------------------------------------------------------
 #: m, broad-phase AABB inflation of every body (keeps touching pairs found).
 AABB_MARGIN = 0.005
+#: comparisons, largest (moving bodies x collidable bodies) table the broad phase tests by
+#: brute force; above it, sort and sweep (same pairs, O(n log n + overlaps)).
+BROAD_PHASE_BRUTE_FORCE = 20_000
 #: pairs, fewest candidate pairs for which the oriented-box pre-test pays for its NumPy calls.
 MIN_PAIRS_FOR_BOX_TEST = 8
 

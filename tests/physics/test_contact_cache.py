@@ -141,3 +141,39 @@ def test_bitmask_coloring_is_the_textbook_greedy():
         is_dynamic = rng.random(n) < 0.8
         fast = color_manifolds(body_a, body_b, is_dynamic)
         assert [c.tolist() for c in fast] == _textbook_coloring(body_a, body_b, is_dynamic)
+
+
+def test_sweep_and_prune_finds_the_brute_force_pairs():
+    from engine.physics.collide import all_pairs_overlaps, sweep_and_prune_overlaps
+
+    rng = np.random.default_rng(5)
+    for trial in range(30):
+        n = int(rng.integers(1, 300))
+        center = rng.uniform(-3, 3, size=(n, 3)) * [1.0, 0.3 + trial % 3, 1.0]
+        half = rng.uniform(0.05, 0.4, size=(n, 3))
+        lo, hi = center - half, center + half
+        if trial % 4 == 0:  # touching boxes and equal bounds: the comparisons are inclusive
+            lo[1::2] = np.round(lo[1::2], 1)
+            hi[::2] = np.round(lo[1::2].repeat(2, axis=0)[: len(hi[::2])], 1)
+            hi = np.maximum(hi, lo)
+        lo[0], hi[0] = [-50, -1, -50], [50, 0, 50]  # a stage-like floor under everything
+        candidates = np.flatnonzero(rng.random(n) < 0.9)
+        active = rng.random(n) < [0.0, 0.1, 0.7, 1.0][trial % 4]
+        brute = all_pairs_overlaps(lo, hi, candidates, active)
+        swept = sweep_and_prune_overlaps(lo, hi, candidates, active)
+        assert np.array_equal(brute, swept)
+
+
+def test_deepest_record_matches_the_numpy_tie_rule():
+    from types import SimpleNamespace
+
+    from engine.physics.contacts import tie_key
+    from engine.physics.narrow_phase import deepest_record
+
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        depths = rng.choice([0.01, 0.01 + 4e-10, 0.01 + 6e-10, 0.02, -0.02, 1.5e-9, 2.5e-9],
+                            size=int(rng.integers(1, 8)))
+        records = [SimpleNamespace(penetration_depth=float(d)) for d in depths]
+        expected = records[int(np.argmax(tie_key(np.abs(depths))))]
+        assert deepest_record(records) is expected
