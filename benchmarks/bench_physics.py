@@ -165,12 +165,13 @@ def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True):
             boxes.append(box)
         world.timer.reset()
         energy_start = None
-        wall, settled, deepest = 0.0, None, 0.0
+        wall, cpu, settled, deepest = 0.0, 0.0, None, 0.0
         steps_before = world._time
         for frame in range(int(round(seconds / FRAME))):
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             world.step_physics(FRAME)
             wall += time.perf_counter() - start
+            cpu += time.process_time() - start_cpu
             if (frame + 1) * FRAME >= WATCH_FROM - 1e-9:
                 if energy_start is None:
                     energy_start = energy(world)
@@ -182,7 +183,7 @@ def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True):
         b, n = world.bodies, world.bodies.count
         speed = np.linalg.norm(b.body_linear_velocity[1:n], axis=1).max(initial=0.0)
         return {
-            "wall": wall, "steps": steps, "settled": settled,
+            "wall": wall, "cpu": cpu, "steps": steps, "settled": settled,
             "final": np.array([np.asarray(box.translation) for box in boxes]),
             "asleep": sum(not box.awake for box in boxes), "profile": dict(world.profile),
             "deepest": deepest, "resting_depth": penetration(world),
@@ -208,18 +209,18 @@ def run_pybullet(positions, rotations, seconds, sleep=True):
             p.changeDynamics(body, -1, activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
                              physicsClientId=client)
     steps, accumulated = 0, 0.0
-    start = time.perf_counter()
+    start, start_cpu = time.perf_counter(), time.process_time()
     for _ in range(int(round(seconds / FRAME))):  # the same accumulator as step_physics
         accumulated += FRAME
         while accumulated >= STEP:
             p.stepSimulation(physicsClientId=client)
             accumulated -= STEP
             steps += 1
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, time.process_time() - start_cpu
     final = np.array([p.getBasePositionAndOrientation(b, physicsClientId=client)[0]
                       for b in bodies])
     p.disconnect(client)
-    return {"wall": wall, "steps": steps, "final": final}
+    return {"wall": wall, "cpu": cpu, "steps": steps, "final": final}
 
 
 def have_pybullet() -> bool:
@@ -255,17 +256,19 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results):
     start = np.array(positions)
     ms_step = ours["wall"] / ours["steps"] * 1000
     ms_sim = ours["wall"] / seconds * 1000
+    cpu_step = ours["cpu"] / ours["steps"] * 1000
     if theirs:
         bullet_step = theirs["wall"] / theirs["steps"] * 1000
         ratio = ours["wall"] / theirs["wall"]
-        bullet_text = f"{bullet_step:8.3f} {ratio:6.1f}x"
+        cpu_ratio = ours["cpu"] / max(theirs["cpu"], 1e-9)
+        bullet_text = f"{bullet_step:8.3f} {ratio:6.1f}x {cpu_ratio:6.1f}x"
         bullet_quality = quality(name, start, theirs["final"])
     else:
         bullet_step, ratio, bullet_text, bullet_quality = float("nan"), float("nan"), \
-            "     n/a    n/a", "n/a"
+            "     n/a    n/a     n/a", "n/a"
     split = shares(ours["profile"], ours["wall"])
     split_text = " ".join(f"{100 * split[k]:3.0f}" for k in (*STAGES, "rest"))
-    print(f"{name:<11} {seconds:4.1f} {ms_step:8.3f} {ms_sim:8.0f} {bullet_text} "
+    print(f"{name:<11} {seconds:4.1f} {ms_step:8.3f} {cpu_step:8.3f} {ms_sim:8.0f} {bullet_text} "
           f"{ours['asleep']:4d}/{len(positions):<4d} {ours['deepest'] * 1000:6.1f} "
           f"{ours['resting_depth'] * 1000:6.1f} {ours['energy_change']:8.3f} "
           f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}")
@@ -274,28 +277,30 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results):
         sim, wall = ours["settled"]
         print(f"{'':<11} settled: all {len(positions)} asleep after {sim:.2f} s simulated, "
               f"{wall:.2f} s wall ({sim / wall:.2f}x real time)")
-    results[name] = dict(ours, ms_step=ms_step, ratio=ratio, bullet_step=bullet_step,
-                         start=start, n=len(positions), seconds=seconds)
+    results[name] = dict(ours, ms_step=ms_step, cpu_step=cpu_step, ratio=ratio,
+                         bullet_step=bullet_step, start=start, n=len(positions), seconds=seconds)
 
 
 def sweep(sizes, seconds, bullet):
     """Scaling table of the moving column; returns rows for the plot."""
     print("\nScaling: moving column (sleeping off), "
           f"{seconds:.1f} s simulated per size; shares of rigidsim's wall time in %")
-    print(f"{'N':>5} {'ms/step':>8} {'us/body':>8} {'bullet ms':>9} {'ratio':>6}  "
+    print(f"{'N':>5} {'ms/step':>8} {'cpu ms':>8} {'us/body':>8} {'bullet ms':>9} {'ratio':>6}  "
           + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest")))
     rows = []
     for n in sizes:
         positions, rotations = column_positions(n)
         ours = run_rigidsim(positions, rotations, seconds, sleep=False, watch=False)
         ms = ours["wall"] / ours["steps"] * 1000
+        cpu = ours["cpu"] / ours["steps"] * 1000
         if bullet:
             theirs = run_pybullet(positions, rotations, seconds, sleep=False)
             bullet_ms = theirs["wall"] / theirs["steps"] * 1000
         else:
             bullet_ms = float("nan")
         split = shares(ours["profile"], ours["wall"])
-        print(f"{n:5d} {ms:8.3f} {1000 * ms / n:8.1f} {bullet_ms:9.3f} {ms / bullet_ms:6.1f}  "
+        print(f"{n:5d} {ms:8.3f} {cpu:8.3f} {1000 * ms / n:8.1f} {bullet_ms:9.3f} "
+              f"{ms / bullet_ms:6.1f}  "
               + " ".join(f"{100 * split[k]:6.1f}" for k in (*STAGES, "rest")))
         rows.append((n, ms, bullet_ms, split))
     return rows
@@ -369,9 +374,10 @@ def report_targets(results, rows) -> None:
              drift < 1e-3 and r["final"][-1, 1] > 1.8)
         line("stack-10 energy drift <= 0 (no energy gained)",
              f"{r['energy_change'] * 1000:+.2f} mJ", r["energy_change"] <= 1e-3)
-    deepest = max((r["deepest"] for r in results.values()), default=0.0)
-    line("nothing sinks deeper than the 2 cm speculative margin (all scenes)",
-         f"{deepest * 1000:.1f} mm", deepest < 0.02)
+    deepest = max((r["deepest"] for r in results.values()), default=None)
+    if deepest is not None:
+        line("nothing sinks deeper than the 2 cm speculative margin (all scenes)",
+             f"{deepest * 1000:.1f} mm", deepest < 0.02)
     for name in ("pile-100", "column-100"):
         if name in results:
             r = results[name]
@@ -400,11 +406,14 @@ def main() -> None:
                    ("pile-100", pile_positions(100), quality_s, True),
                    ("stack-10", stack_positions(), quality_s, True),
                    ("pyramid-6", pyramid_positions(), quality_s, True)]
-        print("ms/step: wall per 0.008 s step; deep/rest mm: largest contact penetration "
+        print("ms/step: wall per 0.008 s step (cpu ms: this process's CPU time, less "
+              "sensitive to a loaded machine);\nratio: wall vs pybullet, cpu rat: CPU time vs "
+              "pybullet; deep/rest mm: largest contact penetration "
               f"from {WATCH_FROM:g} s on / at the end;\ndE J: energy change from "
               f"{WATCH_FROM:g} s to the end; v end: fastest body at the end, m/s.")
-        print(f"{'scene':<11} {'sim':>4} {'ms/step':>8} {'ms/sim s':>8} {'bullet':>8} "
-              f"{'ratio':>7} {'asleep':>9} {'deep':>6} {'rest':>6} {'dE J':>8} {'v end':>6}"
+        print(f"{'scene':<11} {'sim':>4} {'ms/step':>8} {'cpu ms':>8} {'ms/sim s':>8} "
+              f"{'bullet':>8} {'ratio':>7} {'cpu rat':>7} {'asleep':>9} {'deep':>6} "
+              f"{'rest':>6} {'dE J':>8} {'v end':>6}"
               "  quality (rigidsim | pybullet)")
         print(f"{'':<11} profile % = " + " ".join(STAGES) + " rest")
         for name, (positions, rotations), seconds, sleep in scenes:
