@@ -25,7 +25,9 @@ Usage::
 
     python benchmarks/bench_physics.py               # targets: columns, stack, piles
     python benchmarks/bench_physics.py --sweep       # + scaling sweep and plot
-    python benchmarks/bench_physics.py --quick       # 1 s columns, no 500, short quality runs
+    python benchmarks/bench_physics.py --quick       # 2 s columns, no 500, short quality runs
+    python benchmarks/bench_physics.py --reference   # also time the reference path
+                                                     # (use_vectorized=False) on each scene
 """
 
 from __future__ import annotations
@@ -153,10 +155,11 @@ def energy(world) -> float:
 WATCH_FROM = 1.0
 
 
-def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True):
+def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True, vectorized=True):
     """Step a scene; wall time counts ``step_physics`` only (measurements are outside)."""
     with sleeping_disabled(not sleep):
         world, templates = make_world(floor_half=20.0)
+        world.settings.use_vectorized = vectorized
         handle = register_primitive(templates, "cubeSolid", (HALF, HALF, HALF))
         boxes = []
         for p, q in zip(positions, rotations, strict=True):
@@ -250,7 +253,7 @@ def quality(name, start, final):
 # ------------------------------------------------------------------------------------------
 # report
 # ------------------------------------------------------------------------------------------
-def run_scene(name, positions, rotations, seconds, sleep, bullet, results):
+def run_scene(name, positions, rotations, seconds, sleep, bullet, results, reference=False):
     ours = run_rigidsim(positions, rotations, seconds, sleep=sleep)
     theirs = run_pybullet(positions, rotations, seconds, sleep=sleep) if bullet else None
     start = np.array(positions)
@@ -273,6 +276,11 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results):
           f"{ours['resting_depth'] * 1000:6.1f} {ours['energy_change']:8.3f} "
           f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}")
     print(f"{'':<11} profile % {split_text}")
+    if reference:
+        slow = run_rigidsim(positions, rotations, seconds, sleep=sleep, watch=False,
+                            vectorized=False)
+        print(f"{'':<11} reference path: {slow['wall'] / slow['steps'] * 1000:.2f} ms/step "
+              f"({slow['wall'] / ours['wall']:.1f}x the vectorized path)")
     if ours["settled"] is not None and name.startswith("pile"):
         sim, wall = ours["settled"]
         print(f"{'':<11} settled: all {len(positions)} asleep after {sim:.2f} s simulated, "
@@ -391,6 +399,8 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="short runs, no 500 column")
     parser.add_argument("--sweep", action="store_true", help="scaling sweep 10..1000 + plot")
     parser.add_argument("--only-sweep", action="store_true", help="the scaling sweep only")
+    parser.add_argument("--reference", action="store_true",
+                        help="also run the reference path (use_vectorized=False)")
     parser.add_argument("--plot", type=Path, default=ROOT / "docs" / "physics_scaling.png")
     args = parser.parse_args()
     bullet = have_pybullet()
@@ -417,7 +427,8 @@ def main() -> None:
               "  quality (rigidsim | pybullet)")
         print(f"{'':<11} profile % = " + " ".join(STAGES) + " rest")
         for name, (positions, rotations), seconds, sleep in scenes:
-            run_scene(name, positions, rotations, seconds, sleep, bullet, results)
+            run_scene(name, positions, rotations, seconds, sleep, bullet, results,
+                      args.reference)
     rows = []
     if args.sweep or args.only_sweep:
         sizes = (10, 30, 100, 300) if args.quick else (10, 30, 100, 300, 1000)

@@ -228,7 +228,7 @@ def _triangle_table(mesh_shape) -> dict:
         tris = mesh_shape.ray_triangles
         e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
         normal = cross(e0, e1)
-        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), settings.TINY)
         # Gram matrix [d00 d01; d01 d11] of the two edges: d_ij = e_i . e_j
         d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
         table = {"normal": normal, "e0": e0, "e1": e1, "d00": d00, "d01": d01, "d11": d11,
@@ -243,7 +243,7 @@ def _flip_towards(normal, origin, point):
     return normal * np.where(side < 0, -1.0, 1.0)[:, None]
 
 
-def _barycentric_inside(tris, points, tolerance=1e-9):
+def _barycentric_inside(tris, points, tolerance=settings.BARYCENTRIC_TOLERANCE):
     """(t,) bool: point ``points[i] (3,)`` projected into triangle ``tris[i] (3, 3)`` is inside."""
     e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
     d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
@@ -278,14 +278,14 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
     """
     e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
     n = cross(e0, e1)
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), settings.TINY)
     projected = point - ((point - tris[:, 0]) * n).sum(axis=1)[:, None] * n
     inside = _barycentric_inside(tris, projected)
     best = projected.copy()
     best_dist = np.where(inside, np.linalg.norm(point - projected, axis=1), np.inf)
     for i, j in ((0, 1), (1, 2), (2, 0)):
         a, ab = tris[:, i], tris[:, j] - tris[:, i]
-        s = np.clip(((point - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-300), 0, 1)
+        s = np.clip(((point - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), settings.TINY), 0, 1)
         candidate = a + s[:, None] * ab
         dist = np.linalg.norm(point - candidate, axis=1)
         better = (dist < best_dist) & ~inside

@@ -461,9 +461,9 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     band = np.full(len(count), settings.SUPPORT_DEPTH_BAND) if band is None else band
     supporting = valid & (depth >= deepest_depth[:, None] - band[:, None])
     bonus = np.zeros(depth.shape) if preferred is None else preferred.astype(np.float64)
-    scale = 1.0 + 0.1 * bonus
+    scale = 1.0 + settings.PREFERRED_SIZE_BONUS * bonus
     chosen = np.zeros_like(valid)
-    first = _masked_argmax(depth + 1e-3 * bonus, supporting)
+    first = _masked_argmax(depth + settings.PREFERRED_DEPTH_BONUS * bonus, supporting)
     chosen[rows, first] = valid[rows, first]
     p0 = points[rows, first]
     far = ((points - p0[:, None]) ** 2).sum(axis=2) * scale  # |p - p0|^2

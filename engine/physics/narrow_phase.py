@@ -192,7 +192,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
     candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
-                 & (height > -0.5 * extent[:, None, None])
+                 & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
                  & _in_prisms(table, ids, tris, verts))
     # each vertex keeps its shallowest triangle (the surface it is really resting on)
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
@@ -235,7 +235,7 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
     # barycentric (v, w) of the projection: [d00 d01; d01 d11] [v; w] = [d20; d21]
     bary_v = (d11[..., None] * d20 - d01[..., None] * d21) / denom[..., None]
     bary_w = (d00[..., None] * d21 - d01[..., None] * d20) / denom[..., None]
-    tolerance = 1e-9
+    tolerance = settings.BARYCENTRIC_TOLERANCE
     return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)
 
 

@@ -18,6 +18,8 @@ import numpy as np
 
 from engine import mn
 
+from . import settings
+
 
 @dataclass
 class RayHitInfo:
@@ -85,7 +87,7 @@ def ray_triangles(origin: np.ndarray, direction: np.ndarray, triangles: np.ndarr
     t = np.sum(e2 * q, axis=1) * inv_det
     hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0)
     normal = np.cross(e1, e2)
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), settings.TINY)
     # face the ray: n . d < 0
     normal *= np.where(normal @ direction > 0, -1.0, 1.0)[:, None]
     return np.where(hit, t, np.inf), normal
@@ -104,7 +106,7 @@ def ray_sphere(origin: np.ndarray, direction: np.ndarray, center: np.ndarray, ra
         if t < 0:
             return np.inf, np.zeros(3)
     normal = rel + t * direction
-    return t, normal / max(np.linalg.norm(normal), 1e-300)
+    return t, normal / max(np.linalg.norm(normal), settings.TINY)
 
 
 def ray_shape(origin_body, direction_body, shape):

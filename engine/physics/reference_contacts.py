@@ -153,7 +153,8 @@ def stage_polyhedron_contacts(stage, hull, pose, found: list,
         best: tuple[float, int] | None = None
         for i, t in enumerate(triangle_ids):
             above = heights[i][k]  # m, height of this vertex above triangle t
-            if (above < settings.STAGE_SPECULATIVE_DISTANCE and above > -0.5 * extent
+            if (above < settings.STAGE_SPECULATIVE_DISTANCE
+                    and above > -settings.STAGE_BELOW_FRACTION * extent
                     and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
                     and (best is None or above > best[0])):
                 best = (above, i)
@@ -172,14 +173,14 @@ def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.nda
 
     Barycentric ``(v, w)`` solve ``[d00 d01; d01 d11] [v; w] = [d20; d21]`` with the Gram
     entries of the edges e0, e1 from ``corner`` (Ericson 3.4); inside when ``v, w >= 0`` and
-    ``v + w <= 1`` (within 1e-9).
+    ``v + w <= 1`` (within ``BARYCENTRIC_TOLERANCE``).
     """
     relative = point - corner
     d20, d21 = dot(relative, table["e0"][t]), dot(relative, table["e1"][t])
     d00, d01, d11, denom = (table[key][t] for key in ("d00", "d01", "d11", "denom"))
     v = (d11 * d20 - d01 * d21) / denom
     w = (d00 * d21 - d01 * d20) / denom
-    tolerance = 1e-9
+    tolerance = settings.BARYCENTRIC_TOLERANCE
     return bool(v >= -tolerance and w >= -tolerance and v + w <= 1 + tolerance)
 
 
@@ -410,14 +411,15 @@ def select_support(points: list, depths: list, normal: np.ndarray, count: int,
     lowest = max(depths) - band
     supporting = [d >= lowest for d in depths]
     bonus = [float(p) for p in preferred] if preferred is not None else [0.0] * k
-    scale = [1.0 + 0.1 * b for b in bonus]
+    scale = [1.0 + settings.PREFERRED_SIZE_BONUS * b for b in bonus]
     chosen = [False] * k
 
     def best_of(values):  # the first supporting slot holding the largest value
         masked = [tie_key(v) if s else -np.inf for v, s in zip(values, supporting, strict=True)]
         return int(np.argmax(masked))
 
-    first = best_of([d + 1e-3 * b for d, b in zip(depths, bonus, strict=True)])
+    first = best_of([d + settings.PREFERRED_DEPTH_BONUS * b
+                     for d, b in zip(depths, bonus, strict=True)])
     chosen[first] = True
     p0 = points[first]
     second = best_of([dot(p - p0, p - p0) * s for p, s in zip(points, scale, strict=True)])

@@ -114,6 +114,17 @@ OUTWARD_SIDE_ALIGNMENT = 0.5
 #: m, a pair whose bodies moved relative to each other by less than this (at any point of
 #: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
 CONTACT_CACHE_DISTANCE = 0.0005
+#: m, a fresh point matching a cached one counts this much deeper when the manifold picks
+#: its deepest point (hysteresis: near-ties keep last step's points).
+PREFERRED_DEPTH_BONUS = 1e-3
+#: 1, and its distances and areas count this fraction larger (10 %).
+PREFERRED_SIZE_BONUS = 0.1
+#: 1, a hull vertex more than this fraction of the hull's extent below a stage triangle is
+#: on the triangle's other side (a thin wall), not in contact with it.
+STAGE_BELOW_FRACTION = 0.5
+#: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
+#: so a vertex over a shared edge of two triangles is in contact with both.
+BARYCENTRIC_TOLERANCE = 1e-9
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
 

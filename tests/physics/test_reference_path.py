@@ -141,7 +141,7 @@ def tutorial_scene(demo_data):
         box = objects.add_object_by_template_handle(templates.get_template_handles("cheezit")[0])
         box.translation = [1.5, 0.0, 7.0]
         box.rotation = mn.Quaternion.rotation(mn.Deg(20.0), [1.0, 0.0, 0.0])
-        return sim._world, lambda: sim.step_physics(1.0 / 60.0)
+        return sim.get_physics_world(), lambda: sim.step_physics(1.0 / 60.0)
 
     return build
 
