@@ -74,15 +74,20 @@ class CollisionObjects:
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
 
-    def move(self, bodies: Bodies, indices: np.ndarray, rotations: np.ndarray) -> None:
+    def move(self, bodies: Bodies, indices: np.ndarray, rotations: np.ndarray,
+             with_probe: np.ndarray | None = None) -> None:
         """Move the fcl objects of bodies ``indices (k,)`` (rotation matrices ``(k, 3, 3)``):
-        all shape poses ``world_from_shape = world_from_body @ body_from_shape`` at once."""
+        all shape poses ``world_from_shape = world_from_body @ body_from_shape`` at once.
+
+        ``with_probe (k,)`` bool: whose probe objects move too (default all; the narrow
+        phase asks a probe only about a pair with the stage)."""
         owners, objects, offsets = [], [], []
+        probes = [True] * len(indices) if with_probe is None else with_probe.tolist()
         for k, index in enumerate(indices.tolist()):
             for shape, obj, probe in zip(bodies.shapes[index], self.shape_objects[index],
                                          self.probe_objects[index], strict=True):
                 owners.append(k)
-                objects.append((obj, probe))
+                objects.append((obj, probe if probes[k] else None))
                 offsets.append(shape.body_from_shape)
         if not owners:
             return
@@ -118,7 +123,9 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
     if touching:
         involved = np.unique(np.array(touching))
         involved = involved[involved != STAGE_ID]  # the stage never moves
-        timer.run("fcl update", objects.move, bodies, involved, rotation[involved])
+        # probes (grown shapes) serve the stage pairs only
+        near_stage = np.isin(involved, [c for a, c in touching if a == STAGE_ID])
+        timer.run("fcl update", objects.move, bodies, involved, rotation[involved], near_stage)
     if settings.use_vectorized:
         update_manifolds(bodies, objects, store, touching, rotation, timer)
     else:
