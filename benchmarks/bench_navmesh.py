@@ -6,7 +6,7 @@ Run on demand (not a test)::
     .venv/bin/python benchmarks/bench_navmesh.py --quick  # fewer repeats
 
 Scenes: Habitat's ``test_assets/scenes/stage_floor1.glb`` (Y up, scale 2: a 40 x 40 m
-terrain), ``simple_room.glb`` (Z up) and, when ``engine.datasets.demo_data_path()`` can
+terrain), ``simple_room.glb`` (Z up) and, when ``engine.demo.datasets.demo_data_path()`` can
 provide it, the generated demo ``apartment.glb``. Each stage is loaded through
 ``engine.assets.load_meshes`` with its stage config's up / front / scale, merged, and built
 with the default ``NavMeshSettings`` (0.05 m cells). Reported: median build time, grid size,
@@ -101,7 +101,7 @@ def scenes() -> list[tuple[str, Path]]:
         ("simple_room", HABITAT_SCENES / "test_assets/scenes/simple_room.glb"),
     ]
     try:
-        from engine.datasets import demo_data_path
+        from engine.demo import demo_data_path
 
         apartment = demo_data_path() / "scene_datasets/demo/apartment.glb"
         if apartment.is_file():

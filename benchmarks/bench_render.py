@@ -170,7 +170,7 @@ def apartment_scenes() -> list[tuple[str, list[RenderMesh], np.ndarray, bool]]:
     ``make_configuration``), then takes the exact render meshes and camera poses the engine
     renders, with back faces culled as the engine's sensors do.
     """
-    from engine.datasets import demo_data_path
+    from engine.demo import demo_data_path
     from engine.scene_render import _render_mesh
     from engine.tutorial.scene_setup import make_configuration, place_agent
 

@@ -23,13 +23,13 @@ from numpy.typing import ArrayLike
 
 from navmesh.build import build_navmesh
 from navmesh.navmesh_data import NavMeshData
-from navmesh.query import NavGrid
-from navmesh.regions import (
+from navmesh.proximity import (
     closest_boundary_point,
     island_radii,
     nodes_in_disk,
     topdown_islands,
 )
+from navmesh.query import NavGrid
 from navmesh.search import GridGraph, path_length, pull_string
 from navmesh.settings import NAVIGABLE_XZ_TOLERANCE, NavMeshSettings
 from navmesh.step_filter import try_step

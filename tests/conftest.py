@@ -38,6 +38,6 @@ def test_assets(habitat_data: Path) -> Path:
 @pytest.fixture(scope="session")
 def demo_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The generated demo dataset, built once per test session into a temporary folder."""
-    from engine.datasets import demo_data_path
+    from engine.demo import demo_data_path
 
     return demo_data_path(tmp_path_factory.mktemp("demo_dataset"))

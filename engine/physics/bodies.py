@@ -35,7 +35,7 @@ body_aabb_min/max          (n, 3)       world-frame AABB of all shapes, m
 body_shape_center/half     (n, 3)       body-frame AABB (center, half size) of all shapes, m
 body_solver_velocity       (n, 3)       linear velocity of a KINEMATIC body seen by contacts
 body_solver_angular_vel.   (n, 3)       angular one (from its velocity control), rad/s
-body_min_half_extent       (n,)         smallest half extent, m (CCD-lite threshold)
+body_min_half_extent       (n,)         smallest half extent, m (CCD threshold)
 =========================  ===========  ===========================================
 """
 

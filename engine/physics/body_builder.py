@@ -53,8 +53,8 @@ def _load(handle: str, template) -> list:
     if _is_primitive(handle):
         return [dataclasses.replace(m, vertices=np.asarray(m.vertices) * scale)
                 for m in primitive_meshes(handle)]
-    return load_meshes(handle, up=np.asarray(template.orient_up),
-                       front=np.asarray(template.orient_front), scale=scale,
+    return load_meshes(handle, up=np.asarray(template.orient_up).tolist(),
+                       front=np.asarray(template.orient_front).tolist(), scale=scale.tolist(),
                        units_to_meters=template.units_to_meters)
 
 

@@ -40,7 +40,7 @@ from .collide import boxes_separated, overlapping_pairs, world_aabbs
 from .contacts import FreshPoints, ManifoldStore, feature_length
 from .narrow_phase import narrow_phase
 from .profiling import StageTimer
-from .quaternions import quat_to_matrix
+from .quaternions import live_rotations
 from .settings import SolverSettings
 from .shapes import Shape, probe_geometry
 from .sleeping import moving_kinematic_mask
@@ -109,8 +109,7 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
                     settings: SolverSettings, timer: StageTimer | None = None) -> int:
     """Run the four sub-stages of the module docstring; returns the broad-phase pair count."""
     timer = timer or StageTimer()
-    n = bodies.count
-    rotation = quat_to_matrix(bodies.body_rotation[:n])  # (n, 3, 3) world_from_body
+    rotation = live_rotations(bodies)  # (n, 3, 3) world_from_body (identity: freed slots)
     # ---- 1. broad phase: AABB pairs with a moving, dynamic member -------------------------
     pairs, active = timer.run("broad phase", broad_phase, bodies)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
@@ -149,10 +148,11 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
     b, n = bodies, bodies.count
     # every live object has shapes; the stage without shapes is not collidable
     candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
-    lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
-                         b.body_position[:n], b.body_rotation[:n])
-    b.body_aabb_min[:n] = lo - constants.AABB_MARGIN
-    b.body_aabb_max[:n] = hi + constants.AABB_MARGIN
+    live = np.flatnonzero(b.body_alive[:n])  # freed slots cost nothing
+    lo, hi = world_aabbs(b.body_shape_center[live], b.body_shape_half[live],
+                         b.body_position[live], b.body_rotation[live])
+    b.body_aabb_min[live] = lo - constants.AABB_MARGIN
+    b.body_aabb_max[live] = hi + constants.AABB_MARGIN
     # the stage also covers the speculative distance of its contacts
     b.body_aabb_min[STAGE_ID] -= constants.STAGE_SPECULATIVE_DISTANCE
     b.body_aabb_max[STAGE_ID] += constants.STAGE_SPECULATIVE_DISTANCE

@@ -117,6 +117,9 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
                         sizes = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
                                  len(shape_c.hull_vertices), len(shape_c.plane_normals))
                         jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
+                elif shape_a.kind == shape_c.kind == "sphere" and coincident(b, a, c):
+                    contacts.add_one(seq, coincident_spheres(b, a, shape_a, c, shape_c,
+                                                             rotation))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
                     contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
@@ -125,8 +128,41 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
         _stage_group(group, rotation, b.body_position, contacts,
                      _cached_normals(store, [job.body_b for job in group]))
     for group in jobs["polyhedra"].values():
-        _polyhedron_group(group, rotation, b.body_position, contacts)
+        _polyhedron_group(group, rotation, b.body_position, contacts, b)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
+
+
+def coincident(b, a: int, c: int) -> bool:
+    """Bodies a and c have (nearly) the same center: closer than ``COINCIDENT_FRACTION`` of
+    the thinner one's smallest dimension (created at one point, say)."""
+    limit = settings.COINCIDENT_FRACTION * 2.0 * min(b.body_min_half_extent[a],
+                                                     b.body_min_half_extent[c])
+    gap = b.body_position[c] - b.body_position[a]
+    return float(gap @ gap) < limit * limit
+
+
+def spread_direction(a, c) -> np.ndarray:
+    """Unit horizontal direction(s) ``(3,)`` (or ``(k, 3)`` for id arrays) to push
+    coincident bodies a < c apart.
+
+    Any fixed direction would line all bodies created at one point up along one axis; a
+    direction turning by the golden angle with the pair ids spreads them over a disc.
+    """
+    a, c = np.asarray(a), np.asarray(c)
+    turn = 2.0 * np.pi * ((a * 0.6180339887498949 + c * 0.7548776662466927) % 1.0)
+    return np.stack([np.cos(turn), np.zeros_like(turn), np.sin(turn)], axis=-1)
+
+
+def coincident_spheres(b, a, shape_a, c, shape_c, rotation):
+    """Contact of two spheres with (nearly) coincident centers along
+    :func:`spread_direction` (fcl's center-to-center normal is undefined there)."""
+    n = spread_direction(a, c)
+    center_a = rotation[a] @ shape_a.body_from_shape[:3, 3] + b.body_position[a]
+    center_c = rotation[c] @ shape_c.body_from_shape[:3, 3] + b.body_position[c]
+    # A's deepest point inside C and C's inside A: depth = r_a + r_c + (x_a - x_c) . n
+    point_a = center_a + shape_a.radius * n
+    point_b = center_c - shape_c.radius * n
+    return point_a[None], point_b[None], n[None]
 
 
 def _pose(bodies: list, rotation: np.ndarray,
@@ -239,13 +275,23 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
     return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)
 
 
-def _polyhedron_group(jobs, rotation, position, contacts: _Contacts) -> None:
+def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> None:
     """Vertex contacts of ``g`` polyhedron pairs of equal vertex and face counts.
 
     Reference: :func:`reference_contacts.polyhedron_contacts` (one shape pair)."""
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
-    # fcl's deepest normal (A -> B) picks the touching faces
+    # fcl's deepest normal (A -> B) picks the touching faces; coincident bodies (whose fcl
+    # normal is an arbitrary axis) get their pair's spread direction instead
     n = np.array([deepest_record(job.contacts).normal for job in jobs])
+    a = np.array([job.body_a for job in jobs])
+    c = np.array([job.body_b for job in jobs])
+    gap = position[c] - position[a]
+    # coincident: |x_c - x_a| < fraction * the thinner body's smallest dimension
+    limit = settings.COINCIDENT_FRACTION * 2.0 * np.minimum(bodies.body_min_half_extent[a],
+                                                            bodies.body_min_half_extent[c])
+    coincident = (gap * gap).sum(axis=1) < limit * limit
+    if coincident.any():
+        n[coincident] = spread_direction(a[coincident], c[coincident])
     frame_a = _pose([job.body_a for job in jobs], rotation, position)
     frame_b = _pose([job.body_b for job in jobs], rotation, position)
     shapes_a, shapes_b = [job.shape_a for job in jobs], [job.shape_b for job in jobs]

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 # one rotation matrix -> [x, y, z, w] (Shepperd's method): the scalar path lives in engine.mn
-from engine.mn_rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
+from engine.mn.rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
 
 X, Y, Z, W = range(4)
 
@@ -81,6 +81,12 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
     return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
 
 
-def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate vectors ``(..., 3)`` by unit quaternions ``(..., 4)``: ``R(q) v``."""
-    return (quat_to_matrix(q) @ v[..., None])[..., 0]
+def live_rotations(bodies) -> np.ndarray:
+    """``(n, 3, 3)`` rotation matrices of all ``n = bodies.count`` slots: computed for the
+    live bodies, identity for freed slots (whose quaternion is the identity anyway), so a
+    world that once held many objects pays only for those alive."""
+    n = bodies.count
+    rotation = np.tile(np.eye(3), (n, 1, 1))
+    live = np.flatnonzero(bodies.body_alive[:n])
+    rotation[live] = quat_to_matrix(bodies.body_rotation[live])
+    return rotation

@@ -29,7 +29,7 @@ from .collide import (
     round_contacts,
 )
 from .contacts import SLOTS, ManifoldStore, tie_key
-from .narrow_phase import deepest_record
+from .narrow_phase import coincident, coincident_spheres, deepest_record, spread_direction
 
 
 def dot(u: np.ndarray, v: np.ndarray) -> float:
@@ -92,7 +92,14 @@ def pair_contacts(bodies: Bodies, objects, store: ManifoldStore, a: int, c: int,
             elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, obj_c)
                 if found:
-                    contacts += polyhedron_contacts(shape_a, pose_a, shape_c, pose_c, found)
+                    # bodies created at one point: fcl's normal is arbitrary, use the
+                    # pair's spread direction (narrow_phase.spread_direction)
+                    spread = spread_direction(a, c) if coincident(bodies, a, c) else None
+                    contacts += polyhedron_contacts(shape_a, pose_a, shape_c, pose_c, found,
+                                                    spread)
+            elif shape_a.kind == shape_c.kind == "sphere" and coincident(bodies, a, c):
+                result = coincident_spheres(bodies, a, shape_a, c, shape_c, rotation)
+                contacts += [Contact(*point) for point in zip(*result, strict=True)]
             else:  # spheres and capsules: the per-pair code is shared by both paths
                 result = round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
                 if result is not None:
@@ -184,7 +191,8 @@ def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.nda
     return bool(v >= -tolerance and w >= -tolerance and v + w <= 1 + tolerance)
 
 
-def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list) -> list[Contact]:
+def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list,
+                        spread: np.ndarray | None = None) -> list[Contact]:
     """Vertex contacts of two polyhedra (method 1 of :mod:`collide`).
 
     Mirrors ``narrow_phase._polyhedron_group``. fcl's deepest normal ``n`` (A -> B) picks a
@@ -192,10 +200,11 @@ def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list) -> list[C
     ``-n``); a face counts only if ``n_face . (+-n) >= REFERENCE_FACE_ALIGNMENT``. Every
     vertex of the other body inside the reference hull (its planes inflated by
     ``SPECULATIVE_DISTANCE``) and at most that far above the face becomes a contact,
-    A's face first. Without any, fcl's own points are used.
+    A's face first. Without any, fcl's own points are used. ``spread``: the direction that
+    replaces fcl's normal for bodies created at one point (``narrow_phase.coincident``).
     """
     deepest = deepest_record(found)  # the first of near-equal depths
-    n = np.asarray(deepest.normal, dtype=np.float64)
+    n = np.asarray(deepest.normal, dtype=np.float64) if spread is None else spread
     contacts: list[Contact] = []
     for reference, pose_ref, incident, pose_inc, sign in (
             (shape_a, pose_a, shape_b, pose_b, 1.0), (shape_b, pose_b, shape_a, pose_a, -1.0)):

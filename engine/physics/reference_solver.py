@@ -164,7 +164,10 @@ def solve_reference(bodies: Bodies, store: ManifoldStore, problem, h: float,
     depth = np.zeros((len(manifolds), SLOTS))
     for k, (row, m) in enumerate(zip(problem.rows.tolist(), manifolds, strict=True)):
         for slot, p in enumerate(m.points):
-            store.impulse[row, slot] = p.impulse
+            # warm start next step from resting loads only: an impact's impulse (a point
+            # that approached faster than IMPACT_SPEED) would relaunch the body it stopped
+            impact = p.approach_speed < -constants.IMPACT_SPEED
+            store.impulse[row, slot] = 0.0 if impact else p.impulse
             depth[k, slot] = p.depth
     pseudo = solve_positions_reference(manifolds, problem, h, settings)
     return pseudo, depth
@@ -243,14 +246,28 @@ def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
                      problem.inv_inertia)
     if not settings.position_correction or settings.position_iterations == 0:
         return pseudo.array()
+    slop = {id(p): problem.slop[k] for k, m in enumerate(manifolds) for p in m.points}
+    # bodies created overlapping (contacts deeper than DEEP_OVERLAP beyond the slop): more
+    # sweeps, and a firmer Baumgarte factor for those contacts; still capped at
+    # MAX_CORRECTION_SPEED
+    deep = {id(p): p.depth - slop[id(p)] > constants.DEEP_OVERLAP
+            for m in manifolds for p in m.points}
+    iterations = settings.position_iterations
+    if any(deep.values()):
+        iterations = max(iterations, settings.overlap_position_iterations)
+
+    def target_of(p: ContactRow) -> float:
+        beta = constants.OVERLAP_BAUMGARTE if deep[id(p)] else constants.POSITION_BAUMGARTE
+        return _position_target(p, h, slop[id(p)], beta)
+
     groups = _slot_groups(settings.block_jacobi)
     pushed = {id(p): 0.0 for m in manifolds for p in m.points}  # accumulated pseudo impulse
-    for _ in range(settings.position_iterations):
+    for _ in range(iterations):
         for m in manifolds:
             for group in groups(m):
                 steps = []
                 for p in group:
-                    target = _position_target(p, h)
+                    target = target_of(p)
                     vn = dot(pseudo.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
                     step = -p.masses[0] * (vn - target)
                     step = max(step, -pushed[id(p)])  # accumulated pseudo impulse >= 0
@@ -258,14 +275,14 @@ def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
                     steps.append(step)
                 for p, step in zip(group, steps, strict=True):
                     pseudo.apply(m.body_a, m.body_b, p, step * p.directions[0])
-    stage_rows_last(pseudo, manifolds, problem, lambda p: -_position_target(p, h), settings)
+    stage_rows_last(pseudo, manifolds, problem, lambda p: -target_of(p), settings)
     return pseudo.array()
 
 
-def _position_target(p: ContactRow, h: float) -> float:
-    """m/s, the separation speed that removes ``beta (depth - slop)`` this step."""
-    return min(constants.POSITION_BAUMGARTE * max(p.depth - constants.PENETRATION_SLOP, 0.0)
-               / h, constants.MAX_CORRECTION_SPEED)
+def _position_target(p: ContactRow, h: float, slop: float, beta: float) -> float:
+    """m/s, the separation speed that removes ``beta (depth - slop)`` this step, at most
+    ``MAX_CORRECTION_SPEED``."""
+    return min(beta * max(p.depth - slop, 0.0) / h, constants.MAX_CORRECTION_SPEED)
 
 
 # ------------------------------------------------------------------------------------------
@@ -313,10 +330,9 @@ def stage_rows_last(state: Bodies6, manifolds: list[ManifoldRows], problem, bias
 
 def _lumped_push(state: Bodies6, m: ManifoldRows, frozen: int | None, bias_of) -> None:
     """One push-only update of manifold ``m``'s lumped row (``frozen``: see
-    :func:`mobility_row`). Points whose row has no mobility (``J . W <= 0``) are left out."""
+    :func:`mobility_row`); no impulse when the lumped row has no mobility (``J . W <= 0``)."""
     a, b = m.body_a, m.body_b
-    rows = [(jacobian_row(p), mobility_row(state, a, b, p, frozen), p) for p in m.points]
-    active = [(j, w, p) for j, w, p in rows if dot12(j, w) > 0]
+    active = [(jacobian_row(p), mobility_row(state, a, b, p, frozen), p) for p in m.points]
     if not active:
         return
     jac = np.sum([j for j, _, _ in active], axis=0) / len(active)  # mean J of the points

@@ -39,6 +39,9 @@ class SolverSettings:
         splitting (one NumPy batch per color; the default: fastest, and symmetric, so a
         perfect stack stays perfect) instead of Gauss-Seidel over the point slots (one
         batch per slot; its fixed slot order biases tall stacks into a slow lean).
+    overlap_position_iterations : int
+        Position sweeps used instead while some contact is deeper than ``DEEP_OVERLAP``
+        (bodies created inside each other separate in about a second, not many).
     stage_iterations : int
         Normal-only sweeps over the contacts with the stage (and static or kinematic
         bodies) after each velocity and position solve, so the stage always wins: a light
@@ -64,7 +67,8 @@ class SolverSettings:
     accumulate_impulses: bool = True
     position_correction: bool = True
     block_jacobi: bool = True
-    stage_iterations: int = 2
+    overlap_position_iterations: int = 6
+    stage_iterations: int = 1
     contact_cache: bool = True
     use_vectorized: bool = True
 
@@ -74,6 +78,12 @@ class SolverSettings:
 PENETRATION_SLOP = 0.004
 #: 1, fraction of the penetration beyond the slop removed per step by the position solve.
 POSITION_BAUMGARTE = 0.2
+#: m, beyond the slop: a contact this deep switches the position solve to
+#: ``overlap_position_iterations`` sweeps (bodies created overlapping).
+DEEP_OVERLAP = 0.01
+#: 1, the Baumgarte fraction of the contacts deeper than ``DEEP_OVERLAP`` (the others keep
+#: ``POSITION_BAUMGARTE``, so a falling pile's brief impacts do not disturb its neighbors).
+OVERLAP_BAUMGARTE = 0.4
 #: m/s, upper bound of the position-correction pseudo velocity (no launches).
 MAX_CORRECTION_SPEED = 2.0
 #: m, a manifold point whose bodies separate by more than this along the normal is dropped.
@@ -125,6 +135,10 @@ STAGE_BELOW_FRACTION = 0.5
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9
+#: 1, two bodies whose centers are closer than this fraction of the thinner one's smallest
+#: dimension count as coincident (created at one point): they are pushed apart along a
+#: direction that turns with their ids, so a crowd spawned at one point spreads over a disc.
+COINCIDENT_FRACTION = 0.05
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
 
@@ -138,6 +152,9 @@ BROAD_PHASE_BRUTE_FORCE = 20_000
 MIN_PAIRS_FOR_BOX_TEST = 8
 
 # --- restitution and friction -----------------------------------------------------------
+#: m/s, a contact point approaching faster than this is an impact: its impulse is not kept
+#: for warm starting (200 m/s stopped in one step must not be re-applied as a launch).
+IMPACT_SPEED = 1.0
 #: m/s, approach speeds below this do not bounce (kills micro bounces of resting bodies).
 RESTITUTION_VELOCITY_THRESHOLD = 0.5
 
@@ -169,7 +186,9 @@ MAX_ANGULAR_SPEED = 100.0
 #: fixed steps, the most a single step_physics call may run (dt / timestep above it raises).
 MAX_STEPS_PER_CALL = 100_000
 #: 1, a body moving more than this fraction of its smallest half extent per step is swept
-#: against static geometry (CCD-lite) so it cannot tunnel through thin walls.
+#: against static geometry (continuous collision, sweep.py) so it cannot tunnel through walls.
 CCD_MOTION_FRACTION = 0.5
+#: sweeps, the most swept tests per fast body and step (one more wall found per sweep).
+CCD_SWEEPS = 3
 #: m, how deep a swept body is left inside the wall it hit, so the next step sees the contact.
 CCD_PENETRATION = 0.001

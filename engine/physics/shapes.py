@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import Any
 
 import fcl
 import numpy as np
@@ -39,7 +40,7 @@ class Shape:
     """One collision shape of a body (see the module docstring for the fields)."""
 
     kind: str
-    geometry: object
+    geometry: Any  # an fcl geometry (Box, Sphere, Cylinder, Cone, Capsule, Convex, BVHModel)
     body_from_shape: np.ndarray
     hull_vertices: np.ndarray
     ray_triangles: np.ndarray

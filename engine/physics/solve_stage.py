@@ -26,7 +26,7 @@ from .bodies import DYNAMIC, KINEMATIC, Bodies
 from .coloring import color_manifolds
 from .contacts import ManifoldStore
 from .integrate import world_inverse_inertia
-from .quaternions import quat_to_matrix
+from .quaternions import live_rotations
 from .settings import SolverSettings
 from .solver import SLOTS, build_batch, solve_contacts
 
@@ -52,7 +52,8 @@ class SolverInput:
     ``priority_starts`` per color, the first of its *stage rows* (manifolds with a body the
     solver does not move; they end each color and get the last word, see :mod:`solver`);
     ``lower (m, 2)`` bool, which body of a pair of moving bodies is fewer contacts from the
-    stage (shock propagation);
+    stage (shock propagation); ``slop (m,)`` m, the penetration each manifold's position
+    solve leaves (``PENETRATION_SLOP``, capped at the feature length for small bodies);
     ``inv_mass (n,)`` 1/kg, ``inv_inertia (n, 3, 3)`` world frame, 1/(kg m^2) (zero for
     bodies that do not move); ``velocity (n, 6)`` [v, w] that the solver updates;
     ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures.
@@ -62,6 +63,7 @@ class SolverInput:
     color_slices: list[tuple[int, int]]
     priority_starts: list[int]
     lower: np.ndarray
+    slop: np.ndarray
     inv_mass: np.ndarray
     inv_inertia: np.ndarray
     velocity: np.ndarray
@@ -116,7 +118,8 @@ def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray
     dynamic = b.body_motion_type[:n] == DYNAMIC
     approach_velocity[dynamic] = start_velocity[dynamic]
     lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
-    return SolverInput(rows, color_slices, priority_starts, lower, inv_mass, inv_inertia,
+    slop = np.minimum(constants.PENETRATION_SLOP, store.feature[rows])
+    return SolverInput(rows, color_slices, priority_starts, lower, slop, inv_mass, inv_inertia,
                        velocity, approach_velocity)
 
 
@@ -127,7 +130,7 @@ def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h
     b, n, rows = bodies, bodies.count, problem.rows
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
-    rotation = quat_to_matrix(b.body_rotation[:n])
+    rotation = live_rotations(b)
     points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:n])
     empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
     normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
@@ -137,9 +140,13 @@ def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h
                         b.body_position[:n], problem.inv_mass, problem.inv_inertia, friction,
                         restitution, store.impulse[rows], problem.approach_velocity,
                         problem.color_slices, split_mass=settings.block_jacobi,
-                        priority_starts=problem.priority_starts, lower=problem.lower)
+                        priority_starts=problem.priority_starts, lower=problem.lower,
+                        slop=problem.slop)
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
-    store.impulse[rows] = batch.impulse  # zero in empty slots (for warm starting)
+    # warm start next step from resting loads only: an impact's impulse (a point that
+    # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
+    impact = batch.approach_speed < -constants.IMPACT_SPEED
+    store.impulse[rows] = np.where(impact[..., None], 0.0, batch.impulse)  # 0 in empty slots
     return pseudo, batch.depth
 
 
@@ -147,18 +154,17 @@ def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -
     """(m, 2) bool: in each pair of moving bodies, the one fewer contacts away from the
     stage (or any body the solver does not move); neither when equal or unreached.
 
-    Levels by relaxation over the contact graph: ``level = 0`` for unmoved bodies, then
-    ``level[b] = min(level[b], level[a] + 1)`` over all pairs until nothing changes.
+    The levels are breadth-first distances in the contact graph: level 0 for the unmoved
+    bodies, then every unreached body touching a reached one gets the next level.
     """
     level = np.where(solvable, np.inf, 0.0)
-    for _ in range(32):
-        new = level.copy()
-        np.minimum.at(new, body_a, level[body_b] + 1)
-        np.minimum.at(new, body_b, level[body_a] + 1)
-        new[~solvable] = 0.0
-        if np.array_equal(new, level):
+    for next_level in range(1, len(body_a) + 1):
+        reached_a, reached_b = level[body_a] < np.inf, level[body_b] < np.inf
+        grow_b, grow_a = reached_a & ~reached_b, reached_b & ~reached_a
+        if not (grow_a.any() or grow_b.any()):
             break
-        level = new
+        level[body_b[grow_b]] = next_level
+        level[body_a[grow_a]] = next_level
     both_moving = solvable[body_a] & solvable[body_b]
     la, lb = level[body_a], level[body_b]
     return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)

@@ -28,20 +28,32 @@ velocities are gathered with one flat index, and the normal clamp is written as
 ``d_lambda = max(d_lambda, -lambda)``, the same as clamping ``lambda + d_lambda >= 0``.
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
-pushes penetrations deeper than ``PENETRATION_SLOP`` apart at ``beta (depth - slop) / h``;
+pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
+``PENETRATION_SLOP``, capped at the manifold's feature length for small bodies);
 the pseudo velocity moves the bodies this step and is then discarded, so it adds no energy.
+Bodies created overlapping (contacts deeper than ``DEEP_OVERLAP``) get more sweeps and,
+for those contacts, a firmer ``OVERLAP_BAUMGARTE``; the push stays a pseudo velocity capped at
+``MAX_CORRECTION_SPEED`` (2 m/s), so they separate calmly, never launched. This is Bullet's
+split impulse (``m_splitImpulsePenetrationThreshold``, pseudo velocities that are thrown
+away), Box2D v3's soft contact with ``contactPushMaxVelocity`` (3 m/s by default) and
+Jolt's position solve (Baumgarte 0.2 beyond ``mPenetrationSlop`` = 2 cm, at most
+``mMaxPenetrationDistance`` = 0.2 m corrected per step).
 Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
 faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
 
-The stage always wins (``SolverSettings.stage_iterations``): a few more normal-only sweeps
-over the *stage rows* (manifolds with a body the solver does not move: the stage, static
-and kinematic bodies) end both the velocity and the position solve. Gauss-Seidel with a
+The stage always wins (``SolverSettings.stage_iterations``): push-only sweeps of one lumped
+normal row per manifold (:func:`lumped_rows`) over the *stage rows* (manifolds with a body
+the solver does not move: the stage, static and kinematic bodies), then over the dynamic
+pairs with the body nearer the stage held fixed (:func:`shock_rows`), end both the
+velocity and the position solve. Gauss-Seidel with a
 mass ratio of 1000 converges far too slowly for a light box under a heavy one to be held
 up by the floor; the last word of the stage rows guarantees the light box does not move
 into the floor this step (it may be squeezed into the heavy box instead, which is
-harmless). Bullet has no such rule (its light bodies sink); Box2D v3 solves static contacts
-after the others in each iteration ("overflow"/static constraints), Jolt relies on many
-iterations and its "mass scale" contact callbacks; Erleben's shock propagation freezes the
+harmless). Bullet has no such rule (its light bodies sink); Box2D v3 keeps the contacts of
+a dynamic and a static body in its last graph colors (``B2_DYNAMIC_COLOR_COUNT`` = colors
+- 4) so every iteration solves them after the dynamic pairs, "to reduce tunneling due to
+push through" (we also put the stage rows last in each color); Jolt relies on iterations
+and contact callbacks that scale masses; Guendelman et al.'s shock propagation freezes the
 bodies below, a stronger form of the same priority.
 """
 
@@ -70,13 +82,14 @@ class ContactBatch:
     in each color; ``pair_bodies (m, 2)`` [body_a, body_b]; ``mask (m, S)`` slots holding a
     point; ``split (m, 1)`` the mass-splitting count of each manifold; ``priority_starts``
     per color, the first of its stage rows; ``lower (m, 2)`` the body nearer the stage (shock
-    propagation, None: no shock pass). For the vectorized loop: ``colors``, the
-    :class:`ColorBlocks` of each color, keyed by ``(block_jacobi, priority)`` (filled on
-    first use).
+    propagation, None: no shock pass); ``slop`` (m, 1) m, penetration left by the position
+    solve. For the vectorized loop: ``colors``, the :class:`ColorBlocks` of each color keyed
+    by ``block_jacobi``, and the cached lumped rows (filled on first use).
     """
 
     body_a: np.ndarray
     body_b: np.ndarray
+    mask: np.ndarray
     normal_jac: np.ndarray
     normal_w: np.ndarray
     normal_mass: np.ndarray
@@ -91,10 +104,10 @@ class ContactBatch:
     color_slices: list
     color_points: list
     pair_bodies: np.ndarray
-    mask: np.ndarray
     split: np.ndarray
     priority_starts: list = field(default_factory=list)
     lower: np.ndarray | None = None
+    slop: np.ndarray | float = constants.PENETRATION_SLOP
     colors: dict = field(default_factory=dict)
 
 
@@ -157,7 +170,7 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
 def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
                 inv_inertia, friction, restitution, impulse, velocity, color_slices,
                 split_mass: bool = False, priority_starts: list | None = None,
-                lower: np.ndarray | None = None):
+                lower: np.ndarray | None = None, slop: np.ndarray | None = None):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
 
     Reference: :func:`reference_solver.build_rows` (one point at a time).
@@ -174,6 +187,8 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
         None: no stage rows.
     lower : (m, 2) bool, which body of a dynamic pair is nearer the stage through contacts
         (for shock propagation; None: no shock pass).
+    slop : (m,) m, penetration left to each manifold by the position solve (None:
+        ``PENETRATION_SLOP``; small bodies get less, see ``ManifoldStore.feature``).
     """
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
@@ -198,14 +213,15 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
                             1.0 / (split * np.maximum(k_tangent, constants.TINY)), 0.0)
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
-    return ContactBatch(body_a, body_b, normal_jac, np.swapaxes(normal_w, 1, 2),
+    return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
                         normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
                         friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
                         approach, np.where(mask[..., None], impulse, 0.0), color_slices,
                         [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1), mask, split,
+                        np.stack([body_a, body_b], axis=1), split,
                         [stop for _, stop in color_slices] if priority_starts is None
-                        else list(priority_starts), lower)
+                        else list(priority_starts), lower,
+                        constants.PENETRATION_SLOP if slop is None else slop[:, None])
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -217,22 +233,15 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
 
-def _color_blocks(batch: ContactBatch, block_jacobi: bool,
-                  priority: bool = False) -> list[ColorBlocks]:
+def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
     """The colors of the batch as :class:`ColorBlocks`, made once and cached on the batch.
 
     Block Jacobi solves all slots of a color at once (one block); Gauss-Seidel over the
-    slots makes one block per used slot, solved in slot order. ``priority``: only the
-    stage rows at the end of each color (colors without any are left out).
+    slots makes one block per used slot, solved in slot order.
     """
-    key = (block_jacobi, priority)
-    if key not in batch.colors:
+    if block_jacobi not in batch.colors:
         colors = []
         for color, (start, stop) in enumerate(batch.color_slices):
-            if priority:
-                start = batch.priority_starts[color]
-                if start == stop:
-                    continue
             s = slice(start, stop)
             slots = ([slice(None)] if block_jacobi
                      else [slice(k, k + 1) for k in range(batch.color_points[color])])
@@ -240,8 +249,8 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool,
             gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
             colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
                                       [_row_block(batch, s, rows) for rows in slots]))
-        batch.colors[key] = colors
-    return batch.colors[key]
+        batch.colors[block_jacobi] = colors
+    return batch.colors[block_jacobi]
 
 
 def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
@@ -315,80 +324,104 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
-    _stage_rows_last(batch, flat, bias, lam_n, options)
+    _stage_rows_last(batch, flat, bias, options)
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
 
 
-def _stage_rows_last(batch, flat, bias, lam, options) -> None:
+def _stage_rows_last(batch, flat, bias, options) -> None:
     """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
-    over the dynamic pairs with the lower body held fixed (:func:`shock_batch`)."""
-    colors = _color_blocks(batch, True, priority=True)
-    _lumped_sweeps(colors, lumped_rows(batch, bias), flat, options.stage_iterations)
-    shock = shock_batch(batch)
+    over the dynamic pairs with the lower body held fixed (:func:`shock_rows`).
+
+    Reference: :func:`reference_solver.stage_rows_last`."""
+    stage = [(start, stop) for (_, stop), start in zip(batch.color_slices,
+                                                        batch.priority_starts, strict=True)]
+    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, options.stage_iterations)
+    shock = shock_rows(batch)
     if shock is not None:
-        _lumped_sweeps(_color_blocks(shock, True), lumped_rows(shock, bias), flat,
+        _lumped_sweeps(batch, batch.color_slices, shock.with_bias(bias), flat,
                        options.stage_iterations)
 
 
-def lumped_rows(batch: ContactBatch, bias: np.ndarray):
+@dataclass
+class LumpedRows:
+    """Each manifold's points lumped into one normal row (see :func:`lumped_rows`):
+    ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``), the points'
+    averaging ``weight (m, S)`` and ``bias (m, 1, 1)``."""
+
+    jac: np.ndarray
+    w: np.ndarray
+    neg_mass: np.ndarray
+    weight: np.ndarray
+    bias: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, normal_jac, normal_w, active) -> LumpedRows:
+        """``J = mean_i J_i``, ``W = mean_i W_i`` over the ``active (m, S)`` points."""
+        count = np.maximum(active.sum(axis=1), 1)[:, None]
+        jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
+        w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
+        k = (jac * w).sum(axis=1)  # J W^T
+        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, constants.TINY), 0.0)
+        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
+
+    def with_bias(self, bias: np.ndarray) -> LumpedRows:
+        """The rows with the mean of their points' biases ``bias (m, S, 1)``."""
+        row_bias = (bias[..., 0] * self.weight).sum(axis=1)
+        return LumpedRows(self.jac, self.w, self.neg_mass, self.weight, row_bias[:, None, None])
+
+
+def lumped_rows(batch: ContactBatch, bias: np.ndarray) -> LumpedRows:
     """Each manifold's points lumped into one normal row: ``J = mean_i J_i``, ``W = mean_i
-    W_i``, ``m_eff = 1 / (J W^T)``, bias = the smallest of its points' biases (the closest
-    point decides); rows without an active point get ``m_eff = 0``.
+    W_i``, ``m_eff = 1 / (J W^T)``, bias = the mean of its points' biases; rows without an
+    active point get ``m_eff = 0`` (made once per batch and cached).
 
-    Returns ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``) and
-    ``bias (m, 1, 1)``. One row per manifold cannot explode the way a clamped block solve
-    of nearly dependent rows can, and it removes a uniform approach in one sweep (mass
-    splitting removes a quarter of a box's per sweep).
+    One row per manifold cannot explode the way a clamped block solve of nearly dependent
+    rows can, and it removes a uniform approach in one sweep (mass splitting removes a
+    quarter of a box's per sweep).
     """
-    active = batch.mask & (batch.normal_mass > 0)  # (m, S)
-    count = np.maximum(active.sum(axis=1), 1)[:, None]
-    jac = (batch.normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
-    w = (batch.normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
-    k = (jac * w).sum(axis=1)  # J W^T
-    neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, constants.TINY), 0.0)
-    row_bias = (bias[..., 0] * active).sum(axis=1) / count[:, 0]  # mean of the points'
-    return jac[:, None, :], w[:, :, None], neg_mass[:, None, None], row_bias[:, None, None]
+    if "lumped" not in batch.colors:
+        active = batch.mask & (batch.normal_mass > 0)
+        batch.colors["lumped"] = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
+    return batch.colors["lumped"].with_bias(bias)
 
 
-def _lumped_sweeps(colors, rows, flat, iterations: int) -> None:
-    """``iterations`` push-only sweeps of the lumped rows (:func:`lumped_rows`) of
-    ``colors``: ``d_lambda = max(-m_eff (J V + b), 0)``, ``V += W d_lambda`` (impulses are
-    only added, so a bounce solved before is kept)."""
-    jac, w, neg_mass, bias = rows
-    work = []
-    for color in colors:
-        s = color.blocks[0].normal_index[0]
-        work.append((color, jac[s], w[s], neg_mass[s], bias[s]))
-    for _ in range(iterations):
-        for color, j, wc, m, b in work:
-            vab = _gather(flat, color)
-            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
-            vab += wc @ step
-            _scatter(flat, color, vab)
-
-
-def shock_batch(batch: ContactBatch) -> ContactBatch | None:
-    """The batch seen by the shock pass (Guendelman et al. 2003, "shock propagation"),
+def shock_rows(batch: ContactBatch) -> LumpedRows | None:
+    """The lumped rows of the shock pass (Guendelman et al. 2003, "shock propagation"),
     made once and cached: in each dynamic pair the body nearer the stage (``lower``) gets
-    infinite mass (its half of ``W`` is zeroed, ``m_eff = 1 / (J W')``), the other rows get
-    ``m_eff = 0`` (no impulse). None when no pair has a lower body."""
+    infinite mass (its half of ``W`` is zeroed); the other rows get ``m_eff = 0``. None when
+    no pair has a lower body."""
     if "shock" not in batch.colors:
         shock = None
         lower = batch.lower
-        if lower is not None and bool(lower.any()):
-            lower = np.asarray(lower, dtype=bool)
+        if lower is not None and bool(np.any(lower)):
             # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
             keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
-            w = batch.normal_w * keep[:, :, None]
-            k = (batch.normal_jac * np.swapaxes(w, 1, 2)).sum(axis=-1)  # J W'^T, (m, S)
-            active = batch.mask & np.any(lower, axis=1)[:, None] & (k > 0)
-            mass = np.where(active, 1.0 / (batch.split * np.maximum(k, constants.TINY)), 0.0)
-            shock = ContactBatch(**{**vars(batch), "normal_w": w, "normal_mass": mass,
-                                    "colors": {}, "lower": None})
+            active = batch.mask & (batch.normal_mass > 0) & np.any(lower, axis=1)[:, None]
+            shock = LumpedRows.of(batch.normal_jac, batch.normal_w * keep[:, :, None], active)
         batch.colors["shock"] = shock
     return batch.colors["shock"]
+
+
+def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> None:
+    """``iterations`` push-only sweeps of the lumped ``rows`` over the manifold ranges
+    ``[(start, stop), ...]`` (one per color): ``d_lambda = max(-m_eff (J V + b), 0)``,
+    ``V += W d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
+    work = []
+    for start, stop in ranges:
+        if start == stop:
+            continue
+        s = slice(start, stop)
+        # flat index of component c of body b: 6 b + c
+        gather = (6 * batch.pair_bodies[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
+        bias = rows.bias if rows.bias is not None else np.zeros((len(rows.jac), 1, 1))
+        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], bias[s]))
+    for _ in range(iterations):
+        for gather, j, w, m, b in work:
+            vab = flat[gather]
+            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
+            flat[gather] = vab + w @ step
 
 
 def _restitution(batch, flat, colors, lam_n):
@@ -427,20 +460,27 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
         return pseudo
     flat = pseudo.reshape(-1)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
-    excess = np.maximum(batch.depth - constants.PENETRATION_SLOP, 0.0)
-    target = np.minimum(constants.POSITION_BAUMGARTE * excess / h, constants.MAX_CORRECTION_SPEED)
+    excess = np.maximum(batch.depth - batch.slop, 0.0)
+    # bodies created overlapping (contacts deeper than DEEP_OVERLAP): more sweeps, and a
+    # firmer push for those contacts
+    deep = excess > constants.DEEP_OVERLAP
+    beta = np.where(deep, constants.OVERLAP_BAUMGARTE, constants.POSITION_BAUMGARTE)
+    iterations = options.position_iterations
+    if deep.any():
+        iterations = max(iterations, options.overlap_position_iterations)
+    target = np.minimum(beta * excess / h, constants.MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
     lam = np.zeros_like(bias)
     colors = _color_blocks(batch, options.block_jacobi)
     work = [[(block, bias[block.normal_index], lam[block.normal_index])
              for block in color.blocks] for color in colors]
-    for _ in range(options.position_iterations):
+    for _ in range(iterations):
         for color, blocks in zip(colors, work, strict=True):
             vab = _gather(flat, color)
             for block, b, block_lam in blocks:
                 _normal_rows(block, vab, b, block_lam, True)
             _scatter(flat, color, vab)
-    _stage_rows_last(batch, flat, bias, lam, options)
+    _stage_rows_last(batch, flat, bias, options)
     return pseudo
 
 

@@ -12,7 +12,10 @@ A body that moved more than ``CCD_MOTION_FRACTION`` of its smallest half extent 
    ray adds the body's support along ``-n`` (its half thickness there), so a body whose
    vertices start a hair inside the surface is still caught;
 3. the body is pushed back along each hit normal, deepest first, until no ray end is more
-   than ``min(CCD_PENETRATION, 10 % of the body's thickness)`` behind a surface.
+   than ``min(CCD_PENETRATION, 10 % of the body's thickness)`` behind a surface;
+4. each ray only reports its first surface, so at a corner the push out of one wall can
+   leave the body behind the other: the sweep is repeated from the start to the corrected
+   end, up to ``CCD_SWEEPS`` times.
 
 Only the motion into the surface is undone (the body keeps sliding along it), which is a
 time-of-impact clamp for the normal component; velocities are left to the contact solver,
@@ -30,9 +33,10 @@ What the reference engines do (checked in their sources and manuals):
   (``b2SolveContinuous``: time of impact ``b2TimeOfImpact`` by conservative advancement,
   then the body is moved back to that time), dynamic "bullet" bodies also against other
   dynamic bodies. Our speculative distance is Box2D's 2 cm (``STAGE_SPECULATIVE_DISTANCE``).
-* Jolt: ``EMotionQuality::LinearCast`` bodies are cast along their step's motion (a shape
-  cast), and stopped at the first hit; every body has speculative contacts within
-  ``PhysicsSettings::mSpeculativeContactDistance`` (2 cm by default).
+* Jolt: an ``EMotionQuality::LinearCast`` body that moves more than
+  ``PhysicsSettings::mLinearCastThreshold`` (0.75) of its inner radius in a step is cast
+  along its motion (a shape cast) and stopped at the first hit; every body has speculative
+  contacts within ``mSpeculativeContactDistance`` (2 cm by default).
 """
 
 from __future__ import annotations
@@ -65,8 +69,13 @@ def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarr
                               & (b.body_motion_type[:n] != DYNAMIC))
     for k in np.nonzero(fast)[0].tolist():
         index = int(moving[k])
-        correction = sweep_body(bodies, index, travel[k], obstacle)
-        b.body_position[index] += correction
+        step = travel[k].copy()
+        for _ in range(settings.CCD_SWEEPS):  # a corner: each sweep finds one more wall
+            correction = sweep_body(bodies, index, step, obstacle)
+            if not np.any(correction):
+                break
+            b.body_position[index] += correction
+            step += correction  # sweep again from the start to the corrected end
 
 
 def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
@@ -79,6 +88,8 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
     step = max(1, len(vertices) // MAX_SWEPT_VERTICES)
     world_vertices = vertices[::step] @ rotation.T + position  # p = R v + x
     length = float(np.linalg.norm(travel))
+    if length == 0.0:
+        return np.zeros(3)
     u = travel / length
     starts = np.vstack([position[None], world_vertices]) - travel  # the step's start
     lo = np.minimum(starts.min(0), starts.min(0) + travel) - 1e-6

@@ -8,22 +8,51 @@ meshes for the navmesh, and a state hash for determinism tests.
 from __future__ import annotations
 
 import hashlib
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import fcl
 import numpy as np
 
 from engine import mn
 
-from .bodies import DYNAMIC, STATIC
+from .bodies import DYNAMIC, STATIC, Bodies
+from .contacts import ManifoldStore
 from .quaternions import quat_to_matrix
 from .queries import ContactPointData, RaycastResults, RayHitInfo, cast_ray_bodies
+
+if TYPE_CHECKING:
+    from .collision_stage import CollisionObjects
+    from .node_sync import NodeSync
 
 _TEST_REQUEST = fcl.CollisionRequest()
 
 
 class WorldApiMixin:
-    """Methods of :class:`PhysicsWorld` that do not step (see the module docstring)."""
+    """Methods of :class:`PhysicsWorld` that do not step (see the module docstring).
+
+    The world's state they use, declared for readers and the type checker (set by
+    ``PhysicsWorld.__init__``):
+    """
+
+    bodies: Bodies
+    manifolds: ManifoldStore
+    collision_objects: CollisionObjects
+    node_sync: NodeSync
+    nodes: dict[int, Any]
+    velocity_controls: dict[int, Any]
+    render_meshes: dict[int, list]
+    creation_state: dict[int, tuple[np.ndarray, np.ndarray]]
+    n_overlapping_pairs: int
+    _timestep: float
+    _time: float
+    _accumulator: float
+    _gravity: np.ndarray
+    # methods of PhysicsWorld used here: move a body's fcl objects, attach its shapes, and
+    # the number of solver substeps per fixed step
+    _update_fcl: Callable[..., None]
+    _install_shapes: Callable[[int, list], None]
+    _substeps: Callable[[], int]
 
     # -- time and gravity ----------------------------------------------------------------
     def get_world_time(self) -> float:
@@ -156,8 +185,8 @@ class WorldApiMixin:
         if not np.any(direction):
             return results
         b, n = self.bodies, self.bodies.count
-        candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
-        candidates = [i for i in candidates.tolist() if b.shapes[i]]
+        alive = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+        candidates = [i for i in alive.tolist() if b.shapes[i]]
         for t, index, point, normal in cast_ray_bodies(b, candidates, origin, direction,
                                                        max_distance):
             results.hits.append(RayHitInfo(index, mn.Vector3(point), mn.Vector3(normal), t))
@@ -221,7 +250,7 @@ class WorldApiMixin:
 
     def get_physics_num_active_contact_points(self) -> int:
         """Number of manifold points touching at least one awake dynamic body."""
-        return sum(len(m) for (a, c), m in self.manifolds.items()
+        return sum(int(len(m)) for (a, c), m in self.manifolds.items()
                    if self._is_moving(a) or self._is_moving(c))
 
     def _is_moving(self, index: int) -> bool:

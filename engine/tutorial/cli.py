@@ -23,7 +23,7 @@ from functools import partial
 from tqdm.auto import tqdm
 
 import engine as habitat_sim
-from engine.datasets import demo_data_path
+from engine.demo import demo_data_path
 from engine.tutorial.context import SectionResult, TutorialContext
 from engine.tutorial.recording import SectionRecorder, VideoSpec
 from engine.tutorial.report import format_summary, write_summary

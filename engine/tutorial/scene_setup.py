@@ -7,7 +7,7 @@ structure so that a Habitat user recognizes every line; the differences are:
 
 - ``import engine as habitat_sim`` and ``from engine import mn`` replace ``habitat_sim`` and
   ``magnum``;
-- the scene is the demo apartment of :mod:`engine.datasets` (same coordinates as Habitat's
+- the scene is the demo apartment of :mod:`engine.demo.datasets` (same coordinates as Habitat's
   ``apartment_1.glb``);
 - the agent rotation ``np.quaternion(w, x, y, z)`` becomes ``mn.Quaternion((x, y, z), w)``
   (numpy-quaternion is not a dependency);
@@ -83,7 +83,7 @@ def make_configuration(
     Parameters
     ----------
     data_path : str
-        Folder laid out like Habitat's ``data`` (see :func:`engine.datasets.demo_data_path`).
+        Folder laid out like Habitat's ``data`` (see :func:`engine.demo.datasets.demo_data_path`).
     resolution : (2,) int
         ``[height, width]`` of every sensor in pixels; the tutorial uses ``[544, 720]``.
     seed : int

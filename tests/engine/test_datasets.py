@@ -1,4 +1,4 @@
-"""Tests for engine.datasets: the generated demo apartment and objects.
+"""Tests for engine.demo.datasets: the generated demo apartment and objects.
 
 Geometry is checked with ray casts (trimesh's pure-Python ray/triangle test) against the
 stage exactly as ``engine.assets.load_meshes`` returns it. Positions in the generated
@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 import trimesh
 
-import engine.datasets as datasets
+import engine.demo.datasets as datasets
 from engine.assets import load_meshes, merge_meshes, mesh_aabb
 from engine.attributes_managers import ObjectAttributesManager, StageAttributesManager
-from engine.datasets import DATASET_VERSION, demo_data_path
+from engine.demo.datasets import DATASET_VERSION, demo_data_path
 
 FLOAT32_TOL = 1e-5  # meters: float32 storage of positions of a few meters
 

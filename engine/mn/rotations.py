@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn_matrices import Matrix3x3, quaternion_to_matrix
-from engine.mn_vectors import Rad, Vector3, finite_array, radians
+from engine.mn.matrices import Matrix3x3, quaternion_to_matrix
+from engine.mn.vectors import Rad, Vector3, finite_array, radians
 
 __all__ = [
     "Quaternion",

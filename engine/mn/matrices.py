@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn_vectors import Vector3, finite_array, radians
+from engine.mn.vectors import Vector3, finite_array, radians
 
 __all__ = ["Matrix3x3", "Matrix4", "Range3D"]
 

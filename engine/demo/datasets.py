@@ -1,7 +1,7 @@
 """The generated demo dataset: an apartment stage and the tutorial's objects.
 
 Habitat's tutorial downloads ``apartment_1`` and the YCB example objects. rigidsim builds
-look-alike stand-ins instead (``engine/demo_scene.py``, ``engine/demo_objects.py``) and
+look-alike stand-ins instead (``engine/demo/scene.py``, ``engine/demo/objects.py``) and
 writes them once into a cache folder, laid out like Habitat's ``data/`` folder::
 
     data/
@@ -30,8 +30,8 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
-from engine.demo_geometry import Part, write_glb
-from engine.demo_objects import (
+from engine.demo.geometry import Part, write_glb
+from engine.demo.objects import (
     banana_object,
     cheezit_object,
     chefcan_object,
@@ -40,7 +40,7 @@ from engine.demo_objects import (
     mug_object,
     sphere_object,
 )
-from engine.demo_scene import apartment_parts
+from engine.demo.scene import apartment_parts
 
 __all__ = ["DATASET_VERSION", "demo_data_path", "write_demo_dataset"]
 

@@ -1,4 +1,4 @@
-"""Region queries of the navmesh: nearest wall, island radii, disks of nodes, top-down maps.
+"""Proximity queries of the navmesh: nearest wall, island radii, disks of nodes, top-down maps.
 
 Helpers of ``PathFinder`` that look at many nodes at once. Grid conventions are in
 ``navmesh.navmesh_data`` (Y up, meters, node = (layer * nz + iz) * nx + ix); every square

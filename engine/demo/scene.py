@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine.demo_geometry import (
+from engine.demo.geometry import (
     Part,
     bake,
     box,

@@ -1,6 +1,6 @@
 """Demo objects for the tutorial: sphere, cereal box, chef can, clamp and a small robot.
 
-Each builder returns the object's parts (see ``engine.demo_geometry``) in the object's own
+Each builder returns the object's parts (see ``engine.demo.geometry``) in the object's own
 frame, plus the fields of its ``*.object_config.json``. Sizes and masses follow the YCB
 objects Habitat's tutorial uses (cracker box 0.16 x 0.06 x 0.21 m and 0.411 kg, master chef
 can 0.102 m x 0.14 m and 0.414 kg, large clamp 0.125 kg).
@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine.demo_geometry import Part, box, cylinder, lathe_part, merge_parts, tube
+from engine.demo.geometry import Part, box, cylinder, lathe_part, merge_parts, tube
 from engine.primitives import icosphere_solid
 
 CHEEZIT_SIZE = (0.16, 0.06, 0.21)  # x, y (thickness), z (height, YCB up) in meters

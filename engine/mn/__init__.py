@@ -21,15 +21,15 @@ instance, the translation part (``m.translation``).
 """
 from __future__ import annotations
 
-from engine.mn_matrices import Matrix3x3, Matrix4, Range3D
-from engine.mn_rotations import (
+from engine.mn.matrices import Matrix3x3, Matrix4, Range3D
+from engine.mn.rotations import (
     Quaternion,
     matrix_to_quaternion,
     quaternion_multiply,
     quaternion_to_matrix,
     to_quaternion,
 )
-from engine.mn_vectors import Deg, Rad, Vector2, Vector3, to_vector3
+from engine.mn.vectors import Deg, Rad, Vector2, Vector3, to_vector3
 
 __all__ = [
     "Deg",

@@ -1,0 +1,187 @@
+"""Issue 10: no dynamic body leaves the stage through a floor or wall it did not start behind.
+
+Small cubes and thin plates on the demo apartment's floor (y = -1.45), bodies thrown at
+200 m/s (the speed limit) at the floor, a wall and a corner of the apartment, a 100 kg box
+dropped on a 0.1 kg box, bodies created half inside the stage, and templates below the
+documented minimum size. Every test tracks the body at every frame, not only at the end.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import add, floor_mesh, make_world, register_primitive
+
+from engine.assets import load_meshes
+from engine.attributes import StageAttributes
+from engine.physics import settings
+
+FLOOR = -1.45  # the apartment's floor height (tests/engine/test_datasets.py)
+FRAME = 1.0 / 60.0
+
+
+@pytest.fixture(scope="module")
+def apartment_meshes(demo_data):
+    return load_meshes(demo_data / "scene_datasets" / "demo" / "apartment.glb")
+
+
+def apartment_world(meshes):
+    world, templates = make_world(floor=False)
+    world.set_stage(meshes, StageAttributes())
+    return world, templates
+
+
+def track(world, obj, frames: int) -> np.ndarray:
+    """Positions ``(frames, 3)`` of ``obj`` after each 1/60 s frame."""
+    path = []
+    for _ in range(frames):
+        world.step_physics(FRAME)
+        path.append(np.asarray(obj.translation))
+    return np.array(path)
+
+
+@pytest.mark.parametrize("half", [0.0025, 0.005])
+def test_small_cube_placed_just_above_the_apartment_floor_rests_on_it(apartment_meshes, half):
+    """A 5 mm and a 1 cm cube placed 6 mm above the floor (issue 10: the 1 cm cube was at
+    y = -5.5 one second later)."""
+    world, templates = apartment_world(apartment_meshes)
+    cube = add(world, templates, register_primitive(templates, half=(half,) * 3),
+               [1.75, FLOOR + half + 0.006, 0.4])
+    path = track(world, cube, 60)
+    assert path[:, 1].min() > FLOOR + half - 0.002  # never more than 2 mm into the floor
+    assert abs(path[-1, 1] - (FLOOR + half)) < 0.001  # resting on it
+    np.testing.assert_allclose(path[-1, [0, 2]], [1.75, 0.4], atol=0.005)
+
+
+@pytest.mark.parametrize("thickness", [0.001, 0.002])
+def test_thin_plate_dropped_on_the_apartment_floor_rests_on_it(apartment_meshes, thickness):
+    """10 x 10 cm plates 1 and 2 mm thick dropped from 25 cm (issue 10: both fell through)."""
+    world, templates = apartment_world(apartment_meshes)
+    plate = add(world, templates,
+                register_primitive(templates, half=(0.05, thickness / 2, 0.05)),
+                [1.75, FLOOR + 0.25, 0.4])
+    path = track(world, plate, 60)
+    assert path[:, 1].min() > FLOOR - 0.002
+    assert abs(path[-1, 1] - (FLOOR + thickness / 2)) < 0.001
+
+
+def test_plate_1_mm_thrown_down_at_the_speed_limit_stops_on_the_floor(apartment_meshes):
+    world, templates = apartment_world(apartment_meshes)
+    # restitution 0: the plate must stop where it hits (with 0.1 it bounces up at 20 m/s)
+    plate = add(world, templates, register_primitive(templates, half=(0.05, 0.0005, 0.05),
+                                                     restitution_coefficient=0.0),
+                [1.75, -1.2, 0.4])
+    plate.linear_velocity = [0.0, -settings.MAX_LINEAR_SPEED, 0.0]
+    path = track(world, plate, 30)
+    assert path[:, 1].min() > FLOOR - 0.002
+    assert abs(path[-1, 1] - (FLOOR + 0.0005)) < 0.001
+
+
+@pytest.mark.parametrize("direction", [(1.0, 0.0, 0.0), (-1.0, -0.2, -1.0), (1.0, -0.3, 1.0)],
+                         ids=["wall", "corner", "corner-and-floor"])
+def test_cube_1_cm_thrown_at_the_speed_limit_stays_in_the_room(apartment_meshes, direction):
+    """The living room spans x -1.0 .. 5.0 and z -3.5 .. 2.5 at y = -0.5 (walls 10 cm thick);
+    a 1 cm cube thrown at 200 m/s at a wall or a corner stays inside."""
+    world, templates = apartment_world(apartment_meshes)
+    cube = add(world, templates, register_primitive(templates, half=(0.005,) * 3),
+               [2.0, -0.5, -0.5])
+    u = np.asarray(direction) / np.linalg.norm(direction)
+    cube.linear_velocity = list(settings.MAX_LINEAR_SPEED * u)
+    path = track(world, cube, 30)
+    margin = 0.005
+    assert path[:, 0].min() > -1.0 - margin and path[:, 0].max() < 5.0 + margin
+    assert path[:, 2].min() > -3.5 - margin and path[:, 2].max() < 2.5 + margin
+    assert path[:, 1].min() > FLOOR - margin
+
+
+def test_heavy_box_on_light_box_never_pushes_it_through_the_floor():
+    """100 kg dropped on 0.1 kg (ratio 1000; issue 10: the light box ended at y = -15)."""
+    world, templates = make_world()
+    light = add(world, templates, register_primitive(templates, half=(0.1,) * 3, mass=0.1,
+                                                     handle="light"), [0.0, 0.1, 0.0])
+    heavy = add(world, templates, register_primitive(templates, half=(0.1,) * 3, mass=100.0,
+                                                     handle="heavy"), [0.0, 0.5, 0.0])
+    lows, highs = [], []
+    for _ in range(90):
+        world.step_physics(FRAME)
+        lows.append(light.translation[1])
+        highs.append(heavy.translation[1])
+    assert min(lows) > 0.1 - 0.01  # at most 1 cm into the floor at any time
+    assert abs(lows[-1] - 0.1) < 0.002  # the light box ends on the floor...
+    assert abs(highs[-1] - 0.3) < 0.005  # ...and the heavy one on top of it
+
+
+def test_stage_and_shock_passes_agree_between_vectorized_and_scalar_solvers():
+    """The two paths of the solver, on a scene where the stage rows and the shock pass act
+    (a 100 kg box landing on a 0.1 kg one, on a 2 x 2 grid of light boxes)."""
+    results = []
+    for vectorized in (True, False):
+        world, templates = make_world()
+        world.settings.use_vectorized = vectorized
+        light = register_primitive(templates, half=(0.1,) * 3, mass=0.1, handle="light")
+        heavy = register_primitive(templates, half=(0.1,) * 3, mass=100.0, handle="heavy")
+        for x in (-0.1, 0.1):
+            for z in (-0.1, 0.1):
+                add(world, templates, light, [x * 2.05, 0.1, z * 2.05])
+        add(world, templates, heavy, [0.02, 0.45, -0.01])
+        for _ in range(40):
+            world.step_physics(FRAME)
+        n = world.bodies.count
+        results.append((world.bodies.body_position[:n].copy(),
+                        world.bodies.body_linear_velocity[:n].copy()))
+    np.testing.assert_allclose(results[0][0], results[1][0], atol=1e-9)
+    np.testing.assert_allclose(results[0][1], results[1][1], atol=1e-8)
+    assert results[0][0][1:5, 1].min() > 0.1 - 0.01  # the light boxes stay on the floor
+
+
+@pytest.mark.parametrize("sunk", [0.05, 0.09])
+def test_box_created_half_inside_the_floor_is_pushed_out_upwards_calmly(sunk):
+    world, templates = make_world()
+    box = add(world, templates, register_primitive(templates, half=(0.1,) * 3),
+              [0.0, 0.1 - sunk, 0.0])
+    path, speeds = [], []
+    for _ in range(60):
+        world.step_physics(FRAME)
+        path.append(box.translation[1])
+        speeds.append(np.linalg.norm(np.asarray(box.linear_velocity)))
+    assert min(path) > 0.1 - sunk - 0.002  # never pushed down
+    assert abs(path[-1] - 0.1) < 0.005  # out and resting on the floor
+    assert max(speeds) < 5.0
+
+
+def test_plate_created_half_inside_a_thin_floor_comes_out_on_its_side():
+    """A 1 mm plate sunk by half its thickness into a floor: the manifold remembers the
+    outward side, so it comes out upwards."""
+    world, templates = make_world()
+    plate = add(world, templates, register_primitive(templates, half=(0.05, 0.0005, 0.05)),
+                [0.0, 0.0, 0.0])
+    path = track(world, plate, 30)
+    assert path[:, 1].min() > -0.0015
+    assert abs(path[-1, 1] - 0.0005) < 0.001
+
+
+def test_templates_thinner_than_the_minimum_are_refused_and_the_world_steps_on():
+    """Issue 10: a cube at scale 1e-7 dropped on another made every later step raise."""
+    world, templates = make_world()
+    big = add(world, templates, register_primitive(templates, half=(0.1,) * 3), [0, 0.1, 0])
+    tiny = register_primitive(templates, half=(1e-7,) * 3, handle="tiny")
+    before = world.state_hash()
+    with pytest.raises(ValueError, match="MIN_BODY_DIMENSION"):
+        world.rigid_object_manager.add_object_by_template_handle(tiny)
+    assert world.state_hash() == before and world.rigid_object_manager.get_num_objects() == 1
+    smallest = register_primitive(templates, half=(settings.MIN_BODY_DIMENSION / 2,) * 3,
+                                  handle="smallest")
+    speck = add(world, templates, smallest, [0.0, 0.25, 0.0])
+    for _ in range(30):
+        world.step_physics(FRAME)
+    assert np.all(np.isfinite(np.asarray(speck.translation)))
+    assert speck.translation[1] > 0.2 - 0.002  # on the big box
+    assert abs(big.translation[1] - 0.1) < 0.001
+
+
+def test_floor_mesh_helper_faces_up():
+    """The outward side used above: the helper floor's triangles wind counter-clockwise
+    seen from +Y."""
+    mesh = floor_mesh()
+    a, b, c = (mesh.vertices[mesh.faces[0, k]] for k in range(3))
+    assert np.cross(b - a, c - a)[1] > 0
