@@ -16,7 +16,8 @@ Sub-stages, in order:
    (oriented, exact) are disjoint skip the narrow phase;
 3. contact cache (:func:`changed_pairs`, ``settings.contact_cache``): a pair with a
    manifold whose relative pose moved less than ``CONTACT_CACHE_DISTANCE`` since its last
-   narrow-phase query keeps its manifold unchanged (its points stay attached to the bodies,
+   narrow-phase query, and whose points overlap by at most ``SLEEP_MAX_PENETRATION``,
+   keeps its manifold unchanged (its points stay attached to the bodies,
    the solver measures their depths from the current poses): a resting pile costs no
    narrow phase. The same pairs are skipped on both paths;
 4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
@@ -182,7 +183,8 @@ def touching_candidates(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
 def changed_pairs(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
                   rotation: np.ndarray) -> list[tuple[int, int]]:
     """``pairs`` minus those with a manifold whose relative pose moved less than
-    ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query (their manifold stays)."""
+    ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query and whose points overlap
+    by at most ``SLEEP_MAX_PENETRATION`` (their manifold stays as it is)."""
     rows = np.array([store.row(key) if key in store else -1 for key in pairs], dtype=np.int64)
     known = np.flatnonzero(rows >= 0)
     if len(known) == 0:
@@ -194,7 +196,14 @@ def changed_pairs(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, i
                 + np.linalg.norm(b.body_shape_half[store.bodies[rows[known], 1]], axis=1))
     unchanged = store.unchanged_rows(rows[known], rotation, b.body_position, radius_b,
                                      constants.CONTACT_CACHE_DISTANCE)
-    skip = set(known[unchanged].tolist())
+    # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
+    # is still being pushed apart, and its contacts must follow that (asked every step)
+    point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
+    depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
+    used = np.arange(depth.shape[1]) < store.count[rows[known], None]
+    shallow = (np.where(used, depth, -np.inf).max(axis=1)
+               <= constants.SLEEP_MAX_PENETRATION)
+    skip = set(known[unchanged & shallow].tolist())
     return [pair for k, pair in enumerate(pairs) if k not in skip]
 
 

@@ -48,9 +48,10 @@ class SolverSettings:
         body under a heavy one is never pushed into the floor (0 disables it).
     contact_cache : bool
         Skip the narrow phase and the manifold update of a pair whose relative pose moved
-        less than ``CONTACT_CACHE_DISTANCE`` since its last query (Bullet's persistent
-        manifold idea: its points stay attached to the bodies, the solver recomputes their
-        depths from the current poses). Off: every pair is queried every step.
+        less than ``CONTACT_CACHE_DISTANCE`` since its last query and whose points overlap
+        by at most ``SLEEP_MAX_PENETRATION`` (Bullet's persistent manifold idea: its points
+        stay attached to the bodies, the solver recomputes their depths from the current
+        poses). Off: every pair is queried every step.
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
