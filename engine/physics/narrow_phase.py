@@ -319,11 +319,11 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
 
 def deepest_record(records: list):
     """fcl's deepest contact record; near-equal depths (``TIE_QUANTUM``) go to the first,
-    so the choice does not hang on the rounding of the poses."""
-    # tie_key in plain Python (a few records: NumPy calls would cost more than the math);
-    # round() rounds half to even like np.round, and max() keeps the first largest key
+    so the choice does not hang on the rounding of the poses (plain Python: a job has only
+    a few records, and NumPy calls would cost more than they save)."""
+    # tie_key of |depth|: Python's round, like np.round, rounds halves to even
     keys = [round(abs(record.penetration_depth) / settings.TIE_QUANTUM) for record in records]
-    return records[max(range(len(keys)), key=keys.__getitem__)]
+    return records[keys.index(max(keys))]
 
 
 def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
