@@ -2,7 +2,8 @@
 
 Broad phase: world AABBs of all bodies from their body-frame AABB and rotation
 (``half_world = |R| half_body``), then every overlapping pair ``(a, b)``, ``a < b``, found
-with one broadcast comparison (n <= a few hundred bodies, so O(n^2) in NumPy is cheap).
+with one broadcast comparison while the moving bodies times all bodies stay small, by sort
+and sweep above that (O(n log n + overlaps), so a thousand bodies cost no n^2 table).
 
 Narrow phase returns, per pair, world-frame arrays
 
@@ -57,11 +58,31 @@ def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np
     ----------
     aabb_min, aabb_max : (n, 3) world AABBs of all bodies.
     candidates : (c,) int, collidable bodies to test.
-    active : (n,) bool, bodies that can move this step; a pair needs at least one, so only
-        the ``k`` active candidates are compared with all ``c`` (a ``(k, c)`` test).
+    active : (n,) bool, bodies that can move this step; a pair needs at least one.
 
-    Pairs come sorted by ``(a, b)``, so their order does not depend on who is active.
+    Pairs come sorted by ``(a, b)``, so their order does not depend on who is active. With
+    ``k`` active candidates, the brute-force ``(k, c)`` test (:func:`all_pairs_overlaps`,
+    the readable version) runs while ``k c <= BROAD_PHASE_BRUTE_FORCE``; above it, sort and
+    sweep (:func:`sweep_and_prune_overlaps`, ``O(c log c + overlaps)``). Both return the
+    same pairs (tested).
     """
+    movers = candidates[active[candidates]]
+    if len(movers) * len(candidates) <= settings.BROAD_PHASE_BRUTE_FORCE:
+        return all_pairs_overlaps(aabb_min, aabb_max, candidates, active)
+    return sweep_and_prune_overlaps(aabb_min, aabb_max, candidates, active)
+
+
+def _sorted_pairs(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Pairs ``(p, 2)`` as ``(min, max)``, sorted by first then second index."""
+    first, second = np.minimum(a, b), np.maximum(a, b)
+    order = np.lexsort((second, first))
+    return np.stack([first[order], second[order]], axis=1)
+
+
+def all_pairs_overlaps(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np.ndarray,
+                       active: np.ndarray) -> np.ndarray:
+    """:func:`overlapping_pairs` by brute force: the ``k`` active candidates against all
+    ``c`` candidates, one ``(k, c)`` comparison per axis and bound (``O(k c)``)."""
     movers = candidates[active[candidates]]
     lo, hi = aabb_min[candidates], aabb_max[candidates]
     lo_m, hi_m = aabb_min[movers], aabb_max[movers]
@@ -75,9 +96,34 @@ def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np
     a, b = movers[im], candidates[ic]
     # each pair once: two movers meet twice, keep the one seen from the lower index
     keep = (a != b) & (~active[b] | (a < b))
-    first, second = np.minimum(a[keep], b[keep]), np.maximum(a[keep], b[keep])
-    order = np.lexsort((second, first))
-    return np.stack([first[order], second[order]], axis=1)
+    return _sorted_pairs(a[keep], b[keep])
+
+
+def sweep_and_prune_overlaps(aabb_min: np.ndarray, aabb_max: np.ndarray,
+                             candidates: np.ndarray, active: np.ndarray) -> np.ndarray:
+    """:func:`overlapping_pairs` by sort and sweep (Baraff 1992; Ericson 7.5.1).
+
+    Along the axis where the boxes spread most, sort the boxes by their lower bound; box
+    ``i``'s overlaps on that axis are the boxes ``j`` after it in that order whose lower
+    bound is ``<= hi_i`` (one ``searchsorted``). Those candidate pairs are then tested on
+    all three axes and kept if one of the two bodies is active.
+    """
+    lo, hi = aabb_min[candidates], aabb_max[candidates]
+    axis = int(np.argmax((lo + hi).var(axis=0)))  # the axis the centers spread along most
+    order = np.argsort(lo[:, axis], kind="stable")
+    lo, hi = lo[order], hi[order]
+    first = np.arange(1, len(order) + 1)  # box i's partners start right after it
+    stop = np.searchsorted(lo[:, axis], hi[:, axis], side="right")  # first lo_j > hi_i
+    count = np.maximum(stop - first, 0)
+    i = np.repeat(np.arange(len(order)), count)
+    # j runs over first_i .. stop_i - 1 for every i: a flat arange minus each run's start
+    j = np.arange(len(i)) - np.repeat(np.cumsum(count) - count, count) + np.repeat(first, count)
+    overlap = np.ones(len(i), dtype=bool)
+    for k in range(3):
+        overlap &= (lo[i, k] <= hi[j, k]) & (lo[j, k] <= hi[i, k])
+    a, b = candidates[order[i[overlap]]], candidates[order[j[overlap]]]
+    keep = active[a] | active[b]
+    return _sorted_pairs(a[keep], b[keep])
 
 
 def boxes_separated(center_a: np.ndarray, rotation_a: np.ndarray, half_a: np.ndarray,

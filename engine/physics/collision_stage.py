@@ -14,11 +14,17 @@ Sub-stages, in order:
    pairs ``(p, 2)`` with at least one moving body and at least one dynamic body;
 2. box pre-test (:func:`separated_box_pairs`): pairs with no manifold whose body-frame boxes
    (oriented, exact) are disjoint skip the narrow phase;
-3. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
+3. contact cache (:func:`changed_pairs`, ``settings.contact_cache``): a pair with a
+   manifold whose relative pose moved less than ``CONTACT_CACHE_DISTANCE`` since its last
+   narrow-phase query, and whose points overlap by at most ``SLEEP_MAX_PENETRATION``,
+   keeps its manifold unchanged (its points stay attached to the bodies,
+   the solver measures their depths from the current poses): a resting pile costs no
+   narrow phase. The same pairs are skipped on both paths;
+4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
    into each pair's persistent manifold. ``settings.use_vectorized`` chooses the batched
    path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.update`) or the per-pair
    reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
-4. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
+5. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
    one of their bodies moved lose their manifold; a sleeping pair keeps it for waking.
 """
 
@@ -70,15 +76,20 @@ class CollisionObjects:
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
 
-    def move(self, bodies: Bodies, indices: np.ndarray, rotations: np.ndarray) -> None:
+    def move(self, bodies: Bodies, indices: np.ndarray, rotations: np.ndarray,
+             with_probe: np.ndarray | None = None) -> None:
         """Move the fcl objects of bodies ``indices (k,)`` (rotation matrices ``(k, 3, 3)``):
-        all shape poses ``world_from_shape = world_from_body @ body_from_shape`` at once."""
+        all shape poses ``world_from_shape = world_from_body @ body_from_shape`` at once.
+
+        ``with_probe (k,)`` bool: whose probe objects move too (default all; the narrow
+        phase asks a probe only about a pair with the stage)."""
         owners, objects, offsets = [], [], []
+        probes = [True] * len(indices) if with_probe is None else with_probe.tolist()
         for k, index in enumerate(indices.tolist()):
             for shape, obj, probe in zip(bodies.shapes[index], self.shape_objects[index],
                                          self.probe_objects[index], strict=True):
                 owners.append(k)
-                objects.append((obj, probe))
+                objects.append((obj, probe if probes[k] else None))
                 offsets.append(shape.body_from_shape)
         if not owners:
             return
@@ -105,19 +116,28 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
     pairs, active = timer.run("broad phase", broad_phase, bodies)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
     touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
-    # ---- 3. narrow phase + manifold update (batched or reference) -------------------------
+    # ---- 3. contact cache: pairs that barely moved relative to each other keep their
+    #         manifold as it is (no narrow phase, no manifold update) -----------------------
+    if settings.contact_cache:
+        touching = timer.run("manifolds", changed_pairs, bodies, store, touching, rotation)
+    # ---- 4. narrow phase + manifold update (batched or reference) -------------------------
     if touching:
         involved = np.unique(np.array(touching))
         involved = involved[involved != STAGE_ID]  # the stage never moves
-        objects.move(bodies, involved, rotation[involved])
+        # probes (grown shapes) serve the stage pairs only
+        near_stage = np.isin(involved, [c for a, c in touching if a == STAGE_ID])
+        timer.run("fcl update", objects.move, bodies, involved, rotation[involved], near_stage)
     if settings.use_vectorized:
-        update_manifolds(bodies, objects, store, touching, rotation)
+        update_manifolds(bodies, objects, store, touching, rotation, timer)
     else:
         from .reference_contacts import update_manifolds_reference
 
-        update_manifolds_reference(bodies, objects, store, touching, rotation)
-    # ---- 4. stale manifolds: pairs that separated lose their points -----------------------
-    drop_stale_manifolds(bodies, store, pairs, active)
+        timer.run("narrow phase", update_manifolds_reference, bodies, objects, store,
+                  touching, rotation)
+    queried = [row for row in map(store.row, touching) if row is not None]
+    store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
+    # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
+    timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
 
 
@@ -162,6 +182,33 @@ def touching_candidates(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
     return [pair for k, pair in enumerate(pair_list) if k not in apart]
 
 
+def changed_pairs(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
+                  rotation: np.ndarray) -> list[tuple[int, int]]:
+    """``pairs`` minus those with a manifold whose relative pose moved less than
+    ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query and whose points overlap
+    by at most ``SLEEP_MAX_PENETRATION`` (their manifold stays as it is)."""
+    rows = np.array([store.row(key) if key in store else -1 for key in pairs], dtype=np.int64)
+    known = np.flatnonzero(rows >= 0)
+    if len(known) == 0:
+        return pairs
+    b = bodies
+    other = b.body_shape_center[store.bodies[rows[known], 1]]
+    # radius of B's body-frame box around its center of mass: |c| + |h|
+    radius_b = (np.linalg.norm(other, axis=1)
+                + np.linalg.norm(b.body_shape_half[store.bodies[rows[known], 1]], axis=1))
+    unchanged = store.unchanged_rows(rows[known], rotation, b.body_position, radius_b,
+                                     constants.CONTACT_CACHE_DISTANCE)
+    # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
+    # is still being pushed apart, and its contacts must follow that (asked every step)
+    point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
+    depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
+    used = np.arange(depth.shape[1]) < store.count[rows[known], None]
+    shallow = (np.where(used, depth, -np.inf).max(axis=1)
+               <= constants.SLEEP_MAX_PENETRATION)
+    skip = set(known[unchanged & shallow].tolist())
+    return [pair for k, pair in enumerate(pairs) if k not in skip]
+
+
 def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """(p,) bool: body pairs (stage excluded) whose body-frame AABBs cannot touch.
 
@@ -182,15 +229,25 @@ def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray)
 
 
 def update_manifolds(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
-                     pairs: list[tuple[int, int]], rotation: np.ndarray) -> None:
+                     pairs: list[tuple[int, int]], rotation: np.ndarray,
+                     timer: StageTimer | None = None) -> None:
     """Batched: narrow phase for ``pairs``, then refresh/merge/reduce their manifolds.
 
     Must agree with :func:`reference_contacts.update_manifolds_reference` (tested). A pair
     gets a manifold row when it first has contact points; pairs with a sphere keep a single
     (rolling) point.
     """
-    pair_position, point_a, point_b, normal = narrow_phase(bodies, objects, store, pairs,
-                                                           rotation)
+    timer = timer or StageTimer()
+    pair_position, point_a, point_b, normal = timer.run("narrow phase", narrow_phase, bodies,
+                                                        objects, store, pairs, rotation)
+    timer.run("manifolds", _merge_into_store, bodies, store, pairs, rotation,
+              pair_position, point_a, point_b, normal)
+
+
+def _merge_into_store(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
+                      rotation: np.ndarray, pair_position: np.ndarray, point_a: np.ndarray,
+                      point_b: np.ndarray, normal: np.ndarray) -> None:
+    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
     for k, key in enumerate(pairs):

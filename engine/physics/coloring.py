@@ -12,7 +12,8 @@ import numpy as np
 
 
 def color_manifolds(body_a: np.ndarray, body_b: np.ndarray, is_dynamic: np.ndarray) -> list:
-    """Greedy coloring of manifolds.
+    """Greedy coloring of manifolds: each takes the lowest color that neither of its dynamic
+    bodies uses yet (the colors a body uses are the set bits of one Python int).
 
     Parameters
     ----------
@@ -24,18 +25,17 @@ def color_manifolds(body_a: np.ndarray, body_b: np.ndarray, is_dynamic: np.ndarr
     list of (k_c,) int arrays, the manifold indices of each color, in increasing order.
     """
     colors: list[list[int]] = []
-    used: list[set] = []
+    # used[b]: bit c is set when dynamic body b already has a manifold of color c
+    used = [0] * len(is_dynamic)
     dyn_a, dyn_b = is_dynamic[body_a].tolist(), is_dynamic[body_b].tolist()
     for index, (a, b) in enumerate(zip(body_a.tolist(), body_b.tolist(), strict=True)):
-        color = next((c for c, bodies in enumerate(used)
-                      if not ((dyn_a[index] and a in bodies) or (dyn_b[index] and b in bodies))),
-                     len(used))
-        if color == len(used):
+        taken = (used[a] if dyn_a[index] else 0) | (used[b] if dyn_b[index] else 0)
+        color = (~taken & (taken + 1)).bit_length() - 1  # the lowest color neither uses
+        if color == len(colors):
             colors.append([])
-            used.append(set())
         colors[color].append(index)
         if dyn_a[index]:
-            used[color].add(a)
+            used[a] |= 1 << color
         if dyn_b[index]:
-            used[color].add(b)
+            used[b] |= 1 << color
     return [np.array(c, dtype=np.int64) for c in colors]

@@ -72,6 +72,10 @@ class ManifoldStore(MutableMapping):
     ``bodies (R, 2)``, ``count (R,)`` points in use, ``max_points (R,)`` (1 for pairs with
     a sphere: a rolling point must not persist), ``local_a, local_b, normal_local, impulse
     (R, S, 3)``. Iteration follows insertion order, so solving order is deterministic.
+
+    Contact cache: ``query_rotation (R, 3, 3)`` and ``query_position (R, 3)`` hold B's pose
+    in A's frame when the row's pair last went through the narrow phase, ``query_valid
+    (R,)`` says the row has one (:meth:`remember_queries`, :meth:`unchanged_rows`).
     """
 
     def __init__(self, capacity: int = 64) -> None:
@@ -82,12 +86,16 @@ class ManifoldStore(MutableMapping):
         self.max_points = np.zeros(0, dtype=np.int64)
         self.feature = np.zeros(0)
         self.local_a = self.local_b = self.normal_local = self.impulse = np.zeros((0, SLOTS, 3))
+        self.query_rotation = np.zeros((0, 3, 3))
+        self.query_position = np.zeros((0, 3))
+        self.query_valid = np.zeros(0, dtype=bool)
         self._grow(capacity)
 
     def _grow(self, capacity: int) -> None:
         old = len(self.count)
         for name in ("bodies", "count", "max_points", "feature", "local_a", "local_b",
-                     "normal_local", "impulse"):
+                     "normal_local", "impulse", "query_rotation", "query_position",
+                     "query_valid"):
             array = getattr(self, name)
             grown = np.zeros((capacity,) + array.shape[1:], dtype=array.dtype)
             grown[:old] = array
@@ -104,6 +112,7 @@ class ManifoldStore(MutableMapping):
     def __delitem__(self, key: tuple[int, int]) -> None:
         row = self._rows.pop(key)
         self._clear_rows(np.array([row]))
+        self.query_valid[row] = False
         self._free.append(row)
         self._free.sort()
 
@@ -145,6 +154,39 @@ class ManifoldStore(MutableMapping):
         """Rows of the manifolds holding at least one point, in insertion order."""
         rows = self.rows()
         return rows[self.count[rows] > 0]
+
+    # -- contact cache ---------------------------------------------------------------------
+    @staticmethod
+    def relative_poses(a: np.ndarray, b: np.ndarray, rotation: np.ndarray,
+                       position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """B's pose in A's frame for body pairs ``a, b (p,)``: ``R_a^T R_b (p, 3, 3)`` and
+        ``R_a^T (x_b - x_a) (p, 3)`` (``rotation (n, 3, 3)``, ``position (n, 3)``)."""
+        ra_t = np.swapaxes(rotation[a], 1, 2)
+        return ra_t @ rotation[b], (ra_t @ (position[b] - position[a])[:, :, None])[..., 0]
+
+    def remember_queries(self, rows: np.ndarray, rotation: np.ndarray,
+                         position: np.ndarray) -> None:
+        """Record the relative pose of the pairs of ``rows`` at this narrow-phase query."""
+        if len(rows) == 0:
+            return
+        relative = self.relative_poses(self.bodies[rows, 0], self.bodies[rows, 1], rotation,
+                                       position)
+        self.query_rotation[rows], self.query_position[rows] = relative
+        self.query_valid[rows] = True
+
+    def unchanged_rows(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
+                       radius_b: np.ndarray, tolerance: float) -> np.ndarray:
+        """(r,) bool: rows whose pair moved relative to each other by less than
+        ``tolerance`` (m) since its last query.
+
+        Every point of B within ``radius_b (r,)`` of B's center moved in A's frame by at
+        most ``|dx| + ||dR||_F radius_b`` (``||dR v|| <= ||dR||_F ||v||``).
+        """
+        rot, pos = self.relative_poses(self.bodies[rows, 0], self.bodies[rows, 1], rotation,
+                                       position)
+        moved_by = (np.linalg.norm(pos - self.query_position[rows], axis=1)
+                    + np.linalg.norm(rot - self.query_rotation[rows], axis=(1, 2)) * radius_b)
+        return self.query_valid[rows] & (moved_by < tolerance)
 
     def _clear_rows(self, rows: np.ndarray) -> None:
         self.count[rows] = 0

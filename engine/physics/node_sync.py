@@ -88,19 +88,28 @@ class NodeSync:
         pose = np.hstack([b.body_position[:n], b.body_rotation[:n]])
         moved = (pose != self._written_pose(n)).any(axis=1).tolist()  # since its last write
         under_root = []  # nodes whose parent is a scene root at the origin
+        skip = (~b.body_alive[:n] | (b.body_motion_type[:n] == STATIC)).tolist()
+        identity_root: dict[int, bool] = {}  # id(parent) -> a root at the origin
         for index, node in list(self.nodes.items()):
-            if not b.body_alive[index] or b.body_motion_type[index] == STATIC:
+            if skip[index]:
                 continue
             if not moved[index] and self._node_unchanged(index, parent_cache):
                 continue
             parent = node.parent
-            if parent is not None and parent._parent is None and np.array_equal(
-                    self._parent_matrices(parent, parent_cache)[0], _IDENTITY):
+            if parent is not None and parent._parent is None and self._is_identity_root(
+                    parent, parent_cache, identity_root):
                 under_root.append(index)
             else:
                 self.write_node(index, parent_cache)
         if under_root:
             self._write_root_children(np.array(under_root, dtype=np.int64))
+
+    def _is_identity_root(self, parent, parent_cache: dict, known: dict) -> bool:
+        """True when ``parent``'s world matrix is the identity (answer kept per pass)."""
+        if id(parent) not in known:
+            known[id(parent)] = np.array_equal(
+                self._parent_matrices(parent, parent_cache)[0], _IDENTITY)
+        return known[id(parent)]
 
     def _write_root_children(self, indices: np.ndarray) -> None:
         """:meth:`write_node` for nodes whose parent is an identity root, all at once.
@@ -216,10 +225,11 @@ class NodeSync:
         """Read back user-moved nodes of KINEMATIC and STATIC objects into their bodies;
         returns the indices of the bodies moved (their fcl objects and neighbors need it).
         Every node is checked before any body changes."""
-        b = self.bodies
+        b, n = self.bodies, self.bodies.count
         moved = []  # (index, world matrix, rotation): all checked before any body changes
+        skip = (~b.body_alive[:n] | (b.body_motion_type[:n] == DYNAMIC)).tolist()
         for index, node in self.nodes.items():
-            if not b.body_alive[index] or b.body_motion_type[index] == DYNAMIC:
+            if skip[index]:
                 continue
             world = node.world_matrix()
             last = self._node_pose.get(index)

@@ -46,6 +46,12 @@ class SolverSettings:
         Normal-only sweeps over the contacts with the stage (and static or kinematic
         bodies) after each velocity and position solve, so the stage always wins: a light
         body under a heavy one is never pushed into the floor (0 disables it).
+    contact_cache : bool
+        Skip the narrow phase and the manifold update of a pair whose relative pose moved
+        less than ``CONTACT_CACHE_DISTANCE`` since its last query and whose points overlap
+        by at most ``SLEEP_MAX_PENETRATION`` (Bullet's persistent manifold idea: its points
+        stay attached to the bodies, the solver recomputes their depths from the current
+        poses). Off: every pair is queried every step.
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
@@ -64,6 +70,7 @@ class SolverSettings:
     block_jacobi: bool = True
     overlap_position_iterations: int = 6
     stage_iterations: int = 1
+    contact_cache: bool = True
     use_vectorized: bool = True
 
 
@@ -115,6 +122,9 @@ TIE_QUANTUM = 1e-9
 #: 1 (cosine), a cached stage normal within 60 degrees of a touched triangle's normal
 #: decides which side of the triangle is outward (the side the contact began on).
 OUTWARD_SIDE_ALIGNMENT = 0.5
+#: m, a pair whose bodies moved relative to each other by less than this (at any point of
+#: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
+CONTACT_CACHE_DISTANCE = 0.0005
 #: m, a fresh point matching a cached one counts this much deeper when the manifold picks
 #: its deepest point (hysteresis: near-ties keep last step's points).
 PREFERRED_DEPTH_BONUS = 1e-3
@@ -136,6 +146,9 @@ MAX_FCL_CONTACTS = 32
 # --- broad phase ------------------------------------------------------------------------
 #: m, broad-phase AABB inflation of every body (keeps touching pairs found).
 AABB_MARGIN = 0.005
+#: comparisons, largest (moving bodies x collidable bodies) table the broad phase tests by
+#: brute force; above it, sort and sweep (same pairs, O(n log n + overlaps)).
+BROAD_PHASE_BRUTE_FORCE = 20_000
 #: pairs, fewest candidate pairs for which the oriented-box pre-test pays for its NumPy calls.
 MIN_PAIRS_FOR_BOX_TEST = 8
 

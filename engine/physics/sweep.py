@@ -64,7 +64,9 @@ def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarr
     if not np.any(fast):
         return
     n = b.count
-    obstacle = b.body_alive[:n] & b.body_collidable[:n] & (b.body_motion_type[:n] != DYNAMIC)
+    # the obstacles' indices, once: each fast body tests only them (not all n bodies)
+    obstacle = np.flatnonzero(b.body_alive[:n] & b.body_collidable[:n]
+                              & (b.body_motion_type[:n] != DYNAMIC))
     for k in np.nonzero(fast)[0].tolist():
         index = int(moving[k])
         step = travel[k].copy()
@@ -77,7 +79,8 @@ def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarr
 
 
 def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
-    """(3,) displacement taking body ``index`` out of the surfaces its step crossed."""
+    """(3,) displacement taking body ``index`` out of the surfaces its step crossed;
+    ``obstacle (o,)``: indices of the non-dynamic bodies it may hit."""
     b = bodies
     position = b.body_position[index]
     rotation = quat_to_matrix(b.body_rotation[index][None])[0]
@@ -116,11 +119,13 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
 
 def _obstacle_triangles(bodies: Bodies, obstacle: np.ndarray, lo: np.ndarray,
                         hi: np.ndarray) -> np.ndarray:
-    """World triangles ``(t, 3, 3)`` of obstacle bodies whose boxes meet the box lo..hi."""
-    b, n = bodies, bodies.count
-    near = obstacle & np.all((b.body_aabb_min[:n] <= hi) & (b.body_aabb_max[:n] >= lo), axis=1)
+    """World triangles ``(t, 3, 3)`` of the bodies ``obstacle (o,)`` whose boxes meet the
+    box lo..hi."""
+    b = bodies
+    near = obstacle[np.all((b.body_aabb_min[obstacle] <= hi)
+                           & (b.body_aabb_max[obstacle] >= lo), axis=1)]
     parts = []
-    for index in np.nonzero(near)[0].tolist():
+    for index in near.tolist():
         rotation = quat_to_matrix(b.body_rotation[index][None])[0]
         for shape in b.shapes[index]:
             if shape.kind == "mesh":  # the stage: world frame, keep the triangles in the box
