@@ -194,7 +194,7 @@ def apartment_scenes() -> list[tuple[str, list[RenderMesh], np.ndarray, bool]]:
             mesh = _render_mesh(drawable)
             mesh.world_from_mesh = node.world_matrix()
             meshes.append(mesh)
-    poses = {s.uuid: s.world_from_camera() for s in sim.agents[0].sensors}
+    poses = {s.uuid: s.world_from_camera() for s in sim.agents[0].sensors.values()}
     sim.close()
     return [
         ("apartment, 1st person", meshes, poses["rgba_camera_1stperson"], True),

@@ -47,7 +47,8 @@ TRIANGLE_BATCH = 8_192
 #: shading setup covers all candidate triangles up to this many; above, only those that drew
 #: fragments, and if those are still more, only the pixel winners
 REFINE_USED_ABOVE = 8_192
-#: pixels resolved and shaded per band (temporaries stay in the CPU cache; 16k was fastest)
+#: pixels resolved and shaded per band (temporaries stay in the CPU cache): 16k. 32k was
+#: 4 % faster for render_frame alone but slower in most runs inside the simulator
 SHADE_BAND_PIXELS = 16_384
 
 __all__ = [

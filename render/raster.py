@@ -292,11 +292,49 @@ class VisiblePixels:
 
     def centered_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
         """Pixel-center coordinates relative to the principal point, float32 ``(n,)`` each:
-        ``xc = col + 0.5 - cx`` and ``yc = row + 0.5 - cy``."""
-        row, col = np.divmod(self.pixel.astype(np.int32), np.int32(self.camera.width))
-        xc = col.astype(np.float32) + np.float32(0.5 - self.camera.cx)
-        yc = row.astype(np.float32) + np.float32(0.5 - self.camera.cy)
-        return xc, yc
+        ``xc = col + 0.5 - cx`` and ``yc = row + 0.5 - cy`` (read-only arrays).
+
+        With ``PIXEL_CENTER_TABLES`` they are read from per-camera tables of every pixel
+        (a slice for a run of consecutive pixels, else a gather), else computed from
+        ``divmod(pixel, W)``; both give the same values.
+        """
+        if not PIXEL_CENTER_TABLES:
+            row, col = np.divmod(self.pixel.astype(np.int32), np.int32(self.camera.width))
+            xc = col.astype(np.float32) + np.float32(0.5 - self.camera.cx)
+            yc = row.astype(np.float32) + np.float32(0.5 - self.camera.cy)
+            return xc, yc
+        xc_table, yc_table = pixel_center_tables(self.camera)
+        pixel = self.pixel
+        if len(pixel) and pixel[-1] - pixel[0] == len(pixel) - 1:  # consecutive: no gather
+            run = slice(int(pixel[0]), int(pixel[-1]) + 1)
+            return xc_table[run], yc_table[run]
+        return xc_table.take(pixel), yc_table.take(pixel)
+
+
+#: True: ``VisiblePixels.centered_coordinates`` reads cached per-camera tables; False:
+#: the plain ``divmod`` formula (same values, tested in tests/render/test_shade.py)
+PIXEL_CENTER_TABLES = True
+_CENTER_TABLES: dict = {}
+
+
+def pixel_center_tables(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
+    """``(xc, yc)`` float32 ``(H * W,)`` of every pixel (flat index ``row W + col``), cached
+    per image size and principal point (read-only): ``col + 0.5 - cx`` and ``row + 0.5 - cy``
+    exactly as ``centered_coordinates`` computes them."""
+    key = (camera.height, camera.width, camera.cx, camera.cy)
+    tables = _CENTER_TABLES.get(key)
+    if tables is None:
+        cols = np.arange(camera.width, dtype=np.int32).astype(np.float32)
+        rows = np.arange(camera.height, dtype=np.int32).astype(np.float32)
+        xc_row = cols + np.float32(0.5 - camera.cx)  # xc of one image row
+        yc_col = rows + np.float32(0.5 - camera.cy)  # yc of each row
+        tables = (np.tile(xc_row, camera.height), np.repeat(yc_col, camera.width))
+        for table in tables:
+            table.flags.writeable = False
+        if len(_CENTER_TABLES) >= 8:  # a few cameras at most: keep the cache small
+            _CENTER_TABLES.clear()
+        _CENTER_TABLES[key] = tables
+    return tables
 
 
 def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -> VisiblePixels:
@@ -383,7 +421,8 @@ class AttributePlanes:
         for c in range(n_channels):
             a, b, k = (self.coefficients[c, j][rows] for j in range(3))
             np.multiply(a, xc, out=out[c])
-            out[c] += b * yc
+            b *= yc  # b is a fresh gather: reuse it
+            out[c] += b
             out[c] += k  # a/z = A (px - cx) + B (py - cy) + C
         if self.multiply_by_depth:
             out *= visible.depth  # a = (a / z) * z
