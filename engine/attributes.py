@@ -34,7 +34,20 @@ __all__ = [
     "PrimitiveAssetAttributes",
     "StageAttributes",
     "is_primitive_handle",
+    "read_json_object",
 ]
+
+def read_json_object(path: Path) -> dict:
+    """The JSON object in the file at ``path``; ``ValueError`` for malformed JSON or any
+    other top-level value."""
+    try:
+        data = json.loads(path.read_text())
+    except json.JSONDecodeError as error:
+        raise ValueError(f"malformed JSON in {path}: {error}") from error
+    if not isinstance(data, dict):
+        raise ValueError(f"{path} must hold a JSON object")
+    return data
+
 
 @dataclass(frozen=True)
 class Field:
@@ -197,12 +210,7 @@ class AbstractAttributes:
         path = Path(path).resolve()
         if not path.is_file():
             raise FileNotFoundError(f"config file not found: {path}")
-        try:
-            data = json.loads(path.read_text())
-        except json.JSONDecodeError as error:
-            raise ValueError(f"malformed JSON in {path}: {error}") from error
-        if not isinstance(data, dict):
-            raise ValueError(f"{path} must hold a JSON object")
+        data = read_json_object(path)
         template = cls(str(path))
         template.file_directory = str(path.parent)
         template._apply_json(data, path)

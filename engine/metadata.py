@@ -29,7 +29,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from engine.attributes import ObjectAttributes, StageAttributes
+from engine.attributes import ObjectAttributes, StageAttributes, read_json_object
 from engine.attributes_managers import (
     AssetAttributesManager,
     ObjectAttributesManager,
@@ -164,12 +164,7 @@ _SECTIONS = {"objects": (ObjectAttributes, ".object_config.json"),
 
 def _load_dataset(path: Path) -> DatasetManagers:
     """Read a ``*.scene_dataset_config.json`` into fresh managers (module docstring)."""
-    try:
-        data = json.loads(path.read_text())
-    except json.JSONDecodeError as error:
-        raise ValueError(f"malformed JSON in {path}: {error}") from error
-    if not isinstance(data, dict):
-        raise ValueError(f"{path} must hold a JSON object")
+    data = read_json_object(path)
     dataset = DatasetManagers(str(path.resolve()))
     root = path.parent
     managers = {"objects": dataset.object_template_manager,

@@ -48,10 +48,10 @@ import numpy as np
 from engine import mn
 from engine.fixed_fields import unknown_attribute_error
 
-from .bodies import DYNAMIC, KINEMATIC
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
 from .quaternions import cross, quat_to_matrix
+from .solve_stage import solver_velocities
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
 
@@ -327,13 +327,7 @@ def _safe_inverse(matrices: np.ndarray) -> np.ndarray:
 def _body_state(b, n: int, moving: np.ndarray):
     """``(n, 6)`` velocities (kinematic: their controlled ones), inverse masses and world
     inverse inertias (zero for everything that is not an awake dynamic body)."""
-    velocity = np.zeros((n, 6))
-    dynamic = b.body_motion_type[:n] == DYNAMIC
-    kinematic = b.body_motion_type[:n] == KINEMATIC
-    velocity[dynamic, :3] = b.body_linear_velocity[:n][dynamic]
-    velocity[dynamic, 3:] = b.body_angular_velocity[:n][dynamic]
-    velocity[kinematic, :3] = b.body_solver_velocity[:n][kinematic]
-    velocity[kinematic, 3:] = b.body_solver_angular_velocity[:n][kinematic]
+    velocity = solver_velocities(b, n)
     inv_mass = np.zeros(n)
     inv_mass[moving] = 1.0 / b.body_mass[moving]
     inv_inertia = np.zeros((n, 3, 3))

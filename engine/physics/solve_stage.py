@@ -116,7 +116,7 @@ def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], constants.TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
-    velocity = _velocity_array(b, n)
+    velocity = solver_velocities(b, n)
     # restitution uses the approach speed at the start of the step (before this step's
     # gravity): the impact happened during the previous step, not after one more h g
     approach_velocity = velocity.copy()
@@ -179,7 +179,7 @@ def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -
     return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)
 
 
-def _velocity_array(b: Bodies, n: int) -> np.ndarray:
+def solver_velocities(b: Bodies, n: int) -> np.ndarray:
     """``(n, 6)`` [v, w]: dynamic bodies their velocity, kinematic their controlled one."""
     velocity = np.zeros((n, 6))
     dynamic = b.body_motion_type[:n] == DYNAMIC
