@@ -98,29 +98,37 @@ def runs(use_ray: bool) -> list[tuple[str, int | None]]:
 def bench(kind: str, episode_fn, params: list[dict], use_ray: bool) -> None:
     loop = time_loop(episode_fn, params)
     n = len(params)
-    print(f"\n{kind} episodes: {n} per run; plain loop {loop:.2f} s wall "
-          f"({n / loop:.2f} episodes/s, {1000 * loop / n:.1f} ms each)")
-    print(f"{'backend':<8} {'workers':>7} {'wall s':>8} {'ep/s':>8} {'vs loop':>8} "
-          f"{'overhead ms/ep':>15}")
+    print(
+        f"\n{kind} episodes: {n} per run; plain loop {loop:.2f} s wall "
+        f"({n / loop:.2f} episodes/s, {1000 * loop / n:.1f} ms each)"
+    )
+    print(
+        f"{'backend':<8} {'workers':>7} {'wall s':>8} {'ep/s':>8} {'vs loop':>8} "
+        f"{'overhead ms/ep':>15}"
+    )
     for backend, workers in runs(use_ray):
         wall = time_batch(episode_fn, params, backend, workers)
         overhead = f"{1000 * (wall - loop) / n:15.1f}" if workers == 1 else ""
-        print(f"{backend:<8} {workers:>7} {wall:8.2f} {n / wall:8.2f} {loop / wall:7.2f}x "
-              f"{overhead}")
+        print(
+            f"{backend:<8} {workers:>7} {wall:8.2f} {n / wall:8.2f} {loop / wall:7.2f}x {overhead}"
+        )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--episodes", type=int, default=8, help="physics episodes per run")
-    parser.add_argument("--sim-seconds", type=float, default=2.0,
-                        help="simulated seconds per physics episode")
+    parser.add_argument(
+        "--sim-seconds", type=float, default=2.0, help="simulated seconds per physics episode"
+    )
     parser.add_argument("--quick", action="store_true", help="4 episodes, no Ray")
     parser.add_argument("--no-ray", action="store_true", help="skip the Ray backend")
     args = parser.parse_args()
     episodes = 4 if args.quick else args.episodes
     use_ray = not (args.quick or args.no_ray)
-    print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f} at the start "
-          "(other work on the machine slows every figure)")
+    print(
+        f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f} at the start "
+        "(other work on the machine slows every figure)"
+    )
     if use_ray:
         start = time.perf_counter()
         _start_local_ray()

@@ -63,8 +63,10 @@ def bench_paths(pathfinder: PathFinder, n_paths: int) -> dict:
     """find_path throughput between random points of the largest island."""
     pathfinder.seed(0)
     pairs = [
-        (pathfinder.get_random_navigable_point(island_index=0),
-         pathfinder.get_random_navigable_point(island_index=0))
+        (
+            pathfinder.get_random_navigable_point(island_index=0),
+            pathfinder.get_random_navigable_point(island_index=0),
+        )
         for _ in range(n_paths + 1)
     ]
     start = time.perf_counter()
@@ -85,8 +87,10 @@ def bench_steps(pathfinder: PathFinder, n_steps: int, sliding: bool) -> float:
     rng = np.random.default_rng(1)
     starts = [pathfinder.get_random_navigable_point(island_index=0) for _ in range(n_steps)]
     angles = rng.uniform(0.0, 2.0 * np.pi, n_steps)
-    ends = [s + STEP_LENGTH * np.array([np.cos(a), 0.0, np.sin(a)]) for s, a in zip(
-        starts, angles, strict=True)]
+    ends = [
+        s + STEP_LENGTH * np.array([np.cos(a), 0.0, np.sin(a)])
+        for s, a in zip(starts, angles, strict=True)
+    ]
     step = pathfinder.try_step if sliding else pathfinder.try_step_no_sliding
     start = time.perf_counter()
     for s, e in zip(starts, ends, strict=True):

@@ -119,16 +119,24 @@ def run_notebook(root: Path, fast: bool, timeout: int = 1800) -> list[dict]:
 
 def format_rows(title: str, rows: list[dict]) -> str:
     """A markdown table of the rows with a total line."""
-    lines = [f"{title}", "", "| cell | wall s | physics s | render s | encode s | CPU s |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        f"{title}",
+        "",
+        "| cell | wall s | physics s | render s | encode s | CPU s |",
+        "|---|---|---|---|---|---|",
+    ]
     for row in rows:
         if row["wall"] >= 0.05:
-            lines.append(f"| {row['cell']} | {row['wall']:.1f} | {row['physics']:.1f} | "
-                         f"{row['render']:.1f} | {row['encode']:.1f} | {row['cpu']:.1f} |")
+            lines.append(
+                f"| {row['cell']} | {row['wall']:.1f} | {row['physics']:.1f} | "
+                f"{row['render']:.1f} | {row['encode']:.1f} | {row['cpu']:.1f} |"
+            )
     keys = ("wall", "physics", "render", "encode", "cpu")
     total = {k: sum(r[k] for r in rows) for k in keys}
-    lines.append(f"| **total** | **{total['wall']:.1f}** | {total['physics']:.1f} | "
-                 f"{total['render']:.1f} | {total['encode']:.1f} | {total['cpu']:.1f} |")
+    lines.append(
+        f"| **total** | **{total['wall']:.1f}** | {total['physics']:.1f} | "
+        f"{total['render']:.1f} | {total['encode']:.1f} | {total['cpu']:.1f} |"
+    )
     return "\n".join(lines)
 
 

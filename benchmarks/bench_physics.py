@@ -53,8 +53,16 @@ STEP = 0.008
 HALF = 0.1
 GRAVITY = 9.8
 #: stage timer names, in step order, for the profile columns (others go to "rest")
-STAGES = ("forces", "broad phase", "fcl update", "narrow phase", "manifolds", "solve",
-          "integrate", "sleep")
+STAGES = (
+    "forces",
+    "broad phase",
+    "fcl update",
+    "narrow phase",
+    "manifolds",
+    "solve",
+    "integrate",
+    "sleep",
+)
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -74,9 +82,13 @@ def column_positions(n: int, height: float = 5.0, seed: int = 0):
     for k in range(n):
         layer, cell = divmod(k, per_layer)
         row, col = divmod(cell, side)
-        positions.append([(col - (side - 1) / 2) * 0.36 + rng.uniform(-0.005, 0.005),
-                          0.3 + pitch_y * layer,
-                          (row - (side - 1) / 2) * 0.36 + rng.uniform(-0.005, 0.005)])
+        positions.append(
+            [
+                (col - (side - 1) / 2) * 0.36 + rng.uniform(-0.005, 0.005),
+                0.3 + pitch_y * layer,
+                (row - (side - 1) / 2) * 0.36 + rng.uniform(-0.005, 0.005),
+            ]
+        )
         q = rng.normal(size=4)
         rotations.append(q / np.linalg.norm(q))
     return positions, rotations
@@ -90,9 +102,13 @@ def pile_positions(n: int, seed: int = 0):
     for k in range(n):
         layer, cell = divmod(k, side * side)
         row, col = divmod(cell, side)
-        positions.append([(col - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
-                          0.3 + 0.3 * layer + rng.uniform(0, 0.05),
-                          (row - side / 2) * 0.25 + rng.uniform(-0.03, 0.03)])
+        positions.append(
+            [
+                (col - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
+                0.3 + 0.3 * layer + rng.uniform(0, 0.05),
+                (row - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
+            ]
+        )
         q = rng.normal(size=4)
         rotations.append(q / np.linalg.norm(q))
     return positions, rotations
@@ -202,16 +218,21 @@ def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True, vectoriz
                     energy_start = energy(world)
                 if watch:
                     deepest = np.maximum(deepest, penetration(world))
-            if settled is None and not world.bodies.body_awake[1:world.bodies.count].any():
+            if settled is None and not world.bodies.body_awake[1 : world.bodies.count].any():
                 settled = ((frame + 1) * FRAME, wall)
         steps = int(round((world._time - steps_before) / STEP))
         b, n = world.bodies, world.bodies.count
         speed = np.linalg.norm(b.body_linear_velocity[1:n], axis=1).max(initial=0.0)
         return {
-            "wall": wall, "cpu": cpu, "steps": steps, "settled": settled,
+            "wall": wall,
+            "cpu": cpu,
+            "steps": steps,
+            "settled": settled,
             "final": np.array([np.asarray(box.translation) for box in boxes]),
-            "asleep": sum(not box.awake for box in boxes), "profile": dict(world.profile),
-            "deepest": deepest, "resting_depth": np.array(penetration(world)),
+            "asleep": sum(not box.awake for box in boxes),
+            "profile": dict(world.profile),
+            "deepest": deepest,
+            "resting_depth": np.array(penetration(world)),
             "energy_change": energy(world) - (energy_start or energy(world)),
             "touching_pairs": len(world.manifolds.rows_with_points()),
             "end_speed": float(speed),
@@ -227,13 +248,20 @@ def run_pybullet(positions, rotations, seconds, sleep=True):
     plane = p.createCollisionShape(p.GEOM_BOX, halfExtents=[20, 0.05, 20], physicsClientId=client)
     p.createMultiBody(0, plane, basePosition=[0, -0.05, 0], physicsClientId=client)
     box = p.createCollisionShape(p.GEOM_BOX, halfExtents=[HALF] * 3, physicsClientId=client)
-    bodies = [p.createMultiBody(1.0, box, basePosition=pos, baseOrientation=list(q),
-                                physicsClientId=client)
-              for pos, q in zip(positions, rotations, strict=True)]
+    bodies = [
+        p.createMultiBody(
+            1.0, box, basePosition=pos, baseOrientation=list(q), physicsClientId=client
+        )
+        for pos, q in zip(positions, rotations, strict=True)
+    ]
     if not sleep:
         for body in bodies:
-            p.changeDynamics(body, -1, activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
-                             physicsClientId=client)
+            p.changeDynamics(
+                body,
+                -1,
+                activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
+                physicsClientId=client,
+            )
     steps, accumulated = 0, 0.0
     start, start_cpu = time.perf_counter(), time.process_time()
     for _ in range(int(round(seconds / FRAME))):  # the same accumulator as step_physics
@@ -243,8 +271,9 @@ def run_pybullet(positions, rotations, seconds, sleep=True):
             accumulated -= STEP
             steps += 1
     wall, cpu = time.perf_counter() - start, time.process_time() - start_cpu
-    final = np.array([p.getBasePositionAndOrientation(b, physicsClientId=client)[0]
-                      for b in bodies])
+    final = np.array(
+        [p.getBasePositionAndOrientation(b, physicsClientId=client)[0] for b in bodies]
+    )
     p.disconnect(client)
     return {"wall": wall, "cpu": cpu, "steps": steps, "final": final}
 
@@ -290,39 +319,61 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results, refer
         bullet_text = f"{bullet_step:8.3f} {ratio:6.1f}x {cpu_ratio:6.1f}x"
         bullet_quality = quality(name, start, theirs["final"])
     else:
-        bullet_step, ratio, bullet_text, bullet_quality = float("nan"), float("nan"), \
-            "     n/a    n/a     n/a", "n/a"
+        bullet_step, ratio, bullet_text, bullet_quality = (
+            float("nan"),
+            float("nan"),
+            "     n/a    n/a     n/a",
+            "n/a",
+        )
     split = shares(ours["profile"], ours["wall"])
     split_text = " ".join(f"{100 * split[k]:3.0f}" for k in (*STAGES, "rest"))
-    print(f"{name:<11} {seconds:4.1f} {ms_step:8.3f} {cpu_step:8.3f} {ms_sim:8.0f} {bullet_text} "
-          f"{ours['asleep']:4d}/{len(positions):<4d} "
-          f"{ours['deepest'][0] * 1000:4.1f}/{ours['deepest'][1] * 1000:5.1f} "
-          f"{ours['resting_depth'][0] * 1000:4.1f}/{ours['resting_depth'][1] * 1000:5.1f} "
-          f"{ours['energy_change']:8.3f} "
-          f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}")
+    print(
+        f"{name:<11} {seconds:4.1f} {ms_step:8.3f} {cpu_step:8.3f} {ms_sim:8.0f} {bullet_text} "
+        f"{ours['asleep']:4d}/{len(positions):<4d} "
+        f"{ours['deepest'][0] * 1000:4.1f}/{ours['deepest'][1] * 1000:5.1f} "
+        f"{ours['resting_depth'][0] * 1000:4.1f}/{ours['resting_depth'][1] * 1000:5.1f} "
+        f"{ours['energy_change']:8.3f} "
+        f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}"
+    )
     print(f"{'':<11} profile % {split_text}")
     if reference:
-        slow = run_rigidsim(positions, rotations, seconds, sleep=sleep, watch=False,
-                            vectorized=False)
-        print(f"{'':<11} reference path: {slow['wall'] / slow['steps'] * 1000:.2f} ms/step "
-              f"({slow['wall'] / ours['wall']:.1f}x the vectorized path)")
+        slow = run_rigidsim(
+            positions, rotations, seconds, sleep=sleep, watch=False, vectorized=False
+        )
+        print(
+            f"{'':<11} reference path: {slow['wall'] / slow['steps'] * 1000:.2f} ms/step "
+            f"({slow['wall'] / ours['wall']:.1f}x the vectorized path)"
+        )
     if ours["settled"] is not None and name.startswith("pile"):
         sim, wall = ours["settled"]
-        print(f"{'':<11} settled: all {len(positions)} asleep after {sim:.2f} s simulated, "
-              f"{wall:.2f} s wall ({sim / wall:.2f}x real time)")
-    results[name] = dict(ours, ms_step=ms_step, cpu_step=cpu_step, ratio=ratio,
-                         bullet_step=bullet_step, start=start, n=len(positions), seconds=seconds)
+        print(
+            f"{'':<11} settled: all {len(positions)} asleep after {sim:.2f} s simulated, "
+            f"{wall:.2f} s wall ({sim / wall:.2f}x real time)"
+        )
+    results[name] = dict(
+        ours,
+        ms_step=ms_step,
+        cpu_step=cpu_step,
+        ratio=ratio,
+        bullet_step=bullet_step,
+        start=start,
+        n=len(positions),
+        seconds=seconds,
+    )
 
 
 def sweep(sizes, seconds, bullet):
     """Scaling table of the moving column; returns rows for the plot."""
-    print("\nScaling: moving column (sleeping off); rigidsim per body in CPU time (the wall "
-          "time of a loaded machine is too noisy); pairs/body: touching pairs at the end;\n"
-          "ratio: wall vs pybullet. "
-          f"{seconds:.1f} s simulated per size; shares of rigidsim's wall time in %")
-    print(f"{'N':>5} {'ms/step':>8} {'cpu ms':>8} {'cpu us/body':>11} {'pairs/body':>10} "
-          f"{'bullet ms':>9} {'ratio':>6}  "
-          + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest")))
+    print(
+        "\nScaling: moving column (sleeping off); rigidsim per body in CPU time (the wall "
+        "time of a loaded machine is too noisy); pairs/body: touching pairs at the end;\n"
+        "ratio: wall vs pybullet. "
+        f"{seconds:.1f} s simulated per size; shares of rigidsim's wall time in %"
+    )
+    print(
+        f"{'N':>5} {'ms/step':>8} {'cpu ms':>8} {'cpu us/body':>11} {'pairs/body':>10} "
+        f"{'bullet ms':>9} {'ratio':>6}  " + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest"))
+    )
     rows = []
     for n in sizes:
         positions, rotations = column_positions(n)
@@ -337,9 +388,11 @@ def sweep(sizes, seconds, bullet):
             bullet_ms = bullet_cpu = float("nan")
         split = shares(ours["profile"], ours["wall"])
         pairs = ours["touching_pairs"] / n
-        print(f"{n:5d} {ms:8.3f} {cpu:8.3f} {1000 * cpu / n:11.1f} {pairs:10.2f} "
-              f"{bullet_ms:9.3f} {ms / bullet_ms:6.1f}  "
-              + " ".join(f"{100 * split[k]:6.1f}" for k in (*STAGES, "rest")))
+        print(
+            f"{n:5d} {ms:8.3f} {cpu:8.3f} {1000 * cpu / n:11.1f} {pairs:10.2f} "
+            f"{bullet_ms:9.3f} {ms / bullet_ms:6.1f}  "
+            + " ".join(f"{100 * split[k]:6.1f}" for k in (*STAGES, "rest"))
+        )
         rows.append((n, cpu, bullet_cpu, split))
     return rows
 
@@ -356,12 +409,10 @@ def plot(rows, path: Path) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
     axes[0].loglog(n, ms, "o-", label="rigidsim")
     axes[0].loglog(n, bullet, "s--", label="pybullet")
-    axes[0].set(xlabel="cubes", ylabel="CPU ms per 0.008 s step",
-                title="cost per step")
+    axes[0].set(xlabel="cubes", ylabel="CPU ms per 0.008 s step", title="cost per step")
     axes[1].semilogx(n, 1000 * ms / n, "o-", label="rigidsim")
     axes[1].semilogx(n, 1000 * bullet / n, "s--", label="pybullet")
-    axes[1].set(xlabel="cubes", ylabel="CPU us per body per step",
-                title="cost per body")
+    axes[1].set(xlabel="cubes", ylabel="CPU us per body per step", title="cost per body")
     bottom = np.zeros(len(rows))
     for key in (*STAGES, "rest"):
         share = np.array([100 * r[3][key] for r in rows])
@@ -393,8 +444,9 @@ def report_targets(results, rows) -> None:
         line("column-100: <= 5x pybullet", f"{r['ratio']:.1f}x", r["ratio"] <= 5)
     if "column-500" in results:
         r = results["column-500"]
-        line("column-500: <= 3x pybullet wall per simulated s", f"{r['ratio']:.1f}x",
-             r["ratio"] <= 3)
+        line(
+            "column-500: <= 3x pybullet wall per simulated s", f"{r['ratio']:.1f}x", r["ratio"] <= 3
+        )
     if "column-10" in results:
         r = results["column-10"]
         line("column-10: <= 0.4 ms per step", f"{r['ms_step']:.3f} ms", r["ms_step"] <= 0.4)
@@ -404,31 +456,47 @@ def report_targets(results, rows) -> None:
         mid = [s for s in sizes if s >= 100]
         if len(mid) >= 2:
             growth = per_body[mid[-1]] / per_body[mid[0]]
-            line(f"CPU cost per body flat or falling, N={mid[0]}..{mid[-1]} (within 15 %)",
-                 f"x{growth:.2f}", growth <= 1.15)
+            line(
+                f"CPU cost per body flat or falling, N={mid[0]}..{mid[-1]} (within 15 %)",
+                f"x{growth:.2f}",
+                growth <= 1.15,
+            )
     if "stack-10" in results:
         r = results["stack-10"]
         drift = np.linalg.norm((r["final"][-1] - r["start"][-1])[[0, 2]])
-        line(f"stack-10 stands {r['seconds']:.0f} s with < 1 mm drift",
-             f"{drift * 1000:.2f} mm, lowest {r['final'][:, 1].min():.3f} m",
-             drift < 1e-3 and r["final"][-1, 1] > 1.8)
-        line("stack-10 energy drift <= 0 (no energy gained)",
-             f"{r['energy_change'] * 1000:+.2f} mJ", r["energy_change"] <= 1e-3)
+        line(
+            f"stack-10 stands {r['seconds']:.0f} s with < 1 mm drift",
+            f"{drift * 1000:.2f} mm, lowest {r['final'][:, 1].min():.3f} m",
+            drift < 1e-3 and r["final"][-1, 1] > 1.8,
+        )
+        line(
+            "stack-10 energy drift <= 0 (no energy gained)",
+            f"{r['energy_change'] * 1000:+.2f} mJ",
+            r["energy_change"] <= 1e-3,
+        )
     if results:
         floor = max(r["deepest"][0] for r in results.values())
-        line("nothing sinks into the floor deeper than the 2 cm speculative margin",
-             f"{floor * 1000:.1f} mm", floor < 0.02)
+        line(
+            "nothing sinks into the floor deeper than the 2 cm speculative margin",
+            f"{floor * 1000:.1f} mm",
+            floor < 0.02,
+        )
         pair = {name: r["deepest"][1] for name, r in results.items()}
         worst = max(pair, key=pair.get)
-        line("no two cubes overlap deeper than 2 cm (worst scene)",
-             f"{pair[worst] * 1000:.1f} mm in {worst}", pair[worst] < 0.02)
+        line(
+            "no two cubes overlap deeper than 2 cm (worst scene)",
+            f"{pair[worst] * 1000:.1f} mm in {worst}",
+            pair[worst] < 0.02,
+        )
     for name in ("pile-100", "column-100"):
         if name in results:
             r = results[name]
-            line(f"{name} at rest without jitter at the end (fastest body < 0.05 m/s)",
-                 f"{r['end_speed']:.3f} m/s, resting overlap "
-                 f"{r['resting_depth'].max() * 1000:.1f} mm",
-                 r["end_speed"] < 0.05)
+            line(
+                f"{name} at rest without jitter at the end (fastest body < 0.05 m/s)",
+                f"{r['end_speed']:.3f} m/s, resting overlap "
+                f"{r['resting_depth'].max() * 1000:.1f} mm",
+                r["end_speed"] < 0.05,
+            )
 
 
 def main() -> None:
@@ -436,8 +504,11 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="short runs, no 500 column")
     parser.add_argument("--sweep", action="store_true", help="scaling sweep 10..1000 + plot")
     parser.add_argument("--only-sweep", action="store_true", help="the scaling sweep only")
-    parser.add_argument("--reference", action="store_true",
-                        help="also run the reference path (use_vectorized=False)")
+    parser.add_argument(
+        "--reference",
+        action="store_true",
+        help="also run the reference path (use_vectorized=False)",
+    )
     parser.add_argument("--plot", type=Path, default=ROOT / "docs" / "physics_scaling.png")
     args = parser.parse_args()
     bullet = have_pybullet()
@@ -445,27 +516,34 @@ def main() -> None:
     quality_s = 2.0 if args.quick else 10.0
     results: dict = {}
     if not args.only_sweep:
-        scenes = [("column-10", column_positions(10), column_s, False),
-                  ("column-100", column_positions(100), column_s, False)]
+        scenes = [
+            ("column-10", column_positions(10), column_s, False),
+            ("column-100", column_positions(100), column_s, False),
+        ]
         if not args.quick:
             scenes.append(("column-500", column_positions(500), column_s, False))
-        scenes += [("pile-10", pile_positions(10), quality_s, True),
-                   ("pile-100", pile_positions(100), quality_s, True),
-                   ("stack-10", stack_positions(), quality_s, True),
-                   ("pyramid-6", pyramid_positions(), quality_s, True)]
-        print("ms/step: wall per 0.008 s step (cpu ms: this process's CPU time, less "
-              "sensitive to a loaded machine);\nratio: wall vs pybullet, cpu rat: CPU time vs "
-              "pybullet; deep/rest mm: deepest overlap floor/cube-cube "
-              f"(true geometry) from {WATCH_FROM:g} s on / at the end;\ndE J: energy change "
-              f"from {WATCH_FROM:g} s to the end; v end: fastest body at the end, m/s.")
-        print(f"{'scene':<11} {'sim':>4} {'ms/step':>8} {'cpu ms':>8} {'ms/sim s':>8} "
-              f"{'bullet':>8} {'ratio':>7} {'cpu rat':>7} {'asleep':>9} {'deep mm':>10} "
-              f"{'rest mm':>10} {'dE J':>8} {'v end':>6}"
-              "  quality (rigidsim | pybullet)")
+        scenes += [
+            ("pile-10", pile_positions(10), quality_s, True),
+            ("pile-100", pile_positions(100), quality_s, True),
+            ("stack-10", stack_positions(), quality_s, True),
+            ("pyramid-6", pyramid_positions(), quality_s, True),
+        ]
+        print(
+            "ms/step: wall per 0.008 s step (cpu ms: this process's CPU time, less "
+            "sensitive to a loaded machine);\nratio: wall vs pybullet, cpu rat: CPU time vs "
+            "pybullet; deep/rest mm: deepest overlap floor/cube-cube "
+            f"(true geometry) from {WATCH_FROM:g} s on / at the end;\ndE J: energy change "
+            f"from {WATCH_FROM:g} s to the end; v end: fastest body at the end, m/s."
+        )
+        print(
+            f"{'scene':<11} {'sim':>4} {'ms/step':>8} {'cpu ms':>8} {'ms/sim s':>8} "
+            f"{'bullet':>8} {'ratio':>7} {'cpu rat':>7} {'asleep':>9} {'deep mm':>10} "
+            f"{'rest mm':>10} {'dE J':>8} {'v end':>6}"
+            "  quality (rigidsim | pybullet)"
+        )
         print(f"{'':<11} profile % = " + " ".join(STAGES) + " rest")
         for name, (positions, rotations), seconds, sleep in scenes:
-            run_scene(name, positions, rotations, seconds, sleep, bullet, results,
-                      args.reference)
+            run_scene(name, positions, rotations, seconds, sleep, bullet, results, args.reference)
     rows = []
     if args.sweep or args.only_sweep:
         sizes = (10, 30, 100, 300) if args.quick else (10, 30, 100, 300, 1000)

@@ -214,8 +214,11 @@ def moving_boxes(n_frames: int) -> list[list[RenderMesh]]:
             pose[:3, :3] = trimesh.transformations.rotation_matrix(angle, (1, 1, 0))[:3, :3]
             pose[:3, 3] = [2.39, -0.9 + 0.1 * i + 0.004 * frame, 0.22 * (i - 2)]
             color = np.array([200, 60 + 30 * i, 40, 255], np.uint8)
-            meshes.append(RenderMesh(box.vertices, box.faces, pose, base_color=color, lit=True,
-                                     semantic_id=10 + i))
+            meshes.append(
+                RenderMesh(
+                    box.vertices, box.faces, pose, base_color=color, lit=True, semantic_id=10 + i
+                )
+            )
         frames.append(meshes)
     return frames
 

@@ -60,15 +60,25 @@ def lifecycle(rounds: int, n_objects: int) -> None:
     handle = register_primitive(templates, half=(0.1, 0.1, 0.1))
     rom = world.rigid_object_manager
     print(f"lifecycle: {rounds} rounds of adding and removing {n_objects} boxes")
-    print(f"{'round':>5} {'memory MB':>10} {'d MB':>6} {'slots':>6} {'1-object step ms':>17}"
-          f" {'ratio':>6}")
-    print(f"{'fresh':>5} {resident_mb():>10.1f} {'':>6} {world.bodies.count:>6}"
-          f" {one_object_step_ms(world, templates, handle):>17.2f}")
+    print(
+        f"{'round':>5} {'memory MB':>10} {'d MB':>6} {'slots':>6} {'1-object step ms':>17}"
+        f" {'ratio':>6}"
+    )
+    print(
+        f"{'fresh':>5} {resident_mb():>10.1f} {'':>6} {world.bodies.count:>6}"
+        f" {one_object_step_ms(world, templates, handle):>17.2f}"
+    )
     first_mb = first_ms = None
     for round_ in range(rounds):
-        objects = [add(world, templates, handle,
-                       [0.25 * (k % 32), 0.1 + 0.25 * (k // 1024), 0.25 * ((k // 32) % 32)])
-                   for k in range(n_objects)]
+        objects = [
+            add(
+                world,
+                templates,
+                handle,
+                [0.25 * (k % 32), 0.1 + 0.25 * (k // 1024), 0.25 * ((k // 32) % 32)],
+            )
+            for k in range(n_objects)
+        ]
         world.step_physics(FRAME)
         for obj in objects:
             rom.remove_object_by_id(obj.object_id)
@@ -77,8 +87,11 @@ def lifecycle(rounds: int, n_objects: int) -> None:
         mb = resident_mb()
         first_mb = mb if first_mb is None else first_mb
         first_ms = step_ms if first_ms is None else first_ms
-        print(f"{round_ + 1:>5} {mb:>10.1f} {mb - first_mb:>6.1f} {world.bodies.count:>6}"
-              f" {step_ms:>17.2f} {step_ms / first_ms:>6.2f}", flush=True)
+        print(
+            f"{round_ + 1:>5} {mb:>10.1f} {mb - first_mb:>6.1f} {world.bodies.count:>6}"
+            f" {step_ms:>17.2f} {step_ms / first_ms:>6.2f}",
+            flush=True,
+        )
 
 
 def crowd(primitive: str, n: int, seconds: float = 3.0) -> None:
@@ -93,15 +106,20 @@ def crowd(primitive: str, n: int, seconds: float = 3.0) -> None:
         b = world.bodies
         fastest = max(fastest, np.linalg.norm(b.body_linear_velocity[index], axis=1).max())
         lowest = min(lowest, b.body_position[index, 1].min())
-        deepest = max([-p.contact_distance for p in world.get_physics_contact_points()
-                       if p.object_id_a != 0], default=0.0)
+        deepest = max(
+            [-p.contact_distance for p in world.get_physics_contact_points() if p.object_id_a != 0],
+            default=0.0,
+        )
         if apart_at is None and deepest < 0.02 and frame * FRAME > 0.5:
             apart_at = (frame + 1) * FRAME
     wall = time.perf_counter() - start
     apart = f"{apart_at:.2f} s" if apart_at is not None else f"not in {seconds} s"
-    print(f"{n} x {primitive:<26} apart after {apart:<10} fastest {fastest:.2f} m/s, "
-          f"lowest center {lowest:.3f} m (floor + half size 0.100), deepest overlap at the "
-          f"end {deepest * 100:.1f} cm, {wall:.1f} s wall", flush=True)
+    print(
+        f"{n} x {primitive:<26} apart after {apart:<10} fastest {fastest:.2f} m/s, "
+        f"lowest center {lowest:.3f} m (floor + half size 0.100), deepest overlap at the "
+        f"end {deepest * 100:.1f} cm, {wall:.1f} s wall",
+        flush=True,
+    )
 
 
 def main() -> None:

@@ -43,9 +43,19 @@ from engine.sensors import CameraSensorSpec, SensorType  # noqa: E402
 
 #: operation -> weight (probability proportional to it)
 OPERATIONS = {
-    "add": 8, "remove": 4, "teleport": 6, "linear_velocity": 6, "angular_velocity": 4,
-    "force": 5, "torque": 3, "impulse": 4, "motion_type": 4, "velocity_control": 4,
-    "step": 40, "ray": 6, "render": 3,
+    "add": 8,
+    "remove": 4,
+    "teleport": 6,
+    "linear_velocity": 6,
+    "angular_velocity": 4,
+    "force": 5,
+    "torque": 3,
+    "impulse": 4,
+    "motion_type": 4,
+    "velocity_control": 4,
+    "step": 40,
+    "ray": 6,
+    "render": 3,
 }
 MAX_OBJECTS = 24  # an "add" with this many objects removes one instead
 MAX_SPEED = 4.0  # m/s
@@ -81,15 +91,19 @@ class SoakReport:
 
     def summary(self) -> str:
         ops = ", ".join(f"{k} {v}" for k, v in sorted(self.counts.items()))
-        return (f"{self.operations} operations (seed {self.seed}) in {self.wall_seconds:.1f} s: "
-                f"{ops}\n{self.steps} steps, at most {self.max_objects} objects, "
-                f"{self.ray_hits} ray hits, no NaN, counts consistent after every operation\n"
-                f"lost dynamic objects: {len(self.lost)}"
-                + "".join(f"\n  op {i}: {h} at {np.round(p, 2).tolist()} after {history}"
-                          for i, h, p, history in self.lost)
-                + f"\nresident memory: {self.rss_after_warmup_mb:.1f} MB after warm-up, "
-                  f"{self.rss_end_mb:.1f} MB at the end (growth {self.memory_growth_mb:+.1f} "
-                  f"MB), peak {self.peak_rss_mb:.1f} MB")
+        return (
+            f"{self.operations} operations (seed {self.seed}) in {self.wall_seconds:.1f} s: "
+            f"{ops}\n{self.steps} steps, at most {self.max_objects} objects, "
+            f"{self.ray_hits} ray hits, no NaN, counts consistent after every operation\n"
+            f"lost dynamic objects: {len(self.lost)}"
+            + "".join(
+                f"\n  op {i}: {h} at {np.round(p, 2).tolist()} after {history}"
+                for i, h, p, history in self.lost
+            )
+            + f"\nresident memory: {self.rss_after_warmup_mb:.1f} MB after warm-up, "
+            f"{self.rss_end_mb:.1f} MB at the end (growth {self.memory_growth_mb:+.1f} "
+            f"MB), peak {self.peak_rss_mb:.1f} MB"
+        )
 
 
 def resident_mb() -> float:
@@ -108,8 +122,13 @@ def peak_mb() -> float:
 class Soak:
     """The world and the bookkeeping of one soak run (see the module docstring)."""
 
-    def __init__(self, seed: int, data_path: Path | None = None,
-                 templates: tuple = ALL_TEMPLATES, max_objects: int = MAX_OBJECTS) -> None:
+    def __init__(
+        self,
+        seed: int,
+        data_path: Path | None = None,
+        templates: tuple = ALL_TEMPLATES,
+        max_objects: int = MAX_OBJECTS,
+    ) -> None:
         data = demo_data_path() if data_path is None else Path(data_path)
         cfg = habitat_sim.SimulatorConfiguration()
         cfg.scene_id = str(data / "scene_datasets/demo/apartment.glb")
@@ -209,8 +228,9 @@ class Soak:
     def motion_type(self) -> None:
         if (obj := self._pick()) is None:
             return
-        choice = self.rng.choice([MotionType.DYNAMIC, MotionType.DYNAMIC, MotionType.KINEMATIC,
-                                  MotionType.STATIC])
+        choice = self.rng.choice(
+            [MotionType.DYNAMIC, MotionType.DYNAMIC, MotionType.KINEMATIC, MotionType.STATIC]
+        )
         obj.motion_type = MotionType(int(choice))
         if obj.motion_type != MotionType.DYNAMIC:
             self.tracked.discard(obj.object_id)  # may be left anywhere: re-tracked on teleport
@@ -231,7 +251,8 @@ class Soak:
     def _kinematic_control(obj) -> bool:
         control = obj.velocity_control
         return obj.motion_type == MotionType.KINEMATIC and (
-            control.controlling_lin_vel or control.controlling_ang_vel)
+            control.controlling_lin_vel or control.controlling_ang_vel
+        )
 
     def step(self) -> None:
         self.sim.step_physics(1.0 / 60.0)
@@ -259,15 +280,20 @@ class Soak:
         """No NaN, consistent counts; lost objects are recorded and removed."""
         b, n = self.world.bodies, self.world.bodies.count
         alive = b.body_alive[:n].copy()
-        for name in ("body_position", "body_rotation", "body_linear_velocity",
-                     "body_angular_velocity"):
+        for name in (
+            "body_position",
+            "body_rotation",
+            "body_linear_velocity",
+            "body_angular_velocity",
+        ):
             if not np.all(np.isfinite(getattr(b, name)[:n][alive])):
                 raise AssertionError(f"op {op_index}: non-finite {name}")
         alive[0] = False  # the stage
         counts = (self.manager.get_num_objects(), len(self.objects), int(np.count_nonzero(alive)))
         if len(set(counts)) != 1:
-            raise AssertionError(f"op {op_index}: inconsistent counts (manager, wrappers, "
-                                 f"bodies) = {counts}")
+            raise AssertionError(
+                f"op {op_index}: inconsistent counts (manager, wrappers, bodies) = {counts}"
+            )
         for object_id in sorted(self.tracked):
             obj = self.objects[object_id]
             position = np.asarray(obj.translation)
@@ -280,9 +306,15 @@ class Soak:
             self.manager.remove_object_by_id(object_id)
 
 
-def run_soak(operations: int = 2000, seed: int = 0, progress: bool = False,
-             data_path: Path | None = None, templates: tuple = ALL_TEMPLATES,
-             max_objects: int = MAX_OBJECTS, weights: dict | None = None) -> SoakReport:
+def run_soak(
+    operations: int = 2000,
+    seed: int = 0,
+    progress: bool = False,
+    data_path: Path | None = None,
+    templates: tuple = ALL_TEMPLATES,
+    max_objects: int = MAX_OBJECTS,
+    weights: dict | None = None,
+) -> SoakReport:
     """Run ``operations`` seeded operations and return the figures (see the module docstring).
 
     ``templates`` (template name fragments), ``max_objects`` and ``weights`` (operation ->

@@ -37,6 +37,7 @@ __all__ = [
     "read_json_object",
 ]
 
+
 def read_json_object(path: Path) -> dict:
     """The JSON object in the file at ``path``; ``ValueError`` for malformed JSON or any
     other top-level value."""
@@ -74,8 +75,10 @@ def check_inertia(inertia: Any, name: str) -> np.ndarray:
     biggest = float(inertia.max())
     total = float(np.sum(inertia / biggest)) * biggest  # sum without overflow
     if np.any(2.0 * (inertia / biggest) > (total / biggest) * (1.0 + 1e-6)):  # I_c > I_a + I_b
-        raise ValueError(f"{name} {inertia.tolist()} breaks the triangle inequality "
-                         f"(each component must be <= the sum of the other two)")
+        raise ValueError(
+            f"{name} {inertia.tolist()} breaks the triangle inequality "
+            f"(each component must be <= the sum of the other two)"
+        )
     return inertia
 
 
@@ -85,8 +88,10 @@ def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
     if kind in ("vec3", "scale", "inertia"):
         vector = np.asarray(mn.to_vector3(value, f"{name}{where}"))
         if kind == "scale" and np.any(vector <= 0.0):
-            raise ValueError(f"{name}{where} must be > 0 on every axis (zero collapses the "
-                             f"object, negative mirrors it), got {vector.tolist()}")
+            raise ValueError(
+                f"{name}{where} must be > 0 on every axis (zero collapses the "
+                f"object, negative mirrors it), got {vector.tolist()}"
+            )
         if kind == "inertia" and np.any(vector != 0.0):  # all zero: computed from the shape
             check_inertia(vector, f"{name}{where}")
         return vector
@@ -143,8 +148,7 @@ class AbstractAttributes:
     @classmethod
     def _field_names(cls) -> list[str]:
         """Every name a template answers to: its fields, properties and methods."""
-        return sorted({*cls.FIELDS, "handle", "file_directory", "template_id",
-                       *public_names(cls)})
+        return sorted({*cls.FIELDS, "handle", "file_directory", "template_id", *public_names(cls)})
 
     def __setattr__(self, name: str, value: Any) -> None:
         if isinstance(getattr(type(self), name, None), property):
@@ -181,11 +185,14 @@ class AbstractAttributes:
         up, front = np.asarray(self._values["orient_up"]), np.asarray(self._values["orient_front"])
         lengths = [float(mn.stable_norm(v)) for v in (up, front)]
         if min(lengths) < 1e-12:
-            raise ValueError(f"orient_up {up.tolist()} and orient_front {front.tolist()}{where} "
-                             f"must be non-zero")
+            raise ValueError(
+                f"orient_up {up.tolist()} and orient_front {front.tolist()}{where} must be non-zero"
+            )
         if abs(float((up / lengths[0]) @ (front / lengths[1]))) > FRAME_ORTHOGONAL_TOLERANCE:
-            raise ValueError(f"orient_up {up.tolist()} and orient_front {front.tolist()}{where} "
-                             f"must be orthogonal (a skewed frame would shear the asset)")
+            raise ValueError(
+                f"orient_up {up.tolist()} and orient_front {front.tolist()}{where} "
+                f"must be orthogonal (a skewed frame would shear the asset)"
+            )
 
     def is_set_explicitly(self, name: str) -> bool:
         """True when the field was given by the JSON file or a setter (not left at default)."""
@@ -262,8 +269,7 @@ _ASSET_FIELDS = {
     "units_to_meters": Field("units_to_meters", "positive", 1.0),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
     "rolling_friction_coefficient": Field("rolling_friction_coefficient", "nonnegative", 0.0),
-    "spinning_friction_coefficient": Field("spinning_friction_coefficient", "nonnegative",
-                                           0.0),
+    "spinning_friction_coefficient": Field("spinning_friction_coefficient", "nonnegative", 0.0),
     "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
     "force_flat_shading": Field("force_flat_shading", "bool", False),
     "is_collidable": Field("is_collidable", "bool", True),
@@ -392,26 +398,43 @@ class PrimitiveAssetAttributes(AbstractAttributes):
         else:
             self._params[key] = f"{_validate(key, 'positive', value):g}"
 
-    num_segments = property(lambda self: self._param("segments", int),
-                            lambda self, v: self._set_param("segments", v, int))
-    num_rings = property(lambda self: self._param("rings", int),
-                         lambda self, v: self._set_param("rings", v, int))
-    half_length = property(lambda self: self._param("halfLen", float),
-                           lambda self, v: self._set_param("halfLen", v, float))
-    hemisphere_rings = property(lambda self: self._param("hemiRings", int),
-                                lambda self, v: self._set_param("hemiRings", v, int))
-    cylinder_rings = property(lambda self: self._param("cylRings", int),
-                              lambda self, v: self._set_param("cylRings", v, int))
-    subdivisions = property(lambda self: self._param("subdivs", int),
-                            lambda self, v: self._set_param("subdivs", v, int))
-    use_texture_coords = property(lambda self: self._param("useTexCoords", bool),
-                                  lambda self, v: self._set_param("useTexCoords", v, bool))
-    use_tangents = property(lambda self: self._param("useTangents", bool),
-                            lambda self, v: self._set_param("useTangents", v, bool))
-    use_cap_end = property(lambda self: self._param("capEnd", bool),
-                           lambda self, v: self._set_param("capEnd", v, bool))
-    use_cap_ends = property(lambda self: self._param("capEnds", bool),
-                            lambda self, v: self._set_param("capEnds", v, bool))
+    num_segments = property(
+        lambda self: self._param("segments", int),
+        lambda self, v: self._set_param("segments", v, int),
+    )
+    num_rings = property(
+        lambda self: self._param("rings", int), lambda self, v: self._set_param("rings", v, int)
+    )
+    half_length = property(
+        lambda self: self._param("halfLen", float),
+        lambda self, v: self._set_param("halfLen", v, float),
+    )
+    hemisphere_rings = property(
+        lambda self: self._param("hemiRings", int),
+        lambda self, v: self._set_param("hemiRings", v, int),
+    )
+    cylinder_rings = property(
+        lambda self: self._param("cylRings", int),
+        lambda self, v: self._set_param("cylRings", v, int),
+    )
+    subdivisions = property(
+        lambda self: self._param("subdivs", int), lambda self, v: self._set_param("subdivs", v, int)
+    )
+    use_texture_coords = property(
+        lambda self: self._param("useTexCoords", bool),
+        lambda self, v: self._set_param("useTexCoords", v, bool),
+    )
+    use_tangents = property(
+        lambda self: self._param("useTangents", bool),
+        lambda self, v: self._set_param("useTangents", v, bool),
+    )
+    use_cap_end = property(
+        lambda self: self._param("capEnd", bool), lambda self, v: self._set_param("capEnd", v, bool)
+    )
+    use_cap_ends = property(
+        lambda self: self._param("capEnds", bool),
+        lambda self, v: self._set_param("capEnds", v, bool),
+    )
 
     def build_handle(self) -> str:
         """Rebuild the handle from the parameters (Habitat's ``build_handle``)."""
@@ -424,8 +447,12 @@ class PrimitiveAssetAttributes(AbstractAttributes):
         """Whether Magnum can build the primitive (Habitat's rules): solid primitives need
         ``segments >= 3``, wireframes ``segments >= 4`` and a multiple of 4; rings and capsule
         rings ``>= 1``; UV spheres ``rings >= 2`` (even for wireframes); subdivisions >= 0."""
-        p = {key: self._param(key, bool if key in _PRIMITIVE_FLAGS else
-                              (float if key == "halfLen" else int)) for key in self._params}
+        p = {
+            key: self._param(
+                key, bool if key in _PRIMITIVE_FLAGS else (float if key == "halfLen" else int)
+            )
+            for key in self._params
+        }
         wire = self.is_wireframe
         if "segments" in p:
             if wire and (p["segments"] < 4 or p["segments"] % 4):

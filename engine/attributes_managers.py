@@ -137,8 +137,9 @@ class _AttributesManager(Generic[T]):
             self.register_template(template)
         return template
 
-    def register_template(self, template: T, specified_handle: str = "",
-                          force_registration: bool = False) -> int:
+    def register_template(
+        self, template: T, specified_handle: str = "", force_registration: bool = False
+    ) -> int:
         """Store a copy of ``template``; an existing handle keeps its id. Returns the id.
 
         As in Habitat, the id (and ``specified_handle``, if given) is written into the
@@ -157,8 +158,7 @@ class _AttributesManager(Generic[T]):
         if not handle:
             raise ValueError("a template needs a non-empty handle to be registered")
         if handle in self._locked:
-            warnings.warn(f"template {handle!r} is locked and was not overwritten",
-                          stacklevel=2)
+            warnings.warn(f"template {handle!r} is locked and was not overwritten", stacklevel=2)
             return -1
         template_id = self._ids.get(handle)
         if template_id is None:
@@ -191,8 +191,11 @@ class _AttributesManager(Generic[T]):
 
     def remove_templates_by_str(self, search_str: str = "", contains: bool = True) -> list[T]:
         """Remove every unlocked, deletable template whose handle matches; returns them."""
-        removable = [h for h in self.get_template_handles(search_str, contains)
-                     if h not in self._locked and h not in self._undeletable]
+        removable = [
+            h
+            for h in self.get_template_handles(search_str, contains)
+            if h not in self._locked and h not in self._undeletable
+        ]
         return [self.remove_template_by_handle(h) for h in removable]
 
     def remove_all_templates(self) -> None:
@@ -206,8 +209,9 @@ class _AttributesManager(Generic[T]):
         (self._locked.add if lock else self._locked.discard)(handle)
         return True
 
-    def set_lock_by_substring(self, lock: bool, search_str: str = "",
-                              contains: bool = True) -> list[str]:
+    def set_lock_by_substring(
+        self, lock: bool, search_str: str = "", contains: bool = True
+    ) -> list[str]:
         """Lock or unlock every template whose handle matches; returns their handles."""
         handles = self.get_template_handles(search_str, contains)
         for handle in handles:
@@ -260,13 +264,18 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
             self.register_template(PrimitiveAssetAttributes(handle))
             self._undeletable.add(handle)
 
-    def register_template(self, template: PrimitiveAssetAttributes, specified_handle: str = "",
-                          force_registration: bool = False) -> int:
+    def register_template(
+        self,
+        template: PrimitiveAssetAttributes,
+        specified_handle: str = "",
+        force_registration: bool = False,
+    ) -> int:
         """As for every manager, but an invalid primitive (``is_valid_template`` False)
         is refused: -1 with a warning, as Habitat builds no primitive from it."""
         if isinstance(template, PrimitiveAssetAttributes) and not template.is_valid_template:
-            warnings.warn(f"primitive template {template.handle!r} is not valid; not "
-                          "registered", stacklevel=2)
+            warnings.warn(
+                f"primitive template {template.handle!r} is not valid; not registered", stacklevel=2
+            )
             return -1
         return super().register_template(template, specified_handle, force_registration)
 
@@ -281,7 +290,8 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
 
     def _default(self, primitive_class: str, is_wireframe: bool) -> PrimitiveAssetAttributes:
         return self.get_template_by_handle(
-            self.get_default_template_handle(primitive_class, bool(is_wireframe)))
+            self.get_default_template_handle(primitive_class, bool(is_wireframe))
+        )
 
     def get_default_capsule_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
         """A copy of the default capsule primitive (solid or wireframe)."""

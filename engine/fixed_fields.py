@@ -26,8 +26,9 @@ __all__ = ["FixedFields", "public_names", "unknown_attribute_error"]
 
 def public_names(cls: type) -> list[str]:
     """Names of the public attributes, properties and methods of ``cls`` (and its bases)."""
-    return sorted({name for klass in cls.__mro__ for name in vars(klass)
-                   if not name.startswith("_")})
+    return sorted(
+        {name for klass in cls.__mro__ for name in vars(klass) if not name.startswith("_")}
+    )
 
 
 def unknown_attribute_error(class_name: str, name: str, known: Iterable[str]) -> AttributeError:
@@ -59,7 +60,8 @@ class FixedFields:
 
     def __setattr__(self, name: str, value: Any) -> None:
         if not name.startswith("_") and name not in _known_names(type(self)):
-            known = [n for n in _known_names(type(self)) if not callable(getattr(type(self), n,
-                                                                                    None))]
+            known = [
+                n for n in _known_names(type(self)) if not callable(getattr(type(self), n, None))
+            ]
             raise unknown_attribute_error(type(self).__name__, name, known)
         object.__setattr__(self, name, value)

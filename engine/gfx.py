@@ -32,8 +32,14 @@ from engine import mn
 from engine.fixed_fields import unknown_attribute_error
 from render.shade import AMBIENT, DEFAULT_LIGHTS, Lights
 
-__all__ = ["DEFAULT_LIGHTING_KEY", "NO_LIGHT_KEY", "LightInfo", "LightPositionModel",
-           "default_light_setup", "to_render_lights"]
+__all__ = [
+    "DEFAULT_LIGHTING_KEY",
+    "NO_LIGHT_KEY",
+    "LightInfo",
+    "LightPositionModel",
+    "default_light_setup",
+    "to_render_lights",
+]
 
 #: key of the setup objects are lit by unless told otherwise (Habitat's value)
 DEFAULT_LIGHTING_KEY = ""
@@ -49,8 +55,11 @@ class LightPositionModel(enum.IntEnum):
     Object = 2
 
 
-_FRAME = {LightPositionModel.Global: "world", LightPositionModel.Camera: "camera",
-          LightPositionModel.Object: "mesh"}
+_FRAME = {
+    LightPositionModel.Global: "world",
+    LightPositionModel.Camera: "camera",
+    LightPositionModel.Object: "mesh",
+}
 _FIELDS = ("vector", "color", "model")
 
 
@@ -60,8 +69,12 @@ class LightInfo:
 
     __slots__ = ("_vector", "_color", "_model")
 
-    def __init__(self, vector: Any = (0.0, 0.0, 1.0, 0.0), color: Any = (1.0, 1.0, 1.0),
-                 model: LightPositionModel = LightPositionModel.Global) -> None:
+    def __init__(
+        self,
+        vector: Any = (0.0, 0.0, 1.0, 0.0),
+        color: Any = (1.0, 1.0, 1.0),
+        model: LightPositionModel = LightPositionModel.Global,
+    ) -> None:
         self.vector = vector
         self.color = color
         self.model = model
@@ -72,8 +85,10 @@ class LightInfo:
             if array.shape != (4,) or not np.all(np.isfinite(array)):
                 raise ValueError(f"LightInfo.vector must be a finite 4-vector, got {value!r}")
             if array[3] not in (0.0, 1.0):
-                raise ValueError("LightInfo.vector needs w == 0 (directional) or w == 1 "
-                                 f"(point), got {array.tolist()}")
+                raise ValueError(
+                    "LightInfo.vector needs w == 0 (directional) or w == 1 "
+                    f"(point), got {array.tolist()}"
+                )
             object.__setattr__(self, "_vector", mn.Vector4(array))
         elif name == "color":
             object.__setattr__(self, "_color", mn.Color3(mn.to_vector3(value, "LightInfo.color")))
@@ -87,8 +102,12 @@ class LightInfo:
     model = property(lambda self: self._model)
 
     def __eq__(self, other: object) -> bool:
-        return (isinstance(other, LightInfo) and self._vector == other._vector
-                and self._color == other._color and self._model == other._model)
+        return (
+            isinstance(other, LightInfo)
+            and self._vector == other._vector
+            and self._color == other._color
+            and self._model == other._model
+        )
 
     __hash__ = None
 
@@ -101,9 +120,12 @@ class LightInfo:
 
 def default_light_setup() -> list[LightInfo]:
     """rigidsim's default setup as LightInfo: 4 directional gray lights (module docstring)."""
-    return [LightInfo(vector, [intensity] * 3, LightPositionModel.Global)
-            for vector, intensity in zip(DEFAULT_LIGHTS.vectors, DEFAULT_LIGHTS.intensities,
-                                         strict=True)]
+    return [
+        LightInfo(vector, [intensity] * 3, LightPositionModel.Global)
+        for vector, intensity in zip(
+            DEFAULT_LIGHTS.vectors, DEFAULT_LIGHTS.intensities, strict=True
+        )
+    ]
 
 
 def to_render_lights(setup: list[LightInfo]) -> Lights:

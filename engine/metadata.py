@@ -61,8 +61,9 @@ class MetadataMediator:
     """Habitat's ``habitat_sim.metadata.MetadataMediator`` (see the module docstring)."""
 
     def __init__(self, sim_cfg: Any = None) -> None:
-        self._datasets: dict[str, DatasetManagers] = {DEFAULT_DATASET:
-                                                      DatasetManagers(DEFAULT_DATASET)}
+        self._datasets: dict[str, DatasetManagers] = {
+            DEFAULT_DATASET: DatasetManagers(DEFAULT_DATASET)
+        }
         self._active = DEFAULT_DATASET
         dataset = getattr(sim_cfg, "scene_dataset_config_file", DEFAULT_DATASET) or DEFAULT_DATASET
         if dataset != DEFAULT_DATASET and not self.set_active_dataset(dataset):
@@ -141,25 +142,31 @@ class MetadataMediator:
     @property
     def summary(self) -> str:
         current = self._current
-        return (f"dataset {current.name}: {current.object_template_manager.get_num_templates()} "
-                f"object templates, {current.stage_template_manager.get_num_templates()} "
-                f"stage templates")
+        return (
+            f"dataset {current.name}: {current.object_template_manager.get_num_templates()} "
+            f"object templates, {current.stage_template_manager.get_num_templates()} "
+            f"stage templates"
+        )
 
     def dataset_report(self, name: str = "") -> str:
         """One line per dataset section: what was loaded and what rigidsim skipped."""
         dataset = self._datasets[self._key(name) if name else self._active]
-        lines = [f"{dataset.name}:",
-                 f"  objects: {dataset.object_template_manager.get_num_templates()}",
-                 f"  stages: {dataset.stage_template_manager.get_num_templates()}",
-                 f"  scene instances: {len(dataset.scene_instance_handles)}"]
+        lines = [
+            f"{dataset.name}:",
+            f"  objects: {dataset.object_template_manager.get_num_templates()}",
+            f"  stages: {dataset.stage_template_manager.get_num_templates()}",
+            f"  scene instances: {len(dataset.scene_instance_handles)}",
+        ]
         if dataset.skipped_sections:
             lines.append(f"  not loaded by rigidsim: {', '.join(dataset.skipped_sections)}")
         return "\n".join(lines)
 
 
 # -- loading a dataset file ------------------------------------------------------------------------
-_SECTIONS = {"objects": (ObjectAttributes, ".object_config.json"),
-             "stages": (StageAttributes, ".stage_config.json")}
+_SECTIONS = {
+    "objects": (ObjectAttributes, ".object_config.json"),
+    "stages": (StageAttributes, ".stage_config.json"),
+}
 
 
 def _load_dataset(path: Path) -> DatasetManagers:
@@ -167,8 +174,10 @@ def _load_dataset(path: Path) -> DatasetManagers:
     data = read_json_object(path)
     dataset = DatasetManagers(str(path.resolve()))
     root = path.parent
-    managers = {"objects": dataset.object_template_manager,
-                "stages": dataset.stage_template_manager}
+    managers = {
+        "objects": dataset.object_template_manager,
+        "stages": dataset.stage_template_manager,
+    }
     for section, (template_class, suffix) in _SECTIONS.items():
         block = data.get(section, {})
         defaults = dict(block.get("default_attributes", {}))
@@ -183,8 +192,9 @@ def _load_dataset(path: Path) -> DatasetManagers:
         for config in block.get("configs", []):
             _register_config(manager, template_class, root, config, defaults)
     for entry in data.get("scene_instances", {}).get("paths", {}).get(".json", []):
-        dataset.scene_instance_handles += [str(p) for p in _config_files(
-            root, entry, ".scene_instance.json")]
+        dataset.scene_instance_handles += [
+            str(p) for p in _config_files(root, entry, ".scene_instance.json")
+        ]
     dataset.skipped_sections = sorted(set(data) - {"objects", "stages", "scene_instances"})
     return dataset
 
@@ -201,8 +211,9 @@ def _config_files(root: Path, entry: str, suffix: str) -> list[Path]:
     return found
 
 
-def _register(manager, template_class, config_path: Path, attributes: dict, defaults: dict,
-              handle: str | None) -> None:
+def _register(
+    manager, template_class, config_path: Path, attributes: dict, defaults: dict, handle: str | None
+) -> None:
     """Build a template from ``defaults``, the file's values, then ``attributes``."""
     data = json.loads(config_path.read_text()) if config_path.is_file() else {}
     template = template_class(handle or str(config_path.resolve()))
@@ -219,14 +230,16 @@ def _register_config(manager, template_class, root: Path, config: dict, defaults
     if original is not None:
         source = root / original
         if not source.is_file():
-            warnings.warn(f"dataset config: original_file {source} not found, skipped",
-                          stacklevel=3)
+            warnings.warn(
+                f"dataset config: original_file {source} not found, skipped", stacklevel=3
+            )
             return
         _register(manager, template_class, source, attributes, defaults, handle)
         return
     if not handle:
-        warnings.warn("dataset config without original_file or template_handle, skipped",
-                      stacklevel=3)
+        warnings.warn(
+            "dataset config without original_file or template_handle, skipped", stacklevel=3
+        )
         return
     # a new template: asset paths are relative to the dataset file
     _register(manager, template_class, root / f"{handle}.json", attributes, defaults, handle)

@@ -69,10 +69,19 @@ class GreedyFollowerCodes(Enum):
 class GreedyGeodesicFollower:
     """Greedily fits the agent's actions to the geodesic shortest path (see the module)."""
 
-    def __init__(self, pathfinder: PathFinder, agent: Agent, goal_radius: float | None = None,
-                 *, stop_key: Any = None, forward_key: Any = None, left_key: Any = None,
-                 right_key: Any = None, fix_thrashing: bool = True,
-                 thrashing_threshold: int = 16) -> None:
+    def __init__(
+        self,
+        pathfinder: PathFinder,
+        agent: Agent,
+        goal_radius: float | None = None,
+        *,
+        stop_key: Any = None,
+        forward_key: Any = None,
+        left_key: Any = None,
+        right_key: Any = None,
+        fix_thrashing: bool = True,
+        thrashing_threshold: int = 16,
+    ) -> None:
         self.pathfinder = pathfinder
         self.agent = agent
         self.last_goal: np.ndarray | None = None
@@ -84,8 +93,9 @@ class GreedyGeodesicFollower:
         self.action_mapping[codes.LEFT] = key if left_key is None else left_key
         key, self.right_spec = self._find_action("turn_right")
         self.action_mapping[codes.RIGHT] = key if right_key is None else right_key
-        self.goal_radius = (0.75 * float(self.forward_spec.amount) if goal_radius is None
-                            else float(goal_radius))
+        self.goal_radius = (
+            0.75 * float(self.forward_spec.amount) if goal_radius is None else float(goal_radius)
+        )
         self.fix_thrashing = bool(fix_thrashing)
         self.thrashing_threshold = int(thrashing_threshold)
         self._turn_radians = math.radians(float(self.left_spec.amount))
@@ -96,19 +106,26 @@ class GreedyGeodesicFollower:
 
     def _find_action(self, name: str) -> tuple[Any, ActuationSpec]:
         """The (key, actuation) of the one action of the agent's space that runs ``name``."""
-        found = [(k, spec.actuation) for k, spec in self.agent.agent_config.action_space.items()
-                 if spec.name == name]
+        found = [
+            (k, spec.actuation)
+            for k, spec in self.agent.agent_config.action_space.items()
+            if spec.name == name
+        ]
         if len(found) != 1:
-            raise ValueError(f"Could not find an action spec corresponding to {name!r} in the "
-                             f"agent's action space ({len(found)} found)")
+            raise ValueError(
+                f"Could not find an action spec corresponding to {name!r} in the "
+                f"agent's action space ({len(found)} found)"
+            )
         return found[0]
 
     # -- primitives on scratch nodes -----------------------------------------------------------
     def _run(self, node: SceneNode, code: GreedyFollowerCodes) -> bool:
         """Apply one perfect action to a scratch node through the agent's controls."""
-        name, spec = {GreedyFollowerCodes.FORWARD: ("move_forward", self.forward_spec),
-                      GreedyFollowerCodes.LEFT: ("turn_left", self.left_spec),
-                      GreedyFollowerCodes.RIGHT: ("turn_right", self.right_spec)}[code]
+        name, spec = {
+            GreedyFollowerCodes.FORWARD: ("move_forward", self.forward_spec),
+            GreedyFollowerCodes.LEFT: ("turn_left", self.left_spec),
+            GreedyFollowerCodes.RIGHT: ("turn_right", self.right_spec),
+        }[code]
         return self.agent.controls(node, name, spec, True)
 
     def _geodesic(self, start: np.ndarray, end: np.ndarray) -> float:
@@ -123,13 +140,17 @@ class GreedyGeodesicFollower:
         collided = self._run(probe, GreedyFollowerCodes.FORWARD)
         after = np.asarray(probe.translation, dtype=np.float64)
         gained = (distance - self._geodesic(after, goal)) / float(self.forward_spec.amount)
-        to_obstacle = self.pathfinder.distance_to_closest_obstacle(after,
-                                                                   1.1 * CLOSE_TO_OBSTACLE_M)
-        return (gained - TURN_COST * turns - (COLLISION_COST if collided else 0.0)
-                - (0.05 if to_obstacle < CLOSE_TO_OBSTACLE_M else 0.0))
+        to_obstacle = self.pathfinder.distance_to_closest_obstacle(after, 1.1 * CLOSE_TO_OBSTACLE_M)
+        return (
+            gained
+            - TURN_COST * turns
+            - (COLLISION_COST if collided else 0.0)
+            - (0.05 if to_obstacle < CLOSE_TO_OBSTACLE_M else 0.0)
+        )
 
-    def _best_primitive(self, position: np.ndarray, rotation: Any,
-                        goal: np.ndarray) -> list[GreedyFollowerCodes]:
+    def _best_primitive(
+        self, position: np.ndarray, rotation: Any, goal: np.ndarray
+    ) -> list[GreedyFollowerCodes]:
         """The best ``[turn] * n + [FORWARD]`` from this pose, [STOP], or [ERROR]."""
         distance = self._geodesic(position, goal)
         if math.isinf(distance):
@@ -140,8 +161,10 @@ class GreedyGeodesicFollower:
         left, right = _scratch_node(position, rotation), _scratch_node(position, rotation)
         turns, angle = 0, 0.0
         while angle < math.pi:
-            for node, code in ((left, GreedyFollowerCodes.LEFT),
-                               (right, GreedyFollowerCodes.RIGHT)):
+            for node, code in (
+                (left, GreedyFollowerCodes.LEFT),
+                (right, GreedyFollowerCodes.RIGHT),
+            ):
                 reward = self._reward(node, goal, distance, turns)
                 if reward > best_reward:
                     best_reward, best = reward, [code] * turns + [GreedyFollowerCodes.FORWARD]
@@ -154,14 +177,15 @@ class GreedyGeodesicFollower:
 
     def _is_thrashing(self) -> bool:
         """The last ``thrashing_threshold`` actions alternate left and right."""
-        recent = self._actions[-self.thrashing_threshold:]
+        recent = self._actions[-self.thrashing_threshold :]
         if len(self._actions) < self.thrashing_threshold:
             return False
         turns = {GreedyFollowerCodes.LEFT, GreedyFollowerCodes.RIGHT}
         if recent[-1] not in turns:
             return False
-        return all(a in turns and b in turns and a != b for a, b in zip(recent, recent[1:],
-                                                                         strict=False))
+        return all(
+            a in turns and b in turns and a != b for a, b in zip(recent, recent[1:], strict=False)
+        )
 
     # -- Habitat's API -------------------------------------------------------------------------
     def next_action_along(self, goal_pos: Any) -> Any:
@@ -184,8 +208,7 @@ class GreedyGeodesicFollower:
                 code = primitive[0]
         self._actions.append(code)
         if code is GreedyFollowerCodes.ERROR:
-            raise GreedyFollowerError(f"no path from {state.position.tolist()} to "
-                                      f"{goal.tolist()}")
+            raise GreedyFollowerError(f"no path from {state.position.tolist()} to {goal.tolist()}")
         return self.action_mapping[code]
 
     def find_path(self, goal_pos: Any) -> list[Any]:
@@ -198,8 +221,9 @@ class GreedyGeodesicFollower:
         while len(actions) < MAX_ACTIONS:
             primitive = self._best_primitive(np.asarray(node.translation), node.rotation, goal)
             if not primitive or primitive[-1] is GreedyFollowerCodes.ERROR:
-                raise GreedyFollowerError(f"no path from {state.position.tolist()} to "
-                                          f"{goal.tolist()}")
+                raise GreedyFollowerError(
+                    f"no path from {state.position.tolist()} to {goal.tolist()}"
+                )
             for code in primitive:
                 if code is not GreedyFollowerCodes.STOP:
                     self._run(node, code)

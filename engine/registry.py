@@ -34,16 +34,22 @@ class _Registry:
     def __init__(self) -> None:
         self._move_fns: dict[str, Any] = {}
 
-    def register_move_fn(self, controller: type | None = None, *, name: str | None = None,
-                         body_action: bool | None = None):
+    def register_move_fn(
+        self,
+        controller: type | None = None,
+        *,
+        name: str | None = None,
+        body_action: bool | None = None,
+    ):
         """Register a ``SceneNodeControl`` subclass (usable as a decorator, with or without
         arguments). ``body_action`` must be given, as in Habitat (an AssertionError otherwise)."""
         assert body_action is not None, "body_action must be explicitly set to True or False"
         from engine.agent.controls.controls import SceneNodeControl
 
         def register(control_class: type) -> type:
-            is_control = isinstance(control_class, type) and issubclass(control_class,
-                                                                        SceneNodeControl)
+            is_control = isinstance(control_class, type) and issubclass(
+                control_class, SceneNodeControl
+            )
             assert is_control, "controls must inherit from habitat_sim.agent.SceneNodeControl"
             key = camel_to_snake(control_class.__name__) if name is None else name
             self._move_fns[key] = control_class(body_action)

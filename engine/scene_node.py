@@ -133,8 +133,10 @@ class SceneNode:
     def scaling(self, value: Any) -> None:
         scaling = np.asarray(mn.to_vector3(value, "scaling"))
         if np.any(scaling < MIN_SCALING):
-            raise ValueError(f"scaling must be >= {MIN_SCALING} on every axis (zero collapses "
-                             f"the node, negative reflects it), got {scaling.tolist()}")
+            raise ValueError(
+                f"scaling must be >= {MIN_SCALING} on every axis (zero collapses "
+                f"the node, negative reflects it), got {scaling.tolist()}"
+            )
         self._scaling = scaling
 
     def local_matrix(self) -> np.ndarray:

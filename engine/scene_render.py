@@ -156,24 +156,30 @@ class SceneRenderer:
                     poses.append(world)
                     is_static.append(id(drawable) in static_ids)
         order = sorted(range(len(drawables)), key=lambda i: not is_static[i])
-        return ([drawables[i] for i in order], [poses[i] for i in order],
-                [is_static[i] for i in order])
+        return (
+            [drawables[i] for i in order],
+            [poses[i] for i in order],
+            [is_static[i] for i in order],
+        )
 
     def _update_scenes(self) -> bytes:
         """Stage 2: rebuild the render scenes if drawables changed, else update poses.
 
         Returns the static drawables' world matrices as bytes (their exact poses)."""
         drawables, poses, is_static = self._gather()
-        lights = [self.lights_for(d.light_setup_key) if self.lights_for else None
-                  for d in drawables]
+        lights = [
+            self.lights_for(d.light_setup_key) if self.lights_for else None for d in drawables
+        ]
         # a new light setup is a new Lights object: its id changes the key (no id reuse while
         # self._lights keeps the previous ones alive)
-        key = tuple((id(d), id(d.mesh), d.lit, d.semantic_id, s, id(light))
-                    for d, s, light in zip(drawables, is_static, lights, strict=True))
+        key = tuple(
+            (id(d), id(d.mesh), d.lit, d.semantic_id, s, id(light))
+            for d, s, light in zip(drawables, is_static, lights, strict=True)
+        )
         if key != self._scene_key:
             n_static = sum(is_static)
             meshes = [_render_mesh(d, light) for d, light in zip(drawables, lights, strict=True)]
-            if key[:n_static] != self._scene_key[:self._n_static] or n_static != self._n_static:
+            if key[:n_static] != self._scene_key[: self._n_static] or n_static != self._n_static:
                 self._static_version += 1  # the static layers of every group are stale
                 self._static_scene = RenderScene(meshes[:n_static])
             self._moving_scene = RenderScene(meshes[n_static:])
@@ -204,12 +210,14 @@ class SceneRenderer:
     def _camera(sensor: CameraSensor) -> Camera:
         (height, width), hfov, near, far, subtype, ortho_scale = sensor.camera_key()
         kind = "orthographic" if subtype is SensorSubType.ORTHOGRAPHIC else "pinhole"
-        return Camera((height, width), hfov=hfov, near=near, far=far, subtype=kind,
-                      ortho_scale=ortho_scale)
+        return Camera(
+            (height, width), hfov=hfov, near=near, far=far, subtype=kind, ortho_scale=ortho_scale
+        )
 
     # -- stages 3-5 ----------------------------------------------------------------------
-    def observe(self, sensors: list[CameraSensor] | dict[str, CameraSensor]
-                ) -> dict[str, np.ndarray]:
+    def observe(
+        self, sensors: list[CameraSensor] | dict[str, CameraSensor]
+    ) -> dict[str, np.ndarray]:
         """Stages 3-5: one observation per sensor, keyed by uuid (fresh arrays).
 
         ``sensors`` is a list of sensors or an agent's ``sensors`` dict (uuid -> sensor).
@@ -277,16 +285,19 @@ class SceneRenderer:
         """
         camera = self._camera(members[0])
         if mode == "new layer":
-            state.static_buffers = render_frame(self._static_scene, camera, pose,
-                                                state.static_buffers, cull_back_faces=True)
+            state.static_buffers = render_frame(
+                self._static_scene, camera, pose, state.static_buffers, cull_back_faces=True
+            )
             state.layer = StaticLayer.from_frame(state.static_buffers)
             state.layer_signature = signature
         if mode == "full":
-            frame = render_frame(self._full_scene, camera, pose, state.buffers,
-                                 cull_back_faces=True)
+            frame = render_frame(
+                self._full_scene, camera, pose, state.buffers, cull_back_faces=True
+            )
         else:
-            frame = render_over_layer(state.layer, self._moving_scene, camera, pose,
-                                      state.buffers, cull_back_faces=True)
+            frame = render_over_layer(
+                state.layer, self._moving_scene, camera, pose, state.buffers, cull_back_faces=True
+            )
         state.buffers, state.last_signature = frame, signature
         return {sensor.uuid: _buffer_for(sensor.spec.sensor_type, frame) for sensor in members}
 

@@ -60,9 +60,23 @@ class CameraSensorSpec(FixedFields):
     COLOR as RGBA whatever ``channels`` says.
     """
 
-    _extra_fields = ("uuid", "sensor_type", "sensor_subtype", "resolution", "position",
-                     "orientation", "hfov", "near", "far", "ortho_scale", "clear_color",
-                     "channels", "gpu2gpu_transfer", "noise_model", "noise_model_kwargs")
+    _extra_fields = (
+        "uuid",
+        "sensor_type",
+        "sensor_subtype",
+        "resolution",
+        "position",
+        "orientation",
+        "hfov",
+        "near",
+        "far",
+        "ortho_scale",
+        "clear_color",
+        "channels",
+        "gpu2gpu_transfer",
+        "noise_model",
+        "noise_model_kwargs",
+    )
 
     def __init__(self) -> None:
         self.uuid = ""
@@ -98,11 +112,14 @@ class CameraSensorSpec(FixedFields):
         if not 0.0 < hfov < 180.0:
             raise ValueError(f"sensor {self.uuid!r}: hfov must be in (0, 180), got {self.hfov!r}")
         if not 0.0 < near < far:
-            raise ValueError(f"sensor {self.uuid!r}: need 0 < near < far, got "
-                             f"near={self.near!r}, far={self.far!r}")
+            raise ValueError(
+                f"sensor {self.uuid!r}: need 0 < near < far, got "
+                f"near={self.near!r}, far={self.far!r}"
+            )
         if self._number("ortho_scale") <= 0.0:
-            raise ValueError(f"sensor {self.uuid!r}: ortho_scale must be > 0, "
-                             f"got {self.ortho_scale!r}")
+            raise ValueError(
+                f"sensor {self.uuid!r}: ortho_scale must be > 0, got {self.ortho_scale!r}"
+            )
 
     def pixel_resolution(self) -> tuple[int, int]:
         """``(height, width)`` as ints: whole, >= 1 and within the render budget
@@ -111,10 +128,17 @@ class CameraSensorSpec(FixedFields):
             resolution = np.asarray(self.resolution, dtype=np.float64)
         except (TypeError, ValueError):
             resolution = None
-        if (resolution is None or resolution.shape != (2,) or not np.all(np.isfinite(resolution))
-                or np.any(resolution < 1) or np.any(resolution != np.round(resolution))):
-            raise ValueError(f"sensor {self.uuid!r}: resolution must be [height, width], two "
-                             f"whole numbers >= 1, got {self.resolution!r}")
+        if (
+            resolution is None
+            or resolution.shape != (2,)
+            or not np.all(np.isfinite(resolution))
+            or np.any(resolution < 1)
+            or np.any(resolution != np.round(resolution))
+        ):
+            raise ValueError(
+                f"sensor {self.uuid!r}: resolution must be [height, width], two "
+                f"whole numbers >= 1, got {self.resolution!r}"
+            )
         height, width = (int(v) for v in resolution)
         check_pixel_budget(height, width, f"sensor {self.uuid!r} resolution")
         return height, width
@@ -129,16 +153,24 @@ class CameraSensorSpec(FixedFields):
         return float(value)
 
     def __repr__(self) -> str:
-        return (f"CameraSensorSpec(uuid={self.uuid!r}, {self.sensor_type.name}, "
-                f"resolution={list(self.resolution)}, position={list(self.position)}, "
-                f"orientation={list(self.orientation)}, hfov={self.hfov})")
+        return (
+            f"CameraSensorSpec(uuid={self.uuid!r}, {self.sensor_type.name}, "
+            f"resolution={list(self.resolution)}, position={list(self.position)}, "
+            f"orientation={list(self.orientation)}, hfov={self.hfov})"
+        )
 
 
 def euler_xyz_matrix(angles: Any) -> np.ndarray:
     """Rotation applying X, then Y, then Z Euler angles (radians): ``Rz @ Ry @ Rx``."""
     ax, ay, az = (float(a) for a in angles)
-    cx, sx, cy, sy, cz, sz = (math.cos(ax), math.sin(ax), math.cos(ay), math.sin(ay),
-                              math.cos(az), math.sin(az))
+    cx, sx, cy, sy, cz, sz = (
+        math.cos(ax),
+        math.sin(ax),
+        math.cos(ay),
+        math.sin(ay),
+        math.cos(az),
+        math.sin(az),
+    )
     rot_x = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
     rot_y = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
     rot_z = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
@@ -176,8 +208,9 @@ class CameraSensor:
         # mn.Rad converts; mn.Deg and plain numbers are degrees
         degrees = math.degrees(float(value)) if isinstance(value, mn.Rad) else float(value)
         if not 0.0 < degrees < 180.0:
-            raise ValueError(f"sensor {self.uuid!r}: hfov must be in (0, 180) degrees, "
-                             f"got {value!r}")
+            raise ValueError(
+                f"sensor {self.uuid!r}: hfov must be in (0, 180) degrees, got {value!r}"
+            )
         self.spec.hfov = degrees
 
     fov = hfov  # Habitat's alias
@@ -195,8 +228,14 @@ class CameraSensor:
         """Intrinsics that decide the rasterization (sensors with equal keys and poses share)."""
         spec = self.spec
         height, width = spec.pixel_resolution()
-        return ((height, width), float(spec.hfov), float(spec.near), float(spec.far),
-                spec.sensor_subtype, float(spec.ortho_scale))
+        return (
+            (height, width),
+            float(spec.hfov),
+            float(spec.near),
+            float(spec.far),
+            spec.sensor_subtype,
+            float(spec.ortho_scale),
+        )
 
     def world_from_camera(self) -> np.ndarray:
         """The camera pose ``(4, 4)``: agent node pose times the sensor's local pose."""

@@ -154,19 +154,25 @@ class Simulator:
         self.random = Random(sim_cfg.random_seed)
         self._stage_node = SceneNode(self.root_node, name="stage")
         self._light_setups = {DEFAULT_LIGHTING_KEY: default_light_setup(), NO_LIGHT_KEY: []}
-        self._render_lights = {key: to_render_lights(setup)
-                               for key, setup in self._light_setups.items()}
-        self._stage_node.drawables = [Drawable(m, semantic_id=0,
-                                               light_setup_key=sim_cfg.scene_light_setup)
-                                      for m in stage_meshes]
+        self._render_lights = {
+            key: to_render_lights(setup) for key, setup in self._light_setups.items()
+        }
+        self._stage_node.drawables = [
+            Drawable(m, semantic_id=0, light_setup_key=sim_cfg.scene_light_setup)
+            for m in stage_meshes
+        ]
         self._stage_meshes = stage_meshes
         self._stage_attributes = stage_attributes
-        self._world = PhysicsWorld(physics_attributes, self.root_node,
-                                   self._object_template_manager,
-                                   self._asset_template_manager)
+        self._world = PhysicsWorld(
+            physics_attributes,
+            self.root_node,
+            self._object_template_manager,
+            self._asset_template_manager,
+        )
         self._world.set_stage(stage_meshes or None, stage_attributes)
-        self._renderer = SceneRenderer(self.root_node, self._static_drawable_ids,
-                                       lights_for=self._lights_for)
+        self._renderer = SceneRenderer(
+            self.root_node, self._static_drawable_ids, lights_for=self._lights_for
+        )
         # Habitat draws the navmesh wireframe when True; rigidsim stores the flag only
         self.navmesh_visualization = False
 
@@ -195,8 +201,11 @@ class Simulator:
         try:
             return self._physics_template_manager.load(path)
         except FileNotFoundError:
-            warnings.warn(f"physics config {path!r} not found; using the default physics "
-                          f"settings (timestep 0.008 s, gravity -9.8 m/s^2)", stacklevel=3)
+            warnings.warn(
+                f"physics config {path!r} not found; using the default physics "
+                f"settings (timestep 0.008 s, gravity -9.8 m/s^2)",
+                stacklevel=3,
+            )
             return self._physics_template_manager.load("")
 
     def _load_stage(self, scene_id: str) -> tuple[StageAttributes | None, list]:
@@ -212,9 +221,13 @@ class Simulator:
             stage = stages.create_template_for_asset(scene_id)
             stages.register_template(stage)
         scale = np.asarray(stage.scale) * 1.0
-        meshes = load_meshes(stage.render_asset_handle, up=stage.orient_up,
-                             front=stage.orient_front, scale=scale,
-                             units_to_meters=stage.units_to_meters)
+        meshes = load_meshes(
+            stage.render_asset_handle,
+            up=stage.orient_up,
+            front=stage.orient_front,
+            scale=scale,
+            units_to_meters=stage.units_to_meters,
+        )
         return stage, meshes
 
     def _stage_triangles(self) -> tuple[np.ndarray, np.ndarray]:
@@ -245,8 +258,11 @@ class Simulator:
         if not loaded:
             # as Habitat: a bad navmesh file is logged, the simulator runs without a navmesh
             reason = "; ".join(str(w.message) for w in caught)
-            warnings.warn(f"{navmesh_file} is not a valid navmesh, the simulator has no "
-                          f"navmesh (recompute_navmesh builds one): {reason}", stacklevel=3)
+            warnings.warn(
+                f"{navmesh_file} is not a valid navmesh, the simulator has no "
+                f"navmesh (recompute_navmesh builds one): {reason}",
+                stacklevel=3,
+            )
 
     # ------------------------------------------------------------------------------------------
     # managers
@@ -376,8 +392,10 @@ class Simulator:
                 try:
                     initial_state.position = self.pathfinder.get_random_navigable_point()
                 except RuntimeError as error:  # a navmesh without navigable area
-                    warnings.warn(f"initialize_agent({agent_id}): {error}; the agent starts "
-                                  f"at the origin", stacklevel=2)
+                    warnings.warn(
+                        f"initialize_agent({agent_id}): {error}; the agent starts at the origin",
+                        stacklevel=2,
+                    )
                 yaw = self.random.uniform_float(0.0, 2.0 * np.pi)
                 initial_state.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
         agent.set_state(initial_state, is_initial=True)
@@ -457,18 +475,33 @@ class Simulator:
             return observations
         return observations[self._default_agent_id]
 
-    def make_greedy_follower(self, agent_id: int | None = None, goal_radius: float | None = None,
-                             *, stop_key: Any = None, forward_key: Any = None,
-                             left_key: Any = None, right_key: Any = None,
-                             fix_thrashing: bool = True, thrashing_threshold: int = 16):
+    def make_greedy_follower(
+        self,
+        agent_id: int | None = None,
+        goal_radius: float | None = None,
+        *,
+        stop_key: Any = None,
+        forward_key: Any = None,
+        left_key: Any = None,
+        right_key: Any = None,
+        fix_thrashing: bool = True,
+        thrashing_threshold: int = 16,
+    ):
         """A :class:`engine.nav.GreedyGeodesicFollower` for an agent on this navmesh."""
         from engine.nav import GreedyGeodesicFollower
 
         agent = self.get_agent(self._default_agent_id if agent_id is None else agent_id)
         return GreedyGeodesicFollower(
-            self.pathfinder, agent, goal_radius, stop_key=stop_key, forward_key=forward_key,
-            left_key=left_key, right_key=right_key, fix_thrashing=fix_thrashing,
-            thrashing_threshold=thrashing_threshold)
+            self.pathfinder,
+            agent,
+            goal_radius,
+            stop_key=stop_key,
+            forward_key=forward_key,
+            left_key=left_key,
+            right_key=right_key,
+            fix_thrashing=fix_thrashing,
+            thrashing_threshold=thrashing_threshold,
+        )
 
     # ------------------------------------------------------------------------------------------
     # lights (engine.gfx)
@@ -501,8 +534,12 @@ class Simulator:
     # ------------------------------------------------------------------------------------------
     # navigation
     # ------------------------------------------------------------------------------------------
-    def recompute_navmesh(self, pathfinder: PathFinder, navmesh_settings: NavMeshSettings,
-                          include_static_objects: bool | None = None) -> bool:
+    def recompute_navmesh(
+        self,
+        pathfinder: PathFinder,
+        navmesh_settings: NavMeshSettings,
+        include_static_objects: bool | None = None,
+    ) -> bool:
         """Build ``pathfinder``'s navmesh from the stage (and STATIC objects if asked).
 
         ``include_static_objects`` (Habitat's older third argument) overrides the settings'
@@ -511,16 +548,22 @@ class Simulator:
         if not isinstance(navmesh_settings, NavMeshSettings):
             raise TypeError(f"navmesh_settings must be NavMeshSettings, got {navmesh_settings!r}")
         vertices, faces = self._stage_triangles()
-        with_statics = (navmesh_settings.include_static_objects if include_static_objects is None
-                        else bool(include_static_objects))
+        with_statics = (
+            navmesh_settings.include_static_objects
+            if include_static_objects is None
+            else bool(include_static_objects)
+        )
         if with_statics:
             parts = [(vertices, faces), *self._world.static_meshes_world()]
             offsets = np.cumsum([0] + [len(v) for v, _ in parts[:-1]])
             vertices = np.concatenate([v for v, _ in parts])
             faces = np.concatenate([f + o for (_, f), o in zip(parts, offsets, strict=True)])
         if len(faces) == 0:
-            warnings.warn("recompute_navmesh: the scene has no triangles; no navmesh is built "
-                          "and no collision checking will be done", stacklevel=2)
+            warnings.warn(
+                "recompute_navmesh: the scene has no triangles; no navmesh is built "
+                "and no collision checking will be done",
+                stacklevel=2,
+            )
             return False
         return bool(pathfinder.build(vertices, faces, navmesh_settings))
 
@@ -581,5 +624,7 @@ class Simulator:
         self.close()
 
     def __repr__(self) -> str:
-        return (f"<Simulator scene_id={self.config.sim_cfg.scene_id!r} "
-                f"time={self.get_world_time():.3f}s agents={len(self.agents)}>")
+        return (
+            f"<Simulator scene_id={self.config.sim_cfg.scene_id!r} "
+            f"time={self.get_world_time():.3f}s agents={len(self.agents)}>"
+        )

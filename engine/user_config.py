@@ -193,8 +193,10 @@ class Configuration:
             if value is None or (isinstance(value, list) and any(v is None for v in value)):
                 # Habitat's JSON reader skips a null (and a numeric array holding one) with a
                 # warning instead of failing the whole file
-                warnings.warn(f"{source}.{key} is null (or holds a null): skipped, as Habitat "
-                              f"does", stacklevel=2)
+                warnings.warn(
+                    f"{source}.{key} is null (or holds a null): skipped, as Habitat does",
+                    stacklevel=2,
+                )
                 continue
             if isinstance(value, dict):
                 config._subconfigs[key] = cls.from_dict(value, f"{source}.{key}")

@@ -66,9 +66,7 @@ def build_navmesh(
     walkable_tri = hf.mark_walkable_triangles(vertices, faces, s.agent_max_slope)
     # -- Step 3. Rasterize: triangle samples -> solid spans per column ---------------------
     column, y, walkable = hf.rasterize_triangles(vertices, faces, walkable_tri, grid, spacing)
-    spans = hf.merge_samples_into_spans(
-        column, y, walkable, grid, s.cell_height, s.agent_max_climb
-    )
+    spans = hf.merge_samples_into_spans(column, y, walkable, grid, s.cell_height, s.agent_max_climb)
     # -- Step 4. Span filters (each switchable as in Habitat) -------------------------------
     if s.filter_low_hanging_obstacles:
         hf.filter_low_hanging_obstacles(spans, s.agent_max_climb)
@@ -109,23 +107,31 @@ def build_navmesh(
     )
 
 
-def check_build_budget(vertices: np.ndarray, faces: np.ndarray, cell_size: float,
-                       spacing: float) -> None:
+def check_build_budget(
+    vertices: np.ndarray, faces: np.ndarray, cell_size: float, spacing: float
+) -> None:
     """Refuse, before allocating anything, a build whose grid or rasterization would exceed
     ``MAX_GRID_CELLS`` / ``MAX_RASTER_SAMPLES`` (ValueError naming the budget)."""
     extent = vertices.max(axis=0) - vertices.min(axis=0)
     # cells = ceil(x extent / cs) * ceil(z extent / cs), in floats (no int overflow)
     cells = max(1.0, np.ceil(extent[0] / cell_size)) * max(1.0, np.ceil(extent[2] / cell_size))
-    check_budget(cells, MAX_GRID_CELLS, "MAX_GRID_CELLS",
-                 f"a navmesh grid of cell_size {cell_size} over {extent[0]:.3g} x "
-                 f"{extent[2]:.3g} m")
+    check_budget(
+        cells,
+        MAX_GRID_CELLS,
+        "MAX_GRID_CELLS",
+        f"a navmesh grid of cell_size {cell_size} over {extent[0]:.3g} x {extent[2]:.3g} m",
+    )
     a = vertices[faces[:, 0]]
     # the rasterizer's lattice: (ceil(|ab| / s) + 1) (ceil(|ac| / s) + 1) samples per triangle
     n_u = np.maximum(1.0, np.ceil(np.linalg.norm(vertices[faces[:, 1]] - a, axis=1) / spacing))
     n_v = np.maximum(1.0, np.ceil(np.linalg.norm(vertices[faces[:, 2]] - a, axis=1) / spacing))
-    check_budget(float(np.sum((n_u + 1.0) * (n_v + 1.0))), MAX_RASTER_SAMPLES,
-                 "MAX_RASTER_SAMPLES", f"rasterizing {len(faces)} triangles at a sample "
-                 f"spacing of {spacing:.3g} m (half of min(cell_size, cell_height))")
+    check_budget(
+        float(np.sum((n_u + 1.0) * (n_v + 1.0))),
+        MAX_RASTER_SAMPLES,
+        "MAX_RASTER_SAMPLES",
+        f"rasterizing {len(faces)} triangles at a sample "
+        f"spacing of {spacing:.3g} m (half of min(cell_size, cell_height))",
+    )
 
 
 def check_mesh(vertices, faces) -> tuple[np.ndarray, np.ndarray]:

@@ -152,8 +152,10 @@ class NavMeshData:
             settings.update_from_dict(settings_dict)
         except (KeyError, TypeError) as err:
             raise ValueError(f"{where}: bad settings_json ({err})") from err
-        for key, low, high in (("links", -1, np.iinfo(np.int8).max),
-                               ("island", -1, np.iinfo(np.int32).max)):
+        for key, low, high in (
+            ("links", -1, np.iinfo(np.int8).max),
+            ("island", -1, np.iinfo(np.int32).max),
+        ):
             values = arrays[key]  # checked before the cast, which would wrap big values
             if values.size and (values.min() < low or values.max() > high):
                 raise ValueError(f"{where}: {key!r} values must lie in [{low}, {high}]")
@@ -201,8 +203,11 @@ def _array_headers(path: Path, where: str) -> dict[str, tuple[tuple, np.dtype]]:
                     continue
                 with archive.open(info) as stream:
                     version = npy_format.read_magic(stream)
-                    read = (npy_format.read_array_header_1_0 if version == (1, 0)
-                            else npy_format.read_array_header_2_0)
+                    read = (
+                        npy_format.read_array_header_1_0
+                        if version == (1, 0)
+                        else npy_format.read_array_header_2_0
+                    )
                     shape, _fortran, dtype = read(stream)
                 headers[info.filename[: -len(".npy")]] = (shape, dtype)
     except (zipfile.BadZipFile, OSError, ValueError, EOFError) as err:
@@ -217,27 +222,41 @@ def _check_headers(headers: dict, where: str) -> None:
             raise ValueError(f"{where} lacks the array {key!r}")
         shape, dtype = headers[key]
         if dtype.kind not in kinds or dtype.hasobject or len(shape) != ndim:
-            raise ValueError(f"{where}: {key!r} must be a {ndim}-d array of kind {kinds!r}, "
-                             f"got shape {shape} dtype {dtype}")
+            raise ValueError(
+                f"{where}: {key!r} must be a {ndim}-d array of kind {kinds!r}, "
+                f"got shape {shape} dtype {dtype}"
+            )
         if dtype.kind == "U" and dtype.itemsize > 4 * _MAX_STRING:
             raise ValueError(f"{where}: {key!r} is longer than {_MAX_STRING} characters")
     grid = headers["floor"][0]
-    check_budget(float(np.prod(grid, dtype=np.float64)), MAX_NAV_NODES, "MAX_NAV_NODES",
-                 f"{where} with a grid of shape {grid}")
-    expected = {"bounds": (2, 3), "origin_xz": (2,), "ceiling": grid, "navigable": grid,
-                "island": grid, "links": (4, *grid)}
+    check_budget(
+        float(np.prod(grid, dtype=np.float64)),
+        MAX_NAV_NODES,
+        "MAX_NAV_NODES",
+        f"{where} with a grid of shape {grid}",
+    )
+    expected = {
+        "bounds": (2, 3),
+        "origin_xz": (2,),
+        "ceiling": grid,
+        "navigable": grid,
+        "island": grid,
+        "links": (4, *grid),
+    }
     for key, shape in expected.items():
         if tuple(headers[key][0]) != tuple(shape):
-            raise ValueError(f"{where}: {key!r} has shape {headers[key][0]}, expected {shape} "
-                             f"(floor is {grid})")
+            raise ValueError(
+                f"{where}: {key!r} has shape {headers[key][0]}, expected {shape} (floor is {grid})"
+            )
 
 
 def check_contents(data: NavMeshData, where: str = "navmesh") -> None:
     """Raise ValueError naming the first inconsistency of a grid's arrays (see ``load``)."""
     n_layers, nz, nx = data.shape
     if not (np.all(np.isfinite(data.bounds)) and np.all(data.bounds[0] <= data.bounds[1])):
-        raise ValueError(f"{where}: bounds must be finite with min <= max, "
-                         f"got {data.bounds.tolist()}")
+        raise ValueError(
+            f"{where}: bounds must be finite with min <= max, got {data.bounds.tolist()}"
+        )
     if not np.all(np.isfinite(data.origin_xz)):
         raise ValueError(f"{where}: origin_xz must be finite, got {data.origin_xz.tolist()}")
     if not (np.isfinite(data.cell_size) and data.cell_size > 0):
@@ -252,8 +271,9 @@ def check_contents(data: NavMeshData, where: str = "navmesh") -> None:
         raise ValueError(f"{where}: island must be >= 0 exactly on navigable nodes, else -1")
     links = data.links
     if np.any(links < -1) or np.any(links >= n_layers):
-        raise ValueError(f"{where}: links must lie in [-1, {n_layers}), got "
-                         f"[{links.min()}, {links.max()}]")
+        raise ValueError(
+            f"{where}: links must lie in [-1, {n_layers}), got [{links.min()}, {links.max()}]"
+        )
     for d, (dx, dz) in enumerate(DIRECTIONS):
         linked = links[d] >= 0  # (L, nz, nx)
         if not np.any(linked):

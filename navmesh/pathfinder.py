@@ -258,9 +258,7 @@ class PathFinder:
             self._island_radius = island_radii(self._grid)
         return float(self._island_radius[island])
 
-    def get_random_navigable_point(
-        self, max_tries: int = 10, island_index: int = -1
-    ) -> np.ndarray:
+    def get_random_navigable_point(self, max_tries: int = 10, island_index: int = -1) -> np.ndarray:
         """Uniformly distributed (by XZ area) navigable point, optionally on one island.
 
         Sampling a node then a point in its square cannot fail, so ``max_tries`` (kept for
@@ -291,8 +289,9 @@ class PathFinder:
         if node < 0:
             return _nan3()
         # no navmesh is 1e30 m wide: a larger radius selects the same squares, no overflow
-        nodes = nodes_in_disk(self._grid, center, min(float(radius), 1e30),
-                              int(self._grid.island[node]))
+        nodes = nodes_in_disk(
+            self._grid, center, min(float(radius), 1e30), int(self._grid.island[node])
+        )
         for _ in range(max(1, int(max_tries))):
             point = self._sample_in(nodes)
             if np.linalg.norm(point - center) < radius:
@@ -443,8 +442,15 @@ class PathFinder:
         z0 = grid.z0 + iz * grid.cell_size
         x1, z1 = x0 + grid.cell_size, z0 + grid.cell_size
         y = grid.floor[nodes]
-        corners = np.stack([np.stack([x0, y, z0], 1), np.stack([x1, y, z0], 1),
-                            np.stack([x1, y, z1], 1), np.stack([x0, y, z1], 1)], axis=1)
+        corners = np.stack(
+            [
+                np.stack([x0, y, z0], 1),
+                np.stack([x1, y, z0], 1),
+                np.stack([x1, y, z1], 1),
+                np.stack([x0, y, z1], 1),
+            ],
+            axis=1,
+        )
         return corners.reshape(-1, 3)
 
     # -- maps --------------------------------------------------------------------------------
@@ -460,11 +466,16 @@ class PathFinder:
         self, meters_per_pixel: float, height: float, eps: float = 0.5
     ) -> np.ndarray:
         """Like ``get_topdown_view`` but ``int32`` island indices, -1 where not navigable."""
-        if not (isinstance(meters_per_pixel, (int, float)) and not isinstance(meters_per_pixel,
-                bool) and math.isfinite(meters_per_pixel) and meters_per_pixel > 0):
+        if not (
+            isinstance(meters_per_pixel, (int, float))
+            and not isinstance(meters_per_pixel, bool)
+            and math.isfinite(meters_per_pixel)
+            and meters_per_pixel > 0
+        ):
             raise ValueError(f"meters_per_pixel must be finite and > 0, got {meters_per_pixel!r}")
-        if isinstance(height, bool) or not isinstance(height, (int, float, np.integer,
-                                                                np.floating)):
+        if isinstance(height, bool) or not isinstance(
+            height, (int, float, np.integer, np.floating)
+        ):
             raise TypeError(f"height must be a number, got {height!r}")
         if not math.isfinite(height):
             raise ValueError(f"height must be finite, got {height!r}")
@@ -474,6 +485,10 @@ class PathFinder:
         span = data.bounds[1] - data.bounds[0]
         # (z span / mpp) x (x span / mpp) pixels, in floats so that no int can overflow
         pixels = float(span[0] / meters_per_pixel) * float(span[2] / meters_per_pixel)
-        check_budget(pixels, MAX_TOPDOWN_PIXELS, "MAX_TOPDOWN_PIXELS",
-                     f"a top-down view at {meters_per_pixel} m per pixel")
+        check_budget(
+            pixels,
+            MAX_TOPDOWN_PIXELS,
+            "MAX_TOPDOWN_PIXELS",
+            f"a top-down view at {meters_per_pixel} m per pixel",
+        )
         return topdown_islands(self._grid, data.bounds, float(meters_per_pixel), height, eps)

@@ -54,8 +54,12 @@ def island_radii(grid: NavGrid) -> np.ndarray:
     label = grid.island[nodes]
     iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
     centers = np.stack(
-        [grid.x0 + (ix + 0.5) * grid.cell_size, grid.floor[nodes],
-         grid.z0 + (iz + 0.5) * grid.cell_size], axis=1,
+        [
+            grid.x0 + (ix + 0.5) * grid.cell_size,
+            grid.floor[nodes],
+            grid.z0 + (iz + 0.5) * grid.cell_size,
+        ],
+        axis=1,
     )
     count = np.bincount(label, minlength=grid.n_islands)[:, None]
     centroid = np.stack(

@@ -245,8 +245,12 @@ class NavGrid:
         cs = self.cell_size
         lo_x, lo_z = self.x0 + ix * cs, self.z0 + iz * cs
         hi_x, hi_z = lo_x + cs, lo_z + cs
-        sides = ((hi_x, lo_z, hi_x, hi_z), (lo_x, lo_z, lo_x, hi_z),
-                 (lo_x, hi_z, hi_x, hi_z), (lo_x, lo_z, hi_x, lo_z))  # +X, -X, +Z, -Z
+        sides = (
+            (hi_x, lo_z, hi_x, hi_z),
+            (lo_x, lo_z, lo_x, hi_z),
+            (lo_x, hi_z, hi_x, hi_z),
+            (lo_x, lo_z, hi_x, lo_z),
+        )  # +X, -X, +Z, -Z
         for row in range(4):
             if self.neighbours[row, node] < 0:
                 yield sides[row]

@@ -71,8 +71,9 @@ MAX_TOPDOWN_PIXELS = 4096 * 4096
 def check_budget(count: float, budget: int, name: str, what: str) -> None:
     """Raise ValueError naming the budget ``name`` when ``count`` exceeds it."""
     if not count <= budget:  # also catches NaN and inf counts
-        raise ValueError(f"{what} needs {count:.3g}, more than the budget "
-                         f"navmesh.settings.{name} = {budget}")
+        raise ValueError(
+            f"{what} needs {count:.3g}, more than the budget navmesh.settings.{name} = {budget}"
+        )
 
 
 @dataclass(eq=False)

@@ -394,9 +394,11 @@ class _ShadingInputs:
             centroid_camera = (tri[0] + tri[1] + tri[2]) / 3.0  # (3, k)
             world_from_camera = np.linalg.inv(camera_from_world)
             centroid_world = (world_from_camera[:3, :3] @ centroid_camera).T + world_from_camera[
-                :3, 3]
-            factors = scene.face_light_factors(tri_index[used], normal_world, centroid_world,
-                                               world_from_camera)
+                :3, 3
+            ]
+            factors = scene.face_light_factors(
+                tri_index[used], normal_world, centroid_world, world_from_camera
+            )
             tri_light = np.ones(len(tri_index), dtype=np.float32)
             tri_light[used] = np.where(lit & ~smooth, factors, 1.0)
             if smooth.any():  # Gouraud: light per vertex, interpolated

@@ -189,8 +189,11 @@ class RenderScene:
         faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
         faces = np.concatenate(faces or [np.zeros((0, 3), np.int64)])
         self.materials = _material_table(meshes, tri_mesh, np.ascontiguousarray(faces.T))
-        self.smooth_meshes = [i for i, m in enumerate(meshes)
-                              if self.mesh_light_group[i] >= 0 and m.normals is not None]
+        self.smooth_meshes = [
+            i
+            for i, m in enumerate(meshes)
+            if self.mesh_light_group[i] >= 0 and m.normals is not None
+        ]
         self.tri_smooth = np.isin(tri_mesh, self.smooth_meshes)
 
     def _group_lights(self, meshes: list[RenderMesh], tri_mesh: np.ndarray) -> None:
@@ -204,8 +207,7 @@ class RenderScene:
             if not mesh.lit or lights.is_flat:
                 groups.append(-1)
                 continue
-            index = next((k for k, known in enumerate(self.light_groups) if known is lights),
-                         None)
+            index = next((k for k, known in enumerate(self.light_groups) if known is lights), None)
             if index is None:
                 index = len(self.light_groups)
                 self.light_groups.append(lights)
@@ -214,9 +216,13 @@ class RenderScene:
         self.tri_light_group = self.mesh_light_group[tri_mesh]
         self.tri_lit = self.tri_light_group >= 0
 
-    def face_light_factors(self, tri_ids: np.ndarray, normals_world: np.ndarray,
-                           points_world: np.ndarray,
-                           world_from_camera: np.ndarray | None = None) -> np.ndarray:
+    def face_light_factors(
+        self,
+        tri_ids: np.ndarray,
+        normals_world: np.ndarray,
+        points_world: np.ndarray,
+        world_from_camera: np.ndarray | None = None,
+    ) -> np.ndarray:
         """Flat light factor ``(k,)`` float32 of triangles ``tri_ids`` (1 where unlit), from
         their world normals and centroids, each with its mesh's light setup."""
         out = np.ones(len(tri_ids), dtype=np.float32)
@@ -235,8 +241,7 @@ class RenderScene:
                 for mesh in np.unique(mesh_of).tolist():
                     sub = sel[mesh_of == mesh]
                     world = lights.in_world(world_from_camera, self.world_from_mesh[mesh])
-                    out[sub] = lambert_factors(normals_world[sub], points_world[sub], lights,
-                                               world)
+                    out[sub] = lambert_factors(normals_world[sub], points_world[sub], lights, world)
         return out
 
     @property
@@ -287,8 +292,7 @@ class RenderScene:
                 continue
             points = self.meshes[i].vertices @ pose[:3, :3].T + pose[:3, 3]  # p_w = R p + t
             world = lights.in_world(world_from_camera, pose)
-            light[0, self.vertex_slices[i]] = lambert_factors(normals_world, points, lights,
-                                                              world)
+            light[0, self.vertex_slices[i]] = lambert_factors(normals_world, points, lights, world)
         return light
 
 

@@ -102,8 +102,9 @@ class Lights:
     def is_flat(self) -> bool:
         return len(self.vectors) == 0
 
-    def in_world(self, world_from_camera: np.ndarray | None,
-                 world_from_mesh: np.ndarray | None) -> np.ndarray:
+    def in_world(
+        self, world_from_camera: np.ndarray | None, world_from_mesh: np.ndarray | None
+    ) -> np.ndarray:
         """The ``(L, 4)`` vectors in the world frame (camera / mesh frames resolved)."""
         out = self.vectors.copy()
         for k, frame in enumerate(self.frames):
@@ -118,8 +119,12 @@ class Lights:
         return "mesh" in self.frames
 
 
-def lambert_factors(normals_world: np.ndarray, points_world: np.ndarray | None,
-                    lights: Lights, world_vectors: np.ndarray) -> np.ndarray:
+def lambert_factors(
+    normals_world: np.ndarray,
+    points_world: np.ndarray | None,
+    lights: Lights,
+    world_vectors: np.ndarray,
+) -> np.ndarray:
     """``clamp(ambient + sum_k c_k max(0, n . l_k), 0, 1)`` per row, ``(T,)`` float32.
 
     ``normals_world`` (T, 3) any length (zero: ambient only); ``points_world`` (T, 3) surface
@@ -209,8 +214,9 @@ def unpack_rgba(packed: np.ndarray) -> np.ndarray:
 
 #: rigidsim's default setup as :class:`Lights`: the 4 directional lights (shining from
 #: ``-d_k``) of intensity ``DIFFUSE`` and ambient ``AMBIENT`` (``face_light_factors``).
-DEFAULT_LIGHTS = Lights(np.hstack([-LIGHT_DIRECTIONS, np.zeros((4, 1))]),
-                        np.full(4, DIFFUSE), ("world",) * 4, AMBIENT)
+DEFAULT_LIGHTS = Lights(
+    np.hstack([-LIGHT_DIRECTIONS, np.zeros((4, 1))]), np.full(4, DIFFUSE), ("world",) * 4, AMBIENT
+)
 
 
 def face_light_factors(normals_world: np.ndarray) -> np.ndarray:

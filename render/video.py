@@ -158,6 +158,8 @@ def make_video_frame(
 
 def _check_dims(dims, name: str) -> tuple[int, int]:
     """``(width, height)`` as two positive ints within the pixel budget, else ValueError."""
+    if isinstance(dims, str | bytes):  # bytes unpack to ints: b"\x01\x01" is not (1, 1)
+        raise ValueError(f"{name} must be (width, height), got {dims!r}")
     try:
         width, height = dims
     except (TypeError, ValueError):
@@ -443,8 +445,9 @@ def make_video(
     if not isinstance(video_file, str) or not video_file:
         raise ValueError(f"video_file must be a non-empty path string, got {video_file!r}")
     if isinstance(observations, str | bytes | dict) or not hasattr(observations, "__len__"):
-        raise TypeError(f"observations must be a list of observation dicts, got "
-                        f"{type(observations).__name__}")
+        raise TypeError(
+            f"observations must be a list of observation dicts, got {type(observations).__name__}"
+        )
     if len(observations) == 0:
         raise ValueError("make_video: observations is empty, there is no frame to encode")
     if video_dims is not None:

@@ -93,8 +93,12 @@ class AgentState(FixedFields):
 
     _extra_fields = ("sensor_states",)
 
-    def __init__(self, position: Any = (0.0, 0.0, 0.0), rotation: Any = None,
-                 sensor_states: dict[str, SixDOFPose] | None = None) -> None:
+    def __init__(
+        self,
+        position: Any = (0.0, 0.0, 0.0),
+        rotation: Any = None,
+        sensor_states: dict[str, SixDOFPose] | None = None,
+    ) -> None:
         self.position = position
         _check_finite(self._position, "AgentState.position")
         self.rotation = mn.Quaternion() if rotation is None else rotation
@@ -154,9 +158,13 @@ class Agent:
     ``Simulator.initialize_agent`` (or ``set_state(..., is_initial=True)``) sets it.
     """
 
-    def __init__(self, scene_node: SceneNode, agent_config: AgentConfiguration | None = None,
-                 _sensors: dict[str, CameraSensor] | None = None,
-                 controls: ObjectControls | None = None) -> None:
+    def __init__(
+        self,
+        scene_node: SceneNode,
+        agent_config: AgentConfiguration | None = None,
+        _sensors: dict[str, CameraSensor] | None = None,
+        controls: ObjectControls | None = None,
+    ) -> None:
         if not isinstance(scene_node, SceneNode):
             raise TypeError(f"Agent needs a SceneNode, got {type(scene_node).__name__}")
         self.body = _Body(scene_node)
@@ -178,8 +186,9 @@ class Agent:
     def get_sensors(self) -> dict[str, CameraSensor]:
         return self._sensors
 
-    def reconfigure(self, agent_config: AgentConfiguration,
-                    reconfigure_sensors: bool = True) -> None:
+    def reconfigure(
+        self, agent_config: AgentConfiguration, reconfigure_sensors: bool = True
+    ) -> None:
         """Adopt ``agent_config``; re-create the sensors from its specifications."""
         uuids = [spec.uuid for spec in agent_config.sensor_specifications]
         if len(set(uuids)) != len(uuids):
@@ -210,8 +219,7 @@ class Agent:
 
     @state.setter
     def state(self, new_state: AgentState) -> None:
-        self.set_state(new_state, reset_sensors=True, infer_sensor_states=True,
-                       is_initial=False)
+        self.set_state(new_state, reset_sensors=True, infer_sensor_states=True, is_initial=False)
 
     def get_state(self) -> AgentState:
         """The agent's world pose and its sensors' world poses (a fresh ``AgentState``)."""
@@ -220,11 +228,17 @@ class Agent:
         for uuid, sensor in self._sensors.items():
             sensor_world = sensor.world_from_camera()
             state.sensor_states[uuid] = SixDOFPose(
-                sensor_world[:3, 3], mn.Quaternion.from_matrix(sensor_world[:3, :3]))
+                sensor_world[:3, 3], mn.Quaternion.from_matrix(sensor_world[:3, :3])
+            )
         return state
 
-    def set_state(self, state: AgentState, reset_sensors: bool = True,
-                  infer_sensor_states: bool = True, is_initial: bool = False) -> None:
+    def set_state(
+        self,
+        state: AgentState,
+        reset_sensors: bool = True,
+        infer_sensor_states: bool = True,
+        is_initial: bool = False,
+    ) -> None:
         """Put the agent (and its sensors) in ``state`` (Habitat's arguments).
 
         ``reset_sensors``: sensors go back to their spec pose relative to the body first.
@@ -239,8 +253,10 @@ class Agent:
         if not infer_sensor_states:
             unknown = sorted(set(state.sensor_states) - set(self._sensors))
             if unknown:
-                raise KeyError(f"sensor_states names unknown sensors {unknown}; "
-                               f"the agent has {sorted(self._sensors)}")
+                raise KeyError(
+                    f"sensor_states names unknown sensors {unknown}; "
+                    f"the agent has {sorted(self._sensors)}"
+                )
             for uuid, pose in state.sensor_states.items():
                 _check_finite(pose.position, f"sensor_states[{uuid!r}].position")
         world = _pose_matrix(state.position, state.rotation)
@@ -265,12 +281,15 @@ class Agent:
         :class:`UnknownActionError` (an ``AssertionError`` as in Habitat, and a ``KeyError``).
         """
         if action_id not in self.agent_config.action_space:
-            raise UnknownActionError(f"No action {action_id!r} in action space "
-                                     f"{sorted(map(str, self.agent_config.action_space))}")
+            raise UnknownActionError(
+                f"No action {action_id!r} in action space "
+                f"{sorted(map(str, self.agent_config.action_space))}"
+            )
         action = self.agent_config.action_space[action_id]
         if self.controls.is_body_action(action.name):
-            return self.controls.action(self.scene_node, action.name, action.actuation,
-                                        apply_filter=True)
+            return self.controls.action(
+                self.scene_node, action.name, action.actuation, apply_filter=True
+            )
         for sensor in self._sensors.values():
             self.controls.action(sensor.node, action.name, action.actuation, apply_filter=False)
         return False

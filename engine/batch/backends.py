@@ -40,8 +40,9 @@ BACKENDS = ("serial", "process", "ray")
 RAY_LOOPBACK_ENV = "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"
 
 
-def run_serial(episode_fn: Callable[..., Any],
-               tasks: Sequence[EpisodeTask]) -> Iterator[EpisodeResult]:
+def run_serial(
+    episode_fn: Callable[..., Any], tasks: Sequence[EpisodeTask]
+) -> Iterator[EpisodeResult]:
     """Run the episodes one after another in this process (the function is not pickled:
     closures and breakpoints work)."""
     for task in tasks:
@@ -55,8 +56,9 @@ def _new_pool(workers: int) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
 
 
-def run_process(payload: bytes, tasks: Sequence[EpisodeTask], workers: int,
-                max_retries: int) -> Iterator[EpisodeResult]:
+def run_process(
+    payload: bytes, tasks: Sequence[EpisodeTask], workers: int, max_retries: int
+) -> Iterator[EpisodeResult]:
     """Run the episodes on ``workers`` spawned processes; survive workers that die.
 
     ``max_retries`` is unused: a suspect of a broken pool always gets one solo run.
@@ -90,8 +92,14 @@ def run_process(payload: bytes, tasks: Sequence[EpisodeTask], workers: int,
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _submit(pool: ProcessPoolExecutor, running: dict, pending: deque, suspects: deque,
-            workers: int, payload: bytes) -> None:
+def _submit(
+    pool: ProcessPoolExecutor,
+    running: dict,
+    pending: deque,
+    suspects: deque,
+    workers: int,
+    payload: bytes,
+) -> None:
     """Fill the pool: one suspect alone, else up to ``workers`` pending episodes."""
     if any(alone for _, alone in running.values()):
         return  # a suspect is on trial: nothing runs beside it
@@ -117,9 +125,7 @@ def _connect_ray(address: str | None, workers: int | None):
     try:
         ray = importlib.import_module("ray")
     except ImportError as error:
-        raise ImportError(
-            "backend='ray' needs Ray: pip install 'rigidsim[ray]'"
-        ) from error
+        raise ImportError("backend='ray' needs Ray: pip install 'rigidsim[ray]'") from error
     if ray.is_initialized():
         return ray, False
     if address is not None:
@@ -129,8 +135,13 @@ def _connect_ray(address: str | None, workers: int | None):
     return ray, True
 
 
-def run_ray(payload: bytes, tasks: Sequence[EpisodeTask], workers: int | None,
-            max_retries: int, address: str | None = None) -> Iterator[EpisodeResult]:
+def run_ray(
+    payload: bytes,
+    tasks: Sequence[EpisodeTask],
+    workers: int | None,
+    max_retries: int,
+    address: str | None = None,
+) -> Iterator[EpisodeResult]:
     """Run the episodes as Ray tasks, at most ``workers`` (default: the cluster's CPUs) in
     flight; a task whose worker died is retried ``max_retries`` times, then reported lost."""
     ray, started_here = _connect_ray(address, workers)
@@ -149,8 +160,9 @@ def run_ray(payload: bytes, tasks: Sequence[EpisodeTask], workers: int | None,
             try:
                 yield ray.get(done[0])
             except (ray.exceptions.WorkerCrashedError, ray.exceptions.NodeDiedError) as error:
-                yield lost_result(task, f"{type(error).__name__}: the worker died "
-                                        f"{max_retries + 1} times")
+                yield lost_result(
+                    task, f"{type(error).__name__}: the worker died {max_retries + 1} times"
+                )
     finally:
         for ref in running:  # stopped early (Ctrl-C): do not leave tasks running
             ray.cancel(ref, force=True)

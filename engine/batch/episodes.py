@@ -154,12 +154,24 @@ def call_episode(episode_fn: Callable[..., Any], task: EpisodeTask) -> EpisodeRe
         value = episode_fn(task.params, task.seed, **kwargs)
     except (Exception, SystemExit) as error:
         return EpisodeResult(
-            task.index, task.params, task.seed, "failed",
-            error=f"{type(error).__name__}: {error}", traceback=traceback.format_exc(),
-            wall_time=time.perf_counter() - start, worker=_worker_name(),
+            task.index,
+            task.params,
+            task.seed,
+            "failed",
+            error=f"{type(error).__name__}: {error}",
+            traceback=traceback.format_exc(),
+            wall_time=time.perf_counter() - start,
+            worker=_worker_name(),
         )
-    return EpisodeResult(task.index, task.params, task.seed, "ok", value=value,
-                         wall_time=time.perf_counter() - start, worker=_worker_name())
+    return EpisodeResult(
+        task.index,
+        task.params,
+        task.seed,
+        "ok",
+        value=value,
+        wall_time=time.perf_counter() - start,
+        worker=_worker_name(),
+    )
 
 
 # ------------------------------------------------------------------------------------------

@@ -78,18 +78,24 @@ def run_batch(
     seeds = [episode_seed(seed, index) for index in range(len(params))]
     store, results = None, {}
     if output_dir is not None:
-        description = {"seed": seed, "n_episodes": len(params), "backend": backend,
-                       "episode_fn": _qualified_name(episode_fn)}
+        description = {
+            "seed": seed,
+            "n_episodes": len(params),
+            "backend": backend,
+            "episode_fn": _qualified_name(episode_fn),
+        }
         store = ResultStore(output_dir, description, resume)
         results = store.finished(params) if resume else {}
     tasks = [
         EpisodeTask(i, params[i], seeds[i], store.episode_dir(i) if store else None)
-        for i in range(len(params)) if i not in results
+        for i in range(len(params))
+        if i not in results
     ]
     bar = _ProgressBar(len(params), results.values(), progress)
     try:
-        for result in _backend_results(backend, episode_fn, tasks, workers, max_retries,
-                                       ray_address):
+        for result in _backend_results(
+            backend, episode_fn, tasks, workers, max_retries, ray_address
+        ):
             if store is not None:
                 result = store.write(result)
             results[result.index] = result
@@ -121,8 +127,9 @@ def _check_arguments(params, backend, workers, seed, output_dir, resume, max_ret
         raise TypeError(f"params must be a sequence (one entry per episode), got {params!r}")
     if len(params) > MAX_EPISODES:
         raise ValueError(f"{len(params)} episodes is more than {MAX_EPISODES}: split the batch")
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
-                                or workers < 1):
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+    ):
         raise ValueError(f"workers must be a positive int or None, got {workers!r}")
     episode_seed(seed, 0)  # type and range of the seed
     if isinstance(max_retries, bool) or not isinstance(max_retries, int) or max_retries < 0:
@@ -134,8 +141,9 @@ def _check_arguments(params, backend, workers, seed, output_dir, resume, max_ret
             try:
                 json_round_trip(entry)
             except (TypeError, ValueError) as error:
-                raise TypeError(f"params[{index}] is not JSON serializable "
-                                f"(needed with output_dir): {error}") from error
+                raise TypeError(
+                    f"params[{index}] is not JSON serializable (needed with output_dir): {error}"
+                ) from error
     return list(params)
 
 
@@ -150,8 +158,14 @@ class _ProgressBar:
     def __init__(self, total: int, finished, enabled: bool) -> None:
         finished = list(finished)
         self.failed = sum(not r.ok for r in finished)
-        self.bar = tqdm(total=total, initial=len(finished), desc="batch", unit="ep",
-                        disable=not enabled, dynamic_ncols=True)
+        self.bar = tqdm(
+            total=total,
+            initial=len(finished),
+            desc="batch",
+            unit="ep",
+            disable=not enabled,
+            dynamic_ncols=True,
+        )
         self.bar.set_postfix(failed=self.failed, refresh=False)
 
     def add(self, result: EpisodeResult) -> None:

@@ -51,8 +51,9 @@ def json_round_trip(value: Any) -> Any:
 class ResultStore:
     """Appends episode records to ``<output_dir>/results.jsonl`` and reads them back."""
 
-    def __init__(self, output_dir: str | os.PathLike, description: dict[str, Any],
-                 resume: bool) -> None:
+    def __init__(
+        self, output_dir: str | os.PathLike, description: dict[str, Any], resume: bool
+    ) -> None:
         self.folder = Path(output_dir)
         self.results_path = self.folder / RESULTS_FILE
         self.folder.mkdir(parents=True, exist_ok=True)
@@ -110,9 +111,13 @@ class ResultStore:
         try:
             line = json.dumps(result.to_dict(), default=to_json_value)
         except (TypeError, ValueError) as error:
-            result = replace(result, status="failed", value=None,
-                             error=f"TypeError: the episode's value is not JSON serializable "
-                                   f"(needed with output_dir): {error}")
+            result = replace(
+                result,
+                status="failed",
+                value=None,
+                error=f"TypeError: the episode's value is not JSON serializable "
+                f"(needed with output_dir): {error}",
+            )
             line = json.dumps(result.to_dict(), default=to_json_value)
         self._handle.write(line + "\n")
         self._handle.flush()

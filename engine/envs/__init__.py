@@ -46,11 +46,15 @@ def _register() -> None:
     """Register the ids once (re-importing this package is harmless)."""
     registered = gymnasium.envs.registry
     if POINT_NAV_ID not in registered:
-        gymnasium.register(POINT_NAV_ID, entry_point="engine.envs.point_nav:PointNavEnv",
-                           max_episode_steps=500)
+        gymnasium.register(
+            POINT_NAV_ID, entry_point="engine.envs.point_nav:PointNavEnv", max_episode_steps=500
+        )
     if PUSH_OBJECT_ID not in registered:
-        gymnasium.register(PUSH_OBJECT_ID, entry_point="engine.envs.push_object:PushObjectEnv",
-                           max_episode_steps=200)
+        gymnasium.register(
+            PUSH_OBJECT_ID,
+            entry_point="engine.envs.push_object:PushObjectEnv",
+            max_episode_steps=200,
+        )
 
 
 _register()

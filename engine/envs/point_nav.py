@@ -72,8 +72,13 @@ class PointNavEnv(gym.Env):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 
-    def __init__(self, resolution: tuple[int, int] = (64, 64), hfov: float = 90.0,
-                 render_mode: str | None = None, scene_id: str | None = None) -> None:
+    def __init__(
+        self,
+        resolution: tuple[int, int] = (64, 64),
+        hfov: float = 90.0,
+        render_mode: str | None = None,
+        scene_id: str | None = None,
+    ) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         height, width = (int(v) for v in resolution)
@@ -84,12 +89,17 @@ class PointNavEnv(gym.Env):
         self.action_space = spaces.Discrete(len(ACTIONS))
         low, high = self._sim.pathfinder.get_bounds()
         max_rho = float(np.linalg.norm(np.asarray(high) - np.asarray(low)))  # scene diagonal
-        self.observation_space = spaces.Dict({
-            "rgb": spaces.Box(0, 255, (height, width, 3), np.uint8),
-            "depth": spaces.Box(0.0, MAX_DEPTH, (height, width, 1), np.float32),
-            "pointgoal": spaces.Box(np.array([0.0, -math.pi], np.float32),
-                                    np.array([max_rho, math.pi], np.float32), dtype=np.float32),
-        })
+        self.observation_space = spaces.Dict(
+            {
+                "rgb": spaces.Box(0, 255, (height, width, 3), np.uint8),
+                "depth": spaces.Box(0.0, MAX_DEPTH, (height, width, 1), np.float32),
+                "pointgoal": spaces.Box(
+                    np.array([0.0, -math.pi], np.float32),
+                    np.array([max_rho, math.pi], np.float32),
+                    dtype=np.float32,
+                ),
+            }
+        )
         self._goal = np.zeros(3)
         self._shortest = self._distance = self._travelled = 0.0
         self._last_rgb: np.ndarray | None = None
@@ -145,8 +155,11 @@ class PointNavEnv(gym.Env):
     def geodesic_distance(self, position: np.ndarray | None = None) -> float:
         """Shortest-path distance on the navmesh from ``position`` (default: the agent)."""
         path = ShortestPath()
-        path.requested_start = self._sim.get_agent(0).get_state().position if position is None \
+        path.requested_start = (
+            self._sim.get_agent(0).get_state().position
+            if position is None
             else np.asarray(position)
+        )
         path.requested_end = self._goal
         if not self._sim.pathfinder.find_path(path):
             return math.inf
@@ -162,8 +175,10 @@ class PointNavEnv(gym.Env):
             self._goal = goal
             if MIN_GEODESIC <= self.geodesic_distance(start) < math.inf:
                 return start, goal, float(self.np_random.uniform(-math.pi, math.pi))
-        raise RuntimeError(f"no start and goal {MIN_GEODESIC} m apart in "
-                           f"{MAX_EPISODE_TRIES} draws: is the navmesh too small?")
+        raise RuntimeError(
+            f"no start and goal {MIN_GEODESIC} m apart in "
+            f"{MAX_EPISODE_TRIES} draws: is the navmesh too small?"
+        )
 
     def _pointgoal(self) -> np.ndarray:
         """``[rho, phi]`` of the goal in the agent's frame (see the module docstring)."""
@@ -183,19 +198,27 @@ class PointNavEnv(gym.Env):
 
     def _info(self, success: bool, collided: bool) -> dict[str, Any]:
         spl = float(success) * self._shortest / max(self._shortest, self._travelled, 1e-9)
-        return {"distance_to_goal": self._distance, "success": bool(success), "spl": spl,
-                "collided": collided, "path_length": self._travelled}
+        return {
+            "distance_to_goal": self._distance,
+            "success": bool(success),
+            "spl": spl,
+            "collided": collided,
+            "path_length": self._travelled,
+        }
 
 
-def _configuration(scene_id: str | None, resolution: tuple[int, int],
-                   hfov: float) -> habitat_sim.Configuration:
+def _configuration(
+    scene_id: str | None, resolution: tuple[int, int], hfov: float
+) -> habitat_sim.Configuration:
     """The apartment (or ``scene_id``) and one agent with rgb and depth cameras."""
     sim_cfg = habitat_sim.SimulatorConfiguration()
     sim_cfg.scene_id = scene_id or str(demo_data_path() / "scene_datasets/demo/apartment.glb")
     agent_cfg = habitat_sim.agent.AgentConfiguration()
     specs = []
-    for uuid, sensor_type in (("rgb", habitat_sim.SensorType.COLOR),
-                              ("depth", habitat_sim.SensorType.DEPTH)):
+    for uuid, sensor_type in (
+        ("rgb", habitat_sim.SensorType.COLOR),
+        ("depth", habitat_sim.SensorType.DEPTH),
+    ):
         spec = habitat_sim.CameraSensorSpec()
         spec.uuid, spec.sensor_type = uuid, sensor_type
         spec.resolution, spec.hfov = list(resolution), float(hfov)

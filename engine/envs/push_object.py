@@ -63,15 +63,17 @@ class PushObjectEnv(gym.Env):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 
-    def __init__(self, render_mode: str | None = None,
-                 resolution: tuple[int, int] = (96, 128)) -> None:
+    def __init__(
+        self, render_mode: str | None = None, resolution: tuple[int, int] = (96, 128)
+    ) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.render_mode = render_mode
         self._resolution = tuple(int(v) for v in resolution)
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
-        self.observation_space = spaces.Box(-OBSERVATION_BOUND, OBSERVATION_BOUND, (10,),
-                                            np.float32)
+        self.observation_space = spaces.Box(
+            -OBSERVATION_BOUND, OBSERVATION_BOUND, (10,), np.float32
+        )
         self._sim: habitat_sim.Simulator | None = None
         self._robot = self._cube = None
         self._target = np.zeros(3)
@@ -102,9 +104,12 @@ class PushObjectEnv(gym.Env):
         after = self._distances()
         success = after["cube_target"] < TARGET_RADIUS
         fell = float(self._cube.translation[1]) < -CUBE_HALF_SIZE
-        reward = (PROGRESS_WEIGHT * (before["cube_target"] - after["cube_target"])
-                  + APPROACH_WEIGHT * (before["robot_cube"] - after["robot_cube"])
-                  - TIME_COST + SUCCESS_BONUS * success)
+        reward = (
+            PROGRESS_WEIGHT * (before["cube_target"] - after["cube_target"])
+            + APPROACH_WEIGHT * (before["robot_cube"] - after["robot_cube"])
+            - TIME_COST
+            + SUCCESS_BONUS * success
+        )
         return self._observe(), float(reward), bool(success or fell), False, self._info()
 
     def render(self) -> np.ndarray | None:
@@ -146,8 +151,10 @@ class PushObjectEnv(gym.Env):
     def _distances(self) -> dict[str, float]:
         robot = np.asarray(self._robot.translation)[[0, 2]]
         cube = np.asarray(self._cube.translation)[[0, 2]]
-        return {"cube_target": float(np.linalg.norm(cube - self._target[[0, 2]])),
-                "robot_cube": float(np.linalg.norm(cube - robot))}
+        return {
+            "cube_target": float(np.linalg.norm(cube - self._target[[0, 2]])),
+            "robot_cube": float(np.linalg.norm(cube - robot)),
+        }
 
     def _observe(self) -> np.ndarray:
         robot = np.asarray(self._robot.translation)
@@ -155,15 +162,27 @@ class PushObjectEnv(gym.Env):
         forward = np.asarray(self._robot.rotation.transform_vector([0.0, 0.0, -1.0]))
         yaw = math.atan2(-forward[0], -forward[2])
         cube = np.asarray(self._cube.translation)
-        values = [robot[0], robot[2], math.cos(yaw), math.sin(yaw), cube[0], cube[2],
-                  self._target[0], self._target[2], self._target[0] - cube[0],
-                  self._target[2] - cube[2]]
+        values = [
+            robot[0],
+            robot[2],
+            math.cos(yaw),
+            math.sin(yaw),
+            cube[0],
+            cube[2],
+            self._target[0],
+            self._target[2],
+            self._target[0] - cube[0],
+            self._target[2] - cube[2],
+        ]
         return np.clip(np.array(values, dtype=np.float32), -OBSERVATION_BOUND, OBSERVATION_BOUND)
 
     def _info(self) -> dict[str, Any]:
         distances = self._distances()
-        return {**distances, "success": distances["cube_target"] < TARGET_RADIUS,
-                "cube_position": np.asarray(self._cube.translation, dtype=np.float64)}
+        return {
+            **distances,
+            "success": distances["cube_target"] < TARGET_RADIUS,
+            "cube_position": np.asarray(self._cube.translation, dtype=np.float64),
+        }
 
 
 def _build_world(render_mode: str | None, resolution: tuple[int, int]):
@@ -176,12 +195,19 @@ def _build_world(render_mode: str | None, resolution: tuple[int, int]):
         agent_cfg.sensor_specifications = [spec]
     else:
         agent_cfg.sensor_specifications = []
-    sim = habitat_sim.Simulator(habitat_sim.Configuration(
-        habitat_sim.SimulatorConfiguration(), [agent_cfg]))
+    sim = habitat_sim.Simulator(
+        habitat_sim.Configuration(habitat_sim.SimulatorConfiguration(), [agent_cfg])
+    )
     templates, objects = sim.get_object_template_manager(), sim.get_rigid_object_manager()
     cube_handle = templates.get_template_handles("cubeSolid")[0]  # the unit cube, [-1, 1]^3
-    floor = _add_box(templates, objects, cube_handle, "push_floor",
-                     [FLOOR_HALF_SIZE, 0.1, FLOOR_HALF_SIZE], 100.0)
+    floor = _add_box(
+        templates,
+        objects,
+        cube_handle,
+        "push_floor",
+        [FLOOR_HALF_SIZE, 0.1, FLOOR_HALF_SIZE],
+        100.0,
+    )
     floor.translation = [0.0, -0.1, 0.0]  # top face at y = 0
     floor.motion_type = MotionType.STATIC  # after placing it: STATIC bodies do not move
     cube = _add_box(templates, objects, cube_handle, "push_cube", [CUBE_HALF_SIZE] * 3, CUBE_MASS)
@@ -222,8 +248,9 @@ def scripted_push_action(observation: np.ndarray) -> np.ndarray:
     behind = cube - BEHIND_DISTANCE * push
     offset = robot - cube
     lateral = abs(push[0] * offset[1] - push[1] * offset[0])  # distance off the push line
-    in_position = np.linalg.norm(behind - robot) < 0.08 or (offset @ push < -0.25
-                                                             and lateral < 0.05)
+    in_position = np.linalg.norm(behind - robot) < 0.08 or (
+        offset @ push < -0.25 and lateral < 0.05
+    )
     goal = (target if in_position else behind) - robot
     angle = math.atan2(forward[1] * goal[0] - forward[0] * goal[1], forward @ goal)
     turn = np.clip(2.0 * angle, -1.0, 1.0)

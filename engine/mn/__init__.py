@@ -23,6 +23,7 @@ Magnum quirks kept on purpose: ``Vector3.dot()`` with no argument is the **squar
 ``Matrix4.translation`` is both a static constructor (``Matrix4.translation(v)``) and, on an
 instance, the translation part (``m.translation``).
 """
+
 from __future__ import annotations
 
 from engine.mn import math

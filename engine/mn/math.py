@@ -82,13 +82,15 @@ def _apply(function, *values: Any) -> Any:
 
 
 def min(value: Any, min: Any) -> Any:  # noqa: A001, A002 - Magnum's names
-    return _apply(np.minimum, value, min) if isinstance(value, _VectorN) else builtins.min(
-        value, min)
+    return (
+        _apply(np.minimum, value, min) if isinstance(value, _VectorN) else builtins.min(value, min)
+    )
 
 
 def max(value: Any, max: Any) -> Any:  # noqa: A001, A002
-    return _apply(np.maximum, value, max) if isinstance(value, _VectorN) else builtins.max(
-        value, max)
+    return (
+        _apply(np.maximum, value, max) if isinstance(value, _VectorN) else builtins.max(value, max)
+    )
 
 
 def minmax(a: Any, b: Any) -> tuple[Any, Any]:
@@ -102,8 +104,11 @@ def clamp(value: Any, min: Any, max: Any) -> Any:  # noqa: A002
 
 
 def sign(value: Any) -> Any:
-    return _apply(np.sign, value) if isinstance(value, _VectorN) else type(value)(
-        (value > 0) - (value < 0))
+    return (
+        _apply(np.sign, value)
+        if isinstance(value, _VectorN)
+        else type(value)((value > 0) - (value < 0))
+    )
 
 
 def abs(value: Any) -> Any:  # noqa: A001
@@ -120,6 +125,7 @@ def ceil(value: Any) -> Any:
 
 def round(value: Any) -> Any:  # noqa: A001
     """Half away from zero, as C's ``round`` (not Python's banker's rounding)."""
+
     def half_away(x):
         return np.sign(x) * np.floor(np.abs(x) + 0.5)
 
@@ -135,8 +141,11 @@ def sqrt(value: Any) -> Any:
 
 
 def sqrt_inverted(value: Any) -> Any:
-    return _apply(lambda x: 1.0 / np.sqrt(x), value) if isinstance(value, _VectorN) else (
-        1.0 / _math.sqrt(value))
+    return (
+        _apply(lambda x: 1.0 / np.sqrt(x), value)
+        if isinstance(value, _VectorN)
+        else (1.0 / _math.sqrt(value))
+    )
 
 
 def log(value: float) -> float:
@@ -228,7 +237,6 @@ def slerp(normalized_a: Quaternion, normalized_b: Quaternion, t: float) -> Quate
     return weight_a * normalized_a + weight_b * normalized_b
 
 
-def slerp_shortest_path(normalized_a: Quaternion, normalized_b: Quaternion,
-                        t: float) -> Quaternion:
+def slerp_shortest_path(normalized_a: Quaternion, normalized_b: Quaternion, t: float) -> Quaternion:
     b = -normalized_b if dot(normalized_a, normalized_b) < 0.0 else normalized_b
     return slerp(normalized_a, b, t)

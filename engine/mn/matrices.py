@@ -37,8 +37,7 @@ class _MatrixN:
         array = np.array(data, dtype=np.float64)
         if array.shape != (self._size, self._size):
             raise ValueError(
-                f"{type(self).__name__} needs shape ({self._size}, {self._size}), "
-                f"got {array.shape}"
+                f"{type(self).__name__} needs shape ({self._size}, {self._size}), got {array.shape}"
             )
         self._data = array
 
@@ -221,8 +220,9 @@ def axis_angle_matrix(angle: Any, axis: Any) -> np.ndarray:
     if axis_length < 1e-12:
         raise ValueError(f"rotation axis must be non-zero, got {axis_array.tolist()}")
     half = 0.5 * radians(angle)
-    return quaternion_to_matrix(np.append(axis_array / axis_length * math.sin(half),
-                                          math.cos(half)))
+    return quaternion_to_matrix(
+        np.append(axis_array / axis_length * math.sin(half), math.cos(half))
+    )
 
 
 class _DualRotation:
@@ -230,8 +230,7 @@ class _DualRotation:
 
     def __get__(self, instance: Matrix4 | None, owner: type) -> Any:
         if instance is None:
-            return lambda angle, axis: owner.from_(axis_angle_matrix(angle, axis),
-                                                   (0.0, 0.0, 0.0))
+            return lambda angle, axis: owner.from_(axis_angle_matrix(angle, axis), (0.0, 0.0, 0.0))
         return instance.rotation_normalized
 
 

@@ -122,8 +122,10 @@ class Quaternion:
         elif len(args) == 1:
             vector, scalar = args[0], 0.0
         else:
-            raise TypeError(f"Quaternion takes (), (vector, scalar), ((x, y, z), w) or "
-                            f"(vector), got {len(args)} arguments")
+            raise TypeError(
+                f"Quaternion takes (), (vector, scalar), ((x, y, z), w) or "
+                f"(vector), got {len(args)} arguments"
+            )
         xyz = np.array(vector, dtype=np.float64).reshape(-1)
         if xyz.shape != (3,):
             raise ValueError(f"Quaternion vector part needs 3 components, got {vector!r}")
@@ -265,4 +267,3 @@ class Quaternion:
         return Vector3(quaternion_to_matrix(self._xyzw) @ np.asarray(vector, dtype=np.float64))
 
     transform_vector_normalized = transform_vector
-

@@ -138,7 +138,6 @@ def to_vector3(value: Any, name: str = "value") -> Vector3:
     return Vector3(finite_array(value, 3, name))
 
 
-
 # --------------------------------------------------------------------------------------------
 # Vectors
 # --------------------------------------------------------------------------------------------
@@ -339,7 +338,6 @@ class Vector3(_VectorN):
         return Vector3(0.0, 0.0, length)
 
 
-
 class Vector4(Vector3):
     """A 4-component float vector (Magnum's ``Vector4``): ``Vector4(Vector3(...), w)``."""
 
@@ -470,5 +468,4 @@ class Vector3i(_IntVectorN):
     _size = 3
     __slots__ = ()
 
-    z = property(lambda self: int(self._data[2]),
-                 lambda self, value: self.__setitem__(2, value))
+    z = property(lambda self: int(self._data[2]), lambda self, value: self.__setitem__(2, value))

@@ -52,8 +52,11 @@ from .motion_type import MotionType
 #: The :class:`MotionType` values stored in ``body_motion_type``, as plain ints: NumPy
 #: compares an array with an int directly, while an enum member costs it attribute lookups
 #: on every comparison (measurable in the per-node loops of a step).
-STATIC, KINEMATIC, DYNAMIC = (int(MotionType.STATIC), int(MotionType.KINEMATIC),
-                              int(MotionType.DYNAMIC))
+STATIC, KINEMATIC, DYNAMIC = (
+    int(MotionType.STATIC),
+    int(MotionType.KINEMATIC),
+    int(MotionType.DYNAMIC),
+)
 #: body index (and Habitat object id) of the stage.
 STAGE_ID = 0
 
@@ -146,7 +149,7 @@ class Bodies:
         for name, value in self.arrays().items():
             pad = np.zeros((new - len(value),) + value.shape[1:], dtype=value.dtype)
             setattr(self, name, np.concatenate([value, pad]))
-        self.body_rotation[self.count:, 3] = 1.0
+        self.body_rotation[self.count :, 3] = 1.0
         self.shapes += [[] for _ in range(new - len(self.shapes))]
 
     def add(self, index: int) -> None:

@@ -51,11 +51,17 @@ def _load(handle: str, template) -> list:
 
     scale = np.asarray(template.scale, dtype=np.float64)
     if _is_primitive(handle):
-        return [dataclasses.replace(m, vertices=np.asarray(m.vertices) * scale)
-                for m in primitive_meshes(handle)]
-    return load_meshes(handle, up=np.asarray(template.orient_up).tolist(),
-                       front=np.asarray(template.orient_front).tolist(), scale=scale.tolist(),
-                       units_to_meters=template.units_to_meters)
+        return [
+            dataclasses.replace(m, vertices=np.asarray(m.vertices) * scale)
+            for m in primitive_meshes(handle)
+        ]
+    return load_meshes(
+        handle,
+        up=np.asarray(template.orient_up).tolist(),
+        front=np.asarray(template.orient_front).tolist(),
+        scale=scale.tolist(),
+        units_to_meters=template.units_to_meters,
+    )
 
 
 def _is_primitive(handle: str) -> bool:
@@ -84,8 +90,9 @@ def describe_object(template) -> BodyDescription:
         inertia = mass * _unit_inertia(shapes)
     if np.any(inertia <= 0) or not np.all(np.isfinite(inertia)):
         raise ValueError(f"template {template.handle!r}: inertia must be positive, got {inertia}")
-    return BodyDescription(shapes, render, com, mass, inertia, points.min(0) - com,
-                           points.max(0) - com)
+    return BodyDescription(
+        shapes, render, com, mass, inertia, points.min(0) - com, points.max(0) - com
+    )
 
 
 def _check_size(template, shapes: list[Shape]) -> None:
@@ -100,7 +107,8 @@ def _check_size(template, shapes: list[Shape]) -> None:
             raise ValueError(
                 f"template {template.handle!r}: collision shape is {thickness:.3g} m thick in "
                 f"its smallest dimension; the minimum is {MIN_BODY_DIMENSION} m "
-                f"(engine.physics.settings.MIN_BODY_DIMENSION); scale {list(template.scale)}")
+                f"(engine.physics.settings.MIN_BODY_DIMENSION); scale {list(template.scale)}"
+            )
 
 
 def _collision_shapes(template, collision_handle, render_handle, com) -> list[Shape]:

@@ -38,8 +38,9 @@ _REQUEST = fcl.CollisionRequest(num_max_contacts=settings.MAX_FCL_CONTACTS, enab
 _POLYHEDRA = ("box", "convex", "cylinder", "cone")
 
 
-def world_aabbs(center_local: np.ndarray, half_local: np.ndarray, position: np.ndarray,
-                rotation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def world_aabbs(
+    center_local: np.ndarray, half_local: np.ndarray, position: np.ndarray, rotation: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """World AABBs ``(n, 3)`` min and max of boxes given in the body frame.
 
     ``center_w = x + R c``, ``half_w = |R| h`` (Arvo's transformed-box bound).
@@ -50,8 +51,9 @@ def world_aabbs(center_local: np.ndarray, half_local: np.ndarray, position: np.n
     return center - half, center + half
 
 
-def overlapping_pairs(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np.ndarray,
-                      active: np.ndarray) -> np.ndarray:
+def overlapping_pairs(
+    aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np.ndarray, active: np.ndarray
+) -> np.ndarray:
     """Pairs ``(p, 2)`` of indices into the body arrays, ``a < b``, whose AABBs overlap.
 
     Parameters
@@ -79,8 +81,9 @@ def _sorted_pairs(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.stack([first[order], second[order]], axis=1)
 
 
-def all_pairs_overlaps(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np.ndarray,
-                       active: np.ndarray) -> np.ndarray:
+def all_pairs_overlaps(
+    aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np.ndarray, active: np.ndarray
+) -> np.ndarray:
     """:func:`overlapping_pairs` by brute force: the ``k`` active candidates against all
     ``c`` candidates, one ``(k, c)`` comparison per axis and bound (``O(k c)``)."""
     movers = candidates[active[candidates]]
@@ -99,8 +102,9 @@ def all_pairs_overlaps(aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: n
     return _sorted_pairs(a[keep], b[keep])
 
 
-def sweep_and_prune_overlaps(aabb_min: np.ndarray, aabb_max: np.ndarray,
-                             candidates: np.ndarray, active: np.ndarray) -> np.ndarray:
+def sweep_and_prune_overlaps(
+    aabb_min: np.ndarray, aabb_max: np.ndarray, candidates: np.ndarray, active: np.ndarray
+) -> np.ndarray:
     """:func:`overlapping_pairs` by sort and sweep (Baraff 1992; Ericson 7.5.1).
 
     Along the axis where the boxes spread most, sort the boxes by their lower bound; box
@@ -126,9 +130,14 @@ def sweep_and_prune_overlaps(aabb_min: np.ndarray, aabb_max: np.ndarray,
     return _sorted_pairs(a[keep], b[keep])
 
 
-def boxes_separated(center_a: np.ndarray, rotation_a: np.ndarray, half_a: np.ndarray,
-                    center_b: np.ndarray, rotation_b: np.ndarray,
-                    half_b: np.ndarray) -> np.ndarray:
+def boxes_separated(
+    center_a: np.ndarray,
+    rotation_a: np.ndarray,
+    half_a: np.ndarray,
+    center_b: np.ndarray,
+    rotation_b: np.ndarray,
+    half_b: np.ndarray,
+) -> np.ndarray:
     """(p,) bool: oriented boxes A and B are disjoint (separating axis test, 15 axes).
 
     Ericson, Real-Time Collision Detection, 4.4.1 (Gottschalk's OBB test). Box k has world
@@ -231,8 +240,15 @@ def _triangle_table(mesh_shape) -> dict:
         normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), settings.TINY)
         # Gram matrix [d00 d01; d01 d11] of the two edges: d_ij = e_i . e_j
         d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
-        table = {"normal": normal, "e0": e0, "e1": e1, "d00": d00, "d01": d01, "d11": d11,
-                 "denom": d00 * d11 - d01 * d01}
+        table = {
+            "normal": normal,
+            "e0": e0,
+            "e1": e1,
+            "d00": d00,
+            "d01": d01,
+            "d11": d11,
+            "denom": d00 * d11 - d01 * d01,
+        }
         mesh_shape._triangle_table = table
     return table
 

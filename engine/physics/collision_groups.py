@@ -27,8 +27,14 @@ from typing import ClassVar
 
 import numpy as np
 
-__all__ = ["CollisionGroupHelper", "CollisionGroups", "assign_group", "filter_pairs",
-           "group_for_motion_type", "interacts_with_group"]
+__all__ = [
+    "CollisionGroupHelper",
+    "CollisionGroups",
+    "assign_group",
+    "filter_pairs",
+    "group_for_motion_type",
+    "interacts_with_group",
+]
 
 
 class CollisionGroups(enum.IntFlag):
@@ -135,8 +141,9 @@ class CollisionGroupHelper:
 
 def group_for_motion_type(motion_type: np.ndarray) -> np.ndarray:
     """Default group of each body from its motion type (0 static, 1 kinematic, 2 dynamic)."""
-    table = np.array([CollisionGroups.Static, CollisionGroups.Kinematic,
-                      CollisionGroups.Dynamic], dtype=np.int64)
+    table = np.array(
+        [CollisionGroups.Static, CollisionGroups.Kinematic, CollisionGroups.Dynamic], dtype=np.int64
+    )
     return table[np.clip(motion_type, 0, 2)]
 
 
@@ -155,14 +162,15 @@ def interacts_with_group(bodies, indices: np.ndarray, group: int) -> np.ndarray:
     mask is the group's current one)."""
     indices = np.asarray(indices, dtype=np.int64)
     probe_mask = CollisionGroupHelper._masks[int(group)]
-    return (((bodies.body_collision_group[indices] & probe_mask) != 0)
-            & ((int(group) & bodies.body_collision_mask[indices]) != 0))
+    return ((bodies.body_collision_group[indices] & probe_mask) != 0) & (
+        (int(group) & bodies.body_collision_mask[indices]) != 0
+    )
 
 
 def assign_group(bodies, index: int, group: int | None = None) -> None:
     """Give body ``index`` a group (None: its motion type's) and copy that group's mask."""
     if group is None:
-        group = int(group_for_motion_type(bodies.body_motion_type[index:index + 1])[0])
+        group = int(group_for_motion_type(bodies.body_motion_type[index : index + 1])[0])
     value = CollisionGroupHelper._check(group)
     bodies.body_collision_group[index] = value
     bodies.body_collision_mask[index] = CollisionGroupHelper._masks[value]

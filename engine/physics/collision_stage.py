@@ -62,12 +62,17 @@ class CollisionObjects:
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
-        self.shape_objects[index] = [fcl.CollisionObject(s.geometry, fcl.Transform())
-                                     for s in shapes]
+        self.shape_objects[index] = [
+            fcl.CollisionObject(s.geometry, fcl.Transform()) for s in shapes
+        ]
         self.probe_objects[index] = [
-            None if s.kind == "mesh" else fcl.CollisionObject(
-                probe_geometry(s, constants.STAGE_SPECULATIVE_DISTANCE), fcl.Transform())
-            for s in shapes]
+            None
+            if s.kind == "mesh"
+            else fcl.CollisionObject(
+                probe_geometry(s, constants.STAGE_SPECULATIVE_DISTANCE), fcl.Transform()
+            )
+            for s in shapes
+        ]
 
     def remove(self, index: int) -> None:
         self.shape_objects.pop(index, None)
@@ -76,8 +81,13 @@ class CollisionObjects:
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
 
-    def move(self, bodies: Bodies, indices: np.ndarray, rotations: np.ndarray,
-             with_probe: np.ndarray | None = None) -> None:
+    def move(
+        self,
+        bodies: Bodies,
+        indices: np.ndarray,
+        rotations: np.ndarray,
+        with_probe: np.ndarray | None = None,
+    ) -> None:
         """Move the fcl objects of bodies ``indices (k,)`` (rotation matrices ``(k, 3, 3)``):
         all shape poses ``world_from_shape = world_from_body @ body_from_shape`` at once.
 
@@ -86,8 +96,12 @@ class CollisionObjects:
         owners, objects, offsets = [], [], []
         probes = [True] * len(indices) if with_probe is None else with_probe.tolist()
         for k, index in enumerate(indices.tolist()):
-            for shape, obj, probe in zip(bodies.shapes[index], self.shape_objects[index],
-                                         self.probe_objects[index], strict=True):
+            for shape, obj, probe in zip(
+                bodies.shapes[index],
+                self.shape_objects[index],
+                self.probe_objects[index],
+                strict=True,
+            ):
                 owners.append(k)
                 objects.append((obj, probe if probes[k] else None))
                 offsets.append(shape.body_from_shape)
@@ -98,8 +112,7 @@ class CollisionObjects:
         # world_from_shape = [R R_off | R t_off + x] for every shape at once
         shape_rotation = r @ offset[:, :3, :3]
         shape_position = (r @ offset[:, :3, 3:])[..., 0] + bodies.body_position[indices[owners]]
-        for (obj, probe), rot, pos in zip(objects, shape_rotation, shape_position,
-                                          strict=True):
+        for (obj, probe), rot, pos in zip(objects, shape_rotation, shape_position, strict=True):
             obj.setRotation(rot)
             obj.setTranslation(pos)
             if probe is not None:
@@ -107,8 +120,13 @@ class CollisionObjects:
                 probe.setTranslation(pos)
 
 
-def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
-                    settings: SolverSettings, timer: StageTimer | None = None) -> int:
+def collision_stage(
+    bodies: Bodies,
+    objects: CollisionObjects,
+    store: ManifoldStore,
+    settings: SolverSettings,
+    timer: StageTimer | None = None,
+) -> int:
     """Run the four sub-stages of the module docstring; returns the broad-phase pair count."""
     timer = timer or StageTimer()
     rotation = live_rotations(bodies)  # (n, 3, 3) world_from_body (identity: freed slots)
@@ -132,8 +150,9 @@ def collision_stage(bodies: Bodies, objects: CollisionObjects, store: ManifoldSt
     else:
         from .reference_contacts import update_manifolds_reference
 
-        timer.run("narrow phase", update_manifolds_reference, bodies, objects, store,
-                  touching, rotation)
+        timer.run(
+            "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
+        )
     queried = [row for row in map(store.row, touching) if row is not None]
     store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
     # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
@@ -151,8 +170,12 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
     # every live object has shapes; the stage without shapes is not collidable
     candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
     live = np.flatnonzero(b.body_alive[:n])  # freed slots cost nothing
-    lo, hi = world_aabbs(b.body_shape_center[live], b.body_shape_half[live],
-                         b.body_position[live], b.body_rotation[live])
+    lo, hi = world_aabbs(
+        b.body_shape_center[live],
+        b.body_shape_half[live],
+        b.body_position[live],
+        b.body_rotation[live],
+    )
     b.body_aabb_min[live] = lo - constants.AABB_MARGIN
     b.body_aabb_max[live] = hi + constants.AABB_MARGIN
     # the stage also covers the speculative distance of its contacts
@@ -166,8 +189,9 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
     return pairs, active
 
 
-def touching_candidates(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
-                        rotation: np.ndarray) -> list[tuple[int, int]]:
+def touching_candidates(
+    bodies: Bodies, store: ManifoldStore, pairs: np.ndarray, rotation: np.ndarray
+) -> list[tuple[int, int]]:
     """The pairs ``[(a, c), ...]`` for the narrow phase: ``pairs`` minus those without a
     manifold whose body-frame boxes are disjoint (:func:`separated_box_pairs`).
 
@@ -182,8 +206,9 @@ def touching_candidates(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
     return [pair for k, pair in enumerate(pair_list) if k not in apart]
 
 
-def changed_pairs(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
-                  rotation: np.ndarray) -> list[tuple[int, int]]:
+def changed_pairs(
+    bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]], rotation: np.ndarray
+) -> list[tuple[int, int]]:
     """``pairs`` minus those with a manifold whose relative pose moved less than
     ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query and whose points overlap
     by at most ``SLEEP_MAX_PENETRATION`` (their manifold stays as it is)."""
@@ -194,17 +219,18 @@ def changed_pairs(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, i
     b = bodies
     other = b.body_shape_center[store.bodies[rows[known], 1]]
     # radius of B's body-frame box around its center of mass: |c| + |h|
-    radius_b = (np.linalg.norm(other, axis=1)
-                + np.linalg.norm(b.body_shape_half[store.bodies[rows[known], 1]], axis=1))
-    unchanged = store.unchanged_rows(rows[known], rotation, b.body_position, radius_b,
-                                     constants.CONTACT_CACHE_DISTANCE)
+    radius_b = np.linalg.norm(other, axis=1) + np.linalg.norm(
+        b.body_shape_half[store.bodies[rows[known], 1]], axis=1
+    )
+    unchanged = store.unchanged_rows(
+        rows[known], rotation, b.body_position, radius_b, constants.CONTACT_CACHE_DISTANCE
+    )
     # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
     # is still being pushed apart, and its contacts must follow that (asked every step)
     point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
     depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
-    shallow = (np.where(used, depth, -np.inf).max(axis=1)
-               <= constants.SLEEP_MAX_PENETRATION)
+    shallow = np.where(used, depth, -np.inf).max(axis=1) <= constants.SLEEP_MAX_PENETRATION
     skip = set(known[unchanged & shallow].tolist())
     return [pair for k, pair in enumerate(pairs) if k not in skip]
 
@@ -223,14 +249,25 @@ def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray)
     center_a = b.body_position[a] + (rotation[a] @ b.body_shape_center[a][:, :, None])[..., 0]
     center_c = b.body_position[c] + (rotation[c] @ b.body_shape_center[c][:, :, None])[..., 0]
     margin = constants.AABB_MARGIN
-    apart = boxes_separated(center_a, rotation[a], b.body_shape_half[a] + margin,
-                            center_c, rotation[c], b.body_shape_half[c] + margin)
+    apart = boxes_separated(
+        center_a,
+        rotation[a],
+        b.body_shape_half[a] + margin,
+        center_c,
+        rotation[c],
+        b.body_shape_half[c] + margin,
+    )
     return apart & (a != STAGE_ID)
 
 
-def update_manifolds(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
-                     pairs: list[tuple[int, int]], rotation: np.ndarray,
-                     timer: StageTimer | None = None) -> None:
+def update_manifolds(
+    bodies: Bodies,
+    objects: CollisionObjects,
+    store: ManifoldStore,
+    pairs: list[tuple[int, int]],
+    rotation: np.ndarray,
+    timer: StageTimer | None = None,
+) -> None:
     """Batched: narrow phase for ``pairs``, then refresh/merge/reduce their manifolds.
 
     Must agree with :func:`reference_contacts.update_manifolds_reference` (tested). A pair
@@ -238,15 +275,33 @@ def update_manifolds(bodies: Bodies, objects: CollisionObjects, store: ManifoldS
     (rolling) point.
     """
     timer = timer or StageTimer()
-    pair_position, point_a, point_b, normal = timer.run("narrow phase", narrow_phase, bodies,
-                                                        objects, store, pairs, rotation)
-    timer.run("manifolds", _merge_into_store, bodies, store, pairs, rotation,
-              pair_position, point_a, point_b, normal)
+    pair_position, point_a, point_b, normal = timer.run(
+        "narrow phase", narrow_phase, bodies, objects, store, pairs, rotation
+    )
+    timer.run(
+        "manifolds",
+        _merge_into_store,
+        bodies,
+        store,
+        pairs,
+        rotation,
+        pair_position,
+        point_a,
+        point_b,
+        normal,
+    )
 
 
-def _merge_into_store(bodies: Bodies, store: ManifoldStore, pairs: list[tuple[int, int]],
-                      rotation: np.ndarray, pair_position: np.ndarray, point_a: np.ndarray,
-                      point_b: np.ndarray, normal: np.ndarray) -> None:
+def _merge_into_store(
+    bodies: Bodies,
+    store: ManifoldStore,
+    pairs: list[tuple[int, int]],
+    rotation: np.ndarray,
+    pair_position: np.ndarray,
+    point_a: np.ndarray,
+    point_b: np.ndarray,
+    normal: np.ndarray,
+) -> None:
     """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
@@ -268,14 +323,15 @@ def add_manifold_row(bodies: Bodies, store: ManifoldStore, key: tuple[int, int])
     """A new manifold row for pair ``key``: 1 point when a sphere rolls, else 4; its feature
     length from the bodies' thickness (the stage counts as infinitely thick)."""
     rolling = any(s.kind == "sphere" for s in bodies.shapes[key[0]] + bodies.shapes[key[1]])
-    thickness = [math.inf if i == STAGE_ID else 2.0 * bodies.body_min_half_extent[i]
-                 for i in key]
-    return store.add(key, 1 if rolling else constants.MAX_MANIFOLD_POINTS,
-                     feature_length(*thickness))
+    thickness = [math.inf if i == STAGE_ID else 2.0 * bodies.body_min_half_extent[i] for i in key]
+    return store.add(
+        key, 1 if rolling else constants.MAX_MANIFOLD_POINTS, feature_length(*thickness)
+    )
 
 
-def drop_stale_manifolds(bodies: Bodies, store: ManifoldStore, pairs: np.ndarray,
-                         active: np.ndarray) -> None:
+def drop_stale_manifolds(
+    bodies: Bodies, store: ManifoldStore, pairs: np.ndarray, active: np.ndarray
+) -> None:
     """Delete the manifolds of pairs that left the broad phase while one of them moved
     (or died); a sleeping pair keeps its manifold for when it wakes."""
     b, n = bodies, bodies.count

@@ -68,8 +68,18 @@ class RigidConstraintType(enum.IntEnum):
     Fixed = 1
 
 
-_SETTINGS_FIELDS = ("constraint_type", "max_impulse", "object_id_a", "object_id_b",
-                    "link_id_a", "link_id_b", "pivot_a", "pivot_b", "frame_a", "frame_b")
+_SETTINGS_FIELDS = (
+    "constraint_type",
+    "max_impulse",
+    "object_id_a",
+    "object_id_b",
+    "link_id_a",
+    "link_id_b",
+    "pivot_a",
+    "pivot_b",
+    "frame_a",
+    "frame_b",
+)
 
 
 class RigidConstraintSettings:
@@ -118,8 +128,11 @@ class RigidConstraintSettings:
     def __getattr__(self, name: str) -> Any:
         if name in _SETTINGS_FIELDS:
             value = object.__getattribute__(self, f"_{name}")
-            return type(value)(np.asarray(value)) if isinstance(
-                value, mn.Vector3 | mn.Matrix3x3) else value
+            return (
+                type(value)(np.asarray(value))
+                if isinstance(value, mn.Vector3 | mn.Matrix3x3)
+                else value
+            )
         raise unknown_attribute_error("RigidConstraintSettings", name, _SETTINGS_FIELDS)
 
     def copy(self) -> RigidConstraintSettings:
@@ -129,8 +142,10 @@ class RigidConstraintSettings:
         return clone
 
     def __repr__(self) -> str:
-        return (f"RigidConstraintSettings({self.constraint_type.name}, a={self.object_id_a}, "
-                f"b={self.object_id_b}, max_impulse={self.max_impulse})")
+        return (
+            f"RigidConstraintSettings({self.constraint_type.name}, a={self.object_id_a}, "
+            f"b={self.object_id_b}, max_impulse={self.max_impulse})"
+        )
 
 
 @dataclass
@@ -232,8 +247,9 @@ class ConstraintStore:
 
     def drop_body(self, index: int) -> None:
         """Remove the constraints of a removed body."""
-        for constraint_id in [c for c, s in self._settings.items()
-                              if index in (s.object_id_a, s.object_id_b)]:
+        for constraint_id in [
+            c for c, s in self._settings.items() if index in (s.object_id_a, s.object_id_b)
+        ]:
             del self._settings[constraint_id]
 
     # -- step hooks ------------------------------------------------------------------------------
@@ -260,8 +276,9 @@ class ConstraintStore:
         b.body_linear_velocity[moving] = velocity[moving, :3]
         b.body_angular_velocity[moving] = velocity[moving, 3:]
 
-    def build_rows(self, b, inv_mass: np.ndarray, inv_inertia: np.ndarray,
-                   h: float) -> ConstraintRows:
+    def build_rows(
+        self, b, inv_mass: np.ndarray, inv_inertia: np.ndarray, h: float
+    ) -> ConstraintRows:
         """Anchors, errors and effective masses of every constraint for this step."""
         settings = [self._settings[c] for c in self.ids()]
         k = len(settings)
@@ -282,23 +299,38 @@ class ConstraintStore:
         inv_m = inv_mass[a] + np.where(world_b, 0.0, inv_mass[safe_b])
         skew_a, skew_b = _skew(r_a), _skew(r_b)
         # K = (1/m_a + 1/m_b) I - [r_a] I_a^-1 [r_a] - [r_b] I_b^-1 [r_b]
-        k_lin = (inv_m[:, None, None] * np.eye(3) - skew_a @ inv_i_a @ skew_a
-                 - skew_b @ inv_i_b @ skew_b)
+        k_lin = (
+            inv_m[:, None, None] * np.eye(3) - skew_a @ inv_i_a @ skew_a - skew_b @ inv_i_b @ skew_b
+        )
         fixed = np.array([s.constraint_type == RigidConstraintType.Fixed for s in settings])
         frame_a = np.array([np.asarray(s.frame_a) for s in settings]).reshape(k, 3, 3)
         frame_b = np.array([np.asarray(s.frame_b) for s in settings]).reshape(k, 3, 3)
         # R_err = F_b F_a^T takes frame A to frame B; e = vee(R_err - R_err^T) / 2
         r_err = (rot_b @ frame_b) @ np.swapaxes(rot_a @ frame_a, 1, 2)
-        angle_error = 0.5 * np.stack([r_err[:, 2, 1] - r_err[:, 1, 2],
-                                      r_err[:, 0, 2] - r_err[:, 2, 0],
-                                      r_err[:, 1, 0] - r_err[:, 0, 1]], axis=1)
+        angle_error = 0.5 * np.stack(
+            [
+                r_err[:, 2, 1] - r_err[:, 1, 2],
+                r_err[:, 0, 2] - r_err[:, 2, 0],
+                r_err[:, 1, 0] - r_err[:, 0, 1],
+            ],
+            axis=1,
+        )
         k_ang = inv_i_a + inv_i_b
         return ConstraintRows(
-            a, bb, r_a, r_b, error, _safe_inverse(k_lin), fixed, angle_error,
+            a,
+            bb,
+            r_a,
+            r_b,
+            error,
+            _safe_inverse(k_lin),
+            fixed,
+            angle_error,
             _safe_inverse(k_ang),
             # Bullet clamps a point-to-point constraint's rows, a fixed one not at all
             np.where(fixed, np.inf, np.array([s.max_impulse for s in settings])),
-            np.zeros((k, 3)), np.zeros((k, 3)))
+            np.zeros((k, 3)),
+            np.zeros((k, 3)),
+        )
 
 
 def order_by_color(rows: ConstraintRows, inv_mass: np.ndarray) -> ConstraintRows:
@@ -309,11 +341,15 @@ def order_by_color(rows: ConstraintRows, inv_mass: np.ndarray) -> ConstraintRows
     movable = np.append(inv_mass > 0.0, False)  # the world (index n) never moves
     colors = color_manifolds(rows.a, np.where(rows.b == WORLD, n, rows.b), movable)
     order = np.concatenate(colors)
-    fields = {name: getattr(rows, name)[order] for name in ConstraintRows.__dataclass_fields__
-              if name not in ("colors", "bias")}
+    fields = {
+        name: getattr(rows, name)[order]
+        for name in ConstraintRows.__dataclass_fields__
+        if name not in ("colors", "bias")
+    }
     sizes = np.cumsum([0] + [len(c) for c in colors])
-    return ConstraintRows(**fields, colors=[np.arange(lo, hi) for lo, hi in
-                                            zip(sizes[:-1], sizes[1:], strict=True)])
+    return ConstraintRows(
+        **fields, colors=[np.arange(lo, hi) for lo, hi in zip(sizes[:-1], sizes[1:], strict=True)]
+    )
 
 
 def _safe_inverse(matrices: np.ndarray) -> np.ndarray:
@@ -354,8 +390,14 @@ def point_bias(rows: ConstraintRows, velocity: np.ndarray, h: float) -> np.ndarr
 
 
 # -- scalar reference path ---------------------------------------------------------------------
-def solve_constraints_scalar(rows: ConstraintRows, velocity: np.ndarray, inv_mass: np.ndarray,
-                             inv_inertia: np.ndarray, h: float, iterations: int) -> None:
+def solve_constraints_scalar(
+    rows: ConstraintRows,
+    velocity: np.ndarray,
+    inv_mass: np.ndarray,
+    inv_inertia: np.ndarray,
+    h: float,
+    iterations: int,
+) -> None:
     """Reference: every constraint in turn, ``iterations`` times (module docstring)."""
     beta = CONSTRAINT_BAUMGARTE
     for _ in range(iterations):
@@ -367,7 +409,7 @@ def solve_constraints_scalar(rows: ConstraintRows, velocity: np.ndarray, inv_mas
             # linear block: v_rel = (v_b + w_b x r_b) - (v_a + w_a x r_a)
             v_rel = vb + np.cross(wb, rows.r_b[i]) - va - np.cross(wa, rows.r_a[i])
             step = -rows.k_inv[i] @ (v_rel + rows.bias[i])
-            step = _clamp(rows.lin_impulse[i:i + 1], step[None], rows.limit[i:i + 1])[0]
+            step = _clamp(rows.lin_impulse[i : i + 1], step[None], rows.limit[i : i + 1])[0]
             rows.lin_impulse[i] += step
             _apply(velocity, inv_mass, inv_inertia, a, b, step, rows.r_a[i], rows.r_b[i])
             if not rows.fixed[i]:
@@ -375,7 +417,7 @@ def solve_constraints_scalar(rows: ConstraintRows, velocity: np.ndarray, inv_mas
             wa = velocity[a, 3:]
             wb = velocity[b, 3:] if b != WORLD else np.zeros(3)
             step = -rows.k_ang_inv[i] @ (wb - wa + beta * rows.angle_error[i] / h)
-            step = _clamp(rows.ang_impulse[i:i + 1], step[None], rows.limit[i:i + 1])[0]
+            step = _clamp(rows.ang_impulse[i : i + 1], step[None], rows.limit[i : i + 1])[0]
             rows.ang_impulse[i] += step
             velocity[a, 3:] -= inv_inertia[a] @ step
             if b != WORLD:
@@ -392,9 +434,14 @@ def _apply(velocity, inv_mass, inv_inertia, a, b, impulse, r_a, r_b) -> None:
 
 
 # -- vectorized path -----------------------------------------------------------------------------
-def solve_constraints_vectorized(rows: ConstraintRows, velocity: np.ndarray,
-                                 inv_mass: np.ndarray, inv_inertia: np.ndarray, h: float,
-                                 iterations: int) -> None:
+def solve_constraints_vectorized(
+    rows: ConstraintRows,
+    velocity: np.ndarray,
+    inv_mass: np.ndarray,
+    inv_inertia: np.ndarray,
+    h: float,
+    iterations: int,
+) -> None:
     """The same algebra as :func:`solve_constraints_scalar`, one NumPy batch per graph
     color (constraints of one color share no dynamic body, so the order inside a color does
     not matter)."""
@@ -426,8 +473,9 @@ def solve_constraints_vectorized(rows: ConstraintRows, velocity: np.ndarray,
                 continue
             a, b = rows.a[fixed], b_index[fixed]
             w_rel = velocity_ext[b, 3:] - velocity_ext[a, 3:]
-            step = -(rows.k_ang_inv[fixed]
-                     @ (w_rel + beta * rows.angle_error[fixed] / h)[..., None])[..., 0]
+            step = -(
+                rows.k_ang_inv[fixed] @ (w_rel + beta * rows.angle_error[fixed] / h)[..., None]
+            )[..., 0]
             step = _clamp(rows.ang_impulse[fixed], step, rows.limit[fixed])
             rows.ang_impulse[fixed] += step
             velocity_ext[a, 3:] -= (inv_inertia_ext[a] @ step[..., None])[..., 0]

@@ -93,9 +93,19 @@ class ManifoldStore(MutableMapping):
 
     def _grow(self, capacity: int) -> None:
         old = len(self.count)
-        for name in ("bodies", "count", "max_points", "feature", "local_a", "local_b",
-                     "normal_local", "impulse", "query_rotation", "query_position",
-                     "query_valid"):
+        for name in (
+            "bodies",
+            "count",
+            "max_points",
+            "feature",
+            "local_a",
+            "local_b",
+            "normal_local",
+            "impulse",
+            "query_rotation",
+            "query_position",
+            "query_valid",
+        ):
             array = getattr(self, name)
             grown = np.zeros((capacity,) + array.shape[1:], dtype=array.dtype)
             grown[:old] = array
@@ -130,8 +140,12 @@ class ManifoldStore(MutableMapping):
             del self[key]
 
     # -- rows --------------------------------------------------------------------------------
-    def add(self, key: tuple[int, int], max_points: int,
-            feature: float = settings.CONTACT_MATCH_DISTANCE) -> int:
+    def add(
+        self,
+        key: tuple[int, int],
+        max_points: int,
+        feature: float = settings.CONTACT_MATCH_DISTANCE,
+    ) -> int:
         """Row of a new, empty manifold for body pair ``key`` (``feature``: its feature
         length in m, see the module docstring)."""
         if not self._free:
@@ -157,35 +171,47 @@ class ManifoldStore(MutableMapping):
 
     # -- contact cache ---------------------------------------------------------------------
     @staticmethod
-    def relative_poses(a: np.ndarray, b: np.ndarray, rotation: np.ndarray,
-                       position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def relative_poses(
+        a: np.ndarray, b: np.ndarray, rotation: np.ndarray, position: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """B's pose in A's frame for body pairs ``a, b (p,)``: ``R_a^T R_b (p, 3, 3)`` and
         ``R_a^T (x_b - x_a) (p, 3)`` (``rotation (n, 3, 3)``, ``position (n, 3)``)."""
         ra_t = np.swapaxes(rotation[a], 1, 2)
         return ra_t @ rotation[b], (ra_t @ (position[b] - position[a])[:, :, None])[..., 0]
 
-    def remember_queries(self, rows: np.ndarray, rotation: np.ndarray,
-                         position: np.ndarray) -> None:
+    def remember_queries(
+        self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray
+    ) -> None:
         """Record the relative pose of the pairs of ``rows`` at this narrow-phase query."""
         if len(rows) == 0:
             return
-        relative = self.relative_poses(self.bodies[rows, 0], self.bodies[rows, 1], rotation,
-                                       position)
+        relative = self.relative_poses(
+            self.bodies[rows, 0], self.bodies[rows, 1], rotation, position
+        )
         self.query_rotation[rows], self.query_position[rows] = relative
         self.query_valid[rows] = True
 
-    def unchanged_rows(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
-                       radius_b: np.ndarray, tolerance: float) -> np.ndarray:
+    def unchanged_rows(
+        self,
+        rows: np.ndarray,
+        rotation: np.ndarray,
+        position: np.ndarray,
+        radius_b: np.ndarray,
+        tolerance: float,
+    ) -> np.ndarray:
         """(r,) bool: rows whose pair moved relative to each other by less than
         ``tolerance`` (m) since its last query.
 
         Every point of B within ``radius_b (r,)`` of B's center moved in A's frame by at
         most ``|dx| + ||dR||_F radius_b`` (``||dR v|| <= ||dR||_F ||v||``).
         """
-        rot, pos = self.relative_poses(self.bodies[rows, 0], self.bodies[rows, 1], rotation,
-                                       position)
-        moved_by = (np.linalg.norm(pos - self.query_position[rows], axis=1)
-                    + np.linalg.norm(rot - self.query_rotation[rows], axis=(1, 2)) * radius_b)
+        rot, pos = self.relative_poses(
+            self.bodies[rows, 0], self.bodies[rows, 1], rotation, position
+        )
+        moved_by = (
+            np.linalg.norm(pos - self.query_position[rows], axis=1)
+            + np.linalg.norm(rot - self.query_rotation[rows], axis=(1, 2)) * radius_b
+        )
         return self.query_valid[rows] & (moved_by < tolerance)
 
     def _clear_rows(self, rows: np.ndarray) -> None:
@@ -203,13 +229,18 @@ class ManifoldStore(MutableMapping):
 
     def _points(self, rows: np.ndarray) -> LocalPoints:
         """The points of ``rows`` (copies), valid in their first ``count`` slots."""
-        return LocalPoints(self.local_a[rows], self.local_b[rows], self.normal_local[rows],
-                           self.impulse[rows], np.arange(SLOTS) < self.count[rows, None])
+        return LocalPoints(
+            self.local_a[rows],
+            self.local_b[rows],
+            self.normal_local[rows],
+            self.impulse[rows],
+            np.arange(SLOTS) < self.count[rows, None],
+        )
 
     # -- the per-step update ---------------------------------------------------------------
     def update(  # type: ignore[override]  # not MutableMapping.update: the step's merge
-            self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray,
-            fresh: FreshPoints) -> None:
+        self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray, fresh: FreshPoints
+    ) -> None:
         """Refresh, merge the fresh points into and reduce the manifolds ``rows``.
 
         Reference: :func:`reference_contacts.update_manifold`, one row at a time (tested).
@@ -235,8 +266,9 @@ class ManifoldStore(MutableMapping):
         valid = merged.valid[:, :width, None]
         self.count[rows] = merged.valid.sum(axis=1)
         for name in ("local_a", "local_b", "normal_local", "impulse"):  # empty slots stay 0
-            getattr(self, name)[rows, :width] = np.where(valid, getattr(merged, name)[:, :width],
-                                                         0.0)
+            getattr(self, name)[rows, :width] = np.where(
+                valid, getattr(merged, name)[:, :width], 0.0
+            )
 
     def _refreshed(self, rows, frame_a, frame_b, feature) -> LocalPoints:
         """Cached points of ``rows`` that are still in contact (see step 1), compacted."""
@@ -245,8 +277,9 @@ class ManifoldStore(MutableMapping):
         gap = point_a - point_b
         depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
         drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
-        keep = ((depth > -settings.CONTACT_BREAKING_DISTANCE)
-                & (drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None]**2))
+        keep = (depth > -settings.CONTACT_BREAKING_DISTANCE) & (
+            drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2
+        )
         return cached.where(cached.valid & keep)
 
 
@@ -257,8 +290,14 @@ class FreshPoints:
     ascending) and ``point_a, point_b, normal (q, 3)``.
     """
 
-    def __init__(self, n_rows: int, row_position: np.ndarray, point_a: np.ndarray,
-                 point_b: np.ndarray, normal: np.ndarray) -> None:
+    def __init__(
+        self,
+        n_rows: int,
+        row_position: np.ndarray,
+        point_a: np.ndarray,
+        point_b: np.ndarray,
+        normal: np.ndarray,
+    ) -> None:
         counts = np.bincount(row_position, minlength=n_rows)
         width = max(int(counts.max(initial=0)), 1)
         # slot of each point inside its row: its rank among the points of the same row
@@ -287,8 +326,14 @@ class FreshPoints:
 class LocalPoints:
     """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
 
-    def __init__(self, local_a: np.ndarray, local_b: np.ndarray, normal_local: np.ndarray,
-                 impulse: np.ndarray, valid: np.ndarray) -> None:
+    def __init__(
+        self,
+        local_a: np.ndarray,
+        local_b: np.ndarray,
+        normal_local: np.ndarray,
+        impulse: np.ndarray,
+        valid: np.ndarray,
+    ) -> None:
         self.local_a, self.local_b = local_a, local_b
         self.normal_local, self.impulse, self.valid = normal_local, impulse, valid
 
@@ -297,7 +342,8 @@ class LocalPoints:
         order = np.argsort(~keep, axis=1, kind="stable")
         local_a, local_b, normal_local, impulse = (
             per_row(array, order)
-            for array in (self.local_a, self.local_b, self.normal_local, self.impulse))
+            for array in (self.local_a, self.local_b, self.normal_local, self.impulse)
+        )
         return LocalPoints(local_a, local_b, normal_local, impulse, per_row(keep, order))
 
     def world(self, frame_a, frame_b):
@@ -310,8 +356,9 @@ class LocalPoints:
         return point_a, point_b, np.einsum("rij,rsj->rsi", ra, self.normal_local)
 
 
-def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points,
-                  feature) -> FreshPoints:
+def _select_fresh(
+    fresh: FreshPoints, cached: LocalPoints, frame_b, max_points, feature
+) -> FreshPoints:
     """Rows with more fresh points than they may keep: the supporting polygon only.
 
     Among near-ties the points matching cached ones win (hysteresis), so a flat face
@@ -329,8 +376,9 @@ def _select_fresh(fresh: FreshPoints, cached: LocalPoints, frame_b, max_points,
         preferred = gap_sq.min(axis=2) < feature[:, None] ** 2
         deepest = _masked_argmax(depth, fresh.valid)
         normal = fresh.normal[np.arange(len(depth)), deepest]
-        support = select_support(fresh.point_b, depth, normal, max_points, fresh.valid,
-                                 preferred, _band(feature))
+        support = select_support(
+            fresh.point_b, depth, normal, max_points, fresh.valid, preferred, _band(feature)
+        )
         chosen = np.where(too_many[:, None], support, fresh.valid)
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
     return fresh.take(order, per_row(chosen, order))
@@ -360,8 +408,7 @@ def _to_local(points: FreshPoints, frame_a, frame_b) -> LocalPoints:
     return LocalPoints(local_a, local_b, normal, np.zeros(local_a.shape), points.valid)
 
 
-def _inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points,
-                      feature) -> np.ndarray:
+def _inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points, feature) -> np.ndarray:
     """Give matched fresh points their cached impulses; returns the used cached slots.
 
     Greedy one-to-one matching, deepest fresh point first: each takes the nearest unused
@@ -380,8 +427,9 @@ def _inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points,
         fresh.impulse[matched, j] = cached.impulse[matched, nearest[matched]]
         used[matched, nearest[matched]] = True
     rolling = max_points == 1
-    fresh.impulse[rolling] = np.where(cached.valid[rolling, :1, None],
-                                      cached.impulse[rolling, :1], 0.0)
+    fresh.impulse[rolling] = np.where(
+        cached.valid[rolling, :1, None], cached.impulse[rolling, :1], 0.0
+    )
     used[rolling] = cached.valid[rolling]
     return used
 
@@ -390,8 +438,10 @@ def _combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> Local
     """Three or more fresh points replace a row's cache; fewer join its unused points."""
     replace = fresh.valid.sum(axis=1) >= 3
     keep_cached = cached.valid & ~used & ~replace[:, None]
-    joined = [np.concatenate([getattr(cached, name), getattr(fresh, name)], axis=1)
-              for name in ("local_a", "local_b", "normal_local", "impulse")]
+    joined = [
+        np.concatenate([getattr(cached, name), getattr(fresh, name)], axis=1)
+        for name in ("local_a", "local_b", "normal_local", "impulse")
+    ]
     valid = np.concatenate([keep_cached, fresh.valid], axis=1)
     local_a, local_b, normal_local, impulse = joined
     return LocalPoints(local_a, local_b, normal_local, impulse, valid).where(valid)
@@ -415,8 +465,9 @@ def _reduce(points: LocalPoints, frame_a, frame_b, max_points, feature) -> Local
         return points
     point_a, point_b, normal = points.world(frame_a, frame_b)
     depth = ((point_a - point_b) * normal).sum(axis=2)
-    chosen = select_support(point_b, depth, normal[:, 0], max_points, points.valid,
-                            band=_band(feature))
+    chosen = select_support(
+        point_b, depth, normal[:, 0], max_points, points.valid, band=_band(feature)
+    )
     return points.where(np.where(over[:, None], chosen, points.valid))
 
 
@@ -435,10 +486,15 @@ def _masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
     return np.where(valid, tie_key(values), -np.inf).argmax(axis=1)
 
 
-def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
-                   count: np.ndarray, valid: np.ndarray,
-                   preferred: np.ndarray | None = None,
-                   band: np.ndarray | None = None) -> np.ndarray:
+def select_support(
+    points: np.ndarray,
+    depth: np.ndarray,
+    normal: np.ndarray,
+    count: np.ndarray,
+    valid: np.ndarray,
+    preferred: np.ndarray | None = None,
+    band: np.ndarray | None = None,
+) -> np.ndarray:
     """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
 
     Reference: :func:`reference_contacts.select_support` (one row).
@@ -475,8 +531,7 @@ def select_support(points: np.ndarray, depth: np.ndarray, normal: np.ndarray,
     third = _masked_argmax(np.abs(area), supporting)
     chosen[rows, third] |= (count >= 3) & valid[rows, third]
     # the fourth point lies on the other side of edge p0-p1 with the largest area
-    opposite = np.where(supporting & ~chosen, -np.sign(area[rows, third])[:, None] * area,
-                        -np.inf)
+    opposite = np.where(supporting & ~chosen, -np.sign(area[rows, third])[:, None] * area, -np.inf)
     fourth = tie_key(opposite).argmax(axis=1)
     chosen[rows, fourth] |= (count >= 4) & np.isfinite(opposite[rows, fourth])
     # fill the slots left over with the deepest remaining points

@@ -36,8 +36,7 @@ if TYPE_CHECKING:
 def awake_dynamic_bodies(bodies: Bodies) -> np.ndarray:
     """``(k,)`` indices of the bodies the step moves: alive, awake and DYNAMIC."""
     n = bodies.count
-    mask = (bodies.body_alive[:n] & bodies.body_awake[:n]
-            & (bodies.body_motion_type[:n] == DYNAMIC))
+    mask = bodies.body_alive[:n] & bodies.body_awake[:n] & (bodies.body_motion_type[:n] == DYNAMIC)
     return np.nonzero(mask)[0]
 
 
@@ -47,8 +46,9 @@ def body_velocities(bodies: Bodies) -> np.ndarray:
     return np.hstack([bodies.body_linear_velocity[:n], bodies.body_angular_velocity[:n]])
 
 
-def integrate_stage(bodies: Bodies, moving: np.ndarray, pseudo_velocity: np.ndarray | None,
-                    h: float) -> None:
+def integrate_stage(
+    bodies: Bodies, moving: np.ndarray, pseudo_velocity: np.ndarray | None, h: float
+) -> None:
     """Stage 4 of the step: clamp speeds, advance the poses of ``moving (k,)`` by ``h``
     (plus the split-impulse ``pseudo_velocity (n, 6)``), then sweep fast bodies (CCD-lite)."""
     from .sweep import sweep_fast_bodies
@@ -89,16 +89,19 @@ def integrate_velocities(bodies, index: np.ndarray, gravity: np.ndarray, h: floa
 
 def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: float) -> None:
     """Scale velocities so ``|v| <= max_linear`` and ``|w| <= max_angular``."""
-    for name, limit in (("body_linear_velocity", max_linear), ("body_angular_velocity",
-                                                               max_angular)):
+    for name, limit in (
+        ("body_linear_velocity", max_linear),
+        ("body_angular_velocity", max_angular),
+    ):
         velocity = getattr(bodies, name)[index]
         speed = stable_norm(velocity, axis=1)  # |v| without overflow above 1e154 m/s
         scale = np.minimum(1.0, limit / np.maximum(speed, settings.TINY))
         getattr(bodies, name)[index] = velocity * scale[:, None]
 
 
-def integrate_positions(bodies, index: np.ndarray, h: float, linear_extra=None,
-                        angular_extra=None) -> None:
+def integrate_positions(
+    bodies, index: np.ndarray, h: float, linear_extra=None, angular_extra=None
+) -> None:
     """Advance poses of ``index`` by one step ``h`` (see module docstring).
 
     ``linear_extra`` / ``angular_extra`` ``(k, 3)`` are split-impulse pseudo velocities that
@@ -122,8 +125,9 @@ def integrate_positions(bodies, index: np.ndarray, h: float, linear_extra=None,
     w_new = np.einsum("kij,kj->ki", world_inverse_inertia(q_new, inertia), momentum)
     energy_new = 0.5 * np.sum(momentum * w_new, axis=1)
     # never gain energy: w *= sqrt(E_old / E_new) when E_new > E_old
-    scale = np.sqrt(np.where(energy_new > energy_old,
-                             energy_old / np.maximum(energy_new, settings.TINY), 1.0))
+    scale = np.sqrt(
+        np.where(energy_new > energy_old, energy_old / np.maximum(energy_new, settings.TINY), 1.0)
+    )
     bodies.body_rotation[index] = q_new
     bodies.body_angular_velocity[index] = w_new * scale[:, None]
 

@@ -19,8 +19,14 @@ class MotionType(enum.IntEnum):
         return member
 
     UNDEFINED = (-1, "Not a valid motion type; setting it raises ValueError.")
-    STATIC = (0, "Never moves: pose setters are silently ignored; other bodies collide with "
-                 "it. Use for furniture you do not want to move (and to bake into a navmesh).")
-    KINEMATIC = (1, "Moved only by its pose setters or velocity control; pushes dynamic "
-                    "bodies and is never pushed. Use for robots and scripted motion.")
+    STATIC = (
+        0,
+        "Never moves: pose setters are silently ignored; other bodies collide with "
+        "it. Use for furniture you do not want to move (and to bake into a navmesh).",
+    )
+    KINEMATIC = (
+        1,
+        "Moved only by its pose setters or velocity control; pushes dynamic "
+        "bodies and is never pushed. Use for robots and scripted motion.",
+    )
     DYNAMIC = (2, "Moved by gravity, forces, impulses and contacts. The default.")

@@ -81,14 +81,20 @@ class _Contacts:
         """Flat ``(pair_position, point_a, point_b, normal)`` in sequence order."""
         if not self.chunks:
             return _EMPTY
-        seq, local, point_a, point_b, normal = (np.concatenate(part)
-                                                for part in zip(*self.chunks, strict=True))
+        seq, local, point_a, point_b, normal = (
+            np.concatenate(part) for part in zip(*self.chunks, strict=True)
+        )
         order = np.lexsort((local, seq))  # by shape pair, then by order inside the pair
         return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
 
 
-def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore,
-                 pairs: list, rotation: np.ndarray):
+def narrow_phase(
+    bodies: Bodies,
+    objects: CollisionObjects,
+    store: ManifoldStore,
+    pairs: list,
+    rotation: np.ndarray,
+):
     """Contacts of body ``pairs`` ``[(a, c), ...]`` (see the module docstring).
 
     ``rotation (n, 3, 3)``: every body's world_from_body matrix; ``store``: the manifolds
@@ -97,13 +103,16 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
     """
     b = bodies
     # jobs grouped by array sizes: stage jobs by V, polyhedron jobs by (V_a, F_a, V_b, F_b)
-    jobs: dict[str, defaultdict[Any, list[Job]]] = {"stage": defaultdict(list),
-                                                    "polyhedra": defaultdict(list)}
+    jobs: dict[str, defaultdict[Any, list[Job]]] = {
+        "stage": defaultdict(list),
+        "polyhedra": defaultdict(list),
+    }
     contacts, pair_of_seq = _Contacts(), list[int]()
     for position, (a, c) in enumerate(pairs):
         for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
-            for shape_c, obj_c, probe_c in zip(b.shapes[c], objects.shape_objects[c],
-                                               objects.probe_objects[c], strict=True):
+            for shape_c, obj_c, probe_c in zip(
+                b.shapes[c], objects.shape_objects[c], objects.probe_objects[c], strict=True
+            ):
                 seq = len(pair_of_seq)
                 pair_of_seq.append(position)
                 if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
@@ -114,19 +123,28 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     found = fcl_raw_contacts(obj_a, obj_c)
                     if found:
-                        sizes = (len(shape_a.hull_vertices), len(shape_a.plane_normals),
-                                 len(shape_c.hull_vertices), len(shape_c.plane_normals))
+                        sizes = (
+                            len(shape_a.hull_vertices),
+                            len(shape_a.plane_normals),
+                            len(shape_c.hull_vertices),
+                            len(shape_c.plane_normals),
+                        )
                         jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
                 elif shape_a.kind == shape_c.kind == "sphere" and coincident(b, a, c):
-                    contacts.add_one(seq, coincident_spheres(b, a, shape_a, c, shape_c,
-                                                             rotation))
+                    contacts.add_one(seq, coincident_spheres(b, a, shape_a, c, shape_c, rotation))
                 else:
                     pose_c = (rotation[c], b.body_position[c])
-                    contacts.add_one(seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c,
-                                                         probe_c))
+                    contacts.add_one(
+                        seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
+                    )
     for group in jobs["stage"].values():
-        _stage_group(group, rotation, b.body_position, contacts,
-                     _cached_normals(store, [job.body_b for job in group]))
+        _stage_group(
+            group,
+            rotation,
+            b.body_position,
+            contacts,
+            _cached_normals(store, [job.body_b for job in group]),
+        )
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts, b)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
@@ -135,8 +153,11 @@ def narrow_phase(bodies: Bodies, objects: CollisionObjects, store: ManifoldStore
 def coincident(b, a: int, c: int) -> bool:
     """Bodies a and c have (nearly) the same center: closer than ``COINCIDENT_FRACTION`` of
     the thinner one's smallest dimension (created at one point, say)."""
-    limit = settings.COINCIDENT_FRACTION * 2.0 * min(b.body_min_half_extent[a],
-                                                     b.body_min_half_extent[c])
+    limit = (
+        settings.COINCIDENT_FRACTION
+        * 2.0
+        * min(b.body_min_half_extent[a], b.body_min_half_extent[c])
+    )
     gap = b.body_position[c] - b.body_position[a]
     return float(gap @ gap) < limit * limit
 
@@ -165,8 +186,9 @@ def coincident_spheres(b, a, shape_a, c, shape_c, rotation):
     return point_a[None], point_b[None], n[None]
 
 
-def _pose(bodies: list, rotation: np.ndarray,
-          position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _pose(
+    bodies: list, rotation: np.ndarray, position: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Rotations ``(g, 3, 3)`` and positions ``(g, 3)`` of ``bodies``."""
     index = np.array(bodies, dtype=np.int64)
     return rotation[index], position[index]
@@ -198,11 +220,11 @@ def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
     cached_normal, valid = cached
     # n_t . c_k for every triangle t and cached normal k, (g, T, S)
     alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * valid[:, None, :]
-    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None],
-                                   axis=2)[..., 0]
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
+        ..., 0
+    ]
     middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
-    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest),
-                    middle)
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), middle)
 
 
 def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
@@ -213,23 +235,27 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
     stage = jobs[0].shape_a
     table = _triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
-    ids = _touched_triangles([[c.b1 for c in job.contacts] for job in jobs],
-                             len(stage.ray_triangles))
+    ids = _touched_triangles(
+        [[c.b1 for c in job.contacts] for job in jobs], len(stage.ray_triangles)
+    )
     tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
     r, x = _pose([job.body_b for job in jobs], rotation, position)
     hull = np.stack([job.shape_b.hull_vertices for job in jobs])
     verts = _to_world(r, x, hull)  # (g, V, 3)
     normal = table["normal"][ids]
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
-    height = (np.einsum("gti,gvi->gtv", normal, verts)
-              - (normal * tris[:, :, 0]).sum(axis=2)[..., None])
+    height = (
+        np.einsum("gti,gvi->gtv", normal, verts) - (normal * tris[:, :, 0]).sum(axis=2)[..., None]
+    )
     side = _outward_side(normal, height, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
-    candidate = ((height < settings.STAGE_SPECULATIVE_DISTANCE)
-                 & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
-                 & _in_prisms(table, ids, tris, verts))
+    candidate = (
+        (height < settings.STAGE_SPECULATIVE_DISTANCE)
+        & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
+        & _in_prisms(table, ids, tris, verts)
+    )
     # each vertex keeps its shallowest triangle (the surface it is really resting on)
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
     g, v = np.nonzero(candidate.any(axis=1))
@@ -240,8 +266,9 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
         # an edge crossing a face: fcl's points with the first triangle's normal
         mid, _, depths, _ = contact_arrays(jobs[k].contacts)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
-        contacts.add_one(seq[k], _midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)),
-                                                    depths))
+        contacts.add_one(
+            seq[k], _midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
+        )
 
 
 def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:
@@ -287,8 +314,11 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
     c = np.array([job.body_b for job in jobs])
     gap = position[c] - position[a]
     # coincident: |x_c - x_a| < fraction * the thinner body's smallest dimension
-    limit = settings.COINCIDENT_FRACTION * 2.0 * np.minimum(bodies.body_min_half_extent[a],
-                                                            bodies.body_min_half_extent[c])
+    limit = (
+        settings.COINCIDENT_FRACTION
+        * 2.0
+        * np.minimum(bodies.body_min_half_extent[a], bodies.body_min_half_extent[c])
+    )
     coincident = (gap * gap).sum(axis=1) < limit * limit
     if coincident.any():
         n[coincident] = spread_direction(a[coincident], c[coincident])
@@ -299,12 +329,13 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
     n_first = len(shapes_b[0].hull_vertices)  # B's vertices: the sort keys of A's face
     # A's face against B's vertices (sign +1), then B's face against A's vertices (sign -1)
     for direction, (ref, ref_frame, inc, inc_frame, sign) in enumerate(
-            ((shapes_a, frame_a, shapes_b, frame_b, 1.0),
-             (shapes_b, frame_b, shapes_a, frame_a, -1.0))):
+        ((shapes_a, frame_a, shapes_b, frame_b, 1.0), (shapes_b, frame_b, shapes_a, frame_a, -1.0))
+    ):
         inc_rotation, inc_position = inc_frame
         inc_vertices = np.stack([s.hull_vertices for s in inc])
         g, v, on_face, verts, face_normal = _reference_face_contacts(
-            ref, ref_frame, _to_world(inc_rotation, inc_position, inc_vertices), sign * n)
+            ref, ref_frame, _to_world(inc_rotation, inc_position, inc_vertices), sign * n
+        )
         found[g] = True
         local = direction * n_first + v  # A's reference points first, then B's
         contact_normal = sign * face_normal[g]  # always A -> B
@@ -345,11 +376,11 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     tolerance = settings.SPECULATIVE_DISTANCE
     # inside the hull planes n_f . p <= c_f + tol, p in the reference body frame R^T (x - x_r)
     local = np.einsum("gji,gvj->gvi", rotation, verts - position[:, None])
-    inside = (np.einsum("gvj,gfj->gvf", local, planes) - offsets[:, None]
-              <= tolerance).all(axis=2)
+    inside = (np.einsum("gvj,gfj->gvf", local, planes) - offsets[:, None] <= tolerance).all(axis=2)
     # depth below the reference face plane n_f . x = c_f + n_f . x_ref
-    depth = ((offsets[jobs, face] + (normal * position).sum(axis=1))[:, None]
-             - np.einsum("gvi,gi->gv", verts, normal))
+    depth = (offsets[jobs, face] + (normal * position).sum(axis=1))[:, None] - np.einsum(
+        "gvi,gi->gv", verts, normal
+    )
     g, v = np.nonzero(inside & (depth > -tolerance) & facing[:, None])
     on_face = verts[g, v] + depth[g, v][:, None] * normal[g]  # x + d n_f
     return g, v, on_face, verts, normal

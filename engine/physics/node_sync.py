@@ -96,8 +96,11 @@ class NodeSync:
             if not moved[index] and self._node_unchanged(index, parent_cache):
                 continue
             parent = node.parent
-            if parent is not None and parent._parent is None and self._is_identity_root(
-                    parent, parent_cache, identity_root):
+            if (
+                parent is not None
+                and parent._parent is None
+                and self._is_identity_root(parent, parent_cache, identity_root)
+            ):
                 under_root.append(index)
             else:
                 self.write_node(index, parent_cache)
@@ -108,7 +111,8 @@ class NodeSync:
         """True when ``parent``'s world matrix is the identity (answer kept per pass)."""
         if id(parent) not in known:
             known[id(parent)] = np.array_equal(
-                self._parent_matrices(parent, parent_cache)[0], _IDENTITY)
+                self._parent_matrices(parent, parent_cache)[0], _IDENTITY
+            )
         return known[id(parent)]
 
     def _write_root_children(self, indices: np.ndarray) -> None:
@@ -132,8 +136,9 @@ class NodeSync:
             node = self.nodes[index]
             node._translation, node._rotation = position[k], rotation[k]
             self._node_pose[index] = pose[k]
-            self._node_stamp[index] = NodeStamp(node.parent, node._translation, node._rotation,
-                                                node._scaling, pose[k], _IDENTITY)
+            self._node_stamp[index] = NodeStamp(
+                node.parent, node._translation, node._rotation, node._scaling, pose[k], _IDENTITY
+            )
 
     def write_node(self, index: int, parent_cache: dict | None = None) -> None:
         """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.
@@ -167,10 +172,12 @@ class NodeSync:
         else:
             pose = node.world_matrix().copy()
         self._node_pose[index] = pose
-        self._written_pose(index + 1)[index] = np.concatenate([b.body_position[index],
-                                                              b.body_rotation[index]])
-        self._node_stamp[index] = NodeStamp(parent, node._translation, node._rotation,
-                                            node._scaling, pose, parent_world)
+        self._written_pose(index + 1)[index] = np.concatenate(
+            [b.body_position[index], b.body_rotation[index]]
+        )
+        self._node_stamp[index] = NodeStamp(
+            parent, node._translation, node._rotation, node._scaling, pose, parent_world
+        )
 
     def _written_pose(self, n: int) -> np.ndarray:
         """``(n, 7)`` body pose [x, q] at each node's last write (NaN: never written)."""
@@ -184,8 +191,10 @@ class NodeSync:
         """True when body ``index`` has the pose of its node's last write."""
         b = self.bodies
         written = self._written_pose(index + 1)[index]
-        return bool(np.all(written[:3] == b.body_position[index])
-                    and np.all(written[3:] == b.body_rotation[index]))
+        return bool(
+            np.all(written[:3] == b.body_position[index])
+            and np.all(written[3:] == b.body_rotation[index])
+        )
 
     def _node_unchanged(self, index: int, parent_cache: dict | None) -> bool:
         """True when body ``index``'s node, its parent and the parent's pose are as they were
@@ -193,14 +202,18 @@ class NodeSync:
         last, node = self._node_stamp.get(index), self.nodes[index]
         if last is None or node.parent is not last.parent:
             return False
-        if (node._translation is not last.translation or node._rotation is not last.rotation
-                or node._scaling is not last.scaling
-                or self._node_pose.get(index) is not last.pose):
+        if (
+            node._translation is not last.translation
+            or node._rotation is not last.rotation
+            or node._scaling is not last.scaling
+            or self._node_pose.get(index) is not last.pose
+        ):
             return False
         if node.parent is None:
             return last.parent_world is None
         return last.parent_world is not None and np.array_equal(
-            last.parent_world, self._parent_matrices(node.parent, parent_cache)[0])
+            last.parent_world, self._parent_matrices(node.parent, parent_cache)[0]
+        )
 
     @staticmethod
     def _parent_matrices(parent, cache: dict | None):
@@ -237,13 +250,14 @@ class NodeSync:
                 continue
             scale = stable_norm(world[:3, :3], axis=0)
             if not (np.all(np.isfinite(world)) and np.all(scale > 0.0)):
-                raise ValueError(f"the scene node of object {index} has a non-finite or "
-                                 f"degenerate world transform; no body was moved")
+                raise ValueError(
+                    f"the scene node of object {index} has a non-finite or "
+                    f"degenerate world transform; no body was moved"
+                )
             moved.append((index, world, world[:3, :3] / scale))
         for index, world, rotation in moved:
             b.body_position[index] = world[:3, 3]
             # q and -q are one rotation: keep the sign of the last step (no q -> -q flips)
-            b.body_rotation[index] = same_sign_as(matrix_to_quat(rotation),
-                                                  b.body_rotation[index])
+            b.body_rotation[index] = same_sign_as(matrix_to_quat(rotation), b.body_rotation[index])
             self._node_pose[index] = world.copy()
         return [index for index, _, _ in moved]

@@ -35,8 +35,9 @@ from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .velocity_control import RigidState
 
 
-def _number(value: Any, name: str, low: float = -math.inf, high: float = math.inf,
-            low_open: bool = False) -> float:
+def _number(
+    value: Any, name: str, low: float = -math.inf, high: float = math.inf, low_open: bool = False
+) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise TypeError(f"{name} must be a number, got {value!r}")
     number = float(value)
@@ -48,24 +49,29 @@ def _number(value: Any, name: str, low: float = -math.inf, high: float = math.in
 
 def _quiet_overflow(method):
     """Run ``method`` with NumPy's overflow warnings off: it checks its results itself."""
+
     @functools.wraps(method)
     def wrapped(*args, **kwargs):
         with np.errstate(over="ignore", invalid="ignore"):
             return method(*args, **kwargs)
+
     return wrapped
 
 
 def _finite_result(value: np.ndarray, name: str, what: str) -> np.ndarray:
     """``value`` if every component is finite, else a ValueError naming the argument."""
     if not np.all(np.isfinite(value)):
-        raise ValueError(f"{name} is too large: it would make a non-finite {what} "
-                         f"({np.asarray(value).tolist()}); the object is unchanged")
+        raise ValueError(
+            f"{name} is too large: it would make a non-finite {what} "
+            f"({np.asarray(value).tolist()}); the object is unchanged"
+        )
     return value
 
 
 def _angle(value: Any) -> float:
-    return float(mn.Rad(_number(float(mn.Rad(value)) if isinstance(value, mn.Deg) else value,
-                                "angle")))
+    return float(
+        mn.Rad(_number(float(mn.Rad(value)) if isinstance(value, mn.Deg) else value, "angle"))
+    )
 
 
 class DeadObjectError(RuntimeError):
@@ -222,8 +228,7 @@ class ManagedRigidObject:
         self._world.wake_neighbors(index)
 
     # -- pose ----------------------------------------------------------------------------------
-    def _set_pose(self, position: np.ndarray, rotation: np.ndarray,
-                  name: str = "pose") -> None:
+    def _set_pose(self, position: np.ndarray, rotation: np.ndarray, name: str = "pose") -> None:
         """Validate the candidate pose (finite position, non-zero finite quaternion), then
         teleport the body; ``name`` is the argument blamed when it is not."""
         index = self._check()
@@ -244,8 +249,9 @@ class ManagedRigidObject:
     @translation.setter
     def translation(self, value: Any) -> None:
         position = np.asarray(mn.to_vector3(value, "translation"))
-        self._set_pose(position, self._world.bodies.body_rotation[self._check()].copy(),
-                       "translation")
+        self._set_pose(
+            position, self._world.bodies.body_rotation[self._check()].copy(), "translation"
+        )
 
     @property
     def rotation(self) -> mn.Quaternion:
@@ -262,8 +268,7 @@ class ManagedRigidObject:
     @rotation.setter
     def rotation(self, value: Any) -> None:
         rotation = mn.to_quaternion(value, "rotation").xyzw
-        self._set_pose(self._world.bodies.body_position[self._check()].copy(), rotation,
-                       "rotation")
+        self._set_pose(self._world.bodies.body_position[self._check()].copy(), rotation, "rotation")
 
     @property
     def transformation(self) -> mn.Matrix4:
@@ -284,8 +289,7 @@ class ManagedRigidObject:
         if np.linalg.det(rotation_matrix) < 0.0:
             raise ValueError(f"transformation is a reflection (negative determinant): {value!r}")
         if not np.allclose(rotation_matrix.T @ rotation_matrix, np.eye(3), atol=1e-4):
-            raise ValueError(f"transformation has a shear (its axes are not orthogonal): "
-                             f"{value!r}")
+            raise ValueError(f"transformation has a shear (its axes are not orthogonal): {value!r}")
         rotation = matrix_to_quat(rotation_matrix)
         current = self._world.bodies.body_rotation[self._check()]
         if float(rotation @ current) < 0.0:  # q and -q are one rotation: keep the sign
@@ -308,8 +312,11 @@ class ManagedRigidObject:
         """Move by ``vector`` (world frame, m)."""
         offset = np.asarray(mn.to_vector3(vector, "vector"))
         index = self._check()
-        self._set_pose(self._world.bodies.body_position[index] + offset,
-                       self._world.bodies.body_rotation[index].copy(), "vector")
+        self._set_pose(
+            self._world.bodies.body_position[index] + offset,
+            self._world.bodies.body_rotation[index].copy(),
+            "vector",
+        )
 
     @_quiet_overflow
     def translate_local(self, vector: Any) -> None:
@@ -317,8 +324,11 @@ class ManagedRigidObject:
         offset = np.asarray(mn.to_vector3(vector, "vector"))
         index = self._check()
         b = self._world.bodies
-        self._set_pose(b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ offset,
-                       b.body_rotation[index].copy(), "vector")
+        self._set_pose(
+            b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ offset,
+            b.body_rotation[index].copy(),
+            "vector",
+        )
 
     def rotate(self, angle: Any, axis: Any, local: bool = False) -> None:
         """Rotate by ``angle`` (Rad/Deg) about ``axis``: world axes (``q' = r q``) or local
@@ -415,8 +425,9 @@ class ManagedRigidObject:
             b.body_torque[index] = total
             self._world.wake(index)
 
-    def _check_force_step(self, index: int, force: np.ndarray, torque: np.ndarray,
-                          name: str) -> None:
+    def _check_force_step(
+        self, index: int, force: np.ndarray, torque: np.ndarray, name: str
+    ) -> None:
         """Refuse a force/torque whose velocity change over one fixed step,
         ``h F / m`` and ``h I_w^-1 tau``, or the velocity it leads to, is not finite."""
         b, h = self._world.bodies, self._world.get_physics_time_step()
@@ -435,8 +446,9 @@ class ManagedRigidObject:
         if index is None:
             return
         b = self._world.bodies
-        linear = _finite_result(b.body_linear_velocity[index] + j / b.body_mass[index],
-                                "impulse", "linear velocity")
+        linear = _finite_result(
+            b.body_linear_velocity[index] + j / b.body_mass[index], "impulse", "linear velocity"
+        )
         angular = self._angular_after(index, np.cross(r, j), "impulse")
         b.body_linear_velocity[index] = linear
         b.body_angular_velocity[index] = angular
@@ -457,8 +469,9 @@ class ManagedRigidObject:
         b = self._world.bodies
         _finite_result(angular, name, "angular impulse")
         inv = world_inverse_inertia(b.body_rotation[index][None], b.body_inertia[index][None])[0]
-        return _finite_result(b.body_angular_velocity[index] + inv @ angular, name,
-                              "angular velocity")
+        return _finite_result(
+            b.body_angular_velocity[index] + inv @ angular, name, "angular velocity"
+        )
 
     def contact_test(self) -> bool:
         """True if the object currently overlaps another collidable object or the stage."""
@@ -485,8 +498,11 @@ class ManagedRigidObject:
         index = self._check()
         b = self._world.bodies
         # a pending force must still give a finite velocity change h F / m
-        _finite_result(self._world.get_physics_time_step() * b.body_force[index] / mass,
-                       "mass", "velocity change under the pending force")
+        _finite_result(
+            self._world.get_physics_time_step() * b.body_force[index] / mass,
+            "mass",
+            "velocity change under the pending force",
+        )
         self._set_scalar("body_mass", mass)
 
     @property
@@ -496,8 +512,9 @@ class ManagedRigidObject:
 
     @intertia_diagonal.setter
     def intertia_diagonal(self, value: Any) -> None:
-        inertia = check_inertia(np.asarray(mn.to_vector3(value, "intertia_diagonal")),
-                                "intertia_diagonal")
+        inertia = check_inertia(
+            np.asarray(mn.to_vector3(value, "intertia_diagonal")), "intertia_diagonal"
+        )
         index = self._check()
         self._world.bodies.body_inertia[index] = inertia
         self._world.wake(index)
@@ -513,8 +530,9 @@ class ManagedRigidObject:
 
     @rolling_friction_coefficient.setter
     def rolling_friction_coefficient(self, value: Any) -> None:
-        self._set_scalar("body_rolling_friction",
-                         _number(value, "rolling_friction_coefficient", 0.0))
+        self._set_scalar(
+            "body_rolling_friction", _number(value, "rolling_friction_coefficient", 0.0)
+        )
 
     @property
     def spinning_friction_coefficient(self) -> float:
@@ -524,8 +542,9 @@ class ManagedRigidObject:
 
     @spinning_friction_coefficient.setter
     def spinning_friction_coefficient(self, value: Any) -> None:
-        self._set_scalar("body_spinning_friction",
-                         _number(value, "spinning_friction_coefficient", 0.0))
+        self._set_scalar(
+            "body_spinning_friction", _number(value, "spinning_friction_coefficient", 0.0)
+        )
 
     @property
     def friction_coefficient(self) -> float:

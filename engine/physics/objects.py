@@ -37,8 +37,9 @@ class RigidObjectManager:
         self._objects: dict[int, ManagedRigidObject] = {}
 
     # -- adding ----------------------------------------------------------------------------
-    def add_object_by_template_id(self, template_id: int, attachment_node=None,
-                                  light_setup_key: str = ""):
+    def add_object_by_template_id(
+        self, template_id: int, attachment_node=None, light_setup_key: str = ""
+    ):
         """Add an object from template ``template_id``; None (with a warning) if unknown.
         ``light_setup_key`` names the light setup it is drawn with (engine.gfx)."""
         if isinstance(template_id, bool) or not isinstance(template_id, int):
@@ -46,19 +47,24 @@ class RigidObjectManager:
         if not self._templates.get_library_has_id(template_id):
             warnings.warn(f"no object template with id {template_id}", stacklevel=2)
             return None
-        return self._add(self._templates.get_template_by_id(template_id), attachment_node,
-                         light_setup_key)
+        return self._add(
+            self._templates.get_template_by_id(template_id), attachment_node, light_setup_key
+        )
 
-    def add_object_by_template_handle(self, object_lib_handle: str, attachment_node=None,
-                                      light_setup_key: str = ""):
+    def add_object_by_template_handle(
+        self, object_lib_handle: str, attachment_node=None, light_setup_key: str = ""
+    ):
         """Add an object from the template with this exact handle; None if unknown."""
         if not isinstance(object_lib_handle, str):
             raise TypeError(f"template handle must be a str, got {object_lib_handle!r}")
         if not self._templates.get_library_has_handle(object_lib_handle):
             warnings.warn(f"no object template with handle {object_lib_handle!r}", stacklevel=2)
             return None
-        return self._add(self._templates.get_template_by_handle(object_lib_handle),
-                         attachment_node, light_setup_key)
+        return self._add(
+            self._templates.get_template_by_handle(object_lib_handle),
+            attachment_node,
+            light_setup_key,
+        )
 
     def _add(self, template, attachment_node, light_setup_key: str = "") -> ManagedRigidObject:
         from engine.scene_node import Drawable, SceneNode
@@ -71,17 +77,21 @@ class RigidObjectManager:
         root = attachment_node if attachment_node is not None else SceneNode(self._root_node)
         visual = SceneNode(root, name="visual")
         visual.translation = -description.com
-        visual.drawables = [Drawable(mesh, True, int(template.semantic_id), light_setup_key)
-                            for mesh in description.render_meshes]
+        visual.drawables = [
+            Drawable(mesh, True, int(template.semantic_id), light_setup_key)
+            for mesh in description.render_meshes
+        ]
         world.nodes[index] = root
-        world.render_meshes[index] = [dataclasses.replace(m, vertices=np.asarray(m.vertices)
-                                                          - description.com)
-                                      for m in description.render_meshes]
+        world.render_meshes[index] = [
+            dataclasses.replace(m, vertices=np.asarray(m.vertices) - description.com)
+            for m in description.render_meshes
+        ]
         from .velocity_control import VelocityControl
 
         world.velocity_controls[index] = VelocityControl()
-        obj = ManagedRigidObject(world, index, self._new_handle(template.handle), template,
-                                 description, root, visual)
+        obj = ManagedRigidObject(
+            world, index, self._new_handle(template.handle), template, description, root, visual
+        )
         if attachment_node is not None:
             matrix = attachment_node.world_matrix()
             world.node_sync.forget(index)
@@ -102,8 +112,9 @@ class RigidObjectManager:
         return f"{stem}_:{(max(used) + 1) if used else 0:04d}"
 
     # -- removing ----------------------------------------------------------------------------
-    def remove_object_by_id(self, object_id: int, delete_object_node: bool = True,
-                            delete_visual_node: bool = True) -> None:
+    def remove_object_by_id(
+        self, object_id: int, delete_object_node: bool = True, delete_visual_node: bool = True
+    ) -> None:
         """Remove object ``object_id``: KeyError if there is none."""
         obj = self.get_object_by_id(object_id)
         if obj is None:
@@ -117,16 +128,18 @@ class RigidObjectManager:
         obj._alive = False
         del self._objects[obj._index]
 
-    def remove_object_by_handle(self, handle: str, delete_object_node: bool = True,
-                                delete_visual_node: bool = True) -> None:
+    def remove_object_by_handle(
+        self, handle: str, delete_object_node: bool = True, delete_visual_node: bool = True
+    ) -> None:
         """Remove the object with this handle: KeyError if there is none."""
         obj = self.get_object_by_handle(handle)
         if obj is None:
             raise KeyError(f"no rigid object with handle {handle!r}")
         self.remove_object_by_id(obj.object_id, delete_object_node, delete_visual_node)
 
-    def remove_all_objects(self, delete_object_node: bool = True,
-                           delete_visual_node: bool = True) -> None:
+    def remove_all_objects(
+        self, delete_object_node: bool = True, delete_visual_node: bool = True
+    ) -> None:
         for object_id in sorted(self._objects):
             self.remove_object_by_id(object_id, delete_object_node, delete_visual_node)
 
@@ -156,8 +169,9 @@ class RigidObjectManager:
 
     def get_objects_by_handle_substring(self, search_str: str = "", contains: bool = True):
         """``{handle: object}`` for the handles matching like :meth:`get_object_handles`."""
-        return {h: self.get_object_by_handle(h)
-                for h in self.get_object_handles(search_str, contains)}
+        return {
+            h: self.get_object_by_handle(h) for h in self.get_object_handles(search_str, contains)
+        }
 
     def get_object_handle_by_id(self, object_id: int) -> str:
         obj = self.get_object_by_id(object_id)
@@ -178,5 +192,12 @@ class RigidObjectManager:
         return self.get_object_by_id(object_id) is not None
 
 
-__all__ = ["DYNAMIC", "KINEMATIC", "STATIC", "DeadObjectError", "ManagedRigidObject",
-           "MotionType", "RigidObjectManager"]
+__all__ = [
+    "DYNAMIC",
+    "KINEMATIC",
+    "STATIC",
+    "DeadObjectError",
+    "ManagedRigidObject",
+    "MotionType",
+    "RigidObjectManager",
+]

@@ -30,20 +30,29 @@ def _table(shape, entries) -> np.ndarray:
 # R_ij = sum_ab q_a q_b MATRIX_TABLE[a*4 + b, i*3 + j]   (unit quaternions)
 _R = {
     (0, 0): [(W, W, 1), (X, X, 1), (Y, Y, -1), (Z, Z, -1)],
-    (0, 1): [(X, Y, 2), (W, Z, -2)], (0, 2): [(X, Z, 2), (W, Y, 2)],
-    (1, 0): [(X, Y, 2), (W, Z, 2)], (1, 1): [(W, W, 1), (X, X, -1), (Y, Y, 1), (Z, Z, -1)],
-    (1, 2): [(Y, Z, 2), (W, X, -2)], (2, 0): [(X, Z, 2), (W, Y, -2)],
-    (2, 1): [(Y, Z, 2), (W, X, 2)], (2, 2): [(W, W, 1), (X, X, -1), (Y, Y, -1), (Z, Z, 1)],
+    (0, 1): [(X, Y, 2), (W, Z, -2)],
+    (0, 2): [(X, Z, 2), (W, Y, 2)],
+    (1, 0): [(X, Y, 2), (W, Z, 2)],
+    (1, 1): [(W, W, 1), (X, X, -1), (Y, Y, 1), (Z, Z, -1)],
+    (1, 2): [(Y, Z, 2), (W, X, -2)],
+    (2, 0): [(X, Z, 2), (W, Y, -2)],
+    (2, 1): [(Y, Z, 2), (W, X, 2)],
+    (2, 2): [(W, W, 1), (X, X, -1), (Y, Y, -1), (Z, Z, 1)],
 }
-MATRIX_TABLE = _table((16, 9), [((a * 4 + b, i * 3 + j), c)
-                                for (i, j), terms in _R.items() for a, b, c in terms])
+MATRIX_TABLE = _table(
+    (16, 9), [((a * 4 + b, i * 3 + j), c) for (i, j), terms in _R.items() for a, b, c in terms]
+)
 # (q1 * q2)_k = sum_ab q1_a q2_b PRODUCT_TABLE[a*4 + b, k]:
 # vector = w1 v2 + w2 v1 + v1 x v2, scalar = w1 w2 - v1 . v2
 _EPS = [(0, 1, 2, 1), (1, 2, 0, 1), (2, 0, 1, 1), (0, 2, 1, -1), (2, 1, 0, -1), (1, 0, 2, -1)]
-PRODUCT_TABLE = _table((16, 4), [((W * 4 + k, k), 1) for k in range(3)]
-                       + [((k * 4 + W, k), 1) for k in range(3)]
-                       + [((i * 4 + j, k), s) for i, j, k, s in _EPS]
-                       + [((W * 4 + W, W), 1)] + [((k * 4 + k, W), -1) for k in range(3)])
+PRODUCT_TABLE = _table(
+    (16, 4),
+    [((W * 4 + k, k), 1) for k in range(3)]
+    + [((k * 4 + W, k), 1) for k in range(3)]
+    + [((i * 4 + j, k), s) for i, j, k, s in _EPS]
+    + [((W * 4 + W, W), 1)]
+    + [((k * 4 + k, W), -1) for k in range(3)],
+)
 # (a x b)_k = sum_ij a_i b_j eps_ijk
 CROSS_TABLE = _table((9, 3), [((i * 3 + j, k), s) for i, j, k, s in _EPS])
 

@@ -117,13 +117,14 @@ def ray_shape(origin_body, direction_body, shape):
     its nearest hit.
     """
     if shape.kind == "sphere":
-        t, normal = ray_sphere(origin_body, direction_body, shape.body_from_shape[:3, 3],
-                               shape.radius)
+        t, normal = ray_sphere(
+            origin_body, direction_body, shape.body_from_shape[:3, 3], shape.radius
+        )
         return np.array([t]), normal[None]
     t, normal = ray_triangles(origin_body, direction_body, shape.ray_triangles)
     if shape.kind != "mesh":
         best = int(np.argmin(t))
-        return t[best:best + 1], normal[best:best + 1]
+        return t[best : best + 1], normal[best : best + 1]
     hit = np.flatnonzero(np.isfinite(t))
     _, first = np.unique(t[hit], return_index=True)  # sorted by t, one per distance
     return t[hit[first]], normal[hit[first]]

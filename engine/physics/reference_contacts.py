@@ -39,8 +39,9 @@ def dot(u: np.ndarray, v: np.ndarray) -> float:
 
 def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``u x v`` of two 3-vectors."""
-    return np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                     u[0] * v[1] - u[1] * v[0]])
+    return np.array(
+        [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+    )
 
 
 def rotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -72,8 +73,9 @@ class Contact:
 # ------------------------------------------------------------------------------------------
 # contact generation (mirrors narrow_phase.narrow_phase)
 # ------------------------------------------------------------------------------------------
-def pair_contacts(bodies: Bodies, objects, store: ManifoldStore, a: int, c: int,
-                  rotation: np.ndarray) -> list[Contact]:
+def pair_contacts(
+    bodies: Bodies, objects, store: ManifoldStore, a: int, c: int, rotation: np.ndarray
+) -> list[Contact]:
     """Contacts of body pair ``(a, c)``, ``a < c``, in the narrow phase's order: shape pairs
     in body order, then the order of each rule below (``rotation (n, 3, 3)``: all bodies;
     ``store``: the manifolds before this step's update, whose normals keep a stage contact
@@ -82,21 +84,22 @@ def pair_contacts(bodies: Bodies, objects, store: ManifoldStore, a: int, c: int,
     pose_a = (rotation[a], bodies.body_position[a])
     pose_c = (rotation[c], bodies.body_position[c])
     for shape_a, obj_a in zip(bodies.shapes[a], objects.shape_objects[a], strict=True):
-        for shape_c, obj_c, probe_c in zip(bodies.shapes[c], objects.shape_objects[c],
-                                           objects.probe_objects[c], strict=True):
+        for shape_c, obj_c, probe_c in zip(
+            bodies.shapes[c], objects.shape_objects[c], objects.probe_objects[c], strict=True
+        ):
             if shape_a.kind == "mesh" and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, probe_c)  # the triangles near C's hull
                 if found:
-                    contacts += stage_polyhedron_contacts(shape_a, shape_c, pose_c, found,
-                                                          cached_stage_normals(store, c))
+                    contacts += stage_polyhedron_contacts(
+                        shape_a, shape_c, pose_c, found, cached_stage_normals(store, c)
+                    )
             elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, obj_c)
                 if found:
                     # bodies created at one point: fcl's normal is arbitrary, use the
                     # pair's spread direction (narrow_phase.spread_direction)
                     spread = spread_direction(a, c) if coincident(bodies, a, c) else None
-                    contacts += polyhedron_contacts(shape_a, pose_a, shape_c, pose_c, found,
-                                                    spread)
+                    contacts += polyhedron_contacts(shape_a, pose_a, shape_c, pose_c, found, spread)
             elif shape_a.kind == shape_c.kind == "sphere" and coincident(bodies, a, c):
                 result = coincident_spheres(bodies, a, shape_a, c, shape_c, rotation)
                 contacts += [Contact(*point) for point in zip(*result, strict=True)]
@@ -129,8 +132,9 @@ def outward_side(normal: np.ndarray, heights: list[float], cached: list[np.ndarr
     return -1.0 if max(heights) + min(heights) < 0 else 1.0
 
 
-def stage_polyhedron_contacts(stage, hull, pose, found: list,
-                              cached: list[np.ndarray]) -> list[Contact]:
+def stage_polyhedron_contacts(
+    stage, hull, pose, found: list, cached: list[np.ndarray]
+) -> list[Contact]:
     """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles fcl found.
 
     Mirrors ``narrow_phase._stage_group``. For every touched triangle t (normal n_t turned to
@@ -144,8 +148,9 @@ def stage_polyhedron_contacts(stage, hull, pose, found: list,
     triangle_ids = sorted({int(record.b1) for record in found if record.b1 >= 0})
     rotation, position = pose
     vertices = [rotate(rotation, v) + position for v in hull.hull_vertices]
-    extent = max(max(v[axis] for v in vertices) - min(v[axis] for v in vertices)
-                 for axis in range(3))
+    extent = max(
+        max(v[axis] for v in vertices) - min(v[axis] for v in vertices) for axis in range(3)
+    )
     normals, heights = [], []
     for t in triangle_ids:
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
@@ -160,10 +165,12 @@ def stage_polyhedron_contacts(stage, hull, pose, found: list,
         best: tuple[float, int] | None = None
         for i, t in enumerate(triangle_ids):
             above = heights[i][k]  # m, height of this vertex above triangle t
-            if (above < settings.STAGE_SPECULATIVE_DISTANCE
-                    and above > -settings.STAGE_BELOW_FRACTION * extent
-                    and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
-                    and (best is None or above > best[0])):
+            if (
+                above < settings.STAGE_SPECULATIVE_DISTANCE
+                and above > -settings.STAGE_BELOW_FRACTION * extent
+                and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+                and (best is None or above > best[0])
+            ):
                 best = (above, i)
         if best is not None:
             normal, depth = normals[best[1]], -best[0]
@@ -191,8 +198,9 @@ def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.nda
     return bool(v >= -tolerance and w >= -tolerance and v + w <= 1 + tolerance)
 
 
-def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list,
-                        spread: np.ndarray | None = None) -> list[Contact]:
+def polyhedron_contacts(
+    shape_a, pose_a, shape_b, pose_b, found: list, spread: np.ndarray | None = None
+) -> list[Contact]:
     """Vertex contacts of two polyhedra (method 1 of :mod:`collide`).
 
     Mirrors ``narrow_phase._polyhedron_group``. fcl's deepest normal ``n`` (A -> B) picks a
@@ -207,11 +215,14 @@ def polyhedron_contacts(shape_a, pose_a, shape_b, pose_b, found: list,
     n = np.asarray(deepest.normal, dtype=np.float64) if spread is None else spread
     contacts: list[Contact] = []
     for reference, pose_ref, incident, pose_inc, sign in (
-            (shape_a, pose_a, shape_b, pose_b, 1.0), (shape_b, pose_b, shape_a, pose_a, -1.0)):
+        (shape_a, pose_a, shape_b, pose_b, 1.0),
+        (shape_b, pose_b, shape_a, pose_a, -1.0),
+    ):
         rotation_inc, position_inc = pose_inc
         vertices = [rotate(rotation_inc, v) + position_inc for v in incident.hull_vertices]
-        for vertex, on_face, face_normal in _reference_face_contacts(reference, pose_ref,
-                                                                     vertices, sign * n):
+        for vertex, on_face, face_normal in _reference_face_contacts(
+            reference, pose_ref, vertices, sign * n
+        ):
             if sign > 0:
                 contacts.append(Contact(on_face, vertex, face_normal))
             else:
@@ -237,9 +248,10 @@ def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarra
     contacts = []
     for vertex in vertices:
         local = unrotate(rotation, vertex - position)
-        inside = all(dot(local, plane) - offset <= tolerance
-                     for plane, offset in zip(reference.plane_normals, reference.plane_offsets,
-                                              strict=True))
+        inside = all(
+            dot(local, plane) - offset <= tolerance
+            for plane, offset in zip(reference.plane_normals, reference.plane_offsets, strict=True)
+        )
         depth = plane_offset - dot(vertex, normal)
         if inside and depth > -tolerance:
             contacts.append((vertex, vertex + depth * normal, normal))
@@ -270,12 +282,20 @@ class ManifoldPoint:
 
     def world(self, frame_a, frame_b) -> Contact:
         (ra, xa), (rb, xb) = frame_a, frame_b
-        return Contact(rotate(ra, self.local_a) + xa, rotate(rb, self.local_b) + xb,
-                       rotate(ra, self.normal_local))
+        return Contact(
+            rotate(ra, self.local_a) + xa,
+            rotate(rb, self.local_b) + xb,
+            rotate(ra, self.normal_local),
+        )
 
 
-def update_manifolds_reference(bodies: Bodies, objects, store: ManifoldStore,
-                               pairs: list[tuple[int, int]], rotation: np.ndarray) -> None:
+def update_manifolds_reference(
+    bodies: Bodies,
+    objects,
+    store: ManifoldStore,
+    pairs: list[tuple[int, int]],
+    rotation: np.ndarray,
+) -> None:
     """Reference for ``collision_stage.update_manifolds``: per pair, its contacts, then
     its manifold refreshed, merged and reduced (:func:`update_manifold`)."""
     from .collision_stage import add_manifold_row
@@ -289,23 +309,42 @@ def update_manifolds_reference(bodies: Bodies, objects, store: ManifoldStore,
             row = add_manifold_row(bodies, store, key)
         frame_a = (rotation[key[0]], bodies.body_position[key[0]])
         frame_b = (rotation[key[1]], bodies.body_position[key[1]])
-        cached = [ManifoldPoint(store.local_a[row, s].copy(), store.local_b[row, s].copy(),
-                                store.normal_local[row, s].copy(), store.impulse[row, s].copy())
-                  for s in range(store.count[row])]
-        points = update_manifold(cached, contacts, frame_a, frame_b, int(store.max_points[row]),
-                                 float(store.feature[row]))
+        cached = [
+            ManifoldPoint(
+                store.local_a[row, s].copy(),
+                store.local_b[row, s].copy(),
+                store.normal_local[row, s].copy(),
+                store.impulse[row, s].copy(),
+            )
+            for s in range(store.count[row])
+        ]
+        points = update_manifold(
+            cached,
+            contacts,
+            frame_a,
+            frame_b,
+            int(store.max_points[row]),
+            float(store.feature[row]),
+        )
         store.count[row] = len(points)
         for array in (store.local_a, store.local_b, store.normal_local, store.impulse):
             array[row] = 0.0
         for slot, point in enumerate(points):
             store.local_a[row, slot], store.local_b[row, slot] = point.local_a, point.local_b
-            store.normal_local[row, slot], store.impulse[row, slot] = (point.normal_local,
-                                                                        point.impulse)
+            store.normal_local[row, slot], store.impulse[row, slot] = (
+                point.normal_local,
+                point.impulse,
+            )
 
 
-def update_manifold(cached: list[ManifoldPoint], fresh: list[Contact], frame_a, frame_b,
-                    max_points: int,
-                    feature: float = settings.CONTACT_MATCH_DISTANCE) -> list[ManifoldPoint]:
+def update_manifold(
+    cached: list[ManifoldPoint],
+    fresh: list[Contact],
+    frame_a,
+    frame_b,
+    max_points: int,
+    feature: float = settings.CONTACT_MATCH_DISTANCE,
+) -> list[ManifoldPoint]:
     """One manifold's step (box2d-lite's ``Arbiter::Update``, with Bullet's persistence).
 
     ``feature`` (m) is the pair's feature length (``contacts.feature_length``): the match,
@@ -325,8 +364,12 @@ def update_manifold(cached: list[ManifoldPoint], fresh: list[Contact], frame_a, 
     if len(fresh) > max_points:
         fresh = _support_of_fresh(fresh, cached, rb, xb, max_points, feature, band)
     fresh = _distinct(fresh, feature)
-    points = [ManifoldPoint(unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb),
-                            unrotate(ra, c.normal)) for c in fresh]
+    points = [
+        ManifoldPoint(
+            unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb), unrotate(ra, c.normal)
+        )
+        for c in fresh
+    ]
     used = _inherit_impulses(points, cached, max_points, feature)
     if len(points) >= 3:
         merged = points
@@ -334,14 +377,20 @@ def update_manifold(cached: list[ManifoldPoint], fresh: list[Contact], frame_a, 
         merged = [p for p, is_used in zip(cached, used, strict=True) if not is_used] + points
     if len(merged) > max_points:
         world = [p.world(frame_a, frame_b) for p in merged]
-        chosen = select_support([c.point_b for c in world], [c.depth for c in world],
-                                world[0].normal, max_points, band=band)
+        chosen = select_support(
+            [c.point_b for c in world],
+            [c.depth for c in world],
+            world[0].normal,
+            max_points,
+            band=band,
+        )
         merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
     return merged
 
 
-def still_touching(point: ManifoldPoint, frame_a, frame_b,
-                   feature: float = settings.CONTACT_DRIFT_DISTANCE) -> bool:
+def still_touching(
+    point: ManifoldPoint, frame_a, frame_b, feature: float = settings.CONTACT_DRIFT_DISTANCE
+) -> bool:
     """A cached point persists while its bodies separate less than
     ``CONTACT_BREAKING_DISTANCE`` along the normal and its anchors drift apart less than
     ``CONTACT_DRIFT_DISTANCE`` (capped at the feature length) tangentially."""
@@ -349,12 +398,21 @@ def still_touching(point: ManifoldPoint, frame_a, frame_b,
     gap = contact.point_a - contact.point_b
     depth = dot(gap, contact.normal)
     drift_sq = dot(gap, gap) - depth**2  # |tangential part of the gap|^2
-    return bool(depth > -settings.CONTACT_BREAKING_DISTANCE
-                and drift_sq < min(settings.CONTACT_DRIFT_DISTANCE, feature)**2)
+    return bool(
+        depth > -settings.CONTACT_BREAKING_DISTANCE
+        and drift_sq < min(settings.CONTACT_DRIFT_DISTANCE, feature) ** 2
+    )
 
 
-def _support_of_fresh(fresh: list[Contact], cached: list[ManifoldPoint], rb, xb,
-                      max_points: int, feature: float, band: float) -> list[Contact]:
+def _support_of_fresh(
+    fresh: list[Contact],
+    cached: list[ManifoldPoint],
+    rb,
+    xb,
+    max_points: int,
+    feature: float,
+    band: float,
+) -> list[Contact]:
     """The fresh points spanning the supporting polygon; near-ties go to points matching a
     cached one within ``feature`` (hysteresis: a face on many coplanar vertices keeps the
     same four)."""
@@ -362,12 +420,12 @@ def _support_of_fresh(fresh: list[Contact], cached: list[ManifoldPoint], rb, xb,
     preferred = []
     for contact in fresh:
         local_b = unrotate(rb, contact.point_b - xb)
-        preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit
-                             for p in cached))
+        preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit for p in cached))
     depths = [c.depth for c in fresh]
     deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
-    chosen = select_support([c.point_b for c in fresh], depths, fresh[deepest].normal,
-                            max_points, preferred, band)
+    chosen = select_support(
+        [c.point_b for c in fresh], depths, fresh[deepest].normal, max_points, preferred, band
+    )
     return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
 
 
@@ -377,14 +435,17 @@ def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
     by_depth = sorted(fresh, key=lambda c: -tie_key(c.depth))
     kept: list[Contact] = []
     for contact in by_depth:
-        if all(dot(contact.point_b - k.point_b, contact.point_b - k.point_b) >= radius * radius
-               for k in kept):
+        if all(
+            dot(contact.point_b - k.point_b, contact.point_b - k.point_b) >= radius * radius
+            for k in kept
+        ):
             kept.append(contact)
     return kept
 
 
-def _inherit_impulses(points: list[ManifoldPoint], cached: list[ManifoldPoint],
-                      max_points: int, feature: float) -> list[bool]:
+def _inherit_impulses(
+    points: list[ManifoldPoint], cached: list[ManifoldPoint], max_points: int, feature: float
+) -> list[bool]:
     """Greedy one-to-one matching in B's frame; returns which cached points were used."""
     used = [False] * len(cached)
     if max_points == 1:  # a rolling point keeps the impulse of the cached one
@@ -404,9 +465,14 @@ def _inherit_impulses(points: list[ManifoldPoint], cached: list[ManifoldPoint],
     return used
 
 
-def select_support(points: list, depths: list, normal: np.ndarray, count: int,
-                   preferred: list | None = None,
-                   band: float = settings.SUPPORT_DEPTH_BAND) -> list[bool]:
+def select_support(
+    points: list,
+    depths: list,
+    normal: np.ndarray,
+    count: int,
+    preferred: list | None = None,
+    band: float = settings.SUPPORT_DEPTH_BAND,
+) -> list[bool]:
     """Up to ``count`` of the points spanning the largest supporting area (mirrors
     ``contacts.select_support`` for one row).
 
@@ -427,8 +493,9 @@ def select_support(points: list, depths: list, normal: np.ndarray, count: int,
         masked = [tie_key(v) if s else -np.inf for v, s in zip(values, supporting, strict=True)]
         return int(np.argmax(masked))
 
-    first = best_of([d + settings.PREFERRED_DEPTH_BONUS * b
-                     for d, b in zip(depths, bonus, strict=True)])
+    first = best_of(
+        [d + settings.PREFERRED_DEPTH_BONUS * b for d, b in zip(depths, bonus, strict=True)]
+    )
     chosen[first] = True
     p0 = points[first]
     second = best_of([dot(p - p0, p - p0) * s for p, s in zip(points, scale, strict=True)])
@@ -439,16 +506,25 @@ def select_support(points: list, depths: list, normal: np.ndarray, count: int,
     third = best_of([abs(a) for a in area])
     chosen[third] |= count >= 3
     side = -np.sign(area[third])
-    opposite = [side * a if s and not c else -np.inf
-                for a, s, c in zip(area, supporting, chosen, strict=True)]
+    opposite = [
+        side * a if s and not c else -np.inf
+        for a, s, c in zip(area, supporting, chosen, strict=True)
+    ]
     fourth = int(np.argmax(tie_key(np.array(opposite))))
     chosen[fourth] |= count >= 4 and bool(np.isfinite(opposite[fourth]))
     remaining = count - sum(chosen)
     rest = sorted((i for i in range(k) if not chosen[i]), key=lambda i: -tie_key(depths[i]))
-    for i in rest[:max(remaining, 0)]:
+    for i in rest[: max(remaining, 0)]:
         chosen[i] = True
     return chosen
 
 
-__all__ = ["SLOTS", "Contact", "ManifoldPoint", "pair_contacts", "select_support",
-           "update_manifold", "update_manifolds_reference"]
+__all__ = [
+    "SLOTS",
+    "Contact",
+    "ManifoldPoint",
+    "pair_contacts",
+    "select_support",
+    "update_manifold",
+    "update_manifolds_reference",
+]

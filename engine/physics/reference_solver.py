@@ -93,8 +93,11 @@ class Bodies6:
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents: ``t1 = normalize(n x axis)`` with ``axis`` X unless ``|n_x|``
     reaches ``TANGENT_AXIS_SWITCH`` (then Y), and ``t2 = n x t1``."""
-    axis = (np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < constants.TANGENT_AXIS_SWITCH
-            else np.array([0.0, 1.0, 0.0]))
+    axis = (
+        np.array([1.0, 0.0, 0.0])
+        if abs(normal[0]) < constants.TANGENT_AXIS_SWITCH
+        else np.array([0.0, 1.0, 0.0])
+    )
     t1 = cross3(normal, axis)
     t1 = t1 / max(np.sqrt(dot(t1, t1)), constants.TINY)
     return t1, cross3(normal, t1)
@@ -103,14 +106,23 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def effective_mass(bodies: Bodies6, a: int, b: int, r_a, r_b, direction, n_split) -> float:
     """``1 / (n_split J M^-1 J^T)`` for the row along ``direction``."""
     ra_x_d, rb_x_d = cross3(r_a, direction), cross3(r_b, direction)
-    k = (bodies.inv_mass[a] + bodies.inv_mass[b]
-         + dot(ra_x_d, rotate(bodies.inv_inertia[a], ra_x_d))
-         + dot(rb_x_d, rotate(bodies.inv_inertia[b], rb_x_d)))
+    k = (
+        bodies.inv_mass[a]
+        + bodies.inv_mass[b]
+        + dot(ra_x_d, rotate(bodies.inv_inertia[a], ra_x_d))
+        + dot(rb_x_d, rotate(bodies.inv_inertia[b], rb_x_d))
+    )
     return 1.0 / (n_split * max(k, constants.TINY))
 
 
-def build_rows(bodies: Bodies, store: ManifoldStore, rows: np.ndarray, state: Bodies6,
-               approach: Bodies6, settings: SolverSettings) -> list[ManifoldRows]:
+def build_rows(
+    bodies: Bodies,
+    store: ManifoldStore,
+    rows: np.ndarray,
+    state: Bodies6,
+    approach: Bodies6,
+    settings: SolverSettings,
+) -> list[ManifoldRows]:
     """Contact rows of the manifolds ``rows`` (box2d-lite's ``Arbiter::PreStep``)."""
     manifolds = []
     for row in rows.tolist():
@@ -123,24 +135,40 @@ def build_rows(bodies: Bodies, store: ManifoldStore, rows: np.ndarray, state: Bo
             point_b = rotate(rb, store.local_b[row, slot]) + xb
             normal = rotate(ra, store.normal_local[row, slot])
             middle = 0.5 * (point_a + point_b)
-            impulse = (store.impulse[row, slot].tolist() if settings.warm_starting
-                       else [0.0, 0.0, 0.0])
-            points.append(ContactRow(middle - xa, middle - xb, [normal, *tangent_basis(normal)],
-                                     [], dot(point_a - point_b, normal), 0.0, impulse))
+            impulse = (
+                store.impulse[row, slot].tolist() if settings.warm_starting else [0.0, 0.0, 0.0]
+            )
+            points.append(
+                ContactRow(
+                    middle - xa,
+                    middle - xb,
+                    [normal, *tangent_basis(normal)],
+                    [],
+                    dot(point_a - point_b, normal),
+                    0.0,
+                    impulse,
+                )
+            )
         touching = sum(p.depth > -constants.SPLIT_TOUCH_DISTANCE for p in points)
         n_split = max(touching, 1) if settings.block_jacobi else 1
         for p in points:
-            p.masses = [effective_mass(state, a, b, p.r_a, p.r_b, d, n_split)
-                        for d in p.directions]
+            p.masses = [effective_mass(state, a, b, p.r_a, p.r_b, d, n_split) for d in p.directions]
             p.approach_speed = dot(approach.relative_velocity(a, b, p), p.directions[0])
-        manifolds.append(ManifoldRows(a, b, bodies.body_friction[a] * bodies.body_friction[b],
-                                      bodies.body_restitution[a] * bodies.body_restitution[b],
-                                      points))
+        manifolds.append(
+            ManifoldRows(
+                a,
+                b,
+                bodies.body_friction[a] * bodies.body_friction[b],
+                bodies.body_restitution[a] * bodies.body_restitution[b],
+                points,
+            )
+        )
     return manifolds
 
 
-def solve_reference(bodies: Bodies, store: ManifoldStore, problem, h: float,
-                    settings: SolverSettings) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+def solve_reference(
+    bodies: Bodies, store: ManifoldStore, problem, h: float, settings: SolverSettings
+) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
     """Reference for ``solve_stage._solve_batched``: updates ``problem.velocity`` and the
     store's impulses; returns pseudo velocities ``(n, 6)``, depths ``(m, S)`` and the
     manifolds' normal loads (rolling friction's input)."""
@@ -150,8 +178,12 @@ def solve_reference(bodies: Bodies, store: ManifoldStore, problem, h: float,
     if settings.warm_starting:
         for m in manifolds:
             for p in m.points:  # P = lambda_n n + lambda_t1 t1 + lambda_t2 t2
-                state.apply(m.body_a, m.body_b, p, sum(
-                    lam * d for lam, d in zip(p.impulse, p.directions, strict=True)))
+                state.apply(
+                    m.body_a,
+                    m.body_b,
+                    p,
+                    sum(lam * d for lam, d in zip(p.impulse, p.directions, strict=True)),
+                )
     groups = _slot_groups(settings.block_jacobi)
     for _ in range(settings.velocity_iterations):
         for m in manifolds:
@@ -177,13 +209,18 @@ def solve_reference(bodies: Bodies, store: ManifoldStore, problem, h: float,
 
 def contact_loads(manifolds: list[ManifoldRows], color_slices) -> ContactLoads:
     """Each manifold's bodies, normal and total normal impulse (``sum lambda_n``)."""
-    normal = np.array([m.points[0].directions[0] if m.points else (0.0, 1.0, 0.0)
-                       for m in manifolds], dtype=np.float64).reshape(-1, 3)
-    lambda_n = np.array([sum(p.impulse[0] for p in m.points) for m in manifolds],
-                        dtype=np.float64)
-    return ContactLoads(np.array([m.body_a for m in manifolds], dtype=np.int64),
-                        np.array([m.body_b for m in manifolds], dtype=np.int64),
-                        color_slices, normal, lambda_n)
+    normal = np.array(
+        [m.points[0].directions[0] if m.points else (0.0, 1.0, 0.0) for m in manifolds],
+        dtype=np.float64,
+    ).reshape(-1, 3)
+    lambda_n = np.array([sum(p.impulse[0] for p in m.points) for m in manifolds], dtype=np.float64)
+    return ContactLoads(
+        np.array([m.body_a for m in manifolds], dtype=np.int64),
+        np.array([m.body_b for m in manifolds], dtype=np.int64),
+        color_slices,
+        normal,
+        lambda_n,
+    )
 
 
 def _slot_groups(block_jacobi: bool):
@@ -193,8 +230,9 @@ def _slot_groups(block_jacobi: bool):
     return lambda m: [[p] for p in m.points]
 
 
-def _normal_impulses(state: Bodies6, m: ManifoldRows, group: list, h: float,
-                     accumulate: bool) -> None:
+def _normal_impulses(
+    state: Bodies6, m: ManifoldRows, group: list, h: float, accumulate: bool
+) -> None:
     """Normal rows: ``dl = -m_n (v_n + b)`` with the speculative bias ``b = max(-d, 0) / h``
     (a gap d < 0 may close by |d| / h this step); clamp, then apply together."""
     steps = []
@@ -217,8 +255,10 @@ def _friction_impulses(state: Bodies6, m: ManifoldRows, group: list, accumulate:
     for p in group:
         dv = state.relative_velocity(m.body_a, m.body_b, p)
         old = p.impulse[1:]
-        new = [(old[t] if accumulate else 0.0) - p.masses[1 + t] * dot(dv, p.directions[1 + t])
-               for t in range(2)]
+        new = [
+            (old[t] if accumulate else 0.0) - p.masses[1 + t] * dot(dv, p.directions[1 + t])
+            for t in range(2)
+        ]
         limit = m.friction * p.impulse[0]
         scale = min(1.0, limit / max(np.hypot(new[0], new[1]), constants.TINY))
         new = [value * scale for value in new]
@@ -246,8 +286,9 @@ def _restitution_impulses(state: Bodies6, m: ManifoldRows, group: list) -> None:
         state.apply(m.body_a, m.body_b, p, step * p.directions[0])
 
 
-def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
-                              settings: SolverSettings) -> np.ndarray:
+def solve_positions_reference(
+    manifolds: list[ManifoldRows], problem, h: float, settings: SolverSettings
+) -> np.ndarray:
     """Split impulses: pseudo velocities ``(n, 6)`` that push penetrations deeper than
     ``PENETRATION_SLOP`` apart at ``min(beta (d - slop) / h, MAX_CORRECTION_SPEED)``.
 
@@ -255,16 +296,16 @@ def solve_positions_reference(manifolds: list[ManifoldRows], problem, h: float,
     their own accumulated impulses; they move the bodies this step and are then discarded,
     so they add no kinetic energy (Catto; Bullet's split impulse).
     """
-    pseudo = Bodies6(np.zeros((len(problem.inv_mass), 6)), problem.inv_mass,
-                     problem.inv_inertia)
+    pseudo = Bodies6(np.zeros((len(problem.inv_mass), 6)), problem.inv_mass, problem.inv_inertia)
     if not settings.position_correction or settings.position_iterations == 0:
         return pseudo.array()
     slop = {id(p): problem.slop[k] for k, m in enumerate(manifolds) for p in m.points}
     # bodies created overlapping (contacts deeper than DEEP_OVERLAP beyond the slop): more
     # sweeps, and a firmer Baumgarte factor for those contacts; still capped at
     # MAX_CORRECTION_SPEED
-    deep = {id(p): p.depth - slop[id(p)] > constants.DEEP_OVERLAP
-            for m in manifolds for p in m.points}
+    deep = {
+        id(p): p.depth - slop[id(p)] > constants.DEEP_OVERLAP for m in manifolds for p in m.points
+    }
     iterations = settings.position_iterations
     if any(deep.values()):
         iterations = max(iterations, settings.overlap_position_iterations)
@@ -307,28 +348,39 @@ def jacobian_row(p: ContactRow) -> np.ndarray:
     return np.concatenate([-n, -cross3(p.r_a, n), n, cross3(p.r_b, n)])
 
 
-def mobility_row(state: Bodies6, a: int, b: int, p: ContactRow,
-                 frozen: int | None = None) -> np.ndarray:
+def mobility_row(
+    state: Bodies6, a: int, b: int, p: ContactRow, frozen: int | None = None
+) -> np.ndarray:
     """``W = M^-1 J^T`` (12,): the velocity change per unit normal impulse; the body
     ``frozen`` (0: A, 1: B) gets infinite mass (its 6 entries are zero)."""
     n = p.directions[0]
-    w = np.concatenate([-state.inv_mass[a] * n, -rotate(state.inv_inertia[a], cross3(p.r_a, n)),
-                        state.inv_mass[b] * n, rotate(state.inv_inertia[b], cross3(p.r_b, n))])
+    w = np.concatenate(
+        [
+            -state.inv_mass[a] * n,
+            -rotate(state.inv_inertia[a], cross3(p.r_a, n)),
+            state.inv_mass[b] * n,
+            rotate(state.inv_inertia[b], cross3(p.r_b, n)),
+        ]
+    )
     if frozen is not None:
-        w[6 * frozen: 6 * frozen + 6] = 0.0
+        w[6 * frozen : 6 * frozen + 6] = 0.0
     return w
 
 
-def stage_rows_last(state: Bodies6, manifolds: list[ManifoldRows], problem, bias_of,
-                    settings: SolverSettings) -> None:
+def stage_rows_last(
+    state: Bodies6, manifolds: list[ManifoldRows], problem, bias_of, settings: SolverSettings
+) -> None:
     """The stage wins: ``stage_iterations`` sweeps over the *stage rows* (manifolds with a
     body the solver does not move, the end of each color), then as many over the pairs of
     moving bodies with the body nearer the stage held fixed (shock propagation,
     Guendelman et al. 2003). Each manifold acts as one *lumped* normal row: ``J`` and ``W``
     the means over its points, ``m = 1 / (J . W)``, bias the mean of its points' biases
     (``bias_of(point)``); a push-only impulse ``max(-m (J V + b), 0)``."""
-    stage_rows = [m for (_, stop), first in zip(problem.color_slices, problem.priority_starts,
-                                                strict=True) for m in range(first, stop)]
+    stage_rows = [
+        m
+        for (_, stop), first in zip(problem.color_slices, problem.priority_starts, strict=True)
+        for m in range(first, stop)
+    ]
     for _ in range(settings.stage_iterations):
         for k in stage_rows:
             _lumped_push(state, manifolds[k], None, bias_of)

@@ -42,14 +42,17 @@ __all__ = ["ContactLoads", "apply_rolling_friction", "combined_coefficients"]
 MAX_COMBINED = 10.0
 
 
-def combined_coefficients(bodies, body_a: np.ndarray,
-                          body_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def combined_coefficients(
+    bodies, body_a: np.ndarray, body_b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """``(rolling, spinning)`` pair coefficients ``(m,)``: ``x_a f_b + x_b f_a``, in [0, 10]."""
     f_a, f_b = bodies.body_friction[body_a], bodies.body_friction[body_b]
-    rolling = (bodies.body_rolling_friction[body_a] * f_b
-               + bodies.body_rolling_friction[body_b] * f_a)
-    spinning = (bodies.body_spinning_friction[body_a] * f_b
-                + bodies.body_spinning_friction[body_b] * f_a)
+    rolling = (
+        bodies.body_rolling_friction[body_a] * f_b + bodies.body_rolling_friction[body_b] * f_a
+    )
+    spinning = (
+        bodies.body_spinning_friction[body_a] * f_b + bodies.body_spinning_friction[body_b] * f_a
+    )
     return np.clip(rolling, 0.0, MAX_COMBINED), np.clip(spinning, 0.0, MAX_COMBINED)
 
 
@@ -66,19 +69,26 @@ class ContactLoads(NamedTuple):
     lambda_n: np.ndarray
 
 
-def apply_rolling_friction(loads: ContactLoads, velocity: np.ndarray, inv_inertia: np.ndarray,
-                           rolling: np.ndarray, spinning: np.ndarray,
-                           vectorized: bool) -> None:
+def apply_rolling_friction(
+    loads: ContactLoads,
+    velocity: np.ndarray,
+    inv_inertia: np.ndarray,
+    rolling: np.ndarray,
+    spinning: np.ndarray,
+    vectorized: bool,
+) -> None:
     """Change the angular velocities in ``velocity (n, 6)`` by the rolling and spinning
     impulses of every manifold of ``loads`` (a no-op when all coefficients are zero)."""
     if not (np.any(rolling > 0.0) or np.any(spinning > 0.0)):
         return
     if vectorized:
-        rolling_friction_vectorized(loads, velocity, inv_inertia, loads.normal, loads.lambda_n,
-                                    rolling, spinning)
+        rolling_friction_vectorized(
+            loads, velocity, inv_inertia, loads.normal, loads.lambda_n, rolling, spinning
+        )
     else:
-        rolling_friction_scalar(loads, velocity, inv_inertia, loads.normal, loads.lambda_n,
-                                rolling, spinning)
+        rolling_friction_scalar(
+            loads, velocity, inv_inertia, loads.normal, loads.lambda_n, rolling, spinning
+        )
 
 
 def _tangents(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -91,8 +101,9 @@ def _tangents(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return t1, cross(normal, t1)
 
 
-def rolling_friction_scalar(batch, velocity, inv_inertia, normal, lambda_n, rolling,
-                            spinning) -> None:
+def rolling_friction_scalar(
+    batch, velocity, inv_inertia, normal, lambda_n, rolling, spinning
+) -> None:
     """Reference: one manifold at a time, in batch (color) order."""
     for m in range(len(batch.body_a)):
         if lambda_n[m] <= 0.0:
@@ -122,8 +133,9 @@ def rolling_friction_scalar(batch, velocity, inv_inertia, normal, lambda_n, roll
                 velocity[b, 3:] += inv_inertia[b] @ impulse
 
 
-def rolling_friction_vectorized(batch, velocity, inv_inertia, normal, lambda_n, rolling,
-                                spinning) -> None:
+def rolling_friction_vectorized(
+    batch, velocity, inv_inertia, normal, lambda_n, rolling, spinning
+) -> None:
     """The same algebra, one NumPy batch per graph color."""
     t1, t2 = _tangents(normal)
     for start, stop in batch.color_slices:

@@ -90,7 +90,8 @@ def probe_geometry(shape: Shape, margin: float):
     center = shape.hull_vertices.mean(0)
     offset = shape.hull_vertices - center
     grown = shape.hull_vertices + margin * offset / np.maximum(
-        np.linalg.norm(offset, axis=1, keepdims=True), 1e-12)
+        np.linalg.norm(offset, axis=1, keepdims=True), 1e-12
+    )
     return convex_shape(grown, "probe").geometry
 
 
@@ -129,8 +130,13 @@ def _pose(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
 
 def _round_shape(kind: str, geometry, mesh: trimesh.Trimesh, center: np.ndarray) -> Shape:
     """Wrap an fcl round shape built along Z; ``mesh`` is its Y-axis tessellation."""
-    return Shape(kind, geometry, _pose(Z_TO_Y, center), mesh.vertices + center,
-                 mesh.vertices[mesh.faces] + center)
+    return Shape(
+        kind,
+        geometry,
+        _pose(Z_TO_Y, center),
+        mesh.vertices + center,
+        mesh.vertices[mesh.faces] + center,
+    )
 
 
 def primitive_shape(handle: str, scale: np.ndarray, center: np.ndarray) -> Shape:
@@ -152,14 +158,25 @@ def primitive_shape(handle: str, scale: np.ndarray, center: np.ndarray) -> Shape
     if handle.startswith("cube"):
         half = scale.copy()
         mesh = trimesh.creation.box(extents=2 * half)
-        return Shape("box", fcl.Box(*(2 * half)), _pose(np.eye(3), center),
-                     mesh.vertices + center, mesh.vertices[mesh.faces] + center)
+        return Shape(
+            "box",
+            fcl.Box(*(2 * half)),
+            _pose(np.eye(3), center),
+            mesh.vertices + center,
+            mesh.vertices[mesh.faces] + center,
+        )
     uniform = np.allclose(scale, scale[0])
     if handle.startswith(("icosphere", "uvSphere")) and uniform:
         radius = float(scale[0])
         mesh = trimesh.creation.icosphere(subdivisions=2, radius=radius)
-        shape = Shape("sphere", fcl.Sphere(radius), _pose(np.eye(3), center),
-                      mesh.vertices + center, mesh.vertices[mesh.faces] + center, radius)
+        shape = Shape(
+            "sphere",
+            fcl.Sphere(radius),
+            _pose(np.eye(3), center),
+            mesh.vertices + center,
+            mesh.vertices[mesh.faces] + center,
+            radius,
+        )
         return shape
     radius, half_y = float(scale[0]), half_length * float(scale[1])
     if handle.startswith("cylinder") and np.isclose(scale[0], scale[2]):
@@ -206,8 +223,9 @@ def convex_shape(points: np.ndarray, name: str) -> Shape:
     points = _thicken_if_flat(points)
     hull = trimesh.convex.convex_hull(points)
     if hull.volume <= 1e-12 or len(hull.faces) < 4:
-        raise ValueError(f"{name}: degenerate (empty or collinear) collision mesh, volume "
-                         f"{hull.volume}")
+        raise ValueError(
+            f"{name}: degenerate (empty or collinear) collision mesh, volume {hull.volume}"
+        )
     vertices, faces = np.asarray(hull.vertices), np.asarray(hull.faces, dtype=np.int64)
     fcl_faces = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
     geometry = fcl.Convex(vertices, len(faces), fcl_faces)

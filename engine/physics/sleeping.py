@@ -33,7 +33,8 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
     speed_sq = np.sum(bodies.body_linear_velocity[:n] ** 2, axis=1)
     spin_sq = np.sum(bodies.body_angular_velocity[:n] ** 2, axis=1)
     slow = (speed_sq < settings.SLEEP_LINEAR_VELOCITY**2) & (
-        spin_sq < settings.SLEEP_ANGULAR_VELOCITY**2)
+        spin_sq < settings.SLEEP_ANGULAR_VELOCITY**2
+    )
     if not awake.any():
         return  # nothing moves: every dynamic body sleeps and stays asleep
     time = bodies.body_sleep_time[:n]
@@ -64,7 +65,8 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
 def moving_kinematic_mask(bodies, n: int) -> np.ndarray:
     """(n,) bool: KINEMATIC bodies with a non-zero velocity-control velocity."""
     moving = (bodies.body_solver_velocity[:n] != 0).any(1) | (
-        bodies.body_solver_angular_velocity[:n] != 0).any(1)
+        bodies.body_solver_angular_velocity[:n] != 0
+    ).any(1)
     return (bodies.body_motion_type[:n] == KINEMATIC) & moving
 
 

@@ -71,8 +71,14 @@ class SolverInput:
     approach_velocity: np.ndarray
 
 
-def solve_stage(bodies: Bodies, store: ManifoldStore, moving: np.ndarray,
-                start_velocity: np.ndarray, h: float, settings: SolverSettings) -> SolveResult:
+def solve_stage(
+    bodies: Bodies,
+    store: ManifoldStore,
+    moving: np.ndarray,
+    start_velocity: np.ndarray,
+    h: float,
+    settings: SolverSettings,
+) -> SolveResult:
     """Solve all contacts that touch an awake dynamic body (see the module docstring)."""
     problem = gather_solver_input(bodies, store, moving, start_velocity)
     if problem is None:
@@ -84,9 +90,13 @@ def solve_stage(bodies: Bodies, store: ManifoldStore, moving: np.ndarray,
 
         pseudo, depth, loads = solve_reference(bodies, store, problem, h, settings)
     # rolling and spinning resistance (rolling_friction.py), a no-op when all are zero
-    apply_rolling_friction(loads, problem.velocity, problem.inv_inertia,
-                           *combined_coefficients(bodies, loads.body_a, loads.body_b),
-                           settings.use_vectorized)
+    apply_rolling_friction(
+        loads,
+        problem.velocity,
+        problem.inv_inertia,
+        *combined_coefficients(bodies, loads.body_a, loads.body_b),
+        settings.use_vectorized,
+    )
     bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
     bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
     deep = depth.max(axis=1) > constants.SLEEP_MAX_PENETRATION
@@ -94,8 +104,9 @@ def solve_stage(bodies: Bodies, store: ManifoldStore, moving: np.ndarray,
     return SolveResult(pseudo, overlapping)
 
 
-def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray,
-                        start_velocity: np.ndarray) -> SolverInput | None:
+def gather_solver_input(
+    bodies: Bodies, store: ManifoldStore, moving: np.ndarray, start_velocity: np.ndarray
+) -> SolverInput | None:
     """Manifolds with points touching a ``moving`` body, colored; None when there are none."""
     b, n = bodies, bodies.count
     solvable = np.zeros(n, dtype=bool)
@@ -110,8 +121,10 @@ def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray
     colors = [color[np.argsort(stage_row[color], kind="stable")] for color in colors]
     sizes = np.cumsum([0] + [len(color) for color in colors])
     color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist(), strict=True))
-    priority_starts = [int(stop - stage_row[color].sum())
-                       for color, (_, stop) in zip(colors, color_slices, strict=True)]
+    priority_starts = [
+        int(stop - stage_row[color].sum())
+        for color, (_, stop) in zip(colors, color_slices, strict=True)
+    ]
     rows = rows[np.concatenate(colors)]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], constants.TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
@@ -124,12 +137,22 @@ def gather_solver_input(bodies: Bodies, store: ManifoldStore, moving: np.ndarray
     approach_velocity[dynamic] = start_velocity[dynamic]
     lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
     slop = np.minimum(constants.PENETRATION_SLOP, store.feature[rows])
-    return SolverInput(rows, color_slices, priority_starts, lower, slop, inv_mass, inv_inertia,
-                       velocity, approach_velocity)
+    return SolverInput(
+        rows,
+        color_slices,
+        priority_starts,
+        lower,
+        slop,
+        inv_mass,
+        inv_inertia,
+        velocity,
+        approach_velocity,
+    )
 
 
-def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h: float,
-                   settings: SolverSettings) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+def _solve_batched(
+    bodies: Bodies, store: ManifoldStore, problem: SolverInput, h: float, settings: SolverSettings
+) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
     """Batched path: padded arrays, one NumPy batch per color. Returns the pseudo
     velocities ``(n, 6)``, the contact depths ``(m, S)`` (0 in empty slots) and the
     manifolds' normal loads (rolling friction's input)."""
@@ -142,16 +165,35 @@ def _solve_batched(bodies: Bodies, store: ManifoldStore, problem: SolverInput, h
     normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
-    batch = build_batch(points_a, points_b, normals, counts, body_a, body_b,
-                        b.body_position[:n], problem.inv_mass, problem.inv_inertia, friction,
-                        restitution, store.impulse[rows], problem.approach_velocity,
-                        problem.color_slices, split_mass=settings.block_jacobi,
-                        priority_starts=problem.priority_starts, lower=problem.lower,
-                        slop=problem.slop)
+    batch = build_batch(
+        points_a,
+        points_b,
+        normals,
+        counts,
+        body_a,
+        body_b,
+        b.body_position[:n],
+        problem.inv_mass,
+        problem.inv_inertia,
+        friction,
+        restitution,
+        store.impulse[rows],
+        problem.approach_velocity,
+        problem.color_slices,
+        split_mass=settings.block_jacobi,
+        priority_starts=problem.priority_starts,
+        lower=problem.lower,
+        slop=problem.slop,
+    )
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
     # every slot of a manifold shares its normal; lambda_n is the total normal impulse
-    loads = ContactLoads(batch.body_a, batch.body_b, batch.color_slices,
-                         batch.normal_jac[:, 0, 6:9], batch.impulse[:, :, 0].sum(axis=1))
+    loads = ContactLoads(
+        batch.body_a,
+        batch.body_b,
+        batch.color_slices,
+        batch.normal_jac[:, 0, 6:9],
+        batch.impulse[:, :, 0].sum(axis=1),
+    )
     # warm start next step from resting loads only: an impact's impulse (a point that
     # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
     impact = batch.approach_speed < -constants.IMPACT_SPEED

@@ -160,17 +160,38 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
     jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
     # (I^-1 x)^T = x^T I^-T for the S rows of each manifold: one stacked matmul
-    w = np.concatenate([-direction * inv_mass_a[:, None, None],
-                        -ra_x_d @ np.swapaxes(inv_inertia_a, 1, 2),
-                        direction * inv_mass_b[:, None, None],
-                        rb_x_d @ np.swapaxes(inv_inertia_b, 1, 2)], axis=-1)
+    w = np.concatenate(
+        [
+            -direction * inv_mass_a[:, None, None],
+            -ra_x_d @ np.swapaxes(inv_inertia_a, 1, 2),
+            direction * inv_mass_b[:, None, None],
+            rb_x_d @ np.swapaxes(inv_inertia_b, 1, 2),
+        ],
+        axis=-1,
+    )
     return jac, w
 
 
-def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, inv_mass,
-                inv_inertia, friction, restitution, impulse, velocity, color_slices,
-                split_mass: bool = False, priority_starts: list | None = None,
-                lower: np.ndarray | None = None, slop: np.ndarray | None = None):
+def build_batch(
+    points_a,
+    points_b,
+    normals,
+    counts,
+    body_a,
+    body_b,
+    position,
+    inv_mass,
+    inv_inertia,
+    friction,
+    restitution,
+    impulse,
+    velocity,
+    color_slices,
+    split_mass: bool = False,
+    priority_starts: list | None = None,
+    lower: np.ndarray | None = None,
+    slop: np.ndarray | None = None,
+):
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
 
     Reference: :func:`reference_solver.build_rows` (one point at a time).
@@ -193,8 +214,7 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
     r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
-    args = (r_a, r_b, inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a],
-            inv_inertia[body_b])
+    args = (r_a, r_b, inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a], inv_inertia[body_b])
     normal_jac, normal_w = _rows(normals, *args)
     t1, t2 = tangent_basis(normals)
     tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
@@ -209,26 +229,42 @@ def build_batch(points_a, points_b, normals, counts, body_a, body_b, position, i
     k_normal = (normal_jac * normal_w).sum(axis=-1)
     normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, constants.TINY)), 0.0)
     k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
-    tangent_mass = np.where(np.repeat(mask, 2, axis=1),
-                            1.0 / (split * np.maximum(k_tangent, constants.TINY)), 0.0)
+    tangent_mass = np.where(
+        np.repeat(mask, 2, axis=1), 1.0 / (split * np.maximum(k_tangent, constants.TINY)), 0.0
+    )
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
-    return ContactBatch(body_a, body_b, mask, normal_jac, np.swapaxes(normal_w, 1, 2),
-                        normal_mass, tangent_jac, np.swapaxes(tangent_w, 1, 2), tangent_mass,
-                        friction[:, None], restitution[:, None], np.where(mask, depth, 0.0),
-                        approach, np.where(mask[..., None], impulse, 0.0), color_slices,
-                        [int(counts[a:b].max()) for a, b in color_slices],
-                        np.stack([body_a, body_b], axis=1), split,
-                        [stop for _, stop in color_slices] if priority_starts is None
-                        else list(priority_starts), lower,
-                        constants.PENETRATION_SLOP if slop is None else slop[:, None])
+    return ContactBatch(
+        body_a,
+        body_b,
+        mask,
+        normal_jac,
+        np.swapaxes(normal_w, 1, 2),
+        normal_mass,
+        tangent_jac,
+        np.swapaxes(tangent_w, 1, 2),
+        tangent_mass,
+        friction[:, None],
+        restitution[:, None],
+        np.where(mask, depth, 0.0),
+        approach,
+        np.where(mask[..., None], impulse, 0.0),
+        color_slices,
+        [int(counts[a:b].max()) for a, b in color_slices],
+        np.stack([body_a, body_b], axis=1),
+        split,
+        [stop for _, stop in color_slices] if priority_starts is None else list(priority_starts),
+        lower,
+        constants.PENETRATION_SLOP if slop is None else slop[:, None],
+    )
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     """Apply the cached impulses: ``V += W lambda`` for all rows (duplicates summed)."""
     lam_t = batch.impulse[:, :, 1:].reshape(len(batch.body_a), 2 * SLOTS)
-    dv = ((batch.normal_w @ batch.impulse[:, :, :1])[..., 0]
-          + (batch.tangent_w @ lam_t[..., None])[..., 0])
+    dv = (batch.normal_w @ batch.impulse[:, :, :1])[..., 0] + (batch.tangent_w @ lam_t[..., None])[
+        ..., 0
+    ]
     np.add.at(velocity, batch.body_a, dv[:, :6])
     np.add.at(velocity, batch.body_b, dv[:, 6:])
 
@@ -243,12 +279,18 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
         colors = []
         for color, (start, stop) in enumerate(batch.color_slices):
             s = slice(start, stop)
-            slots = ([slice(None)] if block_jacobi
-                     else [slice(k, k + 1) for k in range(batch.color_points[color])])
+            slots = (
+                [slice(None)]
+                if block_jacobi
+                else [slice(k, k + 1) for k in range(batch.color_points[color])]
+            )
             # flat index of component c of body b: 6 b + c
             gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
-            colors.append(ColorBlocks(gather.reshape(-1, 12, 1),
-                                      [_row_block(batch, s, rows) for rows in slots]))
+            colors.append(
+                ColorBlocks(
+                    gather.reshape(-1, 12, 1), [_row_block(batch, s, rows) for rows in slots]
+                )
+            )
         batch.colors[block_jacobi] = colors
     return batch.colors[block_jacobi]
 
@@ -256,10 +298,17 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
 def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
     """Views of the manifolds ``s``, point slots ``rows`` and their tangent rows."""
     t_rows = rows if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
-    return RowBlock((s, rows), (s, t_rows), batch.normal_jac[s, rows],
-                    batch.normal_w[s, :, rows], -batch.normal_mass[s, rows][..., None],
-                    batch.friction[s][:, :, None], batch.tangent_jac[s, t_rows],
-                    batch.tangent_w[s, :, t_rows], -batch.tangent_mass[s, t_rows][..., None])
+    return RowBlock(
+        (s, rows),
+        (s, t_rows),
+        batch.normal_jac[s, rows],
+        batch.normal_w[s, :, rows],
+        -batch.normal_mass[s, rows][..., None],
+        batch.friction[s][:, :, None],
+        batch.tangent_jac[s, t_rows],
+        batch.tangent_w[s, :, t_rows],
+        -batch.tangent_mass[s, t_rows][..., None],
+    )
 
 
 def _gather(flat_velocity, color):
@@ -313,8 +362,13 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
     lam_n = batch.impulse[..., :1].copy()  # (m, S, 1) normal impulses
     lam_t = batch.impulse[..., 1:].reshape(len(lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy: t1, t2
     colors = _color_blocks(batch, options.block_jacobi)
-    work = [[(block, bias[block.normal_index], lam_n[block.normal_index],
-              lam_t[block.tangent_index]) for block in color.blocks] for color in colors]
+    work = [
+        [
+            (block, bias[block.normal_index], lam_n[block.normal_index], lam_t[block.tangent_index])
+            for block in color.blocks
+        ]
+        for color in colors
+    ]
     accumulate = options.accumulate_impulses
     for _ in range(options.velocity_iterations):
         for color, blocks in zip(colors, work, strict=True):
@@ -335,13 +389,16 @@ def _stage_rows_last(batch, flat, bias, options) -> None:
     over the dynamic pairs with the lower body held fixed (:func:`shock_rows`).
 
     Reference: :func:`reference_solver.stage_rows_last`."""
-    stage = [(start, stop) for (_, stop), start in zip(batch.color_slices,
-                                                        batch.priority_starts, strict=True)]
+    stage = [
+        (start, stop)
+        for (_, stop), start in zip(batch.color_slices, batch.priority_starts, strict=True)
+    ]
     _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, options.stage_iterations)
     shock = shock_rows(batch)
     if shock is not None:
-        _lumped_sweeps(batch, batch.color_slices, shock.with_bias(bias), flat,
-                       options.stage_iterations)
+        _lumped_sweeps(
+            batch, batch.color_slices, shock.with_bias(bias), flat, options.stage_iterations
+        )
 
 
 @dataclass
@@ -472,8 +529,10 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
     bias = -target[..., None]  # b = -target: drive v_n towards +target
     lam = np.zeros_like(bias)
     colors = _color_blocks(batch, options.block_jacobi)
-    work = [[(block, bias[block.normal_index], lam[block.normal_index])
-             for block in color.blocks] for color in colors]
+    work = [
+        [(block, bias[block.normal_index], lam[block.normal_index]) for block in color.blocks]
+        for color in colors
+    ]
     for _ in range(iterations):
         for color, blocks in zip(colors, work, strict=True):
             vab = _gather(flat, color)

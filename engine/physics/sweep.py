@@ -65,8 +65,9 @@ def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarr
         return
     n = b.count
     # the obstacles' indices, once: each fast body tests only them (not all n bodies)
-    obstacle = np.flatnonzero(b.body_alive[:n] & b.body_collidable[:n]
-                              & (b.body_motion_type[:n] != DYNAMIC))
+    obstacle = np.flatnonzero(
+        b.body_alive[:n] & b.body_collidable[:n] & (b.body_motion_type[:n] != DYNAMIC)
+    )
     for k in np.nonzero(fast)[0].tolist():
         index = int(moving[k])
         step = travel[k].copy()
@@ -117,13 +118,15 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
     return correction
 
 
-def _obstacle_triangles(bodies: Bodies, obstacle: np.ndarray, lo: np.ndarray,
-                        hi: np.ndarray) -> np.ndarray:
+def _obstacle_triangles(
+    bodies: Bodies, obstacle: np.ndarray, lo: np.ndarray, hi: np.ndarray
+) -> np.ndarray:
     """World triangles ``(t, 3, 3)`` of the bodies ``obstacle (o,)`` whose boxes meet the
     box lo..hi."""
     b = bodies
-    near = obstacle[np.all((b.body_aabb_min[obstacle] <= hi)
-                           & (b.body_aabb_max[obstacle] >= lo), axis=1)]
+    near = obstacle[
+        np.all((b.body_aabb_min[obstacle] <= hi) & (b.body_aabb_max[obstacle] >= lo), axis=1)
+    ]
     parts = []
     for index in near.tolist():
         rotation = quat_to_matrix(b.body_rotation[index][None])[0]

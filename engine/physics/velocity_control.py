@@ -72,8 +72,12 @@ class VelocityControl:
     def __init__(self) -> None:
         self._linear = np.zeros(3)
         self._angular = np.zeros(3)
-        self._flags = {"controlling_lin_vel": False, "controlling_ang_vel": False,
-                       "lin_vel_is_local": False, "ang_vel_is_local": False}
+        self._flags = {
+            "controlling_lin_vel": False,
+            "controlling_ang_vel": False,
+            "lin_vel_is_local": False,
+            "ang_vel_is_local": False,
+        }
 
     @property
     def linear_velocity(self) -> mn.Vector3:
@@ -100,8 +104,12 @@ class VelocityControl:
         raise AttributeError(f"VelocityControl has no attribute {name!r}")
 
     def __setattr__(self, name: str, value: Any) -> None:
-        if name in ("controlling_lin_vel", "controlling_ang_vel", "lin_vel_is_local",
-                    "ang_vel_is_local"):
+        if name in (
+            "controlling_lin_vel",
+            "controlling_ang_vel",
+            "lin_vel_is_local",
+            "ang_vel_is_local",
+        ):
             self._flags[name] = _flag(value, name)
         else:
             object.__setattr__(self, name, value)
@@ -137,10 +145,14 @@ class VelocityControl:
                 rotation = mn.quaternion_multiply(dq, q0)  # q1 = dq * q0
                 rotation /= np.linalg.norm(rotation)
         if not np.all(np.isfinite(translation)):
-            raise ValueError(f"linear_velocity {self._linear.tolist()} over dt={dt!r} would "
-                             f"move the object to a non-finite translation")
+            raise ValueError(
+                f"linear_velocity {self._linear.tolist()} over dt={dt!r} would "
+                f"move the object to a non-finite translation"
+            )
         return RigidState(mn.Quaternion.from_xyzw(rotation), translation)
 
     def __repr__(self) -> str:
-        return (f"VelocityControl(linear_velocity={self._linear.tolist()}, "
-                f"angular_velocity={self._angular.tolist()}, {self._flags})")
+        return (
+            f"VelocityControl(linear_velocity={self._linear.tolist()}, "
+            f"angular_velocity={self._angular.tolist()}, {self._flags})"
+        )

@@ -78,8 +78,9 @@ __all__ = ["STAGE_ID", "PhysicsWorld"]
 class PhysicsWorld(WorldApiMixin):
     """The rigid-body world behind ``Simulator`` (see the module docstring)."""
 
-    def __init__(self, physics_attributes, root_node, object_template_manager,
-                 asset_template_manager=None) -> None:
+    def __init__(
+        self, physics_attributes, root_node, object_template_manager, asset_template_manager=None
+    ) -> None:
         from .objects import RigidObjectManager
 
         self._timestep = float(physics_attributes.timestep)
@@ -175,8 +176,10 @@ class PhysicsWorld(WorldApiMixin):
         accumulated = self._accumulator + dt
         n_steps = int(accumulated / self._timestep)
         if n_steps > constants.MAX_STEPS_PER_CALL:
-            raise ValueError(f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
-                             f"the limit per call is {constants.MAX_STEPS_PER_CALL}")
+            raise ValueError(
+                f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
+                f"the limit per call is {constants.MAX_STEPS_PER_CALL}"
+            )
         self._read_user_moves()  # raises ValueError before it changes anything
         self._apply_velocity_control(dt)
         self._accumulator = accumulated - n_steps * self._timestep
@@ -209,8 +212,9 @@ class PhysicsWorld(WorldApiMixin):
         start_velocity = body_velocities(bodies)  # (n, 6) [v, w] before this step's forces
         timed("forces", integrate_velocities, bodies, moving, self._gravity, h)
         # ---- 2. collision: broad phase pairs, narrow phase contacts, persistent manifolds --
-        self.n_overlapping_pairs = timed("collide", collision_stage, bodies,
-                                         self.collision_objects, store, settings, self.timer)
+        self.n_overlapping_pairs = timed(
+            "collide", collision_stage, bodies, self.collision_objects, store, settings, self.timer
+        )
         if wake_touched(bodies, store):  # a body hit this step must be able to move
             moving = awake_dynamic_bodies(bodies)
         # ---- 3. solve: warm start, sequential impulses by color, restitution, split impulses
@@ -227,8 +231,9 @@ class PhysicsWorld(WorldApiMixin):
     def perform_discrete_collision_detection(self) -> None:
         """Run the collision stage without stepping (refreshes contact points)."""
         self._read_user_moves()
-        self.n_overlapping_pairs = collision_stage(self.bodies, self.collision_objects,
-                                                   self.manifolds, self.settings, self.timer)
+        self.n_overlapping_pairs = collision_stage(
+            self.bodies, self.collision_objects, self.manifolds, self.settings, self.timer
+        )
 
     # ------------------------------------------------------------------------------------
     # velocity control
@@ -243,10 +248,14 @@ class PhysicsWorld(WorldApiMixin):
         b = self.bodies
         new_poses = {}
         for index, control in self.velocity_controls.items():
-            if (b.body_alive[index] and b.body_motion_type[index] == KINEMATIC
-                    and (control.controlling_lin_vel or control.controlling_ang_vel)):
-                state = RigidState(mn.Quaternion.from_xyzw(b.body_rotation[index]),
-                                   b.body_position[index])
+            if (
+                b.body_alive[index]
+                and b.body_motion_type[index] == KINEMATIC
+                and (control.controlling_lin_vel or control.controlling_ang_vel)
+            ):
+                state = RigidState(
+                    mn.Quaternion.from_xyzw(b.body_rotation[index]), b.body_position[index]
+                )
                 new_poses[index] = control.integrate_transform(dt, state)
         b.body_solver_velocity[:] = 0.0
         b.body_solver_angular_velocity[:] = 0.0

@@ -118,8 +118,9 @@ class WorldApiMixin:
         self.velocity_controls.pop(index, None)
         self.creation_state.pop(index, None)
 
-    def set_body_pose(self, index: int, position: np.ndarray, rotation: np.ndarray,
-                      wake: bool = True) -> None:
+    def set_body_pose(
+        self, index: int, position: np.ndarray, rotation: np.ndarray, wake: bool = True
+    ) -> None:
         """Teleport body ``index`` (position (3,), rotation [x, y, z, w]); node follows."""
         b = self.bodies
         b.body_position[index] = position
@@ -165,8 +166,14 @@ class WorldApiMixin:
             self._update_fcl(index)
             self.node_sync.write_node(index)
         n = b.count
-        for name in ("body_linear_velocity", "body_angular_velocity", "body_force",
-                     "body_torque", "body_solver_velocity", "body_solver_angular_velocity"):
+        for name in (
+            "body_linear_velocity",
+            "body_angular_velocity",
+            "body_force",
+            "body_torque",
+            "body_solver_velocity",
+            "body_solver_angular_velocity",
+        ):
             getattr(b, name)[:n] = 0.0
         b.body_sleep_time[:n] = 0.0
         self.manifolds.clear()
@@ -192,7 +199,8 @@ class WorldApiMixin:
         if not (hasattr(ray, "origin") and hasattr(ray, "direction")):
             raise TypeError(f"ray must be a geo.Ray (with origin and direction), got {ray!r}")
         if isinstance(max_distance, bool) or not isinstance(
-                max_distance, int | float | np.integer | np.floating):
+            max_distance, int | float | np.integer | np.floating
+        ):
             raise TypeError(f"max_distance must be a number, got {max_distance!r}")
         max_distance = float(max_distance)
         if not np.isfinite(max_distance) or max_distance < 0:
@@ -224,14 +232,17 @@ class WorldApiMixin:
             results.hits.append(RayHitInfo(index, mn.Vector3(point), mn.Vector3(normal), t))
         return results
 
-    def _ray_shift(self, index: int, origin: np.ndarray, unit: np.ndarray,
-                   reach: float) -> float | None:
+    def _ray_shift(
+        self, index: int, origin: np.ndarray, unit: np.ndarray, reach: float
+    ) -> float | None:
         """Meters the unit ray can travel before it nears body ``index``'s bounding sphere,
         or None when it misses the sphere within ``reach`` (Ericson, Real-Time Collision
         Detection, 5.3.2). Keeps far rays (origin 1e300) from squaring huge numbers."""
         b = self.bodies
-        center = b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ \
-            b.body_shape_center[index]
+        center = (
+            b.body_position[index]
+            + quat_to_matrix(b.body_rotation[index]) @ b.body_shape_center[index]
+        )
         radius = float(stable_norm(b.body_shape_half[index])) + 1e-3
         offset = center - origin
         along = float(offset @ unit)  # distance along the ray to the closest approach
@@ -254,8 +265,9 @@ class WorldApiMixin:
         rotation = quat_to_matrix(b.body_rotation[:n])
         from .collide import world_aabbs
 
-        lo, hi = world_aabbs(b.body_shape_center[:n], b.body_shape_half[:n],
-                             b.body_position[:n], b.body_rotation[:n])
+        lo, hi = world_aabbs(
+            b.body_shape_center[:n], b.body_shape_half[:n], b.body_position[:n], b.body_rotation[:n]
+        )
         overlap = np.all((lo <= hi[index]) & (hi >= lo[index]), axis=1)
         overlap &= b.body_alive[:n] & b.body_collidable[:n]
         if not self_dynamic:
@@ -285,8 +297,9 @@ class WorldApiMixin:
         b, n, store = self.bodies, self.bodies.count, self.manifolds
         rows = np.array([store.row(key) for key in sorted(store)], dtype=np.int64)
         rows = rows[store.count[rows] > 0]
-        points_a, points_c, normals = store.world_points(rows, quat_to_matrix(
-            b.body_rotation[:n]), b.body_position[:n])
+        points_a, points_c, normals = store.world_points(
+            rows, quat_to_matrix(b.body_rotation[:n]), b.body_position[:n]
+        )
         points = []
         for row, pa, pc, normal in zip(rows.tolist(), points_a, points_c, normals, strict=True):
             a, c = store.bodies[row].tolist()
@@ -294,17 +307,33 @@ class WorldApiMixin:
             active = self._is_moving(a) or self._is_moving(c)
             for k in range(store.count[row]):
                 impulse = store.impulse[row, k]
-                points.append(ContactPointData(
-                    a, c, 0, 0, mn.Vector3(pa[k]), mn.Vector3(pc[k]), mn.Vector3(-normal[k]),
-                    float(-(pa[k] - pc[k]) @ normal[k]), float(impulse[0] / h),
-                    float(impulse[1] / h), float(impulse[2] / h), mn.Vector3(t1[k]),
-                    mn.Vector3(t2[k]), active))
+                points.append(
+                    ContactPointData(
+                        a,
+                        c,
+                        0,
+                        0,
+                        mn.Vector3(pa[k]),
+                        mn.Vector3(pc[k]),
+                        mn.Vector3(-normal[k]),
+                        float(-(pa[k] - pc[k]) @ normal[k]),
+                        float(impulse[0] / h),
+                        float(impulse[1] / h),
+                        float(impulse[2] / h),
+                        mn.Vector3(t1[k]),
+                        mn.Vector3(t2[k]),
+                        active,
+                    )
+                )
         return points
 
     def get_physics_num_active_contact_points(self) -> int:
         """Number of manifold points touching at least one awake dynamic body."""
-        return sum(int(len(m)) for (a, c), m in self.manifolds.items()
-                   if self._is_moving(a) or self._is_moving(c))
+        return sum(
+            int(len(m))
+            for (a, c), m in self.manifolds.items()
+            if self._is_moving(a) or self._is_moving(c)
+        )
 
     def _is_moving(self, index: int) -> bool:
         b = self.bodies
@@ -332,7 +361,11 @@ class WorldApiMixin:
         digest.update(np.array([self._time, self._accumulator, *self._gravity]).tobytes())
         for key, manifold in sorted(self.manifolds.items()):
             digest.update(np.array(key).tobytes())
-            for array in (manifold.local_a, manifold.local_b, manifold.normal_local,
-                          manifold.impulse):
+            for array in (
+                manifold.local_a,
+                manifold.local_b,
+                manifold.normal_local,
+                manifold.impulse,
+            ):
                 digest.update(array.tobytes())
         return digest.hexdigest()

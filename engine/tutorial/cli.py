@@ -100,14 +100,17 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     parser.add_argument(
-        "--jobs", type=int, default=os.cpu_count() or 1,
+        "--jobs",
+        type=int,
+        default=os.cpu_count() or 1,
         help="worker processes running groups of sections at once (default: all cores); "
         "the videos are the same bit for bit whatever the number",
     )
     parser.add_argument(
-        "--sections", type=lambda text: text.split(","), default=None,
-        help="comma-separated section names to record (default: all): "
-        + ", ".join(SECTION_NAMES),
+        "--sections",
+        type=lambda text: text.split(","),
+        default=None,
+        help="comma-separated section names to record (default: all): " + ", ".join(SECTION_NAMES),
     )
     args = parser.parse_args(argv)
     if args.jobs < 1:
@@ -152,11 +155,17 @@ def run_tutorial(
     if jobs > 1:
         from engine.tutorial.parallel import run_in_parallel  # it imports this module
 
-        return run_in_parallel(selected, jobs, output_dir=output_dir, make_video=make_video,
-                               fast=fast, seed=seed, progress=progress,
-                               keep_observations=keep_observations)
-    return run_sections(selected, output_dir, make_video, fast, seed, progress,
-                        keep_observations)
+        return run_in_parallel(
+            selected,
+            jobs,
+            output_dir=output_dir,
+            make_video=make_video,
+            fast=fast,
+            seed=seed,
+            progress=progress,
+            keep_observations=keep_observations,
+        )
+    return run_sections(selected, output_dir, make_video, fast, seed, progress, keep_observations)
 
 
 def select_sections(names: Sequence[str] | None) -> list[int]:
@@ -194,9 +203,7 @@ def run_sections(
         results = []
         for index, (label, section, world_seconds) in enumerate(SECTIONS[: max(selected) + 1]):
             if index not in selected:  # a prerequisite: simulate only
-                context.new_recorder = partial(
-                    _new_recorder, sim, output_dir, False, False, None
-                )
+                context.new_recorder = partial(_new_recorder, sim, output_dir, False, False, None)
                 section(context)
                 continue
             bar = tqdm(total=world_seconds, desc=label, bar_format=BAR_FORMAT, disable=not progress)
@@ -226,9 +233,7 @@ def _new_recorder(
     if not make_video:
         video = None
     path = os.path.join(output_dir, video.name + ".mp4") if video is not None else None
-    return SectionRecorder(
-        sim, video, path, keep_observations=keep_observations, on_frame=on_frame
-    )
+    return SectionRecorder(sim, video, path, keep_observations=keep_observations, on_frame=on_frame)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -236,8 +241,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parse_args(argv)
     start = time.perf_counter()
     results = run_tutorial(
-        args.output_dir, args.make_video, args.fast, args.seed, progress=not args.quiet,
-        jobs=args.jobs, sections=args.sections,
+        args.output_dir,
+        args.make_video,
+        args.fast,
+        args.seed,
+        progress=not args.quiet,
+        jobs=args.jobs,
+        sections=args.sections,
     )
     resolution = FAST_RESOLUTION if args.fast else TUTORIAL_RESOLUTION
     settings = {"resolution": list(resolution), "seed": args.seed, "make_video": args.make_video}

@@ -65,11 +65,14 @@ def run_in_parallel(selected: Sequence[int], jobs: int, **settings: Any) -> list
     progress = settings.pop("progress", True)
     groups = plan_groups(selected)
     params = [{"sections": group, "progress": False, **settings} for group in groups]
-    results = run_batch(run_group, params, backend="process",
-                        workers=min(jobs, len(groups)), progress=progress)
+    results = run_batch(
+        run_group, params, backend="process", workers=min(jobs, len(groups)), progress=progress
+    )
     failed = [r for r in results if not r.ok]
     if failed:
-        raise RuntimeError(f"tutorial group {failed[0].params['sections']} failed: "
-                           f"{failed[0].error}\n{failed[0].traceback or ''}")
+        raise RuntimeError(
+            f"tutorial group {failed[0].params['sections']} failed: "
+            f"{failed[0].error}\n{failed[0].traceback or ''}"
+        )
     sections = [section for result in results for section in result.value]
     return sorted(sections, key=lambda section: SECTION_NAMES.index(section.name))

@@ -180,4 +180,3 @@ def kinematic_interactions(ctx: TutorialContext) -> SectionResult:
     }
     rigid_obj_mgr.remove_all_objects()
     return finish("kinematic_interactions", recorder, start_time, outcomes)
-

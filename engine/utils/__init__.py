@@ -15,8 +15,15 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ["common", "maps", "quat_from_angle_axis", "quat_rotate_vector", "quaternion_utils",
-           "settings", "viz_utils"]
+__all__ = [
+    "common",
+    "maps",
+    "quat_from_angle_axis",
+    "quat_rotate_vector",
+    "quaternion_utils",
+    "settings",
+    "viz_utils",
+]
 
 _FROM_COMMON = ("quat_from_angle_axis", "quat_rotate_vector")
 

@@ -23,8 +23,7 @@ def colorize_ids(ids: np.ndarray) -> np.ndarray:
     ``d3_40_colors_rgb[i % 40]``, negative ids (nothing) black, as Habitat."""
     ids = np.asarray(ids)
     if ids.ndim != 2 or ids.dtype.kind not in "iu":
-        raise ValueError(f"colorize_ids needs an (H, W) integer array, got {ids.dtype} "
-                         f"{ids.shape}")
+        raise ValueError(f"colorize_ids needs an (H, W) integer array, got {ids.dtype} {ids.shape}")
     colored = d3_40_colors_rgb[np.mod(ids, 40)]  # palette lookup per pixel
     colored[ids < 0] = 0
     return colored

@@ -38,14 +38,13 @@ MAP_BORDER_INDICATOR = 2
 TOP_DOWN_MAP_COLORS = np.array([[150, 150, 150], [255, 255, 255], [50, 50, 50]], np.uint8)
 
 
-def get_topdown_map(pathfinder: Any, height: float, meters_per_pixel: float = 0.05
-                    ) -> np.ndarray:
+def get_topdown_map(pathfinder: Any, height: float, meters_per_pixel: float = 0.05) -> np.ndarray:
     """``uint8`` map of the navmesh at ``height``: 0 outside, 1 navigable, 2 border."""
     navigable = np.asarray(pathfinder.get_topdown_view(meters_per_pixel, height), dtype=bool)
     topdown = navigable.astype(np.uint8)
     padded = np.pad(navigable, 1, constant_values=False)
     # a navigable pixel with a non-navigable 4-neighbour is on the border
-    inner = (padded[:-2, 1:-1] & padded[2:, 1:-1] & padded[1:-1, :-2] & padded[1:-1, 2:])
+    inner = padded[:-2, 1:-1] & padded[2:, 1:-1] & padded[1:-1, :-2] & padded[1:-1, 2:]
     topdown[navigable & ~inner] = MAP_BORDER_INDICATOR
     return topdown
 
@@ -55,8 +54,9 @@ def colorize_topdown_map(topdown_map: np.ndarray) -> np.ndarray:
     return TOP_DOWN_MAP_COLORS[np.clip(topdown_map, 0, 2)]
 
 
-def to_grid(realworld_x: float, realworld_y: float, grid_resolution: tuple[int, int],
-            pathfinder: Any) -> tuple[int, int]:
+def to_grid(
+    realworld_x: float, realworld_y: float, grid_resolution: tuple[int, int], pathfinder: Any
+) -> tuple[int, int]:
     """Pixel ``(row, col)`` of the world point ``x = realworld_y``, ``z = realworld_x``
     on a map of ``grid_resolution = (rows, cols)`` covering the navmesh bounds (habitat-lab's
     argument order: ``to_grid(z, x, ...)``)."""
@@ -66,8 +66,9 @@ def to_grid(realworld_x: float, realworld_y: float, grid_resolution: tuple[int, 
     return int((realworld_x - lower[2]) / cell_z), int((realworld_y - lower[0]) / cell_x)
 
 
-def from_grid(grid_x: int, grid_y: int, grid_resolution: tuple[int, int],
-              pathfinder: Any) -> tuple[float, float]:
+def from_grid(
+    grid_x: int, grid_y: int, grid_resolution: tuple[int, int], pathfinder: Any
+) -> tuple[float, float]:
     """World ``(z, x)`` of pixel ``(row, col)``: the inverse of :func:`to_grid`."""
     lower, upper = pathfinder.get_bounds()
     cell_z = abs(upper[2] - lower[2]) / grid_resolution[0]
@@ -82,8 +83,9 @@ def _draw_on(image: np.ndarray, draw: Any) -> None:
     image[...] = np.asarray(pil)
 
 
-def draw_path(top_down_map: np.ndarray, path_points: list, color: Any = 10,
-              thickness: int = 2) -> None:
+def draw_path(
+    top_down_map: np.ndarray, path_points: list, color: Any = 10, thickness: int = 2
+) -> None:
     """Draw a polyline through pixel points ``(row, col)`` on the map, in place."""
     xy = [(float(p[1]), float(p[0])) for p in path_points]  # PIL wants (x=col, y=row)
     fill = tuple(int(c) for c in color) if np.ndim(color) else int(color)
@@ -91,8 +93,13 @@ def draw_path(top_down_map: np.ndarray, path_points: list, color: Any = 10,
         _draw_on(top_down_map, lambda d: d.line(xy, fill=fill, width=int(thickness)))
 
 
-def draw_agent(image: np.ndarray, agent_center_coord: tuple, agent_rotation: float,
-               agent_radius_px: int = 5, color: tuple = (0, 0, 255)) -> None:
+def draw_agent(
+    image: np.ndarray,
+    agent_center_coord: tuple,
+    agent_rotation: float,
+    agent_radius_px: int = 5,
+    color: tuple = (0, 0, 255),
+) -> None:
     """A disc at pixel ``(row, col)`` with a line along the heading ``agent_rotation``
     (radians, 0 looking up the map = -Z), drawn in place on an RGB image."""
     row, col = (float(v) for v in agent_center_coord)

@@ -143,7 +143,9 @@ def random_quaternion() -> mn.Quaternion:
              sqrt(u0) sin(2 pi u2), sqrt(u0) cos(2 pi u2))      as (w, x, y, z)
     """
     u = np.random.rand(3)
-    vector = (math.sqrt(1.0 - u[0]) * math.cos(2.0 * math.pi * u[1]),
-              math.sqrt(u[0]) * math.sin(2.0 * math.pi * u[2]),
-              math.sqrt(u[0]) * math.cos(2.0 * math.pi * u[2]))
+    vector = (
+        math.sqrt(1.0 - u[0]) * math.cos(2.0 * math.pi * u[1]),
+        math.sqrt(u[0]) * math.sin(2.0 * math.pi * u[2]),
+        math.sqrt(u[0]) * math.cos(2.0 * math.pi * u[2]),
+    )
     return mn.Quaternion(vector, math.sqrt(1.0 - u[0]) * math.sin(2.0 * math.pi * u[1]))

@@ -35,8 +35,11 @@ __all__ = ["default_sim_settings", "make_cfg"]
 def _black() -> Any:
     """Habitat's ``mn.Color4.from_linear_rgb_int(0)`` (a list where mn has no Color4)."""
     color4 = getattr(mn, "Color4", None)
-    return color4.from_linear_rgb_int(0) if hasattr(color4, "from_linear_rgb_int") else [
-        0.0, 0.0, 0.0, 1.0]
+    return (
+        color4.from_linear_rgb_int(0)
+        if hasattr(color4, "from_linear_rgb_int")
+        else [0.0, 0.0, 0.0, 1.0]
+    )
 
 
 default_sim_settings: dict[str, Any] = {
@@ -86,8 +89,14 @@ _CAMERAS = {
     "ortho_depth_sensor": (SensorType.DEPTH, SensorSubType.ORTHOGRAPHIC),
     "ortho_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.ORTHOGRAPHIC),
 }
-_UNSUPPORTED = ("fisheye_rgba_sensor", "fisheye_depth_sensor", "fisheye_semantic_sensor",
-                "equirect_rgba_sensor", "equirect_depth_sensor", "equirect_semantic_sensor")
+_UNSUPPORTED = (
+    "fisheye_rgba_sensor",
+    "fisheye_depth_sensor",
+    "fisheye_semantic_sensor",
+    "equirect_rgba_sensor",
+    "equirect_depth_sensor",
+    "equirect_semantic_sensor",
+)
 
 
 def _camera_spec(settings: dict[str, Any], uuid: str) -> CameraSensorSpec:
@@ -113,18 +122,35 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
     Keys missing from ``settings`` that Habitat reads unconditionally raise ``KeyError``
     naming the key (start from ``{**default_sim_settings, ...}``).
     """
-    missing = [key for key in ("scene", "width", "height", "sensor_height", "hfov", "zfar",
-                               "agent_radius", "default_agent_navmesh") if key not in settings]
+    missing = [
+        key
+        for key in (
+            "scene",
+            "width",
+            "height",
+            "sensor_height",
+            "hfov",
+            "zfar",
+            "agent_radius",
+            "default_agent_navmesh",
+        )
+        if key not in settings
+    ]
     if missing:
         raise KeyError(f"make_cfg: settings lack {missing}; start from default_sim_settings")
     asked = [key for key in _UNSUPPORTED if settings.get(key, False)]
     if asked:
-        raise ValueError(f"make_cfg: rigidsim has no fisheye or equirectangular cameras "
-                         f"(asked for {asked})")
+        raise ValueError(
+            f"make_cfg: rigidsim has no fisheye or equirectangular cameras (asked for {asked})"
+        )
     sim_cfg = SimulatorConfiguration()
     sim_cfg.scene_id = settings["scene"]
-    for key in ("scene_dataset_config_file", "enable_physics", "physics_config_file",
-                "scene_light_setup"):
+    for key in (
+        "scene_dataset_config_file",
+        "enable_physics",
+        "physics_config_file",
+        "scene_light_setup",
+    ):
         if key in settings:
             setattr(sim_cfg, key, settings[key])
     sim_cfg.frustum_culling = bool(settings.get("frustum_culling", False))
@@ -138,8 +164,9 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
     agent_cfg = AgentConfiguration()
     agent_cfg.height = float(settings["sensor_height"])
     agent_cfg.radius = float(settings["agent_radius"])
-    agent_cfg.sensor_specifications = [_camera_spec(settings, uuid) for uuid in _CAMERAS
-                                       if settings.get(uuid, False)]
+    agent_cfg.sensor_specifications = [
+        _camera_spec(settings, uuid) for uuid in _CAMERAS if settings.get(uuid, False)
+    ]
     agent_cfg.action_space = {
         "move_forward": ActionSpec("move_forward", ActuationSpec(amount=0.25)),
         "turn_left": ActionSpec("turn_left", ActuationSpec(amount=10.0)),
@@ -151,6 +178,7 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
         navmesh_settings.agent_radius = agent_cfg.radius
         navmesh_settings.agent_height = agent_cfg.height
         navmesh_settings.include_static_objects = bool(
-            settings.get("navmesh_include_static_objects", False))
+            settings.get("navmesh_include_static_objects", False)
+        )
         sim_cfg.navmesh_settings = navmesh_settings
     return Configuration(sim_cfg, [agent_cfg])

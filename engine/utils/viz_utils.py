@@ -71,25 +71,35 @@ def get_fast_video_writer(video_file: str, fps: int = 60):
 
     Frames must be ``(H, W, 3) uint8`` with even sizes for H.264.
     """
-    return imageio.get_writer(video_file, fps=fps, quality=5, format="FFMPEG",
-                              macro_block_size=1)
+    return imageio.get_writer(video_file, fps=fps, quality=5, format="FFMPEG", macro_block_size=1)
 
 
-def convert_points_to_topdown(pathfinder: Any, points: list, meters_per_pixel: float
-                              ) -> list[np.ndarray]:
+def convert_points_to_topdown(
+    pathfinder: Any, points: list, meters_per_pixel: float
+) -> list[np.ndarray]:
     """Map pixels ``(col, row)`` of world points: ``((x - x_min) / mpp, (z - z_min) / mpp)``."""
     lower = np.asarray(pathfinder.get_bounds()[0], dtype=np.float64)
-    return [np.array([(p[0] - lower[0]) / meters_per_pixel, (p[2] - lower[2]) / meters_per_pixel])
-            for p in (np.asarray(q, dtype=np.float64) for q in points)]
+    return [
+        np.array([(p[0] - lower[0]) / meters_per_pixel, (p[2] - lower[2]) / meters_per_pixel])
+        for p in (np.asarray(q, dtype=np.float64) for q in points)
+    ]
 
 
-def display_sample(rgb_obs: np.ndarray, semantic_obs: np.ndarray | None = None,
-                   depth_obs: np.ndarray | None = None, show: bool = True):
+def display_sample(
+    rgb_obs: np.ndarray,
+    semantic_obs: np.ndarray | None = None,
+    depth_obs: np.ndarray | None = None,
+    show: bool = True,
+):
     """Show color (and semantic, depth) observations side by side; returns the figure."""
     import matplotlib.pyplot as plt
 
-    images = [("rgb", Image.fromarray(np.asarray(rgb_obs), "RGBA" if np.shape(rgb_obs)[-1] == 4
-                                      else "RGB"))]
+    images = [
+        (
+            "rgb",
+            Image.fromarray(np.asarray(rgb_obs), "RGBA" if np.shape(rgb_obs)[-1] == 4 else "RGB"),
+        )
+    ]
     if semantic_obs is not None and np.size(semantic_obs):
         images.append(("semantic", semantic_to_rgb(np.asarray(semantic_obs))))
     if depth_obs is not None and np.size(depth_obs):

@@ -41,9 +41,13 @@ def toss_cube(params: dict, seed: int, episode_dir: str | None = None) -> dict:
     sim.step_physics(0.1)
     if episode_dir is not None:
         np.save(Path(episode_dir) / "velocity.npy", velocity)
-    return {"position": [float(c) for c in cube.translation], "velocity": velocity.tolist(),
-            "world_time": sim.get_world_time(), "time_step": sim.get_physics_time_step(),
-            "pid": os.getpid()}
+    return {
+        "position": [float(c) for c in cube.translation],
+        "velocity": velocity.tolist(),
+        "world_time": sim.get_world_time(),
+        "time_step": sim.get_physics_time_step(),
+        "pid": os.getpid(),
+    }
 
 
 def ray_node_id(params: dict, seed: int) -> dict:

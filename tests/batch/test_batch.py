@@ -63,8 +63,9 @@ def test_serial_results_are_in_order_and_physical(serial_results):
 
 @pytest.mark.parametrize("workers", [1, 2])
 def test_process_backend_matches_serial(serial_results, workers):
-    results = run_batch(toss_cube, PARAMS, backend="process", workers=workers, seed=11,
-                        progress=False)
+    results = run_batch(
+        toss_cube, PARAMS, backend="process", workers=workers, seed=11, progress=False
+    )
     assert values(results) == values(serial_results)  # bit for bit
     pids = {r.value["pid"] for r in results}
     assert len(pids) <= workers
@@ -87,8 +88,9 @@ def test_a_killed_worker_loses_only_its_episode():
     assert "BrokenProcessPool" in results[2].error
     assert results[2].value is None and results[2].seed == episode_seed(0, 2)
     # the episodes that went down with the pool ran again and match a clean serial run
-    clean = run_batch(toss_cube, [{} if "kill" in p else p for p in params], backend="serial",
-                      progress=False)
+    clean = run_batch(
+        toss_cube, [{} if "kill" in p else p for p in params], backend="serial", progress=False
+    )
     kept = [i for i in range(len(params)) if i != 2]
     assert values([results[i] for i in kept]) == values([clean[i] for i in kept])
 
@@ -114,8 +116,9 @@ def test_results_are_written_as_they_arrive_and_a_batch_resumes(tmp_path: Path):
     assert (out / "episodes" / "00001" / "velocity.npy").is_file()
 
     calls.clear()
-    results = run_batch(_recorder(calls), params, backend="serial", output_dir=out,
-                        resume=True, progress=False)
+    results = run_batch(
+        _recorder(calls), params, backend="serial", output_dir=out, resume=True, progress=False
+    )
     assert calls == [3.0, 4.0]  # only the episodes that had not finished ran
     assert [r.status for r in results] == ["ok"] * 4
     full = run_batch(toss_cube, params, backend="serial", progress=False)
@@ -125,8 +128,9 @@ def test_results_are_written_as_they_arrive_and_a_batch_resumes(tmp_path: Path):
     np.testing.assert_array_equal(saved, results[3].value["velocity"])
     # everything ran: resuming again runs nothing
     calls.clear()
-    run_batch(_recorder(calls), params, backend="serial", output_dir=out, resume=True,
-              progress=False)
+    run_batch(
+        _recorder(calls), params, backend="serial", output_dir=out, resume=True, progress=False
+    )
     assert calls == []
 
 
@@ -146,8 +150,9 @@ def test_a_torn_last_line_is_ignored_and_rerun(tmp_path: Path):
     first, second = path.read_text().splitlines()
     path.write_text(first + "\n" + second[: len(second) // 2])  # killed while writing
     calls = []
-    results = run_batch(_recorder(calls), params, backend="serial", output_dir=out,
-                        resume=True, progress=False)
+    results = run_batch(
+        _recorder(calls), params, backend="serial", output_dir=out, resume=True, progress=False
+    )
     assert calls == [2.0] and all(r.ok for r in results)
     assert [r.index for r in read_results(out)] == [0, 1]
 
@@ -156,8 +161,13 @@ def test_a_value_json_cannot_hold_fails_its_episode_only(tmp_path: Path):
     def returns_an_object(p, seed):
         return {"thing": object()} if p["bad"] else {"seed": seed}
 
-    results = run_batch(returns_an_object, [{"bad": False}, {"bad": True}], backend="serial",
-                        output_dir=tmp_path, progress=False)
+    results = run_batch(
+        returns_an_object,
+        [{"bad": False}, {"bad": True}],
+        backend="serial",
+        output_dir=tmp_path,
+        progress=False,
+    )
     assert [r.status for r in results] == ["ok", "failed"]
     assert "not JSON serializable" in results[1].error
     assert [r.status for r in read_results(tmp_path)] == ["ok", "failed"]
@@ -182,8 +192,15 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path: Path):
     with pytest.raises(FileExistsError, match="resume=True"):
         run_batch(toss_cube, [{}], backend="serial", output_dir=out, progress=False)
     with pytest.raises(ValueError, match="params"):
-        run_batch(toss_cube, [{"speed": 9.0}], backend="serial", output_dir=out,
-                  resume=True, progress=False)
+        run_batch(
+            toss_cube,
+            [{"speed": 9.0}],
+            backend="serial",
+            output_dir=out,
+            resume=True,
+            progress=False,
+        )
     with pytest.raises(ValueError, match="n_episodes"):
-        run_batch(toss_cube, [{}, {}], backend="serial", output_dir=out, resume=True,
-                  progress=False)
+        run_batch(
+            toss_cube, [{}, {}], backend="serial", output_dir=out, resume=True, progress=False
+        )

@@ -24,13 +24,14 @@ ray = pytest.importorskip("ray")
 def test_ray_matches_serial_and_retries_dead_workers(tmp_path: Path):
     killed_once = tmp_path / "killed_once"
     params = [*PARAMS, {"kill_once": str(killed_once)}, {"fail": True}, {"kill": True}]
-    results = run_batch(toss_cube, params, backend="ray", workers=2, seed=11, max_retries=1,
-                        progress=False)
+    results = run_batch(
+        toss_cube, params, backend="ray", workers=2, seed=11, max_retries=1, progress=False
+    )
     assert not ray.is_initialized()  # run_batch started a local Ray and shut it down
     # the plain episodes give the serial backend's results bit for bit
     serial = run_batch(toss_cube, PARAMS, backend="serial", seed=11, progress=False)
     assert values(results[: len(PARAMS)]) == values(serial)
-    kill_once, fail, kill = results[len(PARAMS):]
+    kill_once, fail, kill = results[len(PARAMS) :]
     # the episode that killed its worker the first time ran again and finished
     assert killed_once.is_file() and kill_once.ok
     assert kill_once.seed == episode_seed(11, len(PARAMS))
@@ -45,14 +46,20 @@ def test_ray_on_a_simulated_two_node_cluster():
 
     # fewer helper processes per node: they start faster on a busy machine
     node_args = {"num_cpus": 1, "include_log_monitor": False}
-    cluster = Cluster(initialize_head=True,
-                      head_node_args={**node_args, "include_dashboard": False})
+    cluster = Cluster(
+        initialize_head=True, head_node_args={**node_args, "include_dashboard": False}
+    )
     try:
         cluster.add_node(**node_args)
         cluster.wait_for_nodes()
         # what a real cluster needs: its address (here given, usually $RAY_ADDRESS)
-        results = run_batch(ray_node_id, [{"sleep": 1.0}] * 4, backend="ray",
-                            ray_address=cluster.address, progress=False)
+        results = run_batch(
+            ray_node_id,
+            [{"sleep": 1.0}] * 4,
+            backend="ray",
+            ray_address=cluster.address,
+            progress=False,
+        )
         assert not ray.is_initialized()  # run_batch disconnected again
     finally:
         cluster.shutdown()

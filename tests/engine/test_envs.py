@@ -72,8 +72,9 @@ def test_same_seed_same_episode_bit_for_bit(make):
     finally:
         env.close()
     assert all(np.array_equal(a, b) for a, b in zip(flatten(first), flatten(again), strict=True))
-    assert not np.array_equal(flatten(first)[-1], flatten(other)[-1]) or \
-        not np.array_equal(flatten(first)[0], flatten(other)[0])
+    assert not np.array_equal(flatten(first)[-1], flatten(other)[-1]) or not np.array_equal(
+        flatten(first)[0], flatten(other)[0]
+    )
 
 
 def test_pointgoal_is_the_goal_in_polar_coordinates(point_nav):

@@ -60,8 +60,12 @@ def test_find_path_reaches_random_goals_with_habitats_spl(demo_data, allow_slidi
         sim.pathfinder.seed(0)
         agent = sim.get_agent(0)
         follower = habitat_sim.GreedyGeodesicFollower(
-            sim.pathfinder, agent, forward_key="move_forward", left_key="turn_left",
-            right_key="turn_right")
+            sim.pathfinder,
+            agent,
+            forward_key="move_forward",
+            left_key="turn_left",
+            right_key="turn_right",
+        )
         total = 0.0
         for _ in range(EPISODES):
             follower.reset()

@@ -30,8 +30,10 @@ def axis_angle(degrees: float, axis) -> mn.Quaternion:
 
 def make_agent(actions: dict, with_sensor: bool = True) -> habitat_sim.Agent:
     config = habitat_sim.AgentConfiguration()
-    config.action_space = {name: habitat_sim.ActionSpec(name, habitat_sim.ActuationSpec(amount))
-                           for name, amount in actions.items()}
+    config.action_space = {
+        name: habitat_sim.ActionSpec(name, habitat_sim.ActuationSpec(amount))
+        for name, amount in actions.items()
+    }
     if with_sensor:
         spec = habitat_sim.CameraSensorSpec()
         spec.uuid = "eye"
@@ -67,8 +69,7 @@ def test_body_controls_move_the_agent_and_its_sensors(action, delta_pos, delta_r
     check_delta(before, after, delta_pos, delta_rot)
     assert set(after.sensor_states) == {"eye"}
     # the sensor rides on the body: same world translation for moves, same turn for turns
-    check_delta(before.sensor_states["eye"], after.sensor_states["eye"],
-                delta_pos, delta_rot)
+    check_delta(before.sensor_states["eye"], after.sensor_states["eye"], delta_pos, delta_rot)
 
 
 SENSOR_CASES = [
@@ -101,15 +102,19 @@ def test_unknown_action_or_control_is_an_assertion_error_and_a_key_error():
     with pytest.raises(KeyError, match="move_forward"):
         agent.act("move_forward")
     agent.agent_config.action_space = {
-        "move_forward": habitat_sim.ActionSpec("DNF", habitat_sim.ActuationSpec(0.25))}
+        "move_forward": habitat_sim.ActionSpec("DNF", habitat_sim.ActuationSpec(0.25))
+    }
     with pytest.raises(AssertionError, match="DNF"):
         agent.act("move_forward")  # no registered control named DNF
 
 
-@pytest.mark.parametrize("name, axis", [("look_up", 0), ("look_down", 0), ("look_left", 1),
-                                        ("look_right", 1)])
-@pytest.mark.parametrize("amount, constraint, start", [(30.0, 20.0, 5.0), (10.0, 45.0, -40.0),
-                                                       (60.0, 60.0, 0.0), (5.0, 10.0, 8.0)])
+@pytest.mark.parametrize(
+    "name, axis", [("look_up", 0), ("look_down", 0), ("look_left", 1), ("look_right", 1)]
+)
+@pytest.mark.parametrize(
+    "amount, constraint, start",
+    [(30.0, 20.0, 5.0), (10.0, 45.0, -40.0), (60.0, 60.0, 0.0), (5.0, 10.0, 8.0)],
+)
 def test_constrained_look_clamps_the_look_angle(name, axis, amount, constraint, start):
     node = habitat_sim.SceneGraph().get_root_node().create_child()
     node.rotation = mn.Quaternion.rotation(mn.Deg(start), np.eye(3)[axis])
@@ -182,11 +187,12 @@ def test_set_state_without_inferring_sensor_states_places_sensors_in_the_world()
         state = agent.state
         state.position += rng.uniform(-1, 1, size=3)
         # Habitat's own lines: the quaternion type of utils.common composes with the state's
-        state.rotation *= quat_from_angle_axis(rng.uniform(0, 2 * math.pi), np.array([0., 1, 0]))
+        state.rotation *= quat_from_angle_axis(rng.uniform(0, 2 * math.pi), np.array([0.0, 1, 0]))
         for pose in state.sensor_states.values():
             pose.position += rng.uniform(-1, 1, size=3)
-            pose.rotation *= quat_from_angle_axis(rng.uniform(0, 2 * math.pi),
-                                                  np.array([1.0, 1.0, 1.0]))
+            pose.rotation *= quat_from_angle_axis(
+                rng.uniform(0, 2 * math.pi), np.array([1.0, 1.0, 1.0])
+            )
         agent.set_state(state, infer_sensor_states=False)
         new_state = agent.state
         check_delta(state, new_state)
@@ -200,8 +206,7 @@ def test_reset_sensors_false_keeps_a_looked_up_sensor():
     agent.set_state(habitat_sim.AgentState([1.0, 0.0, 0.0]), reset_sensors=False)
     assert rotation_angle_between(agent.state.sensor_states["eye"].rotation, looked) < 1e-9
     agent.set_state(habitat_sim.AgentState([1.0, 0.0, 0.0]))  # reset_sensors=True
-    assert rotation_angle_between(agent.state.sensor_states["eye"].rotation,
-                                  mn.Quaternion()) < 1e-9
+    assert rotation_angle_between(agent.state.sensor_states["eye"].rotation, mn.Quaternion()) < 1e-9
 
 
 def test_agent_defaults_sensors_by_uuid_and_is_initial():
@@ -235,7 +240,9 @@ def test_registry_alone_knows_the_default_controls():
     import subprocess
     import sys
 
-    code = ("import engine.registry as r; print(r.get_move_fn('move_forward').body_action, "
-            "r.get_move_fn('look_up').body_action)")
+    code = (
+        "import engine.registry as r; print(r.get_move_fn('move_forward').body_action, "
+        "r.get_move_fn('look_up').body_action)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["True", "False"]

@@ -115,9 +115,15 @@ def test_asset_manager_default_primitive_templates():
 
 def test_rolling_and_spinning_friction_are_template_fields(tmp_path, sim):
     config = tmp_path / "ball.object_config.json"
-    config.write_text(json.dumps({"render_asset": "icosphereSolid_subdivs_1",
-                                  "rolling_friction_coefficient": 0.02,
-                                  "spinning_friction_coefficient": 0.01}))
+    config.write_text(
+        json.dumps(
+            {
+                "render_asset": "icosphereSolid_subdivs_1",
+                "rolling_friction_coefficient": 0.02,
+                "spinning_friction_coefficient": 0.01,
+            }
+        )
+    )
     manager = sim.get_object_template_manager()
     template = manager.get_template_by_id(manager.load_configs(str(config))[0])
     assert template.rolling_friction_coefficient == pytest.approx(0.02)
@@ -213,14 +219,16 @@ def test_groups_and_masks_decide_whether_bodies_collide(sim):
 
 def test_user_groups_that_do_not_interact_pass_through(sim):
     floor, box = _floor_and_box(sim)
-    CollisionGroupHelper.set_group_interacts_with(CollisionGroups.UserGroup1,
-                                                  CollisionGroups.UserGroup2, False)
+    CollisionGroupHelper.set_group_interacts_with(
+        CollisionGroups.UserGroup1, CollisionGroups.UserGroup2, False
+    )
     floor.override_collision_group(CollisionGroups.UserGroup1)  # copies the group's mask
     box.override_collision_group(CollisionGroups.UserGroup2)
     sim.step_physics(1.0)
     assert box.translation.y < -1.0
-    CollisionGroupHelper.set_group_interacts_with(CollisionGroups.UserGroup1,
-                                                  CollisionGroups.UserGroup2, True)
+    CollisionGroupHelper.set_group_interacts_with(
+        CollisionGroups.UserGroup1, CollisionGroups.UserGroup2, True
+    )
     floor.override_collision_group(CollisionGroups.UserGroup1)  # take the new masks
     box.override_collision_group(CollisionGroups.UserGroup2)
     box.translation = [0.0, 0.5, 0.0]
@@ -239,8 +247,9 @@ def test_ray_casts_and_contact_tests_honour_groups(sim):
     assert [hit.object_id for hit in sim.cast_ray(ray).hits] == [floor.object_id]
     assert not box.contact_test()
     # a mask without Default hides a group from rays (Habitat's rays are in Default)
-    CollisionGroupHelper.set_mask_for_group(CollisionGroups.UserGroup4,
-                                            int(CollisionGroups.Dynamic))
+    CollisionGroupHelper.set_mask_for_group(
+        CollisionGroups.UserGroup4, int(CollisionGroups.Dynamic)
+    )
     floor.override_collision_group(CollisionGroups.UserGroup4)
     assert sim.cast_ray(ray).hits == []
 
@@ -314,9 +323,15 @@ def test_habitats_collision_group_sequence(sim):
     assert not cube1.contact_test() and not cube2.contact_test()
 
 
-@pytest.mark.parametrize("getter, legal_solid", [
-    ("get_default_capsule_template", 5), ("get_default_cone_template", 5),
-    ("get_default_cylinder_template", 5), ("get_default_UVsphere_template", 5)])
+@pytest.mark.parametrize(
+    "getter, legal_solid",
+    [
+        ("get_default_capsule_template", 5),
+        ("get_default_cone_template", 5),
+        ("get_default_cylinder_template", 5),
+        ("get_default_UVsphere_template", 5),
+    ],
+)
 @pytest.mark.parametrize("wireframe", [False, True])
 def test_primitive_asset_templates_modify_validate_and_register(getter, legal_solid, wireframe):
     """Habitat's ``perform_asset_attrib_mgr_tests``: legal 5 / illegal 0 segments for solid
@@ -336,8 +351,10 @@ def test_primitive_asset_templates_modify_validate_and_register(getter, legal_so
     assert new_handle != old_handle
     assets.register_template(template)
     assert assets.get_library_has_handle(new_handle) and assets.get_library_has_handle(old_handle)
-    assert (assets.get_template_by_handle(old_handle).num_segments
-            != assets.get_template_by_handle(new_handle).num_segments)
+    assert (
+        assets.get_template_by_handle(old_handle).num_segments
+        != assets.get_template_by_handle(new_handle).num_segments
+    )
     assert assets.remove_template_by_handle(new_handle) is not None
     assert assets.get_num_templates() == count
 

@@ -15,13 +15,34 @@ from engine.utils.common import colorize_ids, d3_40_colors_rgb
 from engine.utils.settings import default_sim_settings, make_cfg
 
 HABITAT_SETTINGS_KEYS = {
-    "scene_dataset_config_file", "scene", "width", "height", "hfov", "zfar", "clear_color",
-    "sensor_height", "default_agent", "agent_radius", "color_sensor", "semantic_sensor",
-    "depth_sensor", "ortho_rgba_sensor", "ortho_depth_sensor", "ortho_semantic_sensor",
-    "fisheye_rgba_sensor", "fisheye_depth_sensor", "fisheye_semantic_sensor",
-    "equirect_rgba_sensor", "equirect_depth_sensor", "equirect_semantic_sensor", "seed",
-    "physics_config_file", "enable_physics", "default_agent_navmesh",
-    "navmesh_include_static_objects", "enable_hbao",
+    "scene_dataset_config_file",
+    "scene",
+    "width",
+    "height",
+    "hfov",
+    "zfar",
+    "clear_color",
+    "sensor_height",
+    "default_agent",
+    "agent_radius",
+    "color_sensor",
+    "semantic_sensor",
+    "depth_sensor",
+    "ortho_rgba_sensor",
+    "ortho_depth_sensor",
+    "ortho_semantic_sensor",
+    "fisheye_rgba_sensor",
+    "fisheye_depth_sensor",
+    "fisheye_semantic_sensor",
+    "equirect_rgba_sensor",
+    "equirect_depth_sensor",
+    "equirect_semantic_sensor",
+    "seed",
+    "physics_config_file",
+    "enable_physics",
+    "default_agent_navmesh",
+    "navmesh_include_static_objects",
+    "enable_hbao",
 }
 
 
@@ -32,30 +53,57 @@ def xyzw(rotation) -> np.ndarray:
 
 @pytest.fixture()
 def apartment_settings(demo_data):
-    return {**default_sim_settings, "scene": str(demo_data / "scene_datasets/demo/apartment.glb"),
-            "width": 32, "height": 24, "depth_sensor": True, "physics_config_file": "",
-            "default_agent_navmesh": False}  # the dataset's apartment.navmesh loads instead
+    return {
+        **default_sim_settings,
+        "scene": str(demo_data / "scene_datasets/demo/apartment.glb"),
+        "width": 32,
+        "height": 24,
+        "depth_sensor": True,
+        "physics_config_file": "",
+        "default_agent_navmesh": False,
+    }  # the dataset's apartment.navmesh loads instead
 
 
 # -- settings ---------------------------------------------------------------------------------
 def test_default_sim_settings_have_habitats_keys_and_defaults():
     assert set(default_sim_settings) == HABITAT_SETTINGS_KEYS
-    expected = {"scene": "NONE", "width": 640, "height": 480, "hfov": 90, "zfar": 1000.0,
-                "sensor_height": 1.5, "default_agent": 0, "agent_radius": 0.1, "seed": 1,
-                "color_sensor": True, "depth_sensor": False, "semantic_sensor": False,
-                "default_agent_navmesh": True, "navmesh_include_static_objects": False}
+    expected = {
+        "scene": "NONE",
+        "width": 640,
+        "height": 480,
+        "hfov": 90,
+        "zfar": 1000.0,
+        "sensor_height": 1.5,
+        "default_agent": 0,
+        "agent_radius": 0.1,
+        "seed": 1,
+        "color_sensor": True,
+        "depth_sensor": False,
+        "semantic_sensor": False,
+        "default_agent_navmesh": True,
+        "navmesh_include_static_objects": False,
+    }
     assert {k: default_sim_settings[k] for k in expected} == expected
 
 
 def test_make_cfg_builds_habitats_agent_sensors_and_navmesh_settings():
-    settings = {**default_sim_settings, "depth_sensor": True, "semantic_sensor": True,
-                "ortho_rgba_sensor": True, "hfov": 70, "agent_radius": 0.2, "seed": 7}
+    settings = {
+        **default_sim_settings,
+        "depth_sensor": True,
+        "semantic_sensor": True,
+        "ortho_rgba_sensor": True,
+        "hfov": 70,
+        "agent_radius": 0.2,
+        "seed": 7,
+    }
     cfg = make_cfg(settings)
     agent = cfg.agents[0]
     assert agent.height == 1.5 and agent.radius == 0.2
     assert {k: (v.name, v.actuation.amount) for k, v in agent.action_space.items()} == {
-        "move_forward": ("move_forward", 0.25), "turn_left": ("turn_left", 10.0),
-        "turn_right": ("turn_right", 10.0)}
+        "move_forward": ("move_forward", 0.25),
+        "turn_left": ("turn_left", 10.0),
+        "turn_right": ("turn_right", 10.0),
+    }
     specs = {s.uuid: s for s in agent.sensor_specifications}
     assert list(specs) == ["color_sensor", "depth_sensor", "semantic_sensor", "ortho_rgba_sensor"]
     assert specs["depth_sensor"].sensor_type is habitat_sim.SensorType.DEPTH
@@ -73,8 +121,13 @@ def test_make_cfg_builds_habitats_agent_sensors_and_navmesh_settings():
 
 
 def test_empty_scene_with_navmesh_settings_has_no_navmesh_and_warns():
-    settings = {**default_sim_settings, "depth_sensor": True, "width": 16, "height": 12,
-                "physics_config_file": ""}
+    settings = {
+        **default_sim_settings,
+        "depth_sensor": True,
+        "width": 16,
+        "height": 12,
+        "physics_config_file": "",
+    }
     with pytest.warns(UserWarning, match="no triangles"):
         sim = habitat_sim.Simulator(make_cfg(settings))  # Habitat logs and goes on
     with sim:
@@ -88,15 +141,17 @@ def test_empty_scene_with_navmesh_settings_has_no_navmesh_and_warns():
 
 def test_missing_physics_config_falls_back_to_defaults_with_a_warning():
     with pytest.warns(UserWarning, match="not found"):
-        sim = habitat_sim.Simulator(make_cfg({**default_sim_settings, "color_sensor": False,
-                                              "default_agent_navmesh": False}))
+        sim = habitat_sim.Simulator(
+            make_cfg(
+                {**default_sim_settings, "color_sensor": False, "default_agent_navmesh": False}
+            )
+        )
     with sim:
         assert sim.get_physics_time_step() == pytest.approx(0.008)
 
 
 # -- the agent loop ---------------------------------------------------------------------------
-def test_step_returns_observations_and_collided_and_moves_through_the_navmesh(
-        apartment_settings):
+def test_step_returns_observations_and_collided_and_moves_through_the_navmesh(apartment_settings):
     with habitat_sim.Simulator(make_cfg(apartment_settings)) as sim:
         assert sim.pathfinder.is_loaded
         assert list(sim.sensors) == ["color_sensor", "depth_sensor"]
@@ -108,7 +163,7 @@ def test_step_returns_observations_and_collided_and_moves_through_the_navmesh(
         assert obs["color_sensor"].shape == (24, 32, 4) and obs["depth_sensor"].dtype == np.float32
         assert sim.get_world_time() > 0.0  # step() also steps the physics by dt
         moved = np.linalg.norm(agent.state.position - start)
-        assert obs["collided"] == (moved ** 2 + 1e-5 < 0.25 ** 2)
+        assert obs["collided"] == (moved**2 + 1e-5 < 0.25**2)
         np.testing.assert_allclose(sim.last_state().position, agent.state.position)
         # walk into walls until a step collides; the agent never leaves the navmesh
         collided = False
@@ -147,8 +202,9 @@ def test_reset_returns_observations_and_restores_every_agent(apartment_settings)
         for i, state in enumerate(initial):
             now = sim.get_agent(i).state
             assert all(now.position == state.position)  # exactly, as Habitat's test asks
-            np.testing.assert_allclose(np.abs(xyzw(now.rotation) @ xyzw(state.rotation)), 1.0,
-                                       rtol=1e-9)
+            np.testing.assert_allclose(
+                np.abs(xyzw(now.rotation) @ xyzw(state.rotation)), 1.0, rtol=1e-9
+            )
         assert set(sim.reset(agent_ids=[1, 2])) == {1, 2}
 
 
@@ -189,16 +245,19 @@ def test_add_sensor_hfov_and_reconfigure(apartment_settings):
 
 
 # -- fixed-field configuration objects ---------------------------------------------------------
-@pytest.mark.parametrize("make, typo, closest", [
-    (habitat_sim.SimulatorConfiguration, "enable_phyiscs", "enable_physics"),
-    (habitat_sim.CameraSensorSpec, "resolutoin", "resolution"),
-    (habitat_sim.agent.AgentConfiguration, "sensor_specification", "sensor_specifications"),
-    (habitat_sim.NavMeshSettings, "agent_raduis", "agent_radius"),
-    (habitat_sim.Configuration, "sim_config", "sim_cfg"),
-    (lambda: habitat_sim.ActionSpec("move_forward"), "actuaton", "actuation"),
-    (lambda: habitat_sim.ActuationSpec(0.25), "ammount", "amount"),
-    (habitat_sim.AgentState, "positon", "position"),
-])
+@pytest.mark.parametrize(
+    "make, typo, closest",
+    [
+        (habitat_sim.SimulatorConfiguration, "enable_phyiscs", "enable_physics"),
+        (habitat_sim.CameraSensorSpec, "resolutoin", "resolution"),
+        (habitat_sim.agent.AgentConfiguration, "sensor_specification", "sensor_specifications"),
+        (habitat_sim.NavMeshSettings, "agent_raduis", "agent_radius"),
+        (habitat_sim.Configuration, "sim_config", "sim_cfg"),
+        (lambda: habitat_sim.ActionSpec("move_forward"), "actuaton", "actuation"),
+        (lambda: habitat_sim.ActuationSpec(0.25), "ammount", "amount"),
+        (habitat_sim.AgentState, "positon", "position"),
+    ],
+)
 def test_configuration_objects_reject_unknown_attributes(make, typo, closest):
     config = make()
     with pytest.raises(AttributeError, match=f"did you mean '{closest}'"):
@@ -230,10 +289,11 @@ def test_pathfinder_helpers(apartment_settings):
         assert np.all(normals[:, 1] > 0)
         assert 0.5 * normals[:, 1].sum() == pytest.approx(pf.navigable_area, rel=1e-9)
         small = np.asarray(pf.build_navmesh_vertex_indices(1)).size // 6
-        assert small * pf.nav_mesh_settings.cell_size ** 2 == pytest.approx(pf.island_area(1))
+        assert small * pf.nav_mesh_settings.cell_size**2 == pytest.approx(pf.island_area(1))
         point = pf.get_random_navigable_point(island_index=0)
-        assert pf.island_radius(point) > pf.island_radius(pf.get_random_navigable_point(
-            island_index=1))  # islands are numbered largest first
+        assert pf.island_radius(point) > pf.island_radius(
+            pf.get_random_navigable_point(island_index=1)
+        )  # islands are numbered largest first
 
 
 # -- visualisation helpers ---------------------------------------------------------------------
@@ -297,8 +357,9 @@ def test_island_meshes_add_up_and_islands_are_queried_by_index(apartment_setting
 
 def test_recompute_navmesh_third_argument_includes_static_objects(apartment_settings):
     """Habitat's notebook passes ``include_static_objects`` as a third argument."""
-    with habitat_sim.Simulator(make_cfg({**apartment_settings, "color_sensor": False,
-                                         "depth_sensor": False})) as sim:
+    with habitat_sim.Simulator(
+        make_cfg({**apartment_settings, "color_sensor": False, "depth_sensor": False})
+    ) as sim:
         templates = sim.get_object_template_manager()
         handle = templates.get_template_handles("cubeSolid")[0]
         point = sim.pathfinder.get_random_navigable_point(island_index=0)
@@ -317,8 +378,9 @@ def test_recompute_navmesh_third_argument_includes_static_objects(apartment_sett
 
 def test_seed_reproduces_random_navigable_points(apartment_settings):
     """Habitat's test_random_seed, verbatim in spirit."""
-    with habitat_sim.Simulator(make_cfg({**apartment_settings, "color_sensor": False,
-                                         "depth_sensor": False})) as sim:
+    with habitat_sim.Simulator(
+        make_cfg({**apartment_settings, "color_sensor": False, "depth_sensor": False})
+    ) as sim:
         sim.seed(1)
         point1 = sim.pathfinder.get_random_navigable_point()
         sim.seed(1)
@@ -339,8 +401,12 @@ def test_navmesh_without_navigable_area_starts_agents_at_the_origin(tmp_path):
     path = tmp_path / "tiny_floor.glb"
     floor.export(path)
     (tmp_path / "tiny_floor.stage_config.json").write_text('{"up": [0, 1, 0], "front": [0, 0, -1]}')
-    settings = {**default_sim_settings, "scene": str(path), "color_sensor": False,
-                "physics_config_file": ""}
+    settings = {
+        **default_sim_settings,
+        "scene": str(path),
+        "color_sensor": False,
+        "physics_config_file": "",
+    }
     with pytest.warns(UserWarning, match="origin"):
         sim = habitat_sim.Simulator(make_cfg(settings))
     with sim:

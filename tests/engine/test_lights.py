@@ -28,10 +28,12 @@ def lit_level(channel: int, factor: float) -> int:
 
 # -- the rasterizer with plain arrays ----------------------------------------------------------
 def quad_facing_camera(depth: float = 2.0, half: float = 0.5, lights=None) -> RenderMesh:
-    vertices = np.array([[-half, -half, -depth], [half, -half, -depth], [half, half, -depth],
-                         [-half, half, -depth]])
-    return RenderMesh(vertices, np.array([[0, 1, 2], [0, 2, 3]]), base_color=BASE, lit=True,
-                      lights=lights)
+    vertices = np.array(
+        [[-half, -half, -depth], [half, -half, -depth], [half, half, -depth], [-half, half, -depth]]
+    )
+    return RenderMesh(
+        vertices, np.array([[0, 1, 2], [0, 2, 3]]), base_color=BASE, lit=True, lights=lights
+    )
 
 
 def center_pixel(mesh: RenderMesh, world_from_camera=None) -> np.ndarray:
@@ -46,14 +48,14 @@ def test_directional_light_gives_the_lambert_factor():
     expected = [lit_level(c, 0.4 + 0.5) for c in BASE[:3]]
     np.testing.assert_array_equal(center_pixel(quad_facing_camera(lights=lights)), expected)
     # from 60 degrees off the normal: 0.4 + 0.5 cos(60) = 0.65
-    slanted = Lights([[math.sin(math.pi / 3), 0.0, math.cos(math.pi / 3), 0.0]], [0.5],
-                     ("world",))
+    slanted = Lights([[math.sin(math.pi / 3), 0.0, math.cos(math.pi / 3), 0.0]], [0.5], ("world",))
     expected = [lit_level(c, 0.65) for c in BASE[:3]]
     np.testing.assert_array_equal(center_pixel(quad_facing_camera(lights=slanted)), expected)
     # from behind: ambient only; empty setup: flat (the base color)
     behind = Lights([[0.0, 0.0, -1.0, 0.0]], [0.5], ("world",))
-    assert list(center_pixel(quad_facing_camera(lights=behind))) == [lit_level(c, 0.4)
-                                                                     for c in BASE[:3]]
+    assert list(center_pixel(quad_facing_camera(lights=behind))) == [
+        lit_level(c, 0.4) for c in BASE[:3]
+    ]
     flat = Lights(np.zeros((0, 4)), [], ())
     np.testing.assert_array_equal(center_pixel(quad_facing_camera(lights=flat)), BASE[:3])
 
@@ -73,15 +75,17 @@ def test_point_light_uses_the_direction_from_each_face():
 def test_camera_frame_lights_move_with_the_camera():
     # a light along the camera's +X: the quad facing the camera gets ambient only...
     lights = Lights([[1.0, 0.0, 0.0, 0.0]], [0.5], ("camera",))
-    assert list(center_pixel(quad_facing_camera(lights=lights))) == [lit_level(c, 0.4)
-                                                                     for c in BASE[:3]]
+    assert list(center_pixel(quad_facing_camera(lights=lights))) == [
+        lit_level(c, 0.4) for c in BASE[:3]
+    ]
     # ...and a light along the camera's +Z lights it fully, wherever the camera turns
     lights = Lights([[0.0, 0.0, 1.0, 0.0]], [0.5], ("camera",))
     turn = np.eye(4)
     turn[:3, :3] = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]  # camera turned 90 deg about Y
     vertices = quad_facing_camera().vertices @ turn[:3, :3].T  # the quad turned with it
-    mesh = RenderMesh(vertices, np.array([[0, 1, 2], [0, 2, 3]]), base_color=BASE, lit=True,
-                      lights=lights)
+    mesh = RenderMesh(
+        vertices, np.array([[0, 1, 2], [0, 2, 3]]), base_color=BASE, lit=True, lights=lights
+    )
     assert list(center_pixel(mesh, turn)) == [lit_level(c, 0.9) for c in BASE[:3]]
 
 
@@ -94,8 +98,14 @@ def test_mesh_frame_lights_move_with_the_mesh():
     vertices = np.array([[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.5, 0.5, 0.0], [-0.5, 0.5, 0.0]])
     for frame, factor in (("world", 0.4 + 0.5 * c), ("mesh", 0.9)):
         lights = Lights([[0.0, 0.0, 1.0, 0.0]], [0.5], (frame,))
-        mesh = RenderMesh(vertices, np.array([[0, 1, 2], [0, 2, 3]]), world_from_mesh=pose,
-                          base_color=BASE, lit=True, lights=lights)
+        mesh = RenderMesh(
+            vertices,
+            np.array([[0, 1, 2], [0, 2, 3]]),
+            world_from_mesh=pose,
+            base_color=BASE,
+            lit=True,
+            lights=lights,
+        )
         assert list(center_pixel(mesh)) == [lit_level(ch, factor) for ch in BASE[:3]]
 
 
@@ -137,11 +147,14 @@ def _cube_in_front(sim, light_setup_key=DEFAULT_LIGHTING_KEY):
     spec.uuid = "rgba"
     spec.resolution = [32, 32]
     sim.close()
-    config = Configuration(SimulatorConfiguration(scene_id="NONE"),
-                           [habitat_sim.agent.AgentConfiguration(sensor_specifications=[spec])])
+    config = Configuration(
+        SimulatorConfiguration(scene_id="NONE"),
+        [habitat_sim.agent.AgentConfiguration(sensor_specifications=[spec])],
+    )
     new_sim = Simulator(config)
     cube = new_sim.get_rigid_object_manager().add_object_by_template_handle(
-        "cubeSolid", light_setup_key=light_setup_key)
+        "cubeSolid", light_setup_key=light_setup_key
+    )
     cube.motion_type = habitat_sim.physics.MotionType.KINEMATIC
     cube.translation = [0.0, 1.5, -1.0]  # in front of the 1.5 m high camera
     return new_sim
@@ -157,8 +170,9 @@ def test_per_object_light_keys_drive_the_pixels(sim):
         default = 0.4 + 0.5 / math.sqrt(1.25)
         pixel = lit_sim.get_sensor_observations()["rgba"][16, 16, :3].astype(int)
         assert list(pixel) == [lit_level(c, default) for c in base]
-        lit_sim.set_light_setup([LightInfo(vector=[0.0, 0.0, 1.0, 0.0],
-                                           color=mn.Color3(0.5, 0.5, 0.5))])
+        lit_sim.set_light_setup(
+            [LightInfo(vector=[0.0, 0.0, 1.0, 0.0], color=mn.Color3(0.5, 0.5, 0.5))]
+        )
         pixel = lit_sim.get_sensor_observations()["rgba"][16, 16, :3].astype(int)
         assert list(pixel) == [lit_level(c, 0.9) for c in base]
         lit_sim.set_light_setup([], DEFAULT_LIGHTING_KEY)  # empty: flat

@@ -177,8 +177,9 @@ def test_habitat_velocity_control(test_assets, kinematic):
         vc.controlling_lin_vel = vc.controlling_ang_vel = True
         while sim.get_world_time() < 1.0:
             sim.step_physics(0.00416)
-        np.testing.assert_allclose(box.translation, sim.get_world_time() * np.array([1, 0, 0.0]),
-                                   atol=0.01)
+        np.testing.assert_allclose(
+            box.translation, sim.get_world_time() * np.array([1, 0, 0.0]), atol=0.01
+        )
         truth = mn.Quaternion((0.0, 0.480551, 0.0), 0.876967)
         assert _angle(truth, box.rotation) < 0.005
         sim.reset()

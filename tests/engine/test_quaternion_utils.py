@@ -44,9 +44,15 @@ def test_magnum_conversions():
     assert isinstance(quat_from_magnum(mn.Quaternion()), qt.quaternion)
 
 
-@pytest.mark.parametrize("angle, axis", [
-    (math.pi / 2, [1.0, 0.0, 0.0]), (math.pi / 2, [0.0, 1.0, 0.0]), (math.pi, [1.0, 0.0, 0.0]),
-    (0.1, [0.0, 0.0, 1.0])])
+@pytest.mark.parametrize(
+    "angle, axis",
+    [
+        (math.pi / 2, [1.0, 0.0, 0.0]),
+        (math.pi / 2, [0.0, 1.0, 0.0]),
+        (math.pi, [1.0, 0.0, 0.0]),
+        (0.1, [0.0, 0.0, 1.0]),
+    ],
+)
 def test_angle_axis_round_trip(angle, axis):
     theta, axis_out = quat_to_angle_axis(quat_from_angle_axis(angle, np.array(axis)))
     assert theta == pytest.approx(angle, abs=1e-5)
@@ -62,10 +68,16 @@ def test_identity_angle_axis_is_zero_about_x_and_axes_are_normalized():
         quat_from_angle_axis(1.0, [0.0, 0.0, 0.0])
 
 
-@pytest.mark.parametrize("v0, v1", [
-    ([1.0, 0.0, 0.0], [1.0, 0.0, 0.0]), ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-    ([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]), ([3.0, 0.0, 0.0], [0.0, 5.0, 0.0]),
-    ([1.0, 2.0, 3.0], [-2.0, 1.0, 0.5])])
+@pytest.mark.parametrize(
+    "v0, v1",
+    [
+        ([1.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+        ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+        ([3.0, 0.0, 0.0], [0.0, 5.0, 0.0]),
+        ([1.0, 2.0, 3.0], [-2.0, 1.0, 0.5]),
+    ],
+)
 def test_quat_from_two_vectors_rotates_v0_onto_v1(v0, v1):
     q = quat_from_two_vectors(np.array(v0), np.array(v1))
     assert q.norm() == pytest.approx(1.0, abs=1e-5)
@@ -88,12 +100,14 @@ def test_angle_between_quats_accepts_magnum_and_numpy_quaternions():
 
 def test_quat_rotate_vector():
     z_quarter = quat_from_angle_axis(math.pi / 2, np.array([0.0, 0.0, 1.0]))
-    np.testing.assert_allclose(quat_rotate_vector(z_quarter, [1.0, 0.0, 0.0]), [0, 1, 0],
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        quat_rotate_vector(z_quarter, [1.0, 0.0, 0.0]), [0, 1, 0], atol=1e-12
+    )
     q = quat_from_angle_axis(1.23, np.array([1.0, 1.0, 1.0]))
     assert np.linalg.norm(quat_rotate_vector(q, [3.0, 4.0, 0.0])) == pytest.approx(5.0)
-    np.testing.assert_array_equal(quat_rotate_vector(qt.quaternion(1, 0, 0, 0), [1, 2, 3]),
-                                  [1, 2, 3])
+    np.testing.assert_array_equal(
+        quat_rotate_vector(qt.quaternion(1, 0, 0, 0), [1, 2, 3]), [1, 2, 3]
+    )
 
 
 def test_random_quaternion_is_a_unit_magnum_quaternion_driven_by_np_random():

@@ -105,8 +105,11 @@ def test_set_state_round_trips_world_pose_and_sensors_follow():
 
 def _quad(z: float, half: float, color) -> MeshData:
     vertices = np.array([[-half, -half, z], [half, -half, z], [half, half, z], [-half, half, z]])
-    return MeshData(vertices=vertices, faces=np.array([[0, 1, 2], [0, 2, 3]]),
-                    base_color=np.array(color, np.uint8))
+    return MeshData(
+        vertices=vertices,
+        faces=np.array([[0, 1, 2], [0, 2, 3]]),
+        base_color=np.array(color, np.uint8),
+    )
 
 
 def test_color_and_depth_sensors_share_a_pose_and_see_a_plane_at_its_z_depth():
@@ -114,8 +117,11 @@ def test_color_and_depth_sensors_share_a_pose_and_see_a_plane_at_its_z_depth():
     wall = SceneNode(root)
     wall.drawables = [Drawable(_quad(-3.0, 1.0, [255, 0, 0, 255]), lit=False, semantic_id=7)]
     specs = []
-    for uuid, kind in (("rgba", SensorType.COLOR), ("depth", SensorType.DEPTH),
-                       ("sem", SensorType.SEMANTIC)):
+    for uuid, kind in (
+        ("rgba", SensorType.COLOR),
+        ("depth", SensorType.DEPTH),
+        ("sem", SensorType.SEMANTIC),
+    ):
         spec = CameraSensorSpec()
         spec.uuid, spec.sensor_type = uuid, kind
         spec.resolution, spec.position = [40, 60], [0, 0, 0]

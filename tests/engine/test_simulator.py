@@ -65,8 +65,7 @@ def test_stage_collisions_can_be_turned_off(test_assets):
 def test_reset_restores_world_time_objects_and_agent(test_assets):
     with make_sim(test_assets / "scenes/plane.glb") as sim:
         agent = sim.initialize_agent(0, habitat_sim.AgentState([1.0, 0.0, 2.0]))
-        sphere_ids = sim.get_object_template_manager().load_configs(
-            test_assets / "objects/sphere")
+        sphere_ids = sim.get_object_template_manager().load_configs(test_assets / "objects/sphere")
         sphere = sim.get_rigid_object_manager().add_object_by_template_id(sphere_ids[0])
         start = np.asarray(sphere.translation)  # the creation pose reset returns to
         sphere.translation = [0.0, 2.0, 0.0]
@@ -88,8 +87,11 @@ def test_world_time_advances_in_whole_fixed_steps():
 
 
 def test_observations_keyed_by_uuid_with_habitat_dtypes(test_assets):
-    sensors = [camera("rgba"), camera("depth", habitat_sim.SensorType.DEPTH),
-               camera("third", orientation=[-45.0, 0.0, 0.0], position=[0.0, 1.0, 0.3])]
+    sensors = [
+        camera("rgba"),
+        camera("depth", habitat_sim.SensorType.DEPTH),
+        camera("third", orientation=[-45.0, 0.0, 0.0], position=[0.0, 1.0, 0.3]),
+    ]
     with make_sim(test_assets / "scenes/plane.glb", sensors) as sim:
         sim.initialize_agent(0, habitat_sim.AgentState([0.0, 0.0, 0.0]))
         obs = sim.get_sensor_observations()
@@ -108,13 +110,13 @@ def test_robot_attached_to_agent_node_moves_the_agent_and_its_cameras(test_asset
     with make_sim(test_assets / "scenes/plane.glb", [camera("rgba")]) as sim:
         agent = sim.agents[0]
         cube = sim.get_rigid_object_manager().add_object_by_template_handle(
-            "cubeSolid", agent.scene_node)
+            "cubeSolid", agent.scene_node
+        )
         cube.translation = [1.0, 0.1, -2.0]
         np.testing.assert_allclose(agent.get_state().position, [1.0, 0.1, -2.0], atol=1e-9)
         position = agent.get_state().sensor_states["rgba"].position
         np.testing.assert_allclose(position, [1.0, 1.6, -2.0], atol=1e-9)
-        sim.get_rigid_object_manager().remove_object_by_id(cube.object_id,
-                                                           delete_object_node=False)
+        sim.get_rigid_object_manager().remove_object_by_id(cube.object_id, delete_object_node=False)
         assert not cube.is_alive
         assert agent.scene_node.parent is sim.root_node  # the node is kept
 

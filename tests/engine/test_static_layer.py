@@ -28,8 +28,9 @@ class CheckedRenderer(SceneRenderer):
 
     def __init__(self, root, static_drawables=None, lights_for=None, **kwargs) -> None:
         super().__init__(root, static_drawables, lights_for, static_layer=True, threads=2)
-        self.reference = SceneRenderer(root, static_drawables, lights_for, static_layer=False,
-                                       threads=1)
+        self.reference = SceneRenderer(
+            root, static_drawables, lights_for, static_layer=False, threads=1
+        )
         self.n_full = 0
 
     def observe(self, sensors):

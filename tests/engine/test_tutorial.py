@@ -44,7 +44,9 @@ def job(tmp_path_factory: pytest.TempPathFactory) -> dict:
     out = tmp_path_factory.mktemp("tutorial_output")
     cmd = [sys.executable, "-m", "engine.tutorial", "--fast", "--quiet", "--seed", "0"]
     completed = subprocess.run(  # two worker processes (engine.tutorial.parallel)
-        [*cmd, "--jobs", "2", "--output-dir", str(out)], capture_output=True, text=True,
+        [*cmd, "--jobs", "2", "--output-dir", str(out)],
+        capture_output=True,
+        text=True,
         timeout=600,
     )
     assert completed.returncode == 0, completed.stderr[-4000:]
@@ -154,7 +156,9 @@ def test_one_process_writes_the_same_videos_as_two(job: dict, tmp_path: Path) ->
         one = (tmp_path / f"{name}.mp4").read_bytes()
         assert one == (Path(job["out"]) / f"{name}.mp4").read_bytes(), name
     assert sorted(p.name for p in tmp_path.glob("*.mp4")) == [
-        "kinematic_update.mp4", "sim_basics.mp4"]
+        "kinematic_update.mp4",
+        "sim_basics.mp4",
+    ]
 
 
 # ------------------------------------------------------------------------------------------

@@ -21,9 +21,15 @@ def floor_mesh(half: float = 10.0, height: float = 0.0, slope_deg: float = 0.0) 
     return MeshData(vertices=v, faces=np.array([[0, 2, 1], [0, 3, 2]], dtype=np.int64))
 
 
-def make_world(floor: bool = True, gravity=(0.0, -9.8, 0.0), timestep: float = 0.008,
-               stage_friction: float = 0.4, stage_restitution: float = 0.1, slope_deg=0.0,
-               floor_half: float = 10.0):
+def make_world(
+    floor: bool = True,
+    gravity=(0.0, -9.8, 0.0),
+    timestep: float = 0.008,
+    stage_friction: float = 0.4,
+    stage_restitution: float = 0.1,
+    slope_deg=0.0,
+    floor_half: float = 10.0,
+):
     """A PhysicsWorld with an optional floor stage; returns (world, template_manager)."""
     physics = PhysicsManagerAttributes()
     physics.timestep = timestep
@@ -38,8 +44,13 @@ def make_world(floor: bool = True, gravity=(0.0, -9.8, 0.0), timestep: float = 0
     return world, templates
 
 
-def register_primitive(templates, primitive: str = "cubeSolid", half=(0.1, 0.1, 0.1),
-                       handle: str | None = None, **fields) -> str:
+def register_primitive(
+    templates,
+    primitive: str = "cubeSolid",
+    half=(0.1, 0.1, 0.1),
+    handle: str | None = None,
+    **fields,
+) -> str:
     """Register a template of a scaled Magnum primitive (cube half extents = scale)."""
     handle = handle or f"{primitive}_{'_'.join(f'{h:g}' for h in half)}_{len(fields)}"
     template = templates.create_new_template(handle)

@@ -12,13 +12,18 @@ from engine.physics.quaternions import quat_to_matrix
 def _random_boxes(rng, count):
     q = rng.normal(size=(count, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
-    return rng.uniform(-0.6, 0.6, size=(count, 3)), quat_to_matrix(q), rng.uniform(0.05, 0.4,
-                                                                                  (count, 3))
+    return (
+        rng.uniform(-0.6, 0.6, size=(count, 3)),
+        quat_to_matrix(q),
+        rng.uniform(0.05, 0.4, (count, 3)),
+    )
 
 
 def _fcl_touch(center_a, rot_a, half_a, center_b, rot_b, half_b) -> bool:
-    objects = [fcl.CollisionObject(fcl.Box(*(2 * h)), fcl.Transform(r, c))
-               for c, r, h in ((center_a, rot_a, half_a), (center_b, rot_b, half_b))]
+    objects = [
+        fcl.CollisionObject(fcl.Box(*(2 * h)), fcl.Transform(r, c))
+        for c, r, h in ((center_a, rot_a, half_a), (center_b, rot_b, half_b))
+    ]
     return fcl.collide(*objects, fcl.CollisionRequest(), fcl.CollisionResult()) > 0
 
 
@@ -27,8 +32,7 @@ def test_boxes_separated_agrees_with_fcl_on_random_box_pairs():
     count = 400
     a, b = _random_boxes(rng, count), _random_boxes(rng, count)
     apart = boxes_separated(*a, *b)
-    touching = np.array([_fcl_touch(*(x[k] for x in a), *(x[k] for x in b))
-                         for k in range(count)])
+    touching = np.array([_fcl_touch(*(x[k] for x in a), *(x[k] for x in b)) for k in range(count)])
     # the filter may only skip pairs fcl also finds disjoint (a skipped contact is lost)
     assert not np.any(apart & touching)
     # the test is exact for boxes: apart from fcl's own tolerance, it skips every disjoint pair
@@ -40,6 +44,7 @@ def test_boxes_separated_by_a_gap_along_one_axis():
     eye = np.eye(3)[None]
     half = np.full((1, 3), 0.1)
     for gap, expected in ((0.001, True), (-0.001, False)):
-        apart = boxes_separated(np.zeros((1, 3)), eye, half,
-                                np.array([[0.2 + gap, 0.05, 0.0]]), eye, half)
+        apart = boxes_separated(
+            np.zeros((1, 3)), eye, half, np.array([[0.2 + gap, 0.05, 0.0]]), eye, half
+        )
         assert apart[0] == expected

@@ -44,8 +44,9 @@ def test_pendulum_keeps_its_length_and_swings_with_the_physical_period():
         ball, _ = pendulum(sim, 0.15)
         inertia = float(np.asarray(ball.intertia_diagonal)[2])
         # physical pendulum: T = 2 pi sqrt((I_cm + m L^2) / (m g L)), small amplitude
-        period = 2 * math.pi * math.sqrt((inertia + ball.mass * LENGTH**2)
-                                         / (ball.mass * 9.8 * LENGTH))
+        period = (
+            2 * math.pi * math.sqrt((inertia + ball.mass * LENGTH**2) / (ball.mass * 9.8 * LENGTH))
+        )
         dt = sim.get_physics_time_step()
         xs, lengths, times = [], [], []
         while sim.get_world_time() < 3.0 * period:
@@ -57,12 +58,15 @@ def test_pendulum_keeps_its_length_and_swings_with_the_physical_period():
         assert max(abs(np.array(lengths) - LENGTH)) < 0.01 * LENGTH
         xs, times = np.array(xs), np.array(times)
         # downward zero crossings of x (from + to -), interpolated: one per period... half
-        crossings = [times[i] - xs[i] * (times[i + 1] - times[i]) / (xs[i + 1] - xs[i])
-                     for i in range(len(xs) - 1) if xs[i] > 0 >= xs[i + 1]]
+        crossings = [
+            times[i] - xs[i] * (times[i + 1] - times[i]) / (xs[i + 1] - xs[i])
+            for i in range(len(xs) - 1)
+            if xs[i] > 0 >= xs[i + 1]
+        ]
         measured = float(np.mean(np.diff(crossings)))
         assert measured == pytest.approx(period, rel=0.02)
         # the swing keeps its amplitude (no damping, constraint adds little energy loss)
-        assert xs[-int(period / dt):].max() == pytest.approx(LENGTH * math.sin(0.15), rel=0.05)
+        assert xs[-int(period / dt) :].max() == pytest.approx(LENGTH * math.sin(0.15), rel=0.05)
 
 
 def test_fixed_constraint_makes_a_body_follow_its_kinematic_parent():
@@ -87,8 +91,9 @@ def test_fixed_constraint_makes_a_body_follow_its_kinematic_parent():
         for _ in range(120):
             sim.step_physics(1.0 / 60.0)
         offset = parent.rotation.transform_vector([0.0, -0.3, 0.0])
-        np.testing.assert_allclose(np.asarray(child.translation),
-                                   np.asarray(parent.translation + offset), atol=0.01)
+        np.testing.assert_allclose(
+            np.asarray(child.translation), np.asarray(parent.translation + offset), atol=0.01
+        )
         relative = parent.rotation.inverted() * child.rotation
         assert float(relative.angle()) < 0.02 or float(relative.angle()) > 2 * math.pi - 0.02
 
@@ -129,7 +134,8 @@ def test_update_remove_and_settings_round_trip():
         # Baumgarte: the 0.41 m error shrinks step by step, never overshooting much
         assert distances[0] < math.sqrt(2.0) and max(distances) < math.sqrt(2.0)
         assert np.linalg.norm(np.asarray(ball.translation) - hook) == pytest.approx(
-            LENGTH, abs=0.01)
+            LENGTH, abs=0.01
+        )
         sim.remove_rigid_constraint(constraint_id)
         v0 = ball.linear_velocity.y
         sim.step_physics(0.504)  # 63 whole steps
@@ -183,13 +189,11 @@ def test_habitats_rigid_constraint_sequence():
         settings.pivot_b = viz_box.back_bottom_right  # move the hook
         sim.update_rigid_constraint(constraint_id, settings)
         simulate(sim, 1.0)
-        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
-                                   atol=1e-4)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b, atol=1e-4)
         settings.pivot_a = cube.collision_shape_aabb.back_bottom_right  # the opposite corner
         sim.update_rigid_constraint(constraint_id, settings)
         simulate(sim, 2.0)
-        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
-                                   atol=1e-4)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b, atol=1e-4)
         # a second cube hanging from the first
         cube_2 = rom.add_object_by_template_handle("cubeSolid")
         settings_2 = RigidConstraintSettings()
@@ -200,10 +204,12 @@ def test_habitats_rigid_constraint_sequence():
         constraint_id_2 = sim.create_rigid_constraint(settings_2)
         assert constraint_id_2 >= 0
         simulate(sim, 4.0)
-        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
-                                   atol=1e-3)
-        np.testing.assert_allclose(world_point(cube_2, settings_2.pivot_a),
-                                   world_point(cube, settings_2.pivot_b), atol=5e-3)
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b, atol=1e-3)
+        np.testing.assert_allclose(
+            world_point(cube_2, settings_2.pivot_a),
+            world_point(cube, settings_2.pivot_b),
+            atol=5e-3,
+        )
         # a weak world constraint lets go
         settings.max_impulse = 0.2
         sim.update_rigid_constraint(constraint_id, settings)
@@ -217,27 +223,32 @@ def test_habitats_rigid_constraint_sequence():
         sim.remove_rigid_constraint(constraint_id_2)
         simulate(sim, 2.0)
         assert cube.translation[1] < -1.0 and cube_2.translation[1] < -1.0
-        assert not np.allclose(world_point(cube_2, settings_2.pivot_a),
-                               world_point(cube, settings_2.pivot_b), atol=0.5)
+        assert not np.allclose(
+            world_point(cube_2, settings_2.pivot_a), world_point(cube, settings_2.pivot_b), atol=0.5
+        )
         # the same settings as Fixed constraints pull both back and lock the orientations
         settings.constraint_type = RigidConstraintType.Fixed
         settings_2.constraint_type = RigidConstraintType.Fixed
         constraint_id = sim.create_rigid_constraint(settings)
         constraint_id_2 = sim.create_rigid_constraint(settings_2)
         simulate(sim, 2.0)
-        np.testing.assert_allclose(world_point(cube_2, settings_2.pivot_a),
-                                   world_point(cube, settings_2.pivot_b), atol=5e-3)
-        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b,
-                                   atol=1e-3)
+        np.testing.assert_allclose(
+            world_point(cube_2, settings_2.pivot_a),
+            world_point(cube, settings_2.pivot_b),
+            atol=5e-3,
+        )
+        np.testing.assert_allclose(world_point(cube, settings.pivot_a), settings.pivot_b, atol=1e-3)
         assert mn.math.angle(cube.rotation, mn.Quaternion()) < mn.Rad(0.01)
         assert mn.math.angle(cube_2.rotation, mn.Quaternion()) < mn.Rad(0.01)
         target = mn.Quaternion.rotation(mn.Rad(mn.math.pi / 4.0), mn.Vector3(1.0, 0.0, 0.0))
         settings.frame_b = target.to_matrix()
         sim.update_rigid_constraint(constraint_id, settings)
-        settings_2.frame_a = mn.Quaternion.rotation(mn.Rad(mn.math.pi / 4.0),
-                                                    mn.Vector3(0.0, 1.0, 0.0)).to_matrix()
-        settings_2.frame_b = mn.Quaternion.rotation(-mn.Rad(mn.math.pi / 4.0),
-                                                    mn.Vector3(0.0, 1.0, 0.0)).to_matrix()
+        settings_2.frame_a = mn.Quaternion.rotation(
+            mn.Rad(mn.math.pi / 4.0), mn.Vector3(0.0, 1.0, 0.0)
+        ).to_matrix()
+        settings_2.frame_b = mn.Quaternion.rotation(
+            -mn.Rad(mn.math.pi / 4.0), mn.Vector3(0.0, 1.0, 0.0)
+        ).to_matrix()
         sim.update_rigid_constraint(constraint_id_2, settings_2)
         simulate(sim, 2.0)
         assert mn.math.angle(cube.rotation, target) < mn.Rad(0.01)

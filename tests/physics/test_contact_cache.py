@@ -79,8 +79,9 @@ def test_cache_changes_a_pile_by_little(no_sleep):
         world, templates = make_world()
         world.settings.contact_cache = cache
         handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
-        boxes = [add(world, templates, handle, [0.05 * (i % 2), 0.1 + 0.21 * i, 0.0])
-                 for i in range(4)]
+        boxes = [
+            add(world, templates, handle, [0.05 * (i % 2), 0.1 + 0.21 * i, 0.0]) for i in range(4)
+        ]
         run(world, 2.0)
         finals.append(np.array([np.asarray(b.translation) for b in boxes]))
         # nothing sank into the floor deeper than the slop allows
@@ -121,9 +122,14 @@ def _textbook_coloring(body_a, body_b, is_dynamic):
     """Plain greedy: the first color whose set holds neither dynamic body."""
     colors, used = [], []
     for index, (a, b) in enumerate(zip(body_a.tolist(), body_b.tolist(), strict=True)):
-        color = next((c for c, bodies in enumerate(used)
-                      if not ((is_dynamic[a] and a in bodies) or (is_dynamic[b] and b in bodies))),
-                     len(used))
+        color = next(
+            (
+                c
+                for c, bodies in enumerate(used)
+                if not ((is_dynamic[a] and a in bodies) or (is_dynamic[b] and b in bodies))
+            ),
+            len(used),
+        )
         if color == len(used):
             colors.append([])
             used.append(set())
@@ -172,8 +178,10 @@ def test_deepest_record_matches_the_numpy_tie_rule():
 
     rng = np.random.default_rng(7)
     for _ in range(200):
-        depths = rng.choice([0.01, 0.01 + 4e-10, 0.01 + 6e-10, 0.02, -0.02, 1.5e-9, 2.5e-9],
-                            size=int(rng.integers(1, 8)))
+        depths = rng.choice(
+            [0.01, 0.01 + 4e-10, 0.01 + 6e-10, 0.02, -0.02, 1.5e-9, 2.5e-9],
+            size=int(rng.integers(1, 8)),
+        )
         records = [SimpleNamespace(penetration_depth=float(d)) for d in depths]
         expected = records[int(np.argmax(tie_key(np.abs(depths))))]
         assert deepest_record(records) is expected

@@ -37,8 +37,9 @@ def _drop_and_track(world, body, seconds):
 
 def test_zero_restitution_does_not_bounce():
     world, templates = make_world(stage_restitution=0.0)
-    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1),
-                                restitution_coefficient=0.0, **NO_DAMPING)
+    handle = register_primitive(
+        templates, "cubeSolid", (0.1, 0.1, 0.1), restitution_coefficient=0.0, **NO_DAMPING
+    )
     box = add(world, templates, handle, [0.0, 1.1, 0.0])
     heights = _drop_and_track(world, box, 1.5)
     landing = int(np.argmax(heights < 0.1 + 0.01))
@@ -50,8 +51,13 @@ def test_zero_restitution_does_not_bounce():
 def test_partial_restitution_apex_matches_e_squared_h():
     world, templates = make_world(stage_restitution=1.0)
     e, drop = 0.7, 1.0
-    handle = register_primitive(templates, "icosphereSolid_subdivs_1", (0.1, 0.1, 0.1),
-                                restitution_coefficient=e, **NO_DAMPING)
+    handle = register_primitive(
+        templates,
+        "icosphereSolid_subdivs_1",
+        (0.1, 0.1, 0.1),
+        restitution_coefficient=e,
+        **NO_DAMPING,
+    )
     ball = add(world, templates, handle, [0.0, 0.1 + drop, 0.0])
     heights = _drop_and_track(world, ball, 1.5) - 0.1
     first_contact = int(np.argmax(heights < 0.02))
@@ -63,8 +69,13 @@ def test_partial_restitution_apex_matches_e_squared_h():
 
 def test_elastic_head_on_collision_swaps_velocities_in_zero_gravity():
     world, templates = make_world(floor=False, gravity=(0.0, 0.0, 0.0))
-    handle = register_primitive(templates, "icosphereSolid_subdivs_1", (0.1, 0.1, 0.1),
-                                restitution_coefficient=1.0, **NO_DAMPING)
+    handle = register_primitive(
+        templates,
+        "icosphereSolid_subdivs_1",
+        (0.1, 0.1, 0.1),
+        restitution_coefficient=1.0,
+        **NO_DAMPING,
+    )
     a = add(world, templates, handle, [-0.5, 0.0, 0.0], linear_velocity=[1.0, 0.0, 0.0])
     b = add(world, templates, handle, [0.5, 0.0, 0.0])
     run(world, 1.5)
@@ -75,8 +86,9 @@ def test_elastic_head_on_collision_swaps_velocities_in_zero_gravity():
 
 def _box_on_incline(slope_deg, pair_mu, primitive="cubeSolid"):
     world, templates = make_world(stage_friction=1.0, slope_deg=slope_deg)
-    handle = register_primitive(templates, primitive, (0.1, 0.1, 0.1),
-                                friction_coefficient=pair_mu, **NO_DAMPING)
+    handle = register_primitive(
+        templates, primitive, (0.1, 0.1, 0.1), friction_coefficient=pair_mu, **NO_DAMPING
+    )
     theta = np.radians(slope_deg)
     normal = np.array([-np.sin(theta), np.cos(theta), 0.0])
     body = add(world, templates, handle, list(normal * 0.1005))
@@ -119,8 +131,9 @@ def test_sphere_rolls_down_a_slope_at_five_sevenths_g_sin_theta():
 def test_friction_is_isotropic(angle_deg):
     world, templates = make_world(stage_friction=1.0)
     mu, v0 = 0.5, 3.0
-    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1),
-                                friction_coefficient=mu, **NO_DAMPING)
+    handle = register_primitive(
+        templates, "cubeSolid", (0.1, 0.1, 0.1), friction_coefficient=mu, **NO_DAMPING
+    )
     box = add(world, templates, handle, [0.0, 0.1, 0.0])
     run(world, 0.2)
     start = np.asarray(box.translation)

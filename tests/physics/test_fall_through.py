@@ -45,8 +45,12 @@ def test_small_cube_placed_just_above_the_apartment_floor_rests_on_it(apartment_
     """A 5 mm and a 1 cm cube placed 6 mm above the floor (issue 10: the 1 cm cube was at
     y = -5.5 one second later)."""
     world, templates = apartment_world(apartment_meshes)
-    cube = add(world, templates, register_primitive(templates, half=(half,) * 3),
-               [1.75, FLOOR + half + 0.006, 0.4])
+    cube = add(
+        world,
+        templates,
+        register_primitive(templates, half=(half,) * 3),
+        [1.75, FLOOR + half + 0.006, 0.4],
+    )
     path = track(world, cube, 60)
     assert path[:, 1].min() > FLOOR + half - 0.002  # never more than 2 mm into the floor
     assert abs(path[-1, 1] - (FLOOR + half)) < 0.001  # resting on it
@@ -57,9 +61,12 @@ def test_small_cube_placed_just_above_the_apartment_floor_rests_on_it(apartment_
 def test_thin_plate_dropped_on_the_apartment_floor_rests_on_it(apartment_meshes, thickness):
     """10 x 10 cm plates 1 and 2 mm thick dropped from 25 cm (issue 10: both fell through)."""
     world, templates = apartment_world(apartment_meshes)
-    plate = add(world, templates,
-                register_primitive(templates, half=(0.05, thickness / 2, 0.05)),
-                [1.75, FLOOR + 0.25, 0.4])
+    plate = add(
+        world,
+        templates,
+        register_primitive(templates, half=(0.05, thickness / 2, 0.05)),
+        [1.75, FLOOR + 0.25, 0.4],
+    )
     path = track(world, plate, 60)
     assert path[:, 1].min() > FLOOR - 0.002
     assert abs(path[-1, 1] - (FLOOR + thickness / 2)) < 0.001
@@ -68,23 +75,30 @@ def test_thin_plate_dropped_on_the_apartment_floor_rests_on_it(apartment_meshes,
 def test_plate_1_mm_thrown_down_at_the_speed_limit_stops_on_the_floor(apartment_meshes):
     world, templates = apartment_world(apartment_meshes)
     # restitution 0: the plate must stop where it hits (with 0.1 it bounces up at 20 m/s)
-    plate = add(world, templates, register_primitive(templates, half=(0.05, 0.0005, 0.05),
-                                                     restitution_coefficient=0.0),
-                [1.75, -1.2, 0.4])
+    plate = add(
+        world,
+        templates,
+        register_primitive(templates, half=(0.05, 0.0005, 0.05), restitution_coefficient=0.0),
+        [1.75, -1.2, 0.4],
+    )
     plate.linear_velocity = [0.0, -settings.MAX_LINEAR_SPEED, 0.0]
     path = track(world, plate, 30)
     assert path[:, 1].min() > FLOOR - 0.002
     assert abs(path[-1, 1] - (FLOOR + 0.0005)) < 0.001
 
 
-@pytest.mark.parametrize("direction", [(1.0, 0.0, 0.0), (-1.0, -0.2, -1.0), (1.0, -0.3, 1.0)],
-                         ids=["wall", "corner", "corner-and-floor"])
+@pytest.mark.parametrize(
+    "direction",
+    [(1.0, 0.0, 0.0), (-1.0, -0.2, -1.0), (1.0, -0.3, 1.0)],
+    ids=["wall", "corner", "corner-and-floor"],
+)
 def test_cube_1_cm_thrown_at_the_speed_limit_stays_in_the_room(apartment_meshes, direction):
     """The living room spans x -1.0 .. 5.0 and z -3.5 .. 2.5 at y = -0.5 (walls 10 cm thick);
     a 1 cm cube thrown at 200 m/s at a wall or a corner stays inside."""
     world, templates = apartment_world(apartment_meshes)
-    cube = add(world, templates, register_primitive(templates, half=(0.005,) * 3),
-               [2.0, -0.5, -0.5])
+    cube = add(
+        world, templates, register_primitive(templates, half=(0.005,) * 3), [2.0, -0.5, -0.5]
+    )
     u = np.asarray(direction) / np.linalg.norm(direction)
     cube.linear_velocity = list(settings.MAX_LINEAR_SPEED * u)
     path = track(world, cube, 30)
@@ -97,10 +111,18 @@ def test_cube_1_cm_thrown_at_the_speed_limit_stays_in_the_room(apartment_meshes,
 def test_heavy_box_on_light_box_never_pushes_it_through_the_floor():
     """100 kg dropped on 0.1 kg (ratio 1000; issue 10: the light box ended at y = -15)."""
     world, templates = make_world()
-    light = add(world, templates, register_primitive(templates, half=(0.1,) * 3, mass=0.1,
-                                                     handle="light"), [0.0, 0.1, 0.0])
-    heavy = add(world, templates, register_primitive(templates, half=(0.1,) * 3, mass=100.0,
-                                                     handle="heavy"), [0.0, 0.5, 0.0])
+    light = add(
+        world,
+        templates,
+        register_primitive(templates, half=(0.1,) * 3, mass=0.1, handle="light"),
+        [0.0, 0.1, 0.0],
+    )
+    heavy = add(
+        world,
+        templates,
+        register_primitive(templates, half=(0.1,) * 3, mass=100.0, handle="heavy"),
+        [0.0, 0.5, 0.0],
+    )
     lows, highs = [], []
     for _ in range(90):
         world.step_physics(FRAME)
@@ -127,8 +149,9 @@ def test_stage_and_shock_passes_agree_between_vectorized_and_scalar_solvers():
         for _ in range(40):
             world.step_physics(FRAME)
         n = world.bodies.count
-        results.append((world.bodies.body_position[:n].copy(),
-                        world.bodies.body_linear_velocity[:n].copy()))
+        results.append(
+            (world.bodies.body_position[:n].copy(), world.bodies.body_linear_velocity[:n].copy())
+        )
     np.testing.assert_allclose(results[0][0], results[1][0], atol=1e-9)
     np.testing.assert_allclose(results[0][1], results[1][1], atol=1e-8)
     assert results[0][0][1:5, 1].min() > 0.1 - 0.01  # the light boxes stay on the floor
@@ -137,8 +160,9 @@ def test_stage_and_shock_passes_agree_between_vectorized_and_scalar_solvers():
 @pytest.mark.parametrize("sunk", [0.05, 0.09])
 def test_box_created_half_inside_the_floor_is_pushed_out_upwards_calmly(sunk):
     world, templates = make_world()
-    box = add(world, templates, register_primitive(templates, half=(0.1,) * 3),
-              [0.0, 0.1 - sunk, 0.0])
+    box = add(
+        world, templates, register_primitive(templates, half=(0.1,) * 3), [0.0, 0.1 - sunk, 0.0]
+    )
     path, speeds = [], []
     for _ in range(60):
         world.step_physics(FRAME)
@@ -153,8 +177,9 @@ def test_plate_created_half_inside_a_thin_floor_comes_out_on_its_side():
     """A 1 mm plate sunk by half its thickness into a floor: the manifold remembers the
     outward side, so it comes out upwards."""
     world, templates = make_world()
-    plate = add(world, templates, register_primitive(templates, half=(0.05, 0.0005, 0.05)),
-                [0.0, 0.0, 0.0])
+    plate = add(
+        world, templates, register_primitive(templates, half=(0.05, 0.0005, 0.05)), [0.0, 0.0, 0.0]
+    )
     path = track(world, plate, 30)
     assert path[:, 1].min() > -0.0015
     assert abs(path[-1, 1] - 0.0005) < 0.001
@@ -169,8 +194,9 @@ def test_templates_thinner_than_the_minimum_are_refused_and_the_world_steps_on()
     with pytest.raises(ValueError, match="MIN_BODY_DIMENSION"):
         world.rigid_object_manager.add_object_by_template_handle(tiny)
     assert world.state_hash() == before and world.rigid_object_manager.get_num_objects() == 1
-    smallest = register_primitive(templates, half=(settings.MIN_BODY_DIMENSION / 2,) * 3,
-                                  handle="smallest")
+    smallest = register_primitive(
+        templates, half=(settings.MIN_BODY_DIMENSION / 2,) * 3, handle="smallest"
+    )
     speck = add(world, templates, smallest, [0.0, 0.25, 0.0])
     for _ in range(30):
         world.step_physics(FRAME)

@@ -55,10 +55,20 @@ def test_stale_wrapper_stays_dead_when_its_slot_is_reused(scene):
 def _sizes(world) -> tuple:
     """Every per-body container of the world, by length."""
     objects, sync = world.collision_objects, world.node_sync
-    return (world.bodies.count, world.bodies.capacity, len(objects.shape_objects),
-            len(objects.probe_objects), len(world.nodes), len(world.velocity_controls),
-            len(world.render_meshes), len(world.creation_state), len(sync._node_pose),
-            len(sync._node_stamp), len(world.manifolds), len(world.manifolds.count))
+    return (
+        world.bodies.count,
+        world.bodies.capacity,
+        len(objects.shape_objects),
+        len(objects.probe_objects),
+        len(world.nodes),
+        len(world.velocity_controls),
+        len(world.render_meshes),
+        len(world.creation_state),
+        len(sync._node_pose),
+        len(sync._node_stamp),
+        len(world.manifolds),
+        len(world.manifolds.count),
+    )
 
 
 def test_ten_rounds_of_adding_and_removing_objects_leave_every_container_bounded(scene):
@@ -66,15 +76,17 @@ def test_ten_rounds_of_adding_and_removing_objects_leave_every_container_bounded
     rom = world.rigid_object_manager
     sizes = []
     for round_ in range(10):
-        objects = [add(world, templates, handle, [0.25 * (k % 10), 0.1 + 0.25 * (k // 10),
-                                                  0.25 * round_]) for k in range(60)]
+        objects = [
+            add(world, templates, handle, [0.25 * (k % 10), 0.1 + 0.25 * (k // 10), 0.25 * round_])
+            for k in range(60)
+        ]
         world.step_physics(1.0 / 60.0)  # make contacts and manifolds
         for obj in objects:
             rom.remove_object_by_id(obj.object_id)
         world.step_physics(1.0 / 60.0)
         sizes.append(_sizes(world))
         assert rom.get_num_objects() == 0
-        assert not world.bodies.body_alive[1:world.bodies.count].any()
+        assert not world.bodies.body_alive[1 : world.bodies.count].any()
     assert len(set(sizes)) == 1  # identical after every round
     count, capacity, *per_body = sizes[0]
     assert count == 61 and capacity <= 128  # the stage + the 60 slots of one round

@@ -36,12 +36,18 @@ IDENTITY = (np.eye(3), np.zeros(3))
 def tumbling_world(seconds: float):
     """Boxes, cylinders and cones tumbling on the floor after ``seconds``."""
     world, templates = make_world()
-    handles = [register_primitive(templates, name, (0.1, 0.1, 0.1))
-               for name in ("cubeSolid", CYLINDER, CONE)]
+    handles = [
+        register_primitive(templates, name, (0.1, 0.1, 0.1))
+        for name in ("cubeSolid", CYLINDER, CONE)
+    ]
     rng = np.random.default_rng(11)
     for k in range(9):
-        body = add(world, templates, handles[k % 3],
-                   [0.21 * (k % 3) - 0.21, 0.15 + 0.22 * (k // 3), rng.uniform(-0.05, 0.05)])
+        body = add(
+            world,
+            templates,
+            handles[k % 3],
+            [0.21 * (k % 3) - 0.21, 0.15 + 0.22 * (k // 3), rng.uniform(-0.05, 0.05)],
+        )
         q = rng.normal(size=4)
         body.rotation = mn.Quaternion.from_xyzw(q / np.linalg.norm(q))
     run(world, seconds)
@@ -64,16 +70,19 @@ def candidate_pairs(world):
 def test_batched_narrow_phase_matches_the_per_pair_reference(seconds):
     world = tumbling_world(seconds)
     pairs, rotation = candidate_pairs(world)
-    position, point_a, point_b, normal = narrow_phase(world.bodies, world.collision_objects,
-                                                      world.manifolds, pairs, rotation)
+    position, point_a, point_b, normal = narrow_phase(
+        world.bodies, world.collision_objects, world.manifolds, pairs, rotation
+    )
     n_points = 0
     for k, (a, c) in enumerate(pairs):
-        reference = pair_contacts(world.bodies, world.collision_objects, world.manifolds, a, c,
-                                  rotation)
+        reference = pair_contacts(
+            world.bodies, world.collision_objects, world.manifolds, a, c, rotation
+        )
         mine = position == k
         assert len(reference) == mine.sum(), (a, c)
-        for contact, pa, pb, n in zip(reference, point_a[mine], point_b[mine], normal[mine],
-                                      strict=True):
+        for contact, pa, pb, n in zip(
+            reference, point_a[mine], point_b[mine], normal[mine], strict=True
+        ):
             # same formulas, sums rounded in another order: agreement to 1e-12 m
             np.testing.assert_allclose(contact.point_a, pa, atol=1e-12)
             np.testing.assert_allclose(contact.point_b, pb, atol=1e-12)
@@ -88,15 +97,15 @@ def test_batched_manifold_update_matches_the_per_pair_reference(seconds):
     pairs, rotation = candidate_pairs(world)
     batched, reference = copy.deepcopy(world.manifolds), copy.deepcopy(world.manifolds)
     update_manifolds(world.bodies, world.collision_objects, batched, pairs, rotation)
-    update_manifolds_reference(world.bodies, world.collision_objects, reference, pairs,
-                               rotation)
+    update_manifolds_reference(world.bodies, world.collision_objects, reference, pairs, rotation)
     assert sorted(batched) == sorted(reference)
     for key in batched:
         row_b, row_r = batched.row(key), reference.row(key)
         assert batched.count[row_b] == reference.count[row_r], key
         for name in ("local_a", "local_b", "normal_local", "impulse"):
-            np.testing.assert_allclose(getattr(batched, name)[row_b],
-                                       getattr(reference, name)[row_r], atol=1e-12)
+            np.testing.assert_allclose(
+                getattr(batched, name)[row_b], getattr(reference, name)[row_r], atol=1e-12
+            )
 
 
 # -- ManifoldStore: rows and the mapping protocol --------------------------------------------
@@ -119,8 +128,9 @@ def fresh_points(points_b, normal=(0.0, 1.0, 0.0), depth=0.001) -> FreshPoints:
     """One row of fresh points with B's anchors ``points_b`` and A's ``depth`` along n."""
     points_b = np.asarray(points_b, dtype=np.float64)
     normal = np.tile(normal, (len(points_b), 1))
-    return FreshPoints(1, np.zeros(len(points_b), dtype=np.int64), points_b + depth * normal,
-                       points_b, normal)
+    return FreshPoints(
+        1, np.zeros(len(points_b), dtype=np.int64), points_b + depth * normal, points_b, normal
+    )
 
 
 def store_with_row(max_points: int = 4):
@@ -136,10 +146,18 @@ def test_nine_coplanar_points_reduce_to_the_four_corners():
     store, rotation, position = store_with_row()
     store.update(np.array([0]), rotation, position, fresh_points(grid))
     corners = {(x, z) for x in (-0.1, 0.1) for z in (-0.1, 0.1)}
-    kept = {(round(p[0], 9), round(p[2], 9)) for p in store.local_b[0, :store.count[0]]}
+    kept = {(round(p[0], 9), round(p[2], 9)) for p in store.local_b[0, : store.count[0]]}
     assert store.count[0] == 4 and kept == corners  # the largest supporting area
-    reference = update_manifold([], [Contact(p + [0, 0.001, 0], np.array(p), np.array(
-        [0.0, 1.0, 0.0])) for p in np.array(grid)], IDENTITY, IDENTITY, 4)
+    reference = update_manifold(
+        [],
+        [
+            Contact(p + [0, 0.001, 0], np.array(p), np.array([0.0, 1.0, 0.0]))
+            for p in np.array(grid)
+        ],
+        IDENTITY,
+        IDENTITY,
+        4,
+    )
     assert {(round(p.local_b[0], 9), round(p.local_b[2], 9)) for p in reference} == corners
 
 
@@ -150,8 +168,11 @@ def test_matched_points_inherit_impulses_and_separated_points_are_dropped():
     # a fresh point 5 mm from the first cached one inherits its impulse (warm start); the
     # second cached point is still touching and kept with its own impulse
     store.update(np.array([0]), rotation, position, fresh_points([[0.005, 0, 0]]))
-    impulses = {round(p[0], 3): i.tolist() for p, i in zip(store.local_b[0], store.impulse[0],
-                                                            strict=True) if i.any()}
+    impulses = {
+        round(p[0], 3): i.tolist()
+        for p, i in zip(store.local_b[0], store.impulse[0], strict=True)
+        if i.any()
+    }
     assert impulses == {0.005: [1.0, 0.1, 0.2], 0.1: [2.0, 0.3, 0.4]}
     # B moves 3 cm away along the normal (+Y), beyond CONTACT_BREAKING_DISTANCE: all dropped
     position[1] = [0.0, 1.5 * settings.CONTACT_BREAKING_DISTANCE, 0.0]
@@ -166,19 +187,26 @@ def test_reference_manifold_update_matches_store_on_the_same_history():
     for _ in range(20):  # random fresh points on a 20 cm patch, some of them matching
         points = rng.uniform(-0.1, 0.1, size=(rng.integers(1, 7), 3)) * [1, 0, 1]
         depth = rng.uniform(-0.002, 0.004, size=len(points))
-        fresh = FreshPoints(1, np.zeros(len(points), dtype=np.int64),
-                            points + depth[:, None] * [0, 1, 0], points,
-                            np.tile([0.0, 1.0, 0.0], (len(points), 1)))
+        fresh = FreshPoints(
+            1,
+            np.zeros(len(points), dtype=np.int64),
+            points + depth[:, None] * [0, 1, 0],
+            points,
+            np.tile([0.0, 1.0, 0.0], (len(points), 1)),
+        )
         store.update(np.array([0]), rotation, position, fresh)
-        contacts = [Contact(a, b, n) for a, b, n in zip(fresh.point_a[0], fresh.point_b[0],
-                                                        fresh.normal[0], strict=True)]
-        cached = update_manifold(cached, contacts[:len(points)], IDENTITY, IDENTITY, 4)
-        store.impulse[0, :store.count[0], 0] = np.arange(1, store.count[0] + 1)  # tag slots
+        contacts = [
+            Contact(a, b, n)
+            for a, b, n in zip(fresh.point_a[0], fresh.point_b[0], fresh.normal[0], strict=True)
+        ]
+        cached = update_manifold(cached, contacts[: len(points)], IDENTITY, IDENTITY, 4)
+        store.impulse[0, : store.count[0], 0] = np.arange(1, store.count[0] + 1)  # tag slots
         for k, point in enumerate(cached):
             point.impulse = np.array([k + 1.0, 0.0, 0.0])
         assert store.count[0] == len(cached)
-        np.testing.assert_allclose(store.local_b[0, :len(cached)],
-                                   [p.local_b for p in cached], atol=1e-12)
+        np.testing.assert_allclose(
+            store.local_b[0, : len(cached)], [p.local_b for p in cached], atol=1e-12
+        )
 
 
 # -- Jacobians and effective masses ------------------------------------------------------------
@@ -190,12 +218,14 @@ def test_effective_mass_under_the_center_of_mass_is_the_body_mass():
     inv_inertia = np.zeros((2, 3, 3))
     inv_inertia[1] = np.diag([3.0, 3.0, 3.0])
     bodies = Bodies6(np.zeros((2, 6)), np.array([0.0, 0.5]), inv_inertia)
-    below = effective_mass(bodies, 0, 1, np.zeros(3), np.array([0.0, -0.1, 0.0]),
-                           np.array([0.0, 1.0, 0.0]), 1)
+    below = effective_mass(
+        bodies, 0, 1, np.zeros(3), np.array([0.0, -0.1, 0.0]), np.array([0.0, 1.0, 0.0]), 1
+    )
     assert below == pytest.approx(2.0, rel=1e-12)
     # a corner at r = (0.1, -0.1, 0.1): r x n = (0.1, 0, 0.1)... k = 0.5 + 3 (0.01 + 0.01)
-    corner = effective_mass(bodies, 0, 1, np.zeros(3), np.array([-0.1, -0.1, 0.1]),
-                            np.array([0.0, 1.0, 0.0]), 4)
+    corner = effective_mass(
+        bodies, 0, 1, np.zeros(3), np.array([-0.1, -0.1, 0.1]), np.array([0.0, 1.0, 0.0]), 4
+    )
     assert corner == pytest.approx(1.0 / (4 * (0.5 + 3 * 0.02)), rel=1e-12)
 
 
@@ -206,24 +236,40 @@ def test_batched_jacobians_and_effective_masses_match_the_reference_build():
 
     world = tumbling_world(0.5)
     b, store = world.bodies, world.manifolds
-    moving = np.nonzero(b.body_awake[:b.count] & (b.body_motion_type[:b.count] == 2))[0]
+    moving = np.nonzero(b.body_awake[: b.count] & (b.body_motion_type[: b.count] == 2))[0]
     problem = gather_solver_input(b, store, moving, np.zeros((b.count, 6)))
     rows = problem.rows
-    rotation = quat_to_matrix(b.body_rotation[:b.count])
-    points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:b.count])
+    rotation = quat_to_matrix(b.body_rotation[: b.count])
+    points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[: b.count])
     counts = store.count[rows]
     normals = np.where((np.arange(4) >= counts[:, None])[..., None], [0, 1.0, 0], normals)
     pair = store.bodies[rows]
-    batch = build_batch(points_a, points_b, normals, counts, pair[:, 0], pair[:, 1],
-                        b.body_position[:b.count], problem.inv_mass, problem.inv_inertia,
-                        np.ones(len(rows)), np.zeros(len(rows)), store.impulse[rows],
-                        problem.approach_velocity, problem.color_slices, split_mass=True)
+    batch = build_batch(
+        points_a,
+        points_b,
+        normals,
+        counts,
+        pair[:, 0],
+        pair[:, 1],
+        b.body_position[: b.count],
+        problem.inv_mass,
+        problem.inv_inertia,
+        np.ones(len(rows)),
+        np.zeros(len(rows)),
+        store.impulse[rows],
+        problem.approach_velocity,
+        problem.color_slices,
+        split_mass=True,
+    )
     state = Bodies6(problem.velocity, problem.inv_mass, problem.inv_inertia)
     manifolds = build_rows(b, store, rows, state, state, world.settings)
     for m, manifold in enumerate(manifolds):
         for slot, point in enumerate(manifold.points):
-            masses = [batch.normal_mass[m, slot], batch.tangent_mass[m, 2 * slot],
-                      batch.tangent_mass[m, 2 * slot + 1]]
+            masses = [
+                batch.normal_mass[m, slot],
+                batch.tangent_mass[m, 2 * slot],
+                batch.tangent_mass[m, 2 * slot + 1],
+            ]
             np.testing.assert_allclose(point.masses, masses, rtol=1e-10)
             np.testing.assert_allclose(point.depth, batch.depth[m, slot], atol=1e-12)
             # J = [-n, -(r_a x n), n, r_b x n]: the reference's anchors rebuild the row

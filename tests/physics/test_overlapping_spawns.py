@@ -20,8 +20,7 @@ APART = 0.02  # m, the deepest overlap allowed between two bodies once "apart"
 
 def deepest_overlap(world) -> float:
     """m, the deepest contact between two objects (stage contacts excluded)."""
-    depths = [-p.contact_distance for p in world.get_physics_contact_points()
-              if p.object_id_a != 0]
+    depths = [-p.contact_distance for p in world.get_physics_contact_points() if p.object_id_a != 0]
     return max(depths, default=0.0)
 
 
@@ -32,9 +31,11 @@ def spawn_at_one_point(primitive: str, n: int):
     return world, bodies
 
 
-@pytest.mark.parametrize(("primitive", "seconds"),
-                         [("icosphereSolid_subdivs_1", 1.5), ("cubeSolid", 3.0)],
-                         ids=["spheres", "cubes"])
+@pytest.mark.parametrize(
+    ("primitive", "seconds"),
+    [("icosphereSolid_subdivs_1", 1.5), ("cubeSolid", 3.0)],
+    ids=["spheres", "cubes"],
+)
 def test_thirty_bodies_created_at_one_point_separate_calmly(primitive, seconds):
     world, bodies = spawn_at_one_point(primitive, 30)
     index = [b.object_id for b in bodies]
@@ -51,8 +52,10 @@ def test_thirty_bodies_created_at_one_point_separate_calmly(primitive, seconds):
 
 def test_spread_directions_cover_the_disc():
     """Coincident pairs are pushed along directions spread over all headings."""
-    angles = [np.arctan2(d[2], d[0]) for d in (spread_direction(a, c)
-                                                for a in range(1, 12) for c in range(a + 1, 12))]
+    angles = [
+        np.arctan2(d[2], d[0])
+        for d in (spread_direction(a, c) for a in range(1, 12) for c in range(a + 1, 12))
+    ]
     counts = np.histogram(angles, bins=8, range=(-np.pi, np.pi))[0]
     assert counts.min() >= 2  # every 45 degree sector is used
     np.testing.assert_allclose(np.linalg.norm(spread_direction(3, 7)), 1.0)

@@ -24,8 +24,7 @@ def test_a_ray_down_through_two_floors_hits_both():
     hits = world.cast_ray(Ray([0.5, 3.0, -0.2], [0.0, -1.0, 0.0])).hits
     assert [h.object_id for h in hits] == [0, 0]
     np.testing.assert_allclose([h.ray_distance for h in hits], [2.0, 3.0], atol=1e-12)
-    np.testing.assert_allclose([list(h.normal) for h in hits], [[0, 1, 0], [0, 1, 0]],
-                               atol=1e-12)
+    np.testing.assert_allclose([list(h.normal) for h in hits], [[0, 1, 0], [0, 1, 0]], atol=1e-12)
 
 
 def test_a_ray_through_a_shared_edge_counts_one_crossing():

@@ -18,17 +18,23 @@ from helpers import add, make_world, register_primitive
 
 from engine import mn
 
-CYLINDER = ("cylinderSolid_rings_1_segments_12_halfLen_1_useTexCoords_false_useTangents_false"
-            "_capEnds_true")
-CONE = ("coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false"
-        "_capEnd_true")
+CYLINDER = (
+    "cylinderSolid_rings_1_segments_12_halfLen_1_useTexCoords_false_useTangents_false_capEnds_true"
+)
+CONE = "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true"
 
 
 def body_state(world) -> np.ndarray:
     """(n, 13) [x, q, v, w] of every body."""
     b, n = world.bodies, world.bodies.count
-    return np.hstack([b.body_position[:n], b.body_rotation[:n], b.body_linear_velocity[:n],
-                      b.body_angular_velocity[:n]])
+    return np.hstack(
+        [
+            b.body_position[:n],
+            b.body_rotation[:n],
+            b.body_linear_velocity[:n],
+            b.body_angular_velocity[:n],
+        ]
+    )
 
 
 def contact_set(world) -> list:
@@ -55,11 +61,20 @@ def assert_paths_agree(build, seconds: float, tolerance: float = 1e-9, **setting
         state_fast, state_reference = body_state(fast), body_state(reference)
         # poses [x, q] to 1e-9; velocities [v, w] to 1e-9 / h: a velocity is a change of
         # position per step h = 0.008 s, so it carries the poses' round-off divided by h
-        np.testing.assert_allclose(state_fast[:, :7], state_reference[:, :7], rtol=0,
-                                   atol=tolerance, err_msg=f"poses, frame {frame}")
-        np.testing.assert_allclose(state_fast[:, 7:], state_reference[:, 7:], rtol=0,
-                                   atol=tolerance / fast.get_physics_time_step(),
-                                   err_msg=f"velocities, frame {frame}")
+        np.testing.assert_allclose(
+            state_fast[:, :7],
+            state_reference[:, :7],
+            rtol=0,
+            atol=tolerance,
+            err_msg=f"poses, frame {frame}",
+        )
+        np.testing.assert_allclose(
+            state_fast[:, 7:],
+            state_reference[:, 7:],
+            rtol=0,
+            atol=tolerance / fast.get_physics_time_step(),
+            err_msg=f"velocities, frame {frame}",
+        )
     assert n_contacts > 0  # the scene really exercised contacts
 
 
@@ -80,8 +95,12 @@ def pile_scene(n_bodies: int = 6, shapes=("cubeSolid",), seed: int = 7):
     handles = [register_primitive(templates, shape, (0.1, 0.1, 0.1)) for shape in shapes]
     rng = np.random.default_rng(seed)
     for k in range(n_bodies):
-        body = add(world, templates, handles[k % len(handles)],
-                   [0.2 * (k % 3) - 0.2, 0.15 + 0.25 * (k // 3), rng.uniform(-0.05, 0.05)])
+        body = add(
+            world,
+            templates,
+            handles[k % len(handles)],
+            [0.2 * (k % 3) - 0.2, 0.15 + 0.25 * (k // 3), rng.uniform(-0.05, 0.05)],
+        )
         q = rng.normal(size=4)
         body.rotation = mn.Quaternion.from_xyzw(q / np.linalg.norm(q))
     return world, _stepper(world)
@@ -110,8 +129,9 @@ def test_mixed_pile_gives_the_same_contacts_and_trajectory_with_gauss_seidel_slo
     # 1 s only: fcl's EPA (convex hull vs box) is discontinuous in the pose, so from about
     # 0.7 s on a 1e-13 m difference between the paths can make fcl return another normal
     # for a tumbling cylinder, and the trajectories part (both remain valid)
-    assert_paths_agree(lambda: pile_scene(6, ("cubeSolid", CYLINDER), seed=3), 1.0,
-                       block_jacobi=False)
+    assert_paths_agree(
+        lambda: pile_scene(6, ("cubeSolid", CYLINDER), seed=3), 1.0, block_jacobi=False
+    )
 
 
 def test_stage_contacts_give_the_same_contacts_and_trajectory():
@@ -120,8 +140,14 @@ def test_stage_contacts_give_the_same_contacts_and_trajectory():
 
 def test_switches_route_both_paths_the_same_way():
     # every teaching switch off at once: both paths must still agree
-    assert_paths_agree(stack_scene, 1.0, warm_starting=False, accumulate_impulses=False,
-                       position_correction=False, velocity_iterations=4)
+    assert_paths_agree(
+        stack_scene,
+        1.0,
+        warm_starting=False,
+        accumulate_impulses=False,
+        position_correction=False,
+        velocity_iterations=4,
+    )
 
 
 def tutorial_scene(demo_data):

@@ -58,8 +58,7 @@ def test_rolling_ball_decelerates_as_bullet_models_rolling_friction():
         # a = mu g / (r (1 + I / (m r^2))) = 5/7 mu g / r for a solid sphere: about 0.7 m/s^2
         assert deceleration == pytest.approx(expected_rolling_deceleration(ball, mu), rel=0.1)
         # still rolling without slipping
-        assert ball.angular_velocity.z == pytest.approx(-ball.linear_velocity.x / RADIUS,
-                                                        rel=0.02)
+        assert ball.angular_velocity.z == pytest.approx(-ball.linear_velocity.x / RADIUS, rel=0.02)
 
 
 def test_without_rolling_friction_the_ball_keeps_rolling():
@@ -97,6 +96,7 @@ def test_both_solver_paths_agree_on_rolling_and_spinning():
             roll(sim, ball)
             ball.angular_velocity = ball.angular_velocity + [0.0, 5.0, 0.0]
             sim.step_physics(0.5)
-            finals.append(np.concatenate([ball.translation, ball.linear_velocity,
-                                          ball.angular_velocity]))
+            finals.append(
+                np.concatenate([ball.translation, ball.linear_velocity, ball.angular_velocity])
+            )
     np.testing.assert_allclose(finals[0], finals[1], atol=1e-9)

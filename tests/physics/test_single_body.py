@@ -13,8 +13,9 @@ G = 9.8
 
 
 def _free_body(world, templates, half=(0.1, 0.1, 0.1), position=(0.0, 10.0, 0.0)):
-    handle = register_primitive(templates, "cubeSolid", half, linear_damping=0.0,
-                                angular_damping=0.0)
+    handle = register_primitive(
+        templates, "cubeSolid", half, linear_damping=0.0, angular_damping=0.0
+    )
     return add(world, templates, handle, list(position))
 
 
@@ -86,8 +87,9 @@ def test_velocity_control_reference_numbers():
         state = vc.integrate_transform(0.008, state)
     # HABITAT_SEMANTICS.md reference (3 decimals given there)
     np.testing.assert_allclose(state.translation, [0.0, 3.836, 0.544], atol=1e-3)
-    np.testing.assert_allclose([state.rotation.scalar, state.rotation.vector[0]],
-                               [0.2875, -0.9578], atol=1e-4)
+    np.testing.assert_allclose(
+        [state.rotation.scalar, state.rotation.vector[0]], [0.2875, -0.9578], atol=1e-4
+    )
 
 
 def test_kinematic_global_velocity_control_moves_one_meter_in_one_second():

@@ -26,8 +26,12 @@ def _pile_world(**solver_options):
     handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
     rng = np.random.default_rng(7)
     for k in range(6):
-        box = add(world, templates, handle, [0.15 * (k % 3) - 0.15, 0.12 + 0.25 * (k // 3),
-                                             rng.uniform(-0.05, 0.05)])
+        box = add(
+            world,
+            templates,
+            handle,
+            [0.15 * (k % 3) - 0.15, 0.12 + 0.25 * (k // 3), rng.uniform(-0.05, 0.05)],
+        )
         q = rng.normal(size=4)
         box.rotation = mn.Quaternion.from_xyzw(q / np.linalg.norm(q))
     return world
@@ -50,8 +54,9 @@ def test_small_fast_sphere_does_not_tunnel_through_a_thin_static_wall():
     wall_handle = register_primitive(templates, "cubeSolid", (0.01, 0.5, 0.5))  # 2 cm thick
     wall = add(world, templates, wall_handle, [1.0, 0.0, 0.0])
     wall.motion_type = MotionType.STATIC
-    ball_handle = register_primitive(templates, "icosphereSolid_subdivs_1", (0.025,) * 3,
-                                     restitution_coefficient=0.5)
+    ball_handle = register_primitive(
+        templates, "icosphereSolid_subdivs_1", (0.025,) * 3, restitution_coefficient=0.5
+    )
     ball = add(world, templates, ball_handle, [0.0, 0.0, 0.0], linear_velocity=[50.0, 0, 0])
     for _ in range(30):
         world.step_physics(1.0 / 60.0)
@@ -78,8 +83,12 @@ def test_same_script_is_bit_identical_across_processes():
         run(world, 0.5)
         print(world.state_hash())
     """)
-    outputs = [subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                              check=True).stdout.strip() for _ in range(2)]
+    outputs = [
+        subprocess.run(
+            [sys.executable, "-c", script], capture_output=True, text=True, check=True
+        ).stdout.strip()
+        for _ in range(2)
+    ]
     world = _pile_world()
     run(world, 0.5)
     assert outputs[0] == outputs[1] == world.state_hash()
@@ -96,8 +105,9 @@ def _setup_bad_input_world():
     return world, box
 
 
-@pytest.mark.parametrize("name", ["translation", "linear_velocity", "angular_velocity",
-                                  "intertia_diagonal"])
+@pytest.mark.parametrize(
+    "name", ["translation", "linear_velocity", "angular_velocity", "intertia_diagonal"]
+)
 @pytest.mark.parametrize("value", BAD_VECTORS)
 def test_bad_vectors_raise_and_leave_the_world_unchanged(name, value):
     world, box = _setup_bad_input_world()
@@ -107,25 +117,28 @@ def test_bad_vectors_raise_and_leave_the_world_unchanged(name, value):
     assert world.state_hash() == before
 
 
-@pytest.mark.parametrize("call", [
-    lambda box: box.apply_force([np.nan, 0, 0], [0, 0, 0]),
-    lambda box: box.apply_force([1, 0, 0], [0, np.inf, 0]),
-    lambda box: box.apply_torque([1, 0]),
-    lambda box: box.apply_impulse(None, [0, 0, 0]),
-    lambda box: box.apply_impulse_torque([np.nan] * 3),
-    lambda box: setattr(box, "rotation", [0, 0, 0, 0]),
-    lambda box: setattr(box, "rotation", [np.nan, 0, 0, 1]),
-    lambda box: setattr(box, "transformation", np.full((4, 4), np.nan)),
-    lambda box: setattr(box, "mass", 0.0),
-    lambda box: setattr(box, "mass", -1.0),
-    lambda box: setattr(box, "mass", np.inf),
-    lambda box: setattr(box, "friction_coefficient", -0.1),
-    lambda box: setattr(box, "linear_damping", np.nan),
-    lambda box: setattr(box, "motion_type", 7),
-    lambda box: setattr(box, "awake", "yes"),
-    lambda box: box.translate([np.nan, 0, 0]),
-    lambda box: box.rotate_x(np.nan),
-])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda box: box.apply_force([np.nan, 0, 0], [0, 0, 0]),
+        lambda box: box.apply_force([1, 0, 0], [0, np.inf, 0]),
+        lambda box: box.apply_torque([1, 0]),
+        lambda box: box.apply_impulse(None, [0, 0, 0]),
+        lambda box: box.apply_impulse_torque([np.nan] * 3),
+        lambda box: setattr(box, "rotation", [0, 0, 0, 0]),
+        lambda box: setattr(box, "rotation", [np.nan, 0, 0, 1]),
+        lambda box: setattr(box, "transformation", np.full((4, 4), np.nan)),
+        lambda box: setattr(box, "mass", 0.0),
+        lambda box: setattr(box, "mass", -1.0),
+        lambda box: setattr(box, "mass", np.inf),
+        lambda box: setattr(box, "friction_coefficient", -0.1),
+        lambda box: setattr(box, "linear_damping", np.nan),
+        lambda box: setattr(box, "motion_type", 7),
+        lambda box: setattr(box, "awake", "yes"),
+        lambda box: box.translate([np.nan, 0, 0]),
+        lambda box: box.rotate_x(np.nan),
+    ],
+)
 def test_bad_calls_raise_and_leave_the_world_unchanged(call):
     world, box = _setup_bad_input_world()
     before = world.state_hash()
@@ -153,8 +166,9 @@ def test_bad_gravity_and_empty_stage_meshes_raise():
     empty = MeshData(vertices=np.zeros((0, 3)), faces=np.zeros((0, 3), dtype=np.int64))
     with pytest.raises(ValueError, match="stage"):
         world.set_stage([empty], None)
-    bad = MeshData(vertices=np.array([[0, 0, 0], [1, 0, 0], [0, 0, np.nan]]),
-                   faces=np.array([[0, 1, 2]]))
+    bad = MeshData(
+        vertices=np.array([[0, 0, 0], [1, 0, 0], [0, 0, np.nan]]), faces=np.array([[0, 1, 2]])
+    )
     with pytest.raises(ValueError, match="NaN"):
         world.set_stage([bad], None)
     assert world.state_hash() == before

@@ -20,8 +20,10 @@ def stack(n_boxes: int = 6, seconds: float = 1.5, **settings):
     for name, value in settings.items():
         setattr(world.settings, name, value)
     handle = register_primitive(templates, "cubeSolid", (BOX_HALF,) * 3)
-    boxes = [add(world, templates, handle, [0.0, BOX_HALF + 2 * BOX_HALF * i, 0.0])
-             for i in range(n_boxes)]
+    boxes = [
+        add(world, templates, handle, [0.0, BOX_HALF + 2 * BOX_HALF * i, 0.0])
+        for i in range(n_boxes)
+    ]
     run(world, 0.5)
     largest_vy = 0.0
     for _ in range(int(round((seconds - 0.5) * 60))):
@@ -90,8 +92,12 @@ def box_started_in_floor(**settings) -> float:
     world, templates = make_world()
     for name, value in settings.items():
         setattr(world.settings, name, value)
-    box = add(world, templates, register_primitive(templates, "cubeSolid", (BOX_HALF,) * 3),
-              [0.0, BOX_HALF - 0.03, 0.0])
+    box = add(
+        world,
+        templates,
+        register_primitive(templates, "cubeSolid", (BOX_HALF,) * 3),
+        [0.0, BOX_HALF - 0.03, 0.0],
+    )
     run(world, 1.0)
     return float(box.translation[1])
 
@@ -99,10 +105,12 @@ def box_started_in_floor(**settings) -> float:
 def test_position_correction_pushes_a_sunken_box_out_and_only_it_does():
     assert box_started_in_floor() > BOX_HALF - 0.006  # out to within the slop (4 mm)
     # without the split-impulse solve nothing removes the overlap: it stays 3 cm deep
-    np.testing.assert_allclose(box_started_in_floor(position_correction=False),
-                               BOX_HALF - 0.03, atol=0.001)
-    np.testing.assert_allclose(box_started_in_floor(position_iterations=0), BOX_HALF - 0.03,
-                               atol=0.001)
+    np.testing.assert_allclose(
+        box_started_in_floor(position_correction=False), BOX_HALF - 0.03, atol=0.001
+    )
+    np.testing.assert_allclose(
+        box_started_in_floor(position_iterations=0), BOX_HALF - 0.03, atol=0.001
+    )
 
 
 def test_block_jacobi_keeps_a_perfect_stack_perfect():

@@ -19,8 +19,14 @@ def test_ten_box_stack_stands_ten_seconds_with_small_drift():
     boxes = []
     for level in range(10):
         jitter = rng.uniform(-0.002, 0.002, size=2)  # 2 mm placement noise
-        boxes.append(add(world, templates, handle,
-                         [jitter[0], HALF + 2 * HALF * level + 0.001 * level, jitter[1]]))
+        boxes.append(
+            add(
+                world,
+                templates,
+                handle,
+                [jitter[0], HALF + 2 * HALF * level + 0.001 * level, jitter[1]],
+            )
+        )
     start = np.array([np.asarray(b.translation) for b in boxes])
     run(world, 10.0)
     end = np.array([np.asarray(b.translation) for b in boxes])
@@ -53,9 +59,11 @@ def _pile(n_boxes, seconds, seed=0):
     for k in range(n_boxes):
         layer, cell = divmod(k, side * side)
         row, col = divmod(cell, side)
-        position = [(col - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
-                    0.3 + 0.3 * layer + rng.uniform(0, 0.05),
-                    (row - side / 2) * 0.25 + rng.uniform(-0.03, 0.03)]
+        position = [
+            (col - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
+            0.3 + 0.3 * layer + rng.uniform(0, 0.05),
+            (row - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
+        ]
         box = add(world, templates, handle, position)
         box.rotation = _random_rotation(rng)
         boxes.append(box)

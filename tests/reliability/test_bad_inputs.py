@@ -35,9 +35,13 @@ from navmesh import NavMeshSettings, PathFinder, ShortestPath
 from render import video as vut
 from render.settings import MAX_PIXELS
 
-EXAMPLES = settings(max_examples=25, deadline=None, derandomize=True, database=None,
-                    suppress_health_check=[HealthCheck.function_scoped_fixture,
-                                           HealthCheck.too_slow])
+EXAMPLES = settings(
+    max_examples=25,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 REFUSED = (ValueError, TypeError)
 BAD_INPUTS_CHECKED = {"count": 0}
 
@@ -55,9 +59,13 @@ def sim(demo_data: Path):
     templates = simulator.get_object_template_manager()
     templates.load_configs(str(demo_data / "objects/example_objects"))
     manager = simulator.get_rigid_object_manager()
-    for k, (handle, motion) in enumerate([("cubeSolid", MotionType.DYNAMIC),
-                                          ("cubeSolid", MotionType.KINEMATIC),
-                                          ("uvSphereSolid", MotionType.DYNAMIC)]):
+    for k, (handle, motion) in enumerate(
+        [
+            ("cubeSolid", MotionType.DYNAMIC),
+            ("cubeSolid", MotionType.KINEMATIC),
+            ("uvSphereSolid", MotionType.DYNAMIC),
+        ]
+    ):
         full = templates.get_template_handles(handle)[0]
         obj = manager.add_object_by_template_handle(full)
         obj.translation = [1.0 + k, 0.5, 0.0]
@@ -86,17 +94,27 @@ def assert_refused(sim, call, errors=REFUSED, match: str | None = None) -> None:
 # -- strategies ----------------------------------------------------------------------------------
 finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
 non_finite = st.sampled_from([math.nan, math.inf, -math.inf])
-junk = st.one_of(st.none(), st.text(max_size=4), st.binary(max_size=4),
-                 st.dictionaries(st.text(max_size=2), finite, max_size=2), st.just(object()))
+junk = st.one_of(
+    st.none(),
+    st.text(max_size=4),
+    st.binary(max_size=4),
+    st.dictionaries(st.text(max_size=2), finite, max_size=2),
+    st.just(object()),
+)
 
 
 def bad_vector(n: int):
     """Anything a setter of an n-vector must refuse."""
     with_non_finite = st.lists(st.one_of(finite, non_finite), min_size=n, max_size=n).filter(
-        lambda v: not all(math.isfinite(x) for x in v))
-    return st.one_of(junk, st.lists(finite, max_size=n - 1),
-                     st.lists(finite, min_size=n + 1, max_size=n + 3), with_non_finite,
-                     st.lists(st.text(max_size=2), min_size=n, max_size=n))
+        lambda v: not all(math.isfinite(x) for x in v)
+    )
+    return st.one_of(
+        junk,
+        st.lists(finite, max_size=n - 1),
+        st.lists(finite, min_size=n + 1, max_size=n + 3),
+        with_non_finite,
+        st.lists(st.text(max_size=2), min_size=n, max_size=n),
+    )
 
 
 def bad_number(low: float | None = None, high: float | None = None, low_open: bool = False):
@@ -134,8 +152,10 @@ VECTOR_TARGETS = {
 SCALAR_TARGETS = {
     "mass": (dict(low=0.0, low_open=True), lambda o, v: setattr(o, "mass", v)),
     "friction_coefficient": (dict(low=0.0), lambda o, v: setattr(o, "friction_coefficient", v)),
-    "restitution_coefficient": (dict(low=0.0, high=1.0),
-                                lambda o, v: setattr(o, "restitution_coefficient", v)),
+    "restitution_coefficient": (
+        dict(low=0.0, high=1.0),
+        lambda o, v: setattr(o, "restitution_coefficient", v),
+    ),
     "linear_damping": (dict(low=0.0, high=1.0), lambda o, v: setattr(o, "linear_damping", v)),
     "angular_damping": (dict(low=0.0, high=1.0), lambda o, v: setattr(o, "angular_damping", v)),
     "rotate angle": ({}, lambda o, v: o.rotate_x(v)),
@@ -168,22 +188,37 @@ def test_object_scalar_setters_refuse_bad_numbers(sim, data):
 
 
 @EXAMPLES
-@given(a=st.floats(1e-6, 1e3), b=st.floats(1e-6, 1e3), excess=st.floats(1e-4, 1e3),
-       order=st.permutations([0, 1, 2]))
+@given(
+    a=st.floats(1e-6, 1e3),
+    b=st.floats(1e-6, 1e3),
+    excess=st.floats(1e-4, 1e3),
+    order=st.permutations([0, 1, 2]),
+)
 def test_inertia_breaking_the_triangle_inequality_is_refused(sim, a, b, excess, order):
     inertia = np.array([a, b, (a + b) * (1.0 + excess)])[list(order)]
     obj = objects(sim)[0]
-    assert_refused(sim, lambda: setattr(obj, "intertia_diagonal", inertia),
-                   match="triangle inequality")
+    assert_refused(
+        sim, lambda: setattr(obj, "intertia_diagonal", inertia), match="triangle inequality"
+    )
 
 
-OVERFLOW_TARGETS = ("translate", "apply_impulse", "apply_force", "apply_torque",
-                    "apply_impulse_torque", "transformation")
+OVERFLOW_TARGETS = (
+    "translate",
+    "apply_impulse",
+    "apply_force",
+    "apply_torque",
+    "apply_impulse_torque",
+    "transformation",
+)
 
 
 @EXAMPLES
-@given(name=st.sampled_from(OVERFLOW_TARGETS), big=st.floats(0.9e308, 1.7e308),
-       sign=st.sampled_from([-1.0, 1.0]), axis=st.integers(0, 2))
+@given(
+    name=st.sampled_from(OVERFLOW_TARGETS),
+    big=st.floats(0.9e308, 1.7e308),
+    sign=st.sampled_from([-1.0, 1.0]),
+    axis=st.integers(0, 2),
+)
 def test_values_that_overflow_only_when_used_are_refused(sim, name, big, sign, axis):
     """The first call is fine (finite result), the second would overflow: refused."""
     obj = objects(sim)[0]  # dynamic
@@ -200,11 +235,13 @@ def test_values_that_overflow_only_when_used_are_refused(sim, name, big, sign, a
             matrix[:3, :3] = np.diag([1.0, 1.0, -1.0]) * 1e300  # a (huge) reflection
             assert_refused(sim, lambda: setattr(obj, "transformation", matrix), ValueError)
             return
-        call = {"translate": lambda: obj.translate(vector),
-                "apply_impulse": lambda: obj.apply_impulse(vector * obj.mass, [0, 0, 0]),
-                "apply_force": lambda: obj.apply_force(vector, [0, 0, 0]),
-                "apply_torque": lambda: obj.apply_torque(vector),
-                "apply_impulse_torque": lambda: obj.apply_impulse_torque(vector)}[name]
+        call = {
+            "translate": lambda: obj.translate(vector),
+            "apply_impulse": lambda: obj.apply_impulse(vector * obj.mass, [0, 0, 0]),
+            "apply_force": lambda: obj.apply_force(vector, [0, 0, 0]),
+            "apply_torque": lambda: obj.apply_torque(vector),
+            "apply_impulse_torque": lambda: obj.apply_impulse_torque(vector),
+        }[name]
         try:
             call()  # may already be refused (a force's h F / m), else it is finite
         except ValueError:
@@ -218,8 +255,13 @@ def test_values_that_overflow_only_when_used_are_refused(sim, name, big, sign, a
         obj.linear_velocity, obj.angular_velocity = original[2], original[3]
 
 
-@settings(max_examples=6, deadline=None, derandomize=True, database=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=6,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(speed=st.floats(1e154, 1.7e308), angular=st.booleans())
 def test_huge_speeds_are_clamped_to_the_limit_not_to_zero(sim, speed, angular):
     from engine.physics import settings as constants
@@ -245,31 +287,37 @@ def test_huge_rotation_components_are_normalized_without_overflow(sim):
     obj = objects(sim)[0]
     original = obj.rotation
     obj.rotation = [1e300, 1e300, 0.0, 0.0]
-    np.testing.assert_allclose(np.asarray(obj.rotation.xyzw),
-                               [math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(
+        np.asarray(obj.rotation.xyzw), [math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0], atol=1e-12
+    )
     obj.rotation = original
     assert bodies_are_finite(sim.get_physics_world())
 
 
 def test_a_kinematic_node_with_zero_scale_is_refused(sim):
     kinematic = objects(sim)[1]
-    assert_refused(sim, lambda: setattr(kinematic.root_scene_node, "scaling", [0.0, 0.0, 0.0]),
-                   ValueError, match="scaling")
+    assert_refused(
+        sim,
+        lambda: setattr(kinematic.root_scene_node, "scaling", [0.0, 0.0, 0.0]),
+        ValueError,
+        match="scaling",
+    )
 
 
 # -- templates ----------------------------------------------------------------------------------
 TEMPLATE_FIELDS = {
     "scale": st.lists(st.one_of(finite, non_finite), min_size=3, max_size=3).filter(
-        lambda v: not all(math.isfinite(x) and x > 0 for x in v)),
-    "collision_asset_size": st.lists(finite, min_size=3, max_size=3).filter(
-        lambda v: min(v) <= 0),
+        lambda v: not all(math.isfinite(x) and x > 0 for x in v)
+    ),
+    "collision_asset_size": st.lists(finite, min_size=3, max_size=3).filter(lambda v: min(v) <= 0),
     "restitution_coefficient": bad_number(0.0, 1.0),
     "linear_damping": bad_number(0.0, 1.0),
     "angular_damping": bad_number(0.0, 1.0),
     "mass": bad_number(0.0, low_open=True),
     "friction_coefficient": bad_number(0.0),
     "inertia": st.tuples(st.floats(1e-3, 10), st.floats(1e-3, 10), st.floats(1e-3, 10)).map(
-        lambda t: [t[0], t[1], (t[0] + t[1]) * 1.01 + t[2]]),
+        lambda t: [t[0], t[1], (t[0] + t[1]) * 1.01 + t[2]]
+    ),
     "units_to_meters": bad_number(0.0, low_open=True),
 }
 
@@ -286,8 +334,10 @@ def test_template_fields_get_the_object_limits(sim, data):
 
 
 @EXAMPLES
-@given(up=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
-       front=st.lists(st.floats(-1, 1), min_size=3, max_size=3))
+@given(
+    up=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+    front=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+)
 def test_skewed_or_degenerate_frames_are_refused_at_registration(sim, up, front):
     up, front = np.array(up), np.array(front)
     lengths = np.linalg.norm(up), np.linalg.norm(front)
@@ -300,13 +350,27 @@ def test_skewed_or_degenerate_frames_are_refused_at_registration(sim, up, front)
 
 
 BAD_CONFIGS = [
-    {"scale": [-1.0, 1.0, 1.0]}, {"scale": [0.0, 1.0, 1.0]}, {"scale": 5.0},
-    {"scale": [1.0, math.nan, 1.0]}, {"collision_asset_size": [1.0, -1.0, 1.0]},
-    {"restitution_coefficient": 5.0}, {"restitution_coefficient": -0.1},
-    {"inertia": [1.0, 1.0, 10.0]}, {"inertia": [-1.0, 1.0, 1.0]}, {"mass": -2.0}, {"mass": 0},
-    {"up": [0.0, 0.0, 0.0]}, {"up": [1.0, 1.0, 10.0]}, {"up": [0, 1, 0], "front": [0, 1, 0]},
-    {"linear_damping": 2.0}, {"angular_damping": -1.0}, {"friction_coefficient": None},
-    {"COM": "x"}, {"user_defined": [1, 2]}, {"semantic_id": 1.5}, {"units_to_meters": 0.0},
+    {"scale": [-1.0, 1.0, 1.0]},
+    {"scale": [0.0, 1.0, 1.0]},
+    {"scale": 5.0},
+    {"scale": [1.0, math.nan, 1.0]},
+    {"collision_asset_size": [1.0, -1.0, 1.0]},
+    {"restitution_coefficient": 5.0},
+    {"restitution_coefficient": -0.1},
+    {"inertia": [1.0, 1.0, 10.0]},
+    {"inertia": [-1.0, 1.0, 1.0]},
+    {"mass": -2.0},
+    {"mass": 0},
+    {"up": [0.0, 0.0, 0.0]},
+    {"up": [1.0, 1.0, 10.0]},
+    {"up": [0, 1, 0], "front": [0, 1, 0]},
+    {"linear_damping": 2.0},
+    {"angular_damping": -1.0},
+    {"friction_coefficient": None},
+    {"COM": "x"},
+    {"user_defined": [1, 2]},
+    {"semantic_id": 1.5},
+    {"units_to_meters": 0.0},
 ]
 
 
@@ -320,9 +384,20 @@ def test_bad_config_files_register_nothing(sim, bad, tmp_path):
 
 def test_null_in_user_defined_is_skipped_with_a_warning_as_habitat(sim, tmp_path):
     path = tmp_path / "nulls.object_config.json"
-    path.write_text(json.dumps({"render_asset": "cubeSolid", "user_defined": {
-        "gone": None, "partly": [1, None, 2], "rotation": [1, None, 0, 0], "kept": 3,
-        "nested": {"also_gone": None, "fine": "yes"}}}))
+    path.write_text(
+        json.dumps(
+            {
+                "render_asset": "cubeSolid",
+                "user_defined": {
+                    "gone": None,
+                    "partly": [1, None, 2],
+                    "rotation": [1, None, 0, 0],
+                    "kept": 3,
+                    "nested": {"also_gone": None, "fine": "yes"},
+                },
+            }
+        )
+    )
     templates = sim.get_object_template_manager()
     with pytest.warns(UserWarning, match="null"):
         (template_id,) = templates.load_configs(str(path))
@@ -335,10 +410,12 @@ def test_null_in_user_defined_is_skipped_with_a_warning_as_habitat(sim, tmp_path
 # -- sensors -------------------------------------------------------------------------------------
 SPEC_FIELDS = {
     "resolution": st.one_of(
-        junk, st.lists(st.integers(-5, 0), min_size=2, max_size=2),
+        junk,
+        st.lists(st.integers(-5, 0), min_size=2, max_size=2),
         st.tuples(st.sampled_from([math.nan, math.inf, 1.5, -3.0]), st.integers(1, 64)),
         st.tuples(st.integers(MAX_PIXELS // 64 + 1, 10**7), st.integers(65, 10**7)),
-        st.lists(st.integers(1, 8), min_size=3, max_size=3)),
+        st.lists(st.integers(1, 8), min_size=3, max_size=3),
+    ),
     "hfov": st.one_of(bad_number(), st.floats(180, 1e9), st.floats(-1e9, 0)),
     "near": st.one_of(bad_number(), st.floats(-1e9, 0)),
     "far": st.one_of(bad_number(), st.floats(-1e9, 0.005)),
@@ -382,9 +459,11 @@ def test_navmesh_settings_and_budgets_are_refused_before_building(sim, data):
     value = data.draw(NAV_FIELDS[name], label="value")
     nav_settings = NavMeshSettings()
     setattr(nav_settings, name, value)
-    match = "MAX_GRID_CELLS|MAX_RASTER_SAMPLES" if (
-        name in ("cell_size", "cell_height") and isinstance(value, float)
-        and 0 < value < 1e-2) else None
+    match = (
+        "MAX_GRID_CELLS|MAX_RASTER_SAMPLES"
+        if (name in ("cell_size", "cell_height") and isinstance(value, float) and 0 < value < 1e-2)
+        else None
+    )
     assert_refused(sim, lambda: sim.recompute_navmesh(sim.pathfinder, nav_settings), match=match)
     assert sim.pathfinder.is_loaded
 
@@ -396,8 +475,9 @@ QUERIES = {
     "try_step start": lambda pf, p: pf.try_step(p, [1.0, 0.0, 0.0]),
     "try_step end": lambda pf, p: pf.try_step([1.0, 0.0, 0.0], p),
     "try_step_no_sliding": lambda pf, p: pf.try_step_no_sliding(p, [1.0, 0.0, 0.0]),
-    "find_path": lambda pf, p: pf.find_path(ShortestPath(requested_start=p,
-                                                         requested_end=[1, 0, 0])),
+    "find_path": lambda pf, p: pf.find_path(
+        ShortestPath(requested_start=p, requested_end=[1, 0, 0])
+    ),
     "distance_to_closest_obstacle": lambda pf, p: pf.distance_to_closest_obstacle(p),
     "random point near": lambda pf, p: pf.get_random_navigable_point_near(p, 1.0),
 }
@@ -412,8 +492,11 @@ def test_pathfinder_queries_refuse_bad_points(sim, data):
 
 
 @EXAMPLES
-@given(point=st.lists(st.one_of(st.floats(-1.7e308, -1e12), st.floats(1e12, 1.7e308)),
-                      min_size=3, max_size=3))
+@given(
+    point=st.lists(
+        st.one_of(st.floats(-1.7e308, -1e12), st.floats(1e12, 1.7e308)), min_size=3, max_size=3
+    )
+)
 def test_far_points_snap_to_nothing_without_overflow(sim, point):
     """Habitat's result for a point far from every polygon: NaN snap, the step stays put."""
     pf = sim.pathfinder
@@ -427,16 +510,20 @@ def test_far_points_snap_to_nothing_without_overflow(sim, point):
 
 
 @EXAMPLES
-@given(mpp=st.one_of(bad_number(0.0, low_open=True), st.floats(1e-9, 1e-3)),
-       height=st.one_of(finite, non_finite))
+@given(
+    mpp=st.one_of(bad_number(0.0, low_open=True), st.floats(1e-9, 1e-3)),
+    height=st.one_of(finite, non_finite),
+)
 def test_topdown_views_over_the_budget_are_refused(sim, mpp, height):
     assert_refused(sim, lambda: sim.pathfinder.get_topdown_view(mpp, height))
 
 
 # -- ray casts -----------------------------------------------------------------------------------
 @EXAMPLES
-@given(ray=st.one_of(junk, st.integers(), st.lists(finite, max_size=6)),
-       distance=st.one_of(bad_number(0.0), st.just(100.0)))
+@given(
+    ray=st.one_of(junk, st.integers(), st.lists(finite, max_size=6)),
+    distance=st.one_of(bad_number(0.0), st.just(100.0)),
+)
 def test_cast_ray_refuses_non_rays_and_bad_distances(sim, ray, distance):
     if distance == 100.0:
         assert_refused(sim, lambda: sim.cast_ray(ray, distance), TypeError, match="ray")
@@ -446,8 +533,10 @@ def test_cast_ray_refuses_non_rays_and_bad_distances(sim, ray, distance):
 
 
 @EXAMPLES
-@given(origin=st.lists(st.floats(-1e300, 1e300), min_size=3, max_size=3),
-       direction=st.lists(st.floats(-1e300, 1e300), min_size=3, max_size=3))
+@given(
+    origin=st.lists(st.floats(-1e300, 1e300), min_size=3, max_size=3),
+    direction=st.lists(st.floats(-1e300, 1e300), min_size=3, max_size=3),
+)
 def test_cast_ray_with_huge_rays_returns_finite_hits(sim, origin, direction):
     before = world_hash(sim)
     with warnings.catch_warnings():
@@ -460,18 +549,24 @@ def test_cast_ray_with_huge_rays_returns_finite_hits(sim, origin, direction):
 
 # -- videos --------------------------------------------------------------------------------------
 @EXAMPLES
-@given(dims=st.one_of(st.just("empty"), junk.filter(lambda v: v is not None),
-                      st.tuples(st.integers(-3, 0), st.integers(1, 8)),
-                      st.tuples(st.integers(MAX_PIXELS // 8 + 1, 10**9), st.integers(9, 10**9))))
+@given(
+    dims=st.one_of(
+        st.just("empty"),
+        junk.filter(lambda v: v is not None),
+        st.tuples(st.integers(-3, 0), st.integers(1, 8)),
+        st.tuples(st.integers(MAX_PIXELS // 8 + 1, 10**9), st.integers(9, 10**9)),
+    )
+)
 def test_make_video_refuses_empty_lists_and_bad_dims(sim, dims):
     frame = {"color": np.zeros((8, 8, 4), np.uint8)}
     with tempfile.TemporaryDirectory() as folder:
         target = str(Path(folder) / "clip")
-        if dims == "empty":
-            call = lambda: vut.make_video([], "color", "color", target, open_vid=False)  # noqa: E731
-        else:
-            call = lambda: vut.make_video([frame], "color", "color", target,  # noqa: E731
-                                          open_vid=False, video_dims=dims)
+        frames = [] if dims == "empty" else [frame]
+        size = None if dims == "empty" else dims
+
+        def call() -> None:
+            vut.make_video(frames, "color", "color", target, open_vid=False, video_dims=size)
+
         assert_refused(sim, call, ValueError)
         assert not any(Path(folder).iterdir())  # nothing written
 
@@ -490,8 +585,9 @@ def _mutated_archive(good: bytes, key: str, how: str, rng: np.random.Generator) 
     arrays = dict(np.load(io.BytesIO(good)))
     array = arrays[key]
     if how == "shape":
-        arrays[key] = np.zeros((*array.shape[:-1], array.shape[-1] + 1) if array.ndim else (2,),
-                               dtype=array.dtype)
+        arrays[key] = np.zeros(
+            (*array.shape[:-1], array.shape[-1] + 1) if array.ndim else (2,), dtype=array.dtype
+        )
     elif how == "dtype":
         arrays[key] = np.full(array.shape, "x") if array.dtype.kind != "U" else np.array(7.0)
     elif how == "values":
@@ -510,8 +606,9 @@ def _mutated_archive(good: bytes, key: str, how: str, rng: np.random.Generator) 
     if how == "huge":  # a header claiming 8 GB of floats in a few bytes: must not be read
         with zipfile.ZipFile(stream, "a") as archive:
             header = io.BytesIO()
-            npy_format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False,
-                                                       "shape": (1000, 1000, 1000)})
+            npy_format.write_array_header_1_0(
+                header, {"descr": "<f8", "fortran_order": False, "shape": (1000, 1000, 1000)}
+            )
             archive.writestr(f"{key}_huge.npy", header.getvalue() + bytes(64))
         stream = _renamed(stream.getvalue(), f"{key}_huge.npy", f"{key}.npy")
     return stream.getvalue()
@@ -529,8 +626,13 @@ def _renamed(content: bytes, old: str, new: str) -> io.BytesIO:
     return out
 
 
-@settings(max_examples=40, deadline=None, derandomize=True, database=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=40,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 @given(data=st.data())
 def test_bad_navmesh_files_are_refused_and_the_old_one_keeps_working(sim, navmesh_bytes, data):
     kind = data.draw(st.sampled_from(["bytes", "truncated", "array"]), label="kind")
@@ -539,11 +641,26 @@ def test_bad_navmesh_files_are_refused_and_the_old_one_keeps_working(sim, navmes
     elif kind == "truncated":
         content = navmesh_bytes[: data.draw(st.integers(0, len(navmesh_bytes) - 1), label="n")]
     else:
-        key = data.draw(st.sampled_from(["floor", "ceiling", "navigable", "links", "island",
-                                         "bounds", "origin_xz", "cell_size", "settings_json",
-                                         "format_version"]), label="key")
-        how = data.draw(st.sampled_from(["shape", "dtype", "values", "missing", "huge"]),
-                        label="how")
+        key = data.draw(
+            st.sampled_from(
+                [
+                    "floor",
+                    "ceiling",
+                    "navigable",
+                    "links",
+                    "island",
+                    "bounds",
+                    "origin_xz",
+                    "cell_size",
+                    "settings_json",
+                    "format_version",
+                ]
+            ),
+            label="key",
+        )
+        how = data.draw(
+            st.sampled_from(["shape", "dtype", "values", "missing", "huge"]), label="how"
+        )
         rng = np.random.default_rng(data.draw(st.integers(0, 1000), label="seed"))
         content = _mutated_archive(navmesh_bytes, key, how, rng)
         if content == navmesh_bytes:
@@ -586,9 +703,17 @@ def test_a_bad_navmesh_beside_the_stage_leaves_the_simulator_without_one(demo_da
     simulator.close()
 
 
-@pytest.mark.parametrize("name, value", [("agent_radius", 1e6), ("agent_radius", 1e300),
-                                         ("region_min_size", 1e150), ("agent_max_climb", 1e6),
-                                         ("cell_size", 1e3), ("agent_height", 1e300)])
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("agent_radius", 1e6),
+        ("agent_radius", 1e300),
+        ("region_min_size", 1e150),
+        ("agent_max_climb", 1e6),
+        ("cell_size", 1e3),
+        ("agent_height", 1e300),
+    ],
+)
 def test_extreme_but_valid_navmesh_settings_finish(name, value):
     """Work is bounded by the grid, not by the values: these used to hang or overflow."""
     floor = np.array([[0, 0, 0], [10, 0, 0], [10, 0, 10], [0, 0, 10]], np.float64)
@@ -612,33 +737,57 @@ def test_issue_cases_objects(sim):
     assert_refused(sim, lambda: dynamic.translate([1e308, 0.0, 0.0]), ValueError, match="vector")
     dynamic.translation = start
     dynamic.apply_impulse([1e308, 0.0, 0.0], [0.0, 0.0, 0.0])
-    assert_refused(sim, lambda: dynamic.apply_impulse([1e308, 0.0, 0.0], [0.0, 0.0, 0.0]),
-                   ValueError, match="impulse")
+    assert_refused(
+        sim,
+        lambda: dynamic.apply_impulse([1e308, 0.0, 0.0], [0.0, 0.0, 0.0]),
+        ValueError,
+        match="impulse",
+    )
     dynamic.linear_velocity = [0.0, 0.0, 0.0]
-    assert_refused(sim, lambda: setattr(kinematic.root_scene_node, "scaling", [0, 0, 0]),
-                   ValueError, match="scaling")
+    assert_refused(
+        sim,
+        lambda: setattr(kinematic.root_scene_node, "scaling", [0, 0, 0]),
+        ValueError,
+        match="scaling",
+    )
     assert_refused(sim, lambda: sim.cast_ray(None), TypeError, match="ray")
 
 
 def test_issue_cases_templates_sensors_budgets_files(sim, tmp_path):
     templates = sim.get_object_template_manager()
     cube = templates.get_template_by_handle(templates.get_template_handles("cubeSolid")[0])
-    for name, value in (("scale", [-1.0, 1.0, 1.0]), ("restitution_coefficient", 5.0),
-                        ("inertia", [1.0, 1.0, 10.0])):
+    for name, value in (
+        ("scale", [-1.0, 1.0, 1.0]),
+        ("restitution_coefficient", 5.0),
+        ("inertia", [1.0, 1.0, 10.0]),
+    ):
         assert_refused(sim, lambda n=name, v=value: setattr(cube, n, v), ValueError, match=name)
     spec = CameraSensorSpec()
     for resolution in ([math.nan, 64], [100000, 100000]):
         spec.resolution = resolution
-        assert_refused(sim, lambda: CameraSensor(spec, sim.agents[0].scene_node), ValueError,
-                       match="resolution")
+        assert_refused(
+            sim,
+            lambda: CameraSensor(spec, sim.agents[0].scene_node),
+            ValueError,
+            match="resolution",
+        )
     tiny = NavMeshSettings()
     tiny.cell_size = 1e-4
-    assert_refused(sim, lambda: sim.recompute_navmesh(sim.pathfinder, tiny), ValueError,
-                   match="MAX_GRID_CELLS")
-    assert_refused(sim, lambda: sim.pathfinder.get_topdown_view(1e-5, 0.0), ValueError,
-                   match="MAX_TOPDOWN_PIXELS")
-    assert_refused(sim, lambda: vut.make_video([], "color", "color", str(tmp_path / "v"),
-                                               open_vid=False), ValueError, match="empty")
+    assert_refused(
+        sim, lambda: sim.recompute_navmesh(sim.pathfinder, tiny), ValueError, match="MAX_GRID_CELLS"
+    )
+    assert_refused(
+        sim,
+        lambda: sim.pathfinder.get_topdown_view(1e-5, 0.0),
+        ValueError,
+        match="MAX_TOPDOWN_PIXELS",
+    )
+    assert_refused(
+        sim,
+        lambda: vut.make_video([], "color", "color", str(tmp_path / "v"), open_vid=False),
+        ValueError,
+        match="empty",
+    )
     empty = tmp_path / "empty.navmesh"
     empty.write_bytes(b"")
     before = world_hash(sim)

@@ -31,8 +31,14 @@ def _soak_module():
 @pytest.fixture(scope="module")
 def report(demo_data: Path):
     soak = _soak_module()
-    result = soak.run_soak(2000, seed=0, data_path=demo_data, templates=soak.CI_TEMPLATES,
-                           max_objects=soak.CI_MAX_OBJECTS, weights=soak.CI_OPERATIONS)
+    result = soak.run_soak(
+        2000,
+        seed=0,
+        data_path=demo_data,
+        templates=soak.CI_TEMPLATES,
+        max_objects=soak.CI_MAX_OBJECTS,
+        weights=soak.CI_OPERATIONS,
+    )
     print("\n" + result.summary())
     return result
 

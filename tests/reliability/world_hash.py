@@ -39,8 +39,12 @@ def _templates(manager) -> dict:
     """Every template of a manager: id, lock, fields and user configuration."""
     library = {}
     for handle, template in manager._templates.items():
-        library[handle] = (template.template_id, handle in manager._locked, template.as_dict(),
-                           template.get_user_config().to_dict())
+        library[handle] = (
+            template.template_id,
+            handle in manager._locked,
+            template.as_dict(),
+            template.get_user_config().to_dict(),
+        )
     return library
 
 
@@ -50,8 +54,17 @@ def _objects(world) -> list:
     rows = []
     for index, obj in sorted(manager._objects.items()):
         node = obj._root_node
-        rows.append((index, obj._handle, obj._alive, repr(world.velocity_controls[index]),
-                     node._translation, node._rotation, node._scaling))
+        rows.append(
+            (
+                index,
+                obj._handle,
+                obj._alive,
+                repr(world.velocity_controls[index]),
+                node._translation,
+                node._rotation,
+                node._scaling,
+            )
+        )
     return rows
 
 
@@ -59,8 +72,17 @@ def _navmesh(pathfinder) -> Any:
     if not pathfinder.is_loaded:
         return "no navmesh"
     data = pathfinder.navmesh_data
-    return (data.settings.to_dict(), data.bounds, data.origin_xz, data.cell_size, data.floor,
-            data.ceiling, data.navigable, data.links, data.island)
+    return (
+        data.settings.to_dict(),
+        data.bounds,
+        data.origin_xz,
+        data.cell_size,
+        data.floor,
+        data.ceiling,
+        data.navigable,
+        data.links,
+        data.island,
+    )
 
 
 def world_hash(sim) -> str:
@@ -70,8 +92,12 @@ def world_hash(sim) -> str:
     _feed(digest, world.state_hash())
     _feed(digest, world.rigid_object_manager.get_num_objects())
     _feed(digest, _objects(world))
-    for manager in (sim.get_object_template_manager(), sim.get_asset_template_manager(),
-                    sim.get_stage_template_manager(), sim.get_physics_template_manager()):
+    for manager in (
+        sim.get_object_template_manager(),
+        sim.get_asset_template_manager(),
+        sim.get_stage_template_manager(),
+        sim.get_physics_template_manager(),
+    ):
         _feed(digest, _templates(manager))
     _feed(digest, _navmesh(sim.pathfinder))
     for agent in sim.agents:
@@ -83,6 +109,14 @@ def bodies_are_finite(world) -> bool:
     """True when every live body's pose and velocities are finite."""
     b, n = world.bodies, world.bodies.count
     alive = b.body_alive[:n]
-    return all(bool(np.all(np.isfinite(getattr(b, name)[:n][alive])))
-               for name in ("body_position", "body_rotation", "body_linear_velocity",
-                            "body_angular_velocity", "body_force", "body_torque"))
+    return all(
+        bool(np.all(np.isfinite(getattr(b, name)[:n][alive])))
+        for name in (
+            "body_position",
+            "body_rotation",
+            "body_linear_velocity",
+            "body_angular_velocity",
+            "body_force",
+            "body_torque",
+        )
+    )

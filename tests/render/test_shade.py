@@ -35,10 +35,12 @@ def test_fast_bilinear_sampler_matches_the_plain_one(uv_origin, size):
     texels = rng.integers(0, 2**32, size=size, dtype=np.uint64).astype(np.uint32)
     padded = shade.pad_texture_wrap(texels)
     # wrapped, negative and texel-center coordinates, and the exact edges 0 and 1
-    u = np.concatenate([rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1],
-                        [0.0, 1.0, -1.0, 2.5]]).astype(np.float32)
-    v = np.concatenate([rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1],
-                        [1.0, 0.0, -0.0, 3.0]]).astype(np.float32)
+    u = np.concatenate(
+        [rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1], [0.0, 1.0, -1.0, 2.5]]
+    ).astype(np.float32)
+    v = np.concatenate(
+        [rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1], [1.0, 0.0, -0.0, 3.0]]
+    ).astype(np.float32)
     u_before, v_before = u.copy(), v.copy()
     plain = shade.sample_bilinear(padded, u, v, uv_origin)
     fast = shade.sample_bilinear_fast(padded, u, v, uv_origin)
@@ -63,8 +65,12 @@ def test_pixel_center_tables_match_the_divmod_formula(use_fast_paths, subtype):
     rng = np.random.default_rng(RNG_SEED)
     scattered = np.sort(rng.choice(37 * 53, 300, replace=False))
     for pixel in (scattered, np.arange(100, 700), np.arange(37 * 53), np.arange(0)):
-        visible = VisiblePixels(pixel.astype(np.int64), np.zeros(len(pixel), np.int64),
-                                np.ones(len(pixel), np.float32), camera)
+        visible = VisiblePixels(
+            pixel.astype(np.int64),
+            np.zeros(len(pixel), np.int64),
+            np.ones(len(pixel), np.float32),
+            camera,
+        )
         use_fast_paths(True)
         fast = visible.centered_coordinates()
         use_fast_paths(False)
@@ -83,32 +89,63 @@ def _mixed_scene(rng: np.random.Generator) -> list[RenderMesh]:
     quad = np.array([[0, 1, 2], [0, 2, 3]])
     tiles = np.array([[0, 0], [6, 0], [6, 8], [0, 8]], float)  # repeats: wrap-around
     meshes = [
-        RenderMesh(floor, quad, uvs=tiles, texture=rng.integers(0, 256, (32, 16, 3), np.uint8),
-                   lit=True, semantic_id=1),
-        RenderMesh(floor[:, [0, 2, 1]] * [1, -1, 1] + [0, 0, -5], quad, uvs=tiles * 0.3,
-                   texture=rng.integers(0, 256, (8, 8, 4), np.uint8), uv_origin="top",
-                   base_color=np.array([200, 150, 90, 255], np.uint8), semantic_id=2),
+        RenderMesh(
+            floor,
+            quad,
+            uvs=tiles,
+            texture=rng.integers(0, 256, (32, 16, 3), np.uint8),
+            lit=True,
+            semantic_id=1,
+        ),
+        RenderMesh(
+            floor[:, [0, 2, 1]] * [1, -1, 1] + [0, 0, -5],
+            quad,
+            uvs=tiles * 0.3,
+            texture=rng.integers(0, 256, (8, 8, 4), np.uint8),
+            uv_origin="top",
+            base_color=np.array([200, 150, 90, 255], np.uint8),
+            semantic_id=2,
+        ),
     ]
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.7)
     colors = rng.integers(0, 256, (len(sphere.vertices), 4), np.uint8)
     pose = np.eye(4)
     pose[:3, 3] = [-1.0, 0.0, -4.0]
-    meshes.append(RenderMesh(sphere.vertices, sphere.faces, pose, vertex_colors=colors,
-                             lit=True, semantic_id=3))
+    meshes.append(
+        RenderMesh(
+            sphere.vertices, sphere.faces, pose, vertex_colors=colors, lit=True, semantic_id=3
+        )
+    )
     smooth_pose = np.eye(4)
     smooth_pose[:3, 3] = [1.2, 0.2, -3.5]
-    meshes.append(RenderMesh(sphere.vertices, sphere.faces, smooth_pose, lit=True,
-                             normals=sphere.vertex_normals, semantic_id=4,
-                             uvs=sphere.vertices[:, :2] + 0.5, vertex_colors=colors,
-                             texture=rng.integers(0, 256, (16, 16, 3), np.uint8)))
+    meshes.append(
+        RenderMesh(
+            sphere.vertices,
+            sphere.faces,
+            smooth_pose,
+            lit=True,
+            normals=sphere.vertex_normals,
+            semantic_id=4,
+            uvs=sphere.vertices[:, :2] + 0.5,
+            vertex_colors=colors,
+            texture=rng.integers(0, 256, (16, 16, 3), np.uint8),
+        )
+    )
     box = trimesh.creation.box(extents=(0.5, 0.4, 0.3))
     for i in range(3):
         box_pose = np.eye(4)
         box_pose[:3, :3] = trimesh.transformations.rotation_matrix(0.5 + i, (1, 1, 0))[:3, :3]
         box_pose[:3, 3] = [-0.8 + 0.9 * i, -0.6, -2.0 - 0.4 * i]
-        meshes.append(RenderMesh(box.vertices, box.faces, box_pose, lit=i != 1,
-                                 base_color=np.array([220, 40 * i, 90, 255], np.uint8),
-                                 semantic_id=10 + i))
+        meshes.append(
+            RenderMesh(
+                box.vertices,
+                box.faces,
+                box_pose,
+                lit=i != 1,
+                base_color=np.array([220, 40 * i, 90, 255], np.uint8),
+                semantic_id=10 + i,
+            )
+        )
     return meshes
 
 
@@ -137,9 +174,13 @@ def test_a_screen_filled_by_one_texture_takes_the_single_texture_branch(use_fast
     camera = Camera((64, 96), hfov=90.0)
     wall = np.array([[-9, -9, -2], [9, -9, -2], [9, 9, -3], [-9, 9, -3]], float)
     for lit in (False, True):
-        mesh = RenderMesh(wall, np.array([[0, 1, 2], [0, 2, 3]]),
-                          uvs=rng.uniform(-2, 3, (4, 2)),
-                          texture=rng.integers(0, 256, (24, 40, 3), np.uint8), lit=lit)
+        mesh = RenderMesh(
+            wall,
+            np.array([[0, 1, 2], [0, 2, 3]]),
+            uvs=rng.uniform(-2, 3, (4, 2)),
+            texture=rng.integers(0, 256, (24, 40, 3), np.uint8),
+            lit=lit,
+        )
         scene = RenderScene([mesh])
         frames = []
         for fast in (False, True):

@@ -259,8 +259,14 @@ OVERLAY_CASES = {
         {"obs": "depth", "type": "depth", "dims": (18, 13), "pos": (10, 33), "border": 2},
     ],
     "semantic, upscaled, clipped, colored": [
-        {"obs": "semantic", "type": "semantic", "dims": (90, 20), "pos": (-5, 40), "border": 3,
-         "border_color": (255, 10, 0)},
+        {
+            "obs": "semantic",
+            "type": "semantic",
+            "dims": (90, 20),
+            "pos": (-5, 40),
+            "border": 3,
+            "border_color": (255, 10, 0),
+        },
         {"obs": "rgb", "type": "color", "dims": (7, 9), "pos": (70, -1), "border": 1},
         {"obs": "rgba", "type": "color", "dims": (5, 5), "pos": (200, 200), "border": 1},
     ],

@@ -45,14 +45,17 @@ def look_angle_degrees(rotation: mn.Quaternion, axis: int) -> float:
     return -math.degrees(math.atan2(look[0], -look[2]))
 
 
-def rotate_local(scene_node: SceneNode, degrees: float, axis: int,
-                 constraint: float | None = None) -> None:
+def rotate_local(
+    scene_node: SceneNode, degrees: float, axis: int, constraint: float | None = None
+) -> None:
     """Rotate ``degrees`` about the node's own ``axis``, clamping the look angle if asked."""
     degrees = float(degrees)
     if constraint is not None:
         rotation = scene_node.rotation
-        tilted = float(rotation.angle()) != 0.0 and 1.0 - abs(
-            float(np.asarray(rotation.axis())[axis])) > 1e-3
+        tilted = (
+            float(rotation.angle()) != 0.0
+            and 1.0 - abs(float(np.asarray(rotation.axis())[axis])) > 1e-3
+        )
         if tilted:
             raise RuntimeError("Constrained look only works for a singular look action type")
         current = look_angle_degrees(rotation, axis)

@@ -50,8 +50,13 @@ class ObjectControls:
         """Whether the registered control ``action_name`` moves the body (else the sensors)."""
         return _lookup(action_name).body_action
 
-    def action(self, obj: SceneNode, action_name: str, actuation_spec: ActuationSpec,
-               apply_filter: bool = True) -> bool:
+    def action(
+        self,
+        obj: SceneNode,
+        action_name: str,
+        actuation_spec: ActuationSpec,
+        apply_filter: bool = True,
+    ) -> bool:
         """Run control ``action_name`` on ``obj``; return whether the filter blocked it."""
         control = _lookup(action_name)
         start = np.asarray(obj.absolute_translation, dtype=np.float64)
@@ -65,14 +70,20 @@ class ObjectControls:
         wanted_sq = float(np.sum((end - start) ** 2))
         return moved_sq + EPS < wanted_sq
 
-    def __call__(self, obj: SceneNode, action_name: str, actuation_spec: ActuationSpec,
-                 apply_filter: bool = True) -> bool:
+    def __call__(
+        self,
+        obj: SceneNode,
+        action_name: str,
+        actuation_spec: ActuationSpec,
+        apply_filter: bool = True,
+    ) -> bool:
         return self.action(obj, action_name, actuation_spec, apply_filter)
 
 
 def _lookup(action_name: str):
     control = registry.get_move_fn(action_name)
     if control is None:
-        raise UnknownActionError(f"No move_fn for action {action_name!r}; registered: "
-                                 f"{registry.move_fn_names()}")
+        raise UnknownActionError(
+            f"No move_fn for action {action_name!r}; registered: {registry.move_fn_names()}"
+        )
     return control
