@@ -16,10 +16,11 @@ REPO_ROOT = Path(__file__).resolve().parents[1]
 
 def habitat_data_dir() -> Path:
     """Return the folder holding Habitat's ``test_assets`` and physics configs."""
+    # resolved: template handles are resolved paths, so a symlinked ``shared`` still matches
     override = os.environ.get("RIGIDSIM_HABITAT_DATA")
     if override:
-        return Path(override)
-    return REPO_ROOT.parent / "shared" / "assets" / "habitat" / "data"
+        return Path(override).resolve()
+    return (REPO_ROOT.parent / "shared" / "assets" / "habitat" / "data").resolve()
 
 
 @pytest.fixture(scope="session")
