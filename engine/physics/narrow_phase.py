@@ -199,27 +199,34 @@ def _to_world(rotation, position, points):
     return np.einsum("gij,gkj->gki", rotation, points) + position[:, None]
 
 
-def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray]:
-    """World normals ``(g, S, 3)`` (stage -> body) and ``valid (g, S)`` of the manifolds of
-    the stage with ``bodies`` (the stage frame is the world frame)."""
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body), stage points ``(g, S, 3)`` and ``valid
+    (g, S)`` of the manifolds of the stage with ``bodies`` (the stage frame is the world
+    frame)."""
     rows = [store.row((0, body)) for body in bodies]
     known = np.array([row is not None for row in rows])
     index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
     slots = np.arange(store.normal_local.shape[1])
     valid = known[:, None] & (slots < store.count[index][:, None])
-    return store.normal_local[index], valid
+    return store.normal_local[index], store.local_a[index], valid
 
 
-def _outward_side(normal: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
     """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
 
     The cached normal most (anti-)parallel to the triangle's decides when it is within 60
-    degrees of it; otherwise (a new contact) the side holding the middle of the hull's
-    extent along the normal.
+    degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
+    vertex of each triangle); otherwise (a new contact) the side holding the middle of the
+    hull's extent along the normal.
     """
-    cached_normal, valid = cached
+    cached_normal, cached_point, valid = cached
+    # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
+    offset = np.abs(
+        np.einsum("gti,gki->gtk", normal, cached_point) - (normal * corner).sum(axis=2)[..., None]
+    )
+    on_plane = valid[:, None, :] & (offset < settings.OUTWARD_SIDE_PLANE_DISTANCE)
     # n_t . c_k for every triangle t and cached normal k, (g, T, S)
-    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * valid[:, None, :]
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * on_plane
     strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
         ..., 0
     ]
@@ -247,7 +254,7 @@ def _stage_group(jobs, rotation, position, contacts: _Contacts, cached) -> None:
     height = (
         np.einsum("gti,gvi->gtv", normal, verts) - (normal * tris[:, :, 0]).sum(axis=2)[..., None]
     )
-    side = _outward_side(normal, height, cached)  # (g, T)
+    side = _outward_side(normal, tris[:, :, 0], height, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact

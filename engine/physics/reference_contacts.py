@@ -110,21 +110,35 @@ def pair_contacts(
     return contacts
 
 
-def cached_stage_normals(store: ManifoldStore, body: int) -> list[np.ndarray]:
-    """World normals (stage -> body) of the points of the stage's manifold with ``body``
-    (the stage frame is the world frame); empty for a new contact."""
+def cached_stage_normals(store: ManifoldStore, body: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(world normal (stage -> body), stage point)`` of the points of the stage's manifold
+    with ``body`` (the stage frame is the world frame); empty for a new contact."""
     row = store.row((0, body))
-    return [] if row is None else [store.normal_local[row, s] for s in range(store.count[row])]
+    if row is None:
+        return []
+    return [(store.normal_local[row, s], store.local_a[row, s]) for s in range(store.count[row])]
 
 
-def outward_side(normal: np.ndarray, heights: list[float], cached: list[np.ndarray]) -> float:
+def outward_side(
+    normal: np.ndarray,
+    corner: np.ndarray,
+    heights: list[float],
+    cached: list[tuple[np.ndarray, np.ndarray]],
+) -> float:
     """+1 or -1 turning a triangle's normal to the stage's outward side.
 
     The cached normal most (anti-)parallel to it decides when it is within 60 degrees
-    (``|n . c| > 0.5``): the body stays on the side where the contact began. A new contact
-    takes the side holding the middle of the hull's extent along the normal.
+    (``|n . c| > 0.5``) and its point lies on the triangle's plane (within
+    ``OUTWARD_SIDE_PLANE_DISTANCE`` of the plane through ``corner``): the body stays on the
+    side where the contact began. A new contact, or one cached on another surface, takes
+    the side holding the middle of the hull's extent along the normal.
     """
-    alignments = [dot(normal, c) for c in cached]
+    alignments = [
+        dot(normal, c)
+        if abs(dot(normal, p) - dot(normal, corner)) < settings.OUTWARD_SIDE_PLANE_DISTANCE
+        else 0.0
+        for c, p in cached
+    ]
     if alignments:
         strongest = alignments[int(np.argmax(np.abs(alignments)))]
         if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
@@ -133,7 +147,7 @@ def outward_side(normal: np.ndarray, heights: list[float], cached: list[np.ndarr
 
 
 def stage_polyhedron_contacts(
-    stage, hull, pose, found: list, cached: list[np.ndarray]
+    stage, hull, pose, found: list, cached: list[tuple[np.ndarray, np.ndarray]]
 ) -> list[Contact]:
     """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles fcl found.
 
@@ -155,7 +169,7 @@ def stage_polyhedron_contacts(
     for t in triangle_ids:
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
         height = [dot(normal, v) - dot(normal, corner) for v in vertices]
-        side = outward_side(normal, height, cached)
+        side = outward_side(normal, corner, height, cached)
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
         heights.append(height)  # (T, V) signed heights, m

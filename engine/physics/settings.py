@@ -122,6 +122,9 @@ TIE_QUANTUM = 1e-9
 #: 1 (cosine), a cached stage normal within 60 degrees of a touched triangle's normal
 #: decides which side of the triangle is outward (the side the contact began on).
 OUTWARD_SIDE_ALIGNMENT = 0.5
+#: m, ... and only when its contact point lies within this of the triangle's plane: a normal
+#: cached on another surface (a shelf's underside) never turns a parallel floor over.
+OUTWARD_SIDE_PLANE_DISTANCE = 0.02
 #: m, a pair whose bodies moved relative to each other by less than this (at any point of
 #: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
 CONTACT_CACHE_DISTANCE = 0.0005

@@ -103,7 +103,8 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
     if not np.any(hit):
         return np.zeros(3)
     cos = np.abs(normal @ u)
-    depth = (length - s) * cos  # how far each ray's end is behind its surface
+    # how far each ray's end is behind its surface (0 for the rays that hit nothing)
+    depth = (length - np.where(hit, s, length)) * cos
     # the center ray stands for the whole body: add its support along -n (half thickness)
     support = np.max(-(world_vertices - position) @ normal[0])
     depth[0] += max(support, 0.0)
