@@ -48,9 +48,11 @@ import numpy as np
 from engine import mn
 from engine.fixed_fields import unknown_attribute_error
 
+from .bodies import Bodies
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
 from .quaternions import cross, quat_to_matrix
+from .settings import SolverSettings
 from .solve_stage import solver_velocities
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
@@ -260,21 +262,22 @@ class ConstraintStore:
                 if index != WORLD:
                     world.wake(index)
 
-    def solve(self, world, moving: np.ndarray, h: float) -> None:
-        """Constraint stage of a step: build rows, iterate, write the dynamic velocities."""
+    def solve(self, bodies: Bodies, moving: np.ndarray, h: float, settings: SolverSettings) -> None:
+        """Constraint stage of a step: build rows, iterate, write the dynamic velocities.
+
+        Like the other stages, a function of explicit arrays and settings (no ``world``)."""
         if not self._settings:
             return
-        b, n = world.bodies, world.bodies.count
-        velocity, inv_mass, inv_inertia = _body_state(b, n, moving)
-        rows = order_by_color(self.build_rows(b, inv_mass, inv_inertia, h), inv_mass)
+        velocity, inv_mass, inv_inertia = _body_state(bodies, bodies.count, moving)
+        rows = order_by_color(self.build_rows(bodies, inv_mass, inv_inertia, h), inv_mass)
         rows.bias = point_bias(rows, velocity, h)
-        iterations = world.settings.velocity_iterations
-        if world.settings.use_vectorized:
+        iterations = settings.velocity_iterations
+        if settings.use_vectorized:
             solve_constraints_vectorized(rows, velocity, inv_mass, inv_inertia, h, iterations)
         else:
             solve_constraints_scalar(rows, velocity, inv_mass, inv_inertia, h, iterations)
-        b.body_linear_velocity[moving] = velocity[moving, :3]
-        b.body_angular_velocity[moving] = velocity[moving, 3:]
+        bodies.body_linear_velocity[moving] = velocity[moving, :3]
+        bodies.body_angular_velocity[moving] = velocity[moving, 3:]
 
     def build_rows(
         self, b, inv_mass: np.ndarray, inv_inertia: np.ndarray, h: float

@@ -219,7 +219,7 @@ class PhysicsWorld(WorldApiMixin):
             moving = awake_dynamic_bodies(bodies)
         # ---- 3. solve: warm start, sequential impulses by color, restitution, split impulses
         solved = timed("solve", solve_stage, bodies, store, moving, start_velocity, h, settings)
-        timed("constraints", self.constraints.solve, self, moving, h)  # constraints.py
+        timed("constraints", self.constraints.solve, bodies, moving, h, settings)
         # ---- 4. integrate: clamp speeds, x += h v, rotate, sweep fast bodies ---------------
         timed("integrate", integrate_stage, bodies, moving, solved.pseudo_velocity, h)
         # ---- 5. sleep: resting islands fall asleep, disturbed ones wake --------------------
