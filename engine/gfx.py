@@ -68,6 +68,10 @@ class LightInfo:
     white by default), ``model`` (``LightPositionModel.Global`` by default)."""
 
     __slots__ = ("_vector", "_color", "_model")
+    # the checked values, stored by __setattr__ (read through the properties below)
+    _vector: mn.Vector4
+    _color: mn.Color3
+    _model: LightPositionModel
 
     def __init__(
         self,
@@ -109,7 +113,7 @@ class LightInfo:
             and self._model == other._model
         )
 
-    __hash__ = None
+    # No __hash__ (a mutable value): __eq__ alone sets it to None.
 
     def copy(self) -> LightInfo:
         return LightInfo(self.vector, self.color, self.model)
