@@ -127,7 +127,7 @@ def load_meshes(
     path: str | os.PathLike,
     up: Sequence[float] = (0.0, 1.0, 0.0),
     front: Sequence[float] = (0.0, 0.0, -1.0),
-    scale: Sequence[float] = (1.0, 1.0, 1.0),
+    scale: Sequence[float] | np.ndarray = (1.0, 1.0, 1.0),
     units_to_meters: float = 1.0,
 ) -> list[MeshData]:
     """Load every mesh of an asset file, node transforms applied, in rigidsim's frame.
@@ -381,7 +381,7 @@ def _unit_vector(value: Sequence[float], name: str) -> np.ndarray:
     return vector / length
 
 
-def _positive_vector(value: Sequence[float], name: str) -> np.ndarray:
+def _positive_vector(value: Sequence[float] | np.ndarray, name: str) -> np.ndarray:
     """Finite 3-vector with every component > 0; ValueError naming ``name`` otherwise."""
     try:
         vector = np.asarray(value, dtype=np.float64).reshape(-1)

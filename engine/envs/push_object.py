@@ -27,6 +27,8 @@ front of it, the target 0.4-0.8 m beyond the cube within 45 degrees of the same 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import gymnasium as gym
@@ -36,6 +38,7 @@ from gymnasium import spaces
 import engine as habitat_sim
 from engine import mn
 from engine.demo import demo_data_path
+from engine.physics import ManagedRigidObject
 
 MotionType = habitat_sim.physics.MotionType
 
@@ -69,13 +72,12 @@ class PushObjectEnv(gym.Env):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.render_mode = render_mode
-        self._resolution = tuple(int(v) for v in resolution)
+        self._resolution: tuple[int, ...] = tuple(int(v) for v in resolution)
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
         self.observation_space = spaces.Box(
             -OBSERVATION_BOUND, OBSERVATION_BOUND, (10,), np.float32
         )
-        self._sim: habitat_sim.Simulator | None = None
-        self._robot = self._cube = None
+        self._world: _World | None = None  # built by reset()
         self._target = np.zeros(3)
 
     # --------------------------------------------------------------------------------------
@@ -83,27 +85,26 @@ class PushObjectEnv(gym.Env):
     # --------------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        if self._sim is not None:
-            self._sim.close()
-        self._sim, self._robot, self._cube = _build_world(self.render_mode, self._resolution)
+        if self._world is not None:
+            self._world.sim.close()
+        self._world = _build_world(self.render_mode, self._resolution)
         self._place(*self._sample_layout())
         return self._observe(), self._info()
 
     def step(self, action: np.ndarray):
-        if self._sim is None:
-            raise RuntimeError("call reset() before step()")
+        world = self._live_world()
         action = np.asarray(action, dtype=np.float64).reshape(-1)
         if action.shape != (2,) or not np.all(np.isfinite(action)):
             raise ValueError(f"action must be 2 finite numbers in [-1, 1], got {action!r}")
         forward, turn = np.clip(action, -1.0, 1.0)
         before = self._distances()
-        control = self._robot.velocity_control
+        control = world.robot.velocity_control
         control.linear_velocity = [0.0, 0.0, -forward * MAX_LINEAR_SPEED]
         control.angular_velocity = [0.0, turn * MAX_ANGULAR_SPEED, 0.0]
-        self._sim.step_physics(CONTROL_DT)
+        world.sim.step_physics(CONTROL_DT)
         after = self._distances()
         success = after["cube_target"] < TARGET_RADIUS
-        fell = float(self._cube.translation[1]) < -CUBE_HALF_SIZE
+        fell = float(world.cube.translation[1]) < -CUBE_HALF_SIZE
         reward = (
             PROGRESS_WEIGHT * (before["cube_target"] - after["cube_target"])
             + APPROACH_WEIGHT * (before["robot_cube"] - after["robot_cube"])
@@ -113,21 +114,26 @@ class PushObjectEnv(gym.Env):
         return self._observe(), float(reward), bool(success or fell), False, self._info()
 
     def render(self) -> np.ndarray | None:
-        if self.render_mode != "rgb_array" or self._sim is None:
+        if self.render_mode != "rgb_array" or self._world is None:
             return None
-        return np.ascontiguousarray(self._sim.get_sensor_observations()["camera"][..., :3])
+        return np.ascontiguousarray(self._world.sim.get_sensor_observations()["camera"][..., :3])
 
     def close(self) -> None:
-        if self._sim is not None:
-            self._sim.close()
-            self._sim = None
+        if self._world is not None:
+            self._world.sim.close()
+            self._world = None
 
     # --------------------------------------------------------------------------------------
     # Task
     # --------------------------------------------------------------------------------------
     @property
     def sim(self) -> habitat_sim.Simulator | None:
-        return self._sim
+        return self._world.sim if self._world is not None else None
+
+    def _live_world(self) -> _World:
+        if self._world is None:
+            raise RuntimeError("call reset() before step()")
+        return self._world
 
     def _sample_layout(self) -> tuple[float, np.ndarray, np.ndarray]:
         """Robot heading, cube and target positions (floor plane, y of their centers)."""
@@ -143,25 +149,28 @@ class PushObjectEnv(gym.Env):
         return yaw, cube + [0.0, CUBE_HALF_SIZE, 0.0], target
 
     def _place(self, yaw: float, cube: np.ndarray, target: np.ndarray) -> None:
-        self._robot.translation = [0.0, 0.0, 0.0]
-        self._robot.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
-        self._cube.translation = cube
+        world = self._live_world()
+        world.robot.translation = [0.0, 0.0, 0.0]
+        world.robot.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+        world.cube.translation = cube
         self._target = np.asarray(target, dtype=np.float64)
 
     def _distances(self) -> dict[str, float]:
-        robot = np.asarray(self._robot.translation)[[0, 2]]
-        cube = np.asarray(self._cube.translation)[[0, 2]]
+        world = self._live_world()
+        robot = np.asarray(world.robot.translation)[[0, 2]]
+        cube = np.asarray(world.cube.translation)[[0, 2]]
         return {
             "cube_target": float(np.linalg.norm(cube - self._target[[0, 2]])),
             "robot_cube": float(np.linalg.norm(cube - robot)),
         }
 
     def _observe(self) -> np.ndarray:
-        robot = np.asarray(self._robot.translation)
+        world = self._live_world()
+        robot = np.asarray(world.robot.translation)
         # heading: the robot's local -Z in the world, yaw = atan2(-f_x, -f_z)
-        forward = np.asarray(self._robot.rotation.transform_vector([0.0, 0.0, -1.0]))
+        forward = np.asarray(world.robot.rotation.transform_vector([0.0, 0.0, -1.0]))
         yaw = math.atan2(-forward[0], -forward[2])
-        cube = np.asarray(self._cube.translation)
+        cube = np.asarray(world.cube.translation)
         values = [
             robot[0],
             robot[2],
@@ -181,11 +190,20 @@ class PushObjectEnv(gym.Env):
         return {
             **distances,
             "success": distances["cube_target"] < TARGET_RADIUS,
-            "cube_position": np.asarray(self._cube.translation, dtype=np.float64),
+            "cube_position": np.asarray(self._live_world().cube.translation, dtype=np.float64),
         }
 
 
-def _build_world(render_mode: str | None, resolution: tuple[int, int]):
+@dataclass
+class _World:
+    """The simulator of one episode and its two objects."""
+
+    sim: habitat_sim.Simulator
+    robot: ManagedRigidObject  # the kinematic locobot, driven by velocity control
+    cube: ManagedRigidObject  # the dynamic cube to push
+
+
+def _build_world(render_mode: str | None, resolution: Sequence[int]) -> _World:
     """A fresh simulator with the floor slab, the cube and the kinematic locobot."""
     agent_cfg = habitat_sim.agent.AgentConfiguration()
     if render_mode == "rgb_array":
@@ -217,7 +235,7 @@ def _build_world(render_mode: str | None, resolution: tuple[int, int]):
     control = robot.velocity_control
     control.controlling_lin_vel = control.controlling_ang_vel = True
     control.lin_vel_is_local = control.ang_vel_is_local = True
-    return sim, robot, cube
+    return _World(sim, robot, cube)
 
 
 def _add_box(templates, objects, cube_handle: str, handle: str, half_size, mass: float):
