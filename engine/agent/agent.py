@@ -129,7 +129,6 @@ class AgentState(_Pose):
         self.rotation = mn.Quaternion() if rotation is None else rotation
         self.sensor_states = {} if sensor_states is None else dict(sensor_states)
 
-
     def __repr__(self) -> str:
         return f"AgentState(position={self._position.tolist()}, rotation={self.rotation!r})"
 
