@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import gymnasium as gym
@@ -72,12 +71,14 @@ class PushObjectEnv(gym.Env):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         self.render_mode = render_mode
-        self._resolution: tuple[int, ...] = tuple(int(v) for v in resolution)
+        self._resolution = tuple(int(v) for v in resolution)
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
         self.observation_space = spaces.Box(
             -OBSERVATION_BOUND, OBSERVATION_BOUND, (10,), np.float32
         )
-        self._world: _World | None = None  # built by reset()
+        self._sim: habitat_sim.Simulator | None = None
+        self._robot: ManagedRigidObject  # the locobot, set by reset()
+        self._cube: ManagedRigidObject  # the cube to push, set by reset()
         self._target = np.zeros(3)
 
     # --------------------------------------------------------------------------------------
@@ -85,26 +86,27 @@ class PushObjectEnv(gym.Env):
     # --------------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        if self._world is not None:
-            self._world.sim.close()
-        self._world = _build_world(self.render_mode, self._resolution)
+        if self._sim is not None:
+            self._sim.close()
+        self._sim, self._robot, self._cube = _build_world(self.render_mode, self._resolution)
         self._place(*self._sample_layout())
         return self._observe(), self._info()
 
     def step(self, action: np.ndarray):
-        world = self._live_world()
+        if self._sim is None:
+            raise RuntimeError("call reset() before step()")
         action = np.asarray(action, dtype=np.float64).reshape(-1)
         if action.shape != (2,) or not np.all(np.isfinite(action)):
             raise ValueError(f"action must be 2 finite numbers in [-1, 1], got {action!r}")
         forward, turn = np.clip(action, -1.0, 1.0)
         before = self._distances()
-        control = world.robot.velocity_control
+        control = self._robot.velocity_control
         control.linear_velocity = [0.0, 0.0, -forward * MAX_LINEAR_SPEED]
         control.angular_velocity = [0.0, turn * MAX_ANGULAR_SPEED, 0.0]
-        world.sim.step_physics(CONTROL_DT)
+        self._sim.step_physics(CONTROL_DT)
         after = self._distances()
         success = after["cube_target"] < TARGET_RADIUS
-        fell = float(world.cube.translation[1]) < -CUBE_HALF_SIZE
+        fell = float(self._cube.translation[1]) < -CUBE_HALF_SIZE
         reward = (
             PROGRESS_WEIGHT * (before["cube_target"] - after["cube_target"])
             + APPROACH_WEIGHT * (before["robot_cube"] - after["robot_cube"])
@@ -114,26 +116,21 @@ class PushObjectEnv(gym.Env):
         return self._observe(), float(reward), bool(success or fell), False, self._info()
 
     def render(self) -> np.ndarray | None:
-        if self.render_mode != "rgb_array" or self._world is None:
+        if self.render_mode != "rgb_array" or self._sim is None:
             return None
-        return np.ascontiguousarray(self._world.sim.get_sensor_observations()["camera"][..., :3])
+        return np.ascontiguousarray(self._sim.get_sensor_observations()["camera"][..., :3])
 
     def close(self) -> None:
-        if self._world is not None:
-            self._world.sim.close()
-            self._world = None
+        if self._sim is not None:
+            self._sim.close()
+            self._sim = None
 
     # --------------------------------------------------------------------------------------
     # Task
     # --------------------------------------------------------------------------------------
     @property
     def sim(self) -> habitat_sim.Simulator | None:
-        return self._world.sim if self._world is not None else None
-
-    def _live_world(self) -> _World:
-        if self._world is None:
-            raise RuntimeError("call reset() before step()")
-        return self._world
+        return self._sim
 
     def _sample_layout(self) -> tuple[float, np.ndarray, np.ndarray]:
         """Robot heading, cube and target positions (floor plane, y of their centers)."""
@@ -149,28 +146,25 @@ class PushObjectEnv(gym.Env):
         return yaw, cube + [0.0, CUBE_HALF_SIZE, 0.0], target
 
     def _place(self, yaw: float, cube: np.ndarray, target: np.ndarray) -> None:
-        world = self._live_world()
-        world.robot.translation = [0.0, 0.0, 0.0]
-        world.robot.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
-        world.cube.translation = cube
+        self._robot.translation = [0.0, 0.0, 0.0]
+        self._robot.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+        self._cube.translation = cube
         self._target = np.asarray(target, dtype=np.float64)
 
     def _distances(self) -> dict[str, float]:
-        world = self._live_world()
-        robot = np.asarray(world.robot.translation)[[0, 2]]
-        cube = np.asarray(world.cube.translation)[[0, 2]]
+        robot = np.asarray(self._robot.translation)[[0, 2]]
+        cube = np.asarray(self._cube.translation)[[0, 2]]
         return {
             "cube_target": float(np.linalg.norm(cube - self._target[[0, 2]])),
             "robot_cube": float(np.linalg.norm(cube - robot)),
         }
 
     def _observe(self) -> np.ndarray:
-        world = self._live_world()
-        robot = np.asarray(world.robot.translation)
+        robot = np.asarray(self._robot.translation)
         # heading: the robot's local -Z in the world, yaw = atan2(-f_x, -f_z)
-        forward = np.asarray(world.robot.rotation.transform_vector([0.0, 0.0, -1.0]))
+        forward = np.asarray(self._robot.rotation.transform_vector([0.0, 0.0, -1.0]))
         yaw = math.atan2(-forward[0], -forward[2])
-        cube = np.asarray(world.cube.translation)
+        cube = np.asarray(self._cube.translation)
         values = [
             robot[0],
             robot[2],
@@ -190,20 +184,11 @@ class PushObjectEnv(gym.Env):
         return {
             **distances,
             "success": distances["cube_target"] < TARGET_RADIUS,
-            "cube_position": np.asarray(self._live_world().cube.translation, dtype=np.float64),
+            "cube_position": np.asarray(self._cube.translation, dtype=np.float64),
         }
 
 
-@dataclass
-class _World:
-    """The simulator of one episode and its two objects."""
-
-    sim: habitat_sim.Simulator
-    robot: ManagedRigidObject  # the kinematic locobot, driven by velocity control
-    cube: ManagedRigidObject  # the dynamic cube to push
-
-
-def _build_world(render_mode: str | None, resolution: Sequence[int]) -> _World:
+def _build_world(render_mode: str | None, resolution: Sequence[int]):
     """A fresh simulator with the floor slab, the cube and the kinematic locobot."""
     agent_cfg = habitat_sim.agent.AgentConfiguration()
     if render_mode == "rgb_array":
@@ -235,7 +220,7 @@ def _build_world(render_mode: str | None, resolution: Sequence[int]) -> _World:
     control = robot.velocity_control
     control.controlling_lin_vel = control.controlling_ang_vel = True
     control.lin_vel_is_local = control.ang_vel_is_local = True
-    return _World(sim, robot, cube)
+    return sim, robot, cube
 
 
 def _add_box(templates, objects, cube_handle: str, handle: str, half_size, mass: float):
