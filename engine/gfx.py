@@ -2,10 +2,11 @@
 setup keys, turned into the rasterizer's :class:`render.shade.Lights` arrays.
 
 A light setup is a list of :class:`LightInfo` stored in the simulator under a string key
-(``sim.set_light_setup(lights, key)``, ``sim.get_light_setup(key)``). Every drawable names
-the key it is lit by: objects ``DEFAULT_LIGHTING_KEY`` unless added with another
-``light_setup_key``, the stage ``sim_cfg.scene_light_setup`` (``NO_LIGHT_KEY`` by default:
-drawn flat, as Habitat draws it). An empty setup is flat shading.
+(``sim.set_light_setup(lights, key)``, ``sim.get_light_setup(key)``; the store is
+:class:`LightSetups`). Every drawable names the key it is lit by: objects
+``DEFAULT_LIGHTING_KEY`` unless added with another ``light_setup_key``, the stage
+``sim_cfg.scene_light_setup`` (``NO_LIGHT_KEY`` by default: drawn flat, as Habitat draws
+it). An empty setup is flat shading.
 
 ``LightInfo.vector`` is homogeneous: ``w = 0`` a directional light shining from direction
 ``(x, y, z)``, ``w = 1`` a point light at ``(x, y, z)``. ``model`` says which frame the
