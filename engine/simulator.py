@@ -10,9 +10,10 @@
    ``sim_cfg.navmesh_settings`` is set;
 4. creates the agents and their camera sensors.
 
-It stays thin: physics lives in :class:`engine.physics.world.PhysicsWorld`, rendering in
-:class:`engine.scene_render.SceneRenderer` (over :mod:`render`), navigation in
-:class:`navmesh.PathFinder`.
+It stays thin: the configuration classes live in :mod:`engine.simulator_config`, steps 1 to
+3 in :mod:`engine.scene_loading`, physics in :class:`engine.physics.world.PhysicsWorld`,
+rendering in :class:`engine.scene_render.SceneRenderer` (over :mod:`render`), light setups
+in :class:`engine.gfx.LightSetups`, navigation in :class:`navmesh.PathFinder`.
 
 The agent loop is Habitat's: ``sim.step(action)`` (or ``{agent_id: action}``) acts, steps
 the physics by ``dt`` and returns the observations with ``collided``; ``sim.reset()`` puts
