@@ -32,6 +32,8 @@ from .integrate import world_inverse_inertia
 from .motion_type import MotionType
 from .node_sync import canonical_sign
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
+from .queries import contact_test
+from .sleeping import wake_body, wake_island
 from .velocity_control import RigidState
 
 
@@ -103,6 +105,13 @@ class ManagedRigidObject:
         if not self._alive:
             raise DeadObjectError(f"rigid object {self._handle!r} was removed (is_alive False)")
         return self._index
+
+    def _wake(self, index: int) -> None:
+        wake_body(self._world.bodies, index)
+
+    def _wake_island(self, index: int) -> None:
+        """Wake the bodies resting on (touching) body ``index`` before it changes."""
+        wake_island(self._world.bodies, self._world.manifolds, index)
 
     def __repr__(self) -> str:
         state = "alive" if self._alive else "removed"
@@ -189,9 +198,9 @@ class ManagedRigidObject:
 
         value = CollisionGroupHelper._check(group)  # ValueError for non-groups
         index = self._check()
-        self._world.wake_neighbors(index)
+        self._wake_island(index)
         assign_group(self._world.bodies, index, value)
-        self._world.wake(index)
+        self._wake(index)
 
     @property
     def collision_group(self):
@@ -224,8 +233,8 @@ class ManagedRigidObject:
         assign_group(b, index)  # a new motion type resets the collision group (Habitat)
         if value != DYNAMIC:
             b.body_awake[index] = True
-        self._world.wake(index)
-        self._world.wake_neighbors(index)
+        self._wake(index)
+        self._wake_island(index)
 
     # -- pose ----------------------------------------------------------------------------------
     def _set_pose(self, position: np.ndarray, rotation: np.ndarray, name: str = "pose") -> None:
@@ -369,7 +378,7 @@ class ManagedRigidObject:
         if b.body_motion_type[index] == STATIC:
             return
         getattr(b, name)[index] = velocity
-        self._world.wake(index)
+        self._wake(index)
 
     @property
     def linear_velocity(self) -> mn.Vector3:
@@ -411,7 +420,7 @@ class ManagedRigidObject:
         self._check_force_step(index, total_force, total_torque, "force")
         b.body_force[index] = total_force
         b.body_torque[index] = total_torque
-        self._world.wake(index)
+        self._wake(index)
 
     @_quiet_overflow
     def apply_torque(self, torque: Any) -> None:
@@ -423,7 +432,7 @@ class ManagedRigidObject:
             total = _finite_result(b.body_torque[index] + tau, "torque", "total torque")
             self._check_force_step(index, b.body_force[index], total, "torque")
             b.body_torque[index] = total
-            self._world.wake(index)
+            self._wake(index)
 
     def _check_force_step(
         self, index: int, force: np.ndarray, torque: np.ndarray, name: str
@@ -452,7 +461,7 @@ class ManagedRigidObject:
         angular = self._angular_after(index, np.cross(r, j), "impulse")
         b.body_linear_velocity[index] = linear
         b.body_angular_velocity[index] = angular
-        self._world.wake(index)
+        self._wake(index)
 
     @_quiet_overflow
     def apply_impulse_torque(self, impulse: Any) -> None:
@@ -462,7 +471,7 @@ class ManagedRigidObject:
         if index is not None:
             new = self._angular_after(index, angular, "impulse")
             self._world.bodies.body_angular_velocity[index] = new
-            self._world.wake(index)
+            self._wake(index)
 
     def _angular_after(self, index: int, angular: np.ndarray, name: str) -> np.ndarray:
         """Candidate angular velocity after an angular impulse: ``w + I_w^-1 L``, finite."""
@@ -475,7 +484,7 @@ class ManagedRigidObject:
 
     def contact_test(self) -> bool:
         """True if the object currently overlaps another collidable object or the stage."""
-        return self._world.contact_test(self._check())
+        return contact_test(self._world.bodies, self._world.collision_objects, self._check())
 
     # -- material and mass ---------------------------------------------------------------------
     def _scalar(self, name: str) -> float:
@@ -484,7 +493,7 @@ class ManagedRigidObject:
     def _set_scalar(self, name: str, value: float) -> None:
         index = self._check()
         getattr(self._world.bodies, name)[index] = value
-        self._world.wake(index)
+        self._wake(index)
 
     @property
     def mass(self) -> float:
@@ -517,7 +526,7 @@ class ManagedRigidObject:
         )
         index = self._check()
         self._world.bodies.body_inertia[index] = inertia
-        self._world.wake(index)
+        self._wake(index)
 
     inertia_diagonal = intertia_diagonal
 
@@ -592,7 +601,7 @@ class ManagedRigidObject:
         index = self._check()
         b = self._world.bodies
         if value:
-            self._world.wake(index)
+            self._wake(index)
         elif b.body_motion_type[index] == DYNAMIC:
             b.body_awake[index] = False
             b.body_sleep_time[index] = constants.TIME_TO_SLEEP  # rested long enough: stays asleep
@@ -608,11 +617,11 @@ class ManagedRigidObject:
         if not isinstance(value, bool | np.bool_):
             raise TypeError(f"collidable must be a bool, got {value!r}")
         index = self._check()
-        self._world.wake_neighbors(index)
+        self._wake_island(index)
         self._world.bodies.body_collidable[index] = bool(value)
         for key in [k for k in self._world.manifolds if index in k]:
             del self._world.manifolds[key]
-        self._world.wake(index)
+        self._wake(index)
 
     @property
     def semantic_id(self) -> int:
