@@ -25,7 +25,6 @@ from engine.attributes import check_inertia
 from engine.fixed_fields import public_names, unknown_attribute_error
 from engine.mn.vectors import stable_norm
 
-from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .collision_groups import assign_group
 from .integrate import world_inverse_inertia
@@ -33,6 +32,12 @@ from .motion_type import MotionType
 from .node_sync import canonical_sign
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .queries import contact_test
+from .settings import (
+    MIN_AXIS_SCALE,
+    MIN_QUATERNION_NORM,
+    ORTHOGONALITY_TOLERANCE,
+    TIME_TO_SLEEP,
+)
 from .sleeping import wake_body, wake_island
 from .velocity_control import RigidState
 
@@ -243,7 +248,7 @@ class ManagedRigidObject:
         index = self._check()
         _finite_result(position, name, "position")
         norm = float(stable_norm(rotation))
-        if not (np.isfinite(norm) and norm > 1e-12):
+        if not (np.isfinite(norm) and norm > MIN_QUATERNION_NORM):
             raise ValueError(f"{name} would make a degenerate rotation {rotation.tolist()}")
         _finite_result(rotation / norm, name, "rotation")
         if self._world.bodies.body_motion_type[index] == STATIC:
@@ -292,12 +297,14 @@ class ManagedRigidObject:
         if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
             raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
         scale = stable_norm(matrix[:3, :3], axis=0)
-        if np.any(scale < 1e-9) or not np.all(np.isfinite(scale)):
+        if np.any(scale < MIN_AXIS_SCALE) or not np.all(np.isfinite(scale)):
             raise ValueError(f"transformation has a degenerate rotation part: {value!r}")
         rotation_matrix = matrix[:3, :3] / scale
         if np.linalg.det(rotation_matrix) < 0.0:
             raise ValueError(f"transformation is a reflection (negative determinant): {value!r}")
-        if not np.allclose(rotation_matrix.T @ rotation_matrix, np.eye(3), atol=1e-4):
+        if not np.allclose(
+            rotation_matrix.T @ rotation_matrix, np.eye(3), atol=ORTHOGONALITY_TOLERANCE
+        ):
             raise ValueError(f"transformation has a shear (its axes are not orthogonal): {value!r}")
         rotation = matrix_to_quat(rotation_matrix)
         current = self._world.bodies.body_rotation[self._check()]
@@ -604,7 +611,7 @@ class ManagedRigidObject:
             self._wake(index)
         elif b.body_motion_type[index] == DYNAMIC:
             b.body_awake[index] = False
-            b.body_sleep_time[index] = constants.TIME_TO_SLEEP  # rested long enough: stays asleep
+            b.body_sleep_time[index] = TIME_TO_SLEEP  # rested long enough: stays asleep
             b.body_linear_velocity[index] = 0.0
             b.body_angular_velocity[index] = 0.0
 

@@ -29,7 +29,7 @@ from .collide import world_aabbs
 from .collision_groups import CollisionGroups, filter_pairs, interacts_with_group
 from .contacts import ManifoldStore
 from .quaternions import quat_to_matrix
-from .settings import RAY_SPHERE_MARGIN, TINY
+from .settings import RAY_PARALLEL_DETERMINANT, RAY_SPHERE_MARGIN, TINY
 from .solver import tangent_basis
 
 if TYPE_CHECKING:
@@ -95,7 +95,7 @@ def ray_triangles(origin: np.ndarray, direction: np.ndarray, triangles: np.ndarr
     e1, e2 = triangles[:, 1] - a, triangles[:, 2] - a
     p = np.cross(direction, e2)
     det = np.sum(e1 * p, axis=1)
-    ok = np.abs(det) > 1e-14
+    ok = np.abs(det) > RAY_PARALLEL_DETERMINANT
     inv_det = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
     s = origin - a
     u = np.sum(s * p, axis=1) * inv_det

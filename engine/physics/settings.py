@@ -1,6 +1,12 @@
 """Solver switches and physical constants of the rigid-body world, with units.
 
-Every tunable number of the physics engine lives here, never as a scattered literal.
+Every tunable number of the physics engine lives here, never as a scattered literal, each
+with its unit and one line saying what it does.
+
+Names: a :class:`SolverSettings` instance is always called ``settings`` (``world.settings``,
+the ``settings`` argument of every stage). Modules that take one import the constants they
+use by name (``from .settings import TINY``); the others may refer to them through the
+module, ``settings.TINY``. Nothing else (no ``constants``, no ``options``).
 The boolean switches mirror box2d-lite's demo toggles (accumulated impulses, warm
 starting, position correction) so a student can turn each idea off and watch what breaks.
 

@@ -21,14 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, Bodies
 from .coloring import color_manifolds
 from .contacts import ManifoldStore
 from .integrate import world_inverse_inertia
 from .quaternions import live_rotations
 from .rolling_friction import ContactLoads, apply_rolling_friction, combined_coefficients
-from .settings import SolverSettings
+from .settings import IMPACT_SPEED, PENETRATION_SLOP, SLEEP_MAX_PENETRATION, TINY, SolverSettings
 from .solver import SLOTS, build_batch, solve_contacts
 
 
@@ -99,7 +98,7 @@ def solve_stage(
     )
     bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
     bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
-    deep = depth.max(axis=1) > constants.SLEEP_MAX_PENETRATION
+    deep = depth.max(axis=1) > SLEEP_MAX_PENETRATION
     overlapping = store.bodies[problem.rows[deep]].ravel()
     return SolveResult(pseudo, overlapping)
 
@@ -126,7 +125,7 @@ def gather_solver_input(
         for color, (_, stop) in zip(colors, color_slices, strict=True)
     ]
     rows = rows[np.concatenate(colors)]
-    inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], constants.TINY), 0.0)
+    inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
     velocity = solver_velocities(b, n)
@@ -136,7 +135,7 @@ def gather_solver_input(
     dynamic = b.body_motion_type[:n] == DYNAMIC
     approach_velocity[dynamic] = start_velocity[dynamic]
     lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
-    slop = np.minimum(constants.PENETRATION_SLOP, store.feature[rows])
+    slop = np.minimum(PENETRATION_SLOP, store.feature[rows])
     return SolverInput(
         rows,
         color_slices,
@@ -196,7 +195,7 @@ def _solve_batched(
     )
     # warm start next step from resting loads only: an impact's impulse (a point that
     # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
-    impact = batch.approach_speed < -constants.IMPACT_SPEED
+    impact = batch.approach_speed < -IMPACT_SPEED
     store.impulse[rows] = np.where(impact[..., None], 0.0, batch.impulse)  # 0 in empty slots
     return pseudo, batch.depth, loads
 
