@@ -177,11 +177,16 @@ def build_rows(
 
 
 def solve_reference(
-    bodies: Bodies, store: ManifoldStore, problem, h: float, settings: SolverSettings
-) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+    bodies: Bodies,
+    store: ManifoldStore,
+    problem,
+    h: float,
+    settings: SolverSettings,
+    with_loads: bool = True,
+) -> tuple[np.ndarray, np.ndarray, ContactLoads | None]:
     """Reference for ``solve_stage._solve_batched``: updates ``problem.velocity`` and the
     store's impulses; returns pseudo velocities ``(n, 6)``, depths ``(m, S)`` and the
-    manifolds' normal loads (rolling friction's input)."""
+    manifolds' normal loads (rolling friction's input; None unless ``with_loads``)."""
     state = Bodies6(problem.velocity, problem.inv_mass, problem.inv_inertia)
     approach = Bodies6(problem.approach_velocity, problem.inv_mass, problem.inv_inertia)
     manifolds = build_rows(bodies, store, problem.rows, state, approach, settings)
@@ -214,7 +219,8 @@ def solve_reference(
             store.impulse[row, slot] = 0.0 if impact else p.impulse
             depth[k, slot] = p.depth
     pseudo = solve_positions_reference(manifolds, problem, h, settings)
-    return pseudo, depth, contact_loads(manifolds, problem.color_slices)
+    loads = contact_loads(manifolds, problem.color_slices) if with_loads else None
+    return pseudo, depth, loads
 
 
 def contact_loads(manifolds: list[ManifoldRows], color_slices) -> ContactLoads:

@@ -37,10 +37,26 @@ import numpy as np
 from .quaternions import cross
 from .settings import TANGENT_AXIS_SWITCH, TINY
 
-__all__ = ["ContactLoads", "apply_rolling_friction", "combined_coefficients"]
+__all__ = [
+    "ContactLoads",
+    "apply_rolling_friction",
+    "combined_coefficients",
+    "needs_rolling_friction",
+]
 
 #: Bullet's clamp of combined friction coefficients.
 MAX_COMBINED = 10.0
+
+
+def needs_rolling_friction(bodies, pair_bodies: np.ndarray) -> bool:
+    """True when a body of the solved pairs ``pair_bodies (m, 2)`` has a non-zero rolling or
+    spinning coefficient. Otherwise every pair coefficient is 0 and the solve stage skips
+    rolling friction altogether (it builds no :class:`ContactLoads`): the common case costs
+    nothing, and the result is the same (the resistance of a zero coefficient is 0)."""
+    ids = pair_bodies.ravel()
+    rolling = bodies.body_rolling_friction[ids] > 0.0
+    spinning = bodies.body_spinning_friction[ids] > 0.0
+    return bool(rolling.any() or spinning.any())
 
 
 def combined_coefficients(

@@ -26,7 +26,12 @@ from .coloring import color_manifolds
 from .contacts import ManifoldStore
 from .integrate import world_inverse_inertia
 from .quaternions import live_rotations
-from .rolling_friction import ContactLoads, apply_rolling_friction, combined_coefficients
+from .rolling_friction import (
+    ContactLoads,
+    apply_rolling_friction,
+    combined_coefficients,
+    needs_rolling_friction,
+)
 from .settings import IMPACT_SPEED, PENETRATION_SLOP, SLEEP_MAX_PENETRATION, TINY, SolverSettings
 from .solver import SLOTS, build_batch, solve_contacts
 
@@ -82,20 +87,23 @@ def solve_stage(
     problem = gather_solver_input(bodies, store, moving, start_velocity)
     if problem is None:
         return SolveResult(None, np.zeros(0, dtype=np.int64))
+    # rolling and spinning resistance (rolling_friction.py) only if some body of the
+    # solved pairs has it: then the solve also returns the manifolds' normal loads
+    rolling = needs_rolling_friction(bodies, store.bodies[problem.rows])
     if settings.use_vectorized:
-        pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings)
+        pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings, rolling)
     else:
         from .reference_solver import solve_reference
 
-        pseudo, depth, loads = solve_reference(bodies, store, problem, h, settings)
-    # rolling and spinning resistance (rolling_friction.py), a no-op when all are zero
-    apply_rolling_friction(
-        loads,
-        problem.velocity,
-        problem.inv_inertia,
-        *combined_coefficients(bodies, loads.body_a, loads.body_b),
-        settings.use_vectorized,
-    )
+        pseudo, depth, loads = solve_reference(bodies, store, problem, h, settings, rolling)
+    if loads is not None:
+        apply_rolling_friction(
+            loads,
+            problem.velocity,
+            problem.inv_inertia,
+            *combined_coefficients(bodies, loads.body_a, loads.body_b),
+            settings.use_vectorized,
+        )
     bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
     bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
     deep = depth.max(axis=1) > SLEEP_MAX_PENETRATION
@@ -150,11 +158,16 @@ def gather_solver_input(
 
 
 def _solve_batched(
-    bodies: Bodies, store: ManifoldStore, problem: SolverInput, h: float, settings: SolverSettings
-) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+    bodies: Bodies,
+    store: ManifoldStore,
+    problem: SolverInput,
+    h: float,
+    settings: SolverSettings,
+    with_loads: bool = True,
+) -> tuple[np.ndarray, np.ndarray, ContactLoads | None]:
     """Batched path: padded arrays, one NumPy batch per color. Returns the pseudo
     velocities ``(n, 6)``, the contact depths ``(m, S)`` (0 in empty slots) and the
-    manifolds' normal loads (rolling friction's input)."""
+    manifolds' normal loads (rolling friction's input; None unless ``with_loads``)."""
     b, n, rows = bodies, bodies.count, problem.rows
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
@@ -185,14 +198,15 @@ def _solve_batched(
         slop=problem.slop,
     )
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
-    # every slot of a manifold shares its normal; lambda_n is the total normal impulse
-    loads = ContactLoads(
-        batch.body_a,
-        batch.body_b,
-        batch.color_slices,
-        batch.normal_jac[:, 0, 6:9],
-        batch.impulse[:, :, 0].sum(axis=1),
-    )
+    loads = None
+    if with_loads:  # every slot of a manifold shares its normal; lambda_n is the sum
+        loads = ContactLoads(
+            batch.body_a,
+            batch.body_b,
+            batch.color_slices,
+            batch.normal_jac[:, 0, 6:9],
+            batch.impulse[:, :, 0].sum(axis=1),
+        )
     # warm start next step from resting loads only: an impact's impulse (a point that
     # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
     impact = batch.approach_speed < -IMPACT_SPEED
