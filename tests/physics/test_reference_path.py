@@ -6,9 +6,15 @@ contacts and the tutorial's scenes, both must find the same contact sets every f
 the same trajectories to rounding: the reference sums in another order (and builds its
 Jacobians with other formulas), so states differ by round-off amplified over the steps;
 poses agreeing to 1e-9 (m, and quaternion components) over 2 s of contact-rich motion is
-far below any physical scale.
-Limit: fcl's convex-convex query (GJK/EPA) is discontinuous in the pose; a tumbling hull
-can turn a round-off difference into another contact normal (see the mixed pile).
+far below any physical scale. Every scene runs 2 s (120 frames of 1/60 s). Measured worst
+differences over those 2 s (poses; velocities): stack 3e-16; 6e-15, box pile 1e-11;
+2.4e-9, mixed pile 7.1e-10; 5.4e-8, stage contacts 2.6e-14; 4.4e-13, tutorial scene
+1e-16; 3.6e-15.
+Velocities are held to 1e-9 / h (1.25e-7 m/s, rad/s): a velocity is a change of position
+per step, so it carries the poses' round-off divided by ``h`` (the piles' velocities do
+differ by more than 1e-9 while their poses agree to 1e-9).
+Risk, not seen in these scenes: fcl's convex-convex query (GJK/EPA) is discontinuous in the
+pose, so a tumbling hull could turn a round-off difference into another contact normal.
 """
 
 from __future__ import annotations
@@ -125,12 +131,10 @@ def test_box_pile_gives_the_same_contacts_and_trajectory():
 
 
 def test_mixed_pile_gives_the_same_contacts_and_trajectory_with_gauss_seidel_slots():
-    # cylinders lying on their side have exactly tied vertices: TIE_QUANTUM must decide.
-    # 1 s only: fcl's EPA (convex hull vs box) is discontinuous in the pose, so from about
-    # 0.7 s on a 1e-13 m difference between the paths can make fcl return another normal
-    # for a tumbling cylinder, and the trajectories part (both remain valid)
+    # cylinders lying on their side have exactly tied vertices: TIE_QUANTUM must decide;
+    # convex hull vs box goes through fcl's GJK/EPA (worst pose difference 7.1e-10 m)
     assert_paths_agree(
-        lambda: pile_scene(6, ("cubeSolid", CYLINDER), seed=3), 1.0, block_jacobi=False
+        lambda: pile_scene(6, ("cubeSolid", CYLINDER), seed=3), 2.0, block_jacobi=False
     )
 
 
@@ -180,4 +184,4 @@ def tutorial_scene(demo_data):
 
 
 def test_tutorial_scene_gives_the_same_contacts_and_trajectory(demo_data):
-    assert_paths_agree(tutorial_scene(demo_data), 1.5)
+    assert_paths_agree(tutorial_scene(demo_data), 2.0)
