@@ -89,8 +89,9 @@ class WorkerPool:
     """Local worker processes that can outlive one batch.
 
     ``run_batch(..., backend="process")`` starts a pool for the batch and stops it at the
-    end; starting the workers is the fixed cost of a batch (about 1 s). To pay it once for
-    several batches (a notebook, a benchmark), keep a pool and pass it::
+    end; starting the workers is the fixed cost of a batch (about 1 s for the first pool of
+    a session, which starts the fork server, about 0.1 s after). To pay it once for several
+    batches (a notebook, a benchmark), keep a pool and pass it::
 
         with WorkerPool(2) as pool:
             pool.start()                                  # optional: start the workers now
