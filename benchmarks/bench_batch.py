@@ -54,7 +54,9 @@ TARGET_EPISODE_SECONDS = 1.0
 
 
 def physics_episode(params: dict, seed: int) -> dict:
-    """Five boxes dropped on a floor with seeded jitter; returns their final heights."""
+    """Five boxes dropped on a floor with seeded jitter; returns their final heights and
+    the CPU seconds the episode took (``time.process_time``: this process, all threads)."""
+    cpu = time.process_time()
     rng = np.random.default_rng(seed)
     sim = habitat_sim.Simulator(habitat_sim.Configuration())
     templates, objects = sim.get_object_template_manager(), sim.get_rigid_object_manager()
@@ -76,7 +78,7 @@ def physics_episode(params: dict, seed: int) -> dict:
         sim.step_physics(1.0 / 60.0)
     heights = [float(box.translation[1]) for box in boxes]
     sim.close()
-    return {"heights": heights}
+    return {"heights": heights, "cpu": time.process_time() - cpu}
 
 
 def empty_episode(params: dict, seed: int) -> dict:
@@ -90,6 +92,11 @@ def time_loop(episode_fn, params: list[dict]) -> float:
     for index, entry in enumerate(params):
         episode_fn(entry, index)
     return time.perf_counter() - start
+
+
+def episode_cpu(results) -> float:
+    """CPU seconds the episodes report (0 for episodes that do not measure it)."""
+    return sum(r.value.get("cpu", 0.0) for r in results)
 
 
 def time_batch(episode_fn, params: list[dict], backend: str, workers: int, warm: bool) -> dict:
@@ -115,7 +122,7 @@ def time_batch(episode_fn, params: list[dict], backend: str, workers: int, warm:
     failed = [r for r in results if not r.ok]
     if failed:
         raise RuntimeError(f"{backend} x {workers}: {failed[0].error}\n{failed[0].traceback}")
-    return {"wall": wall, "startup": startup}
+    return {"wall": wall, "startup": startup, "cpu": episode_cpu(results)}
 
 
 def runs(use_ray: bool) -> list[tuple[str, int, bool]]:
@@ -131,24 +138,27 @@ def runs(use_ray: bool) -> list[tuple[str, int, bool]]:
 def bench(kind: str, episode_fn, params: list[dict], use_ray: bool) -> dict:
     """Time the plain loop and every run; print the table; return the figures."""
     n = len(params)
+    cpu = time.process_time()
     loop_before = time_loop(episode_fn, params)
+    loop_cpu = time.process_time() - cpu
     timed = {run: time_batch(episode_fn, params, *run) for run in runs(use_ray)}
     loop_after = time_loop(episode_fn, params)
     loop = (loop_before + loop_after) / 2
     print(
         f"\n{kind} episodes: {n} per run; plain loop {loop:.2f} s wall (before {loop_before:.2f},"
         f" after {loop_after:.2f}): {n / loop:.2f} episodes/s, {1000 * loop / n:.1f} ms each"
+        f" ({1000 * loop_cpu / n:.1f} CPU ms each)"
     )
     print(
         f"{'backend':<8} {'workers':>7} {'pool':>5} {'wall s':>8} {'ep/s':>9} {'ms/ep':>8} "
-        f"{'vs loop':>8}"
+        f"{'vs loop':>8} {'CPU ms/ep':>10} {'cores used':>10}"
     )
     for (backend, workers, warm), figures in timed.items():
         wall = figures["wall"]
         pool = "kept" if warm else "new"
         print(
             f"{backend:<8} {workers:>7} {pool:>5} {wall:8.2f} {n / wall:9.2f} "
-            f"{1000 * wall / n:8.2f} {loop / wall:7.2f}x"
+            f"{1000 * wall / n:8.2f} {loop / wall:7.2f}x {_cpu_columns(figures, n)}"
         )
     for (backend, workers, _warm), figures in timed.items():
         if figures["startup"] is not None:
@@ -159,6 +169,15 @@ def bench(kind: str, episode_fn, params: list[dict], use_ray: bool) -> dict:
             overhead = 1000 * (figures["wall"] - loop) / n
             print(f"per-episode overhead, {backend} x 1 (workers running): {overhead:+.2f} ms")
     return {"loop": loop, "episode": loop / n, "timed": timed}
+
+
+def _cpu_columns(figures: dict, n: int) -> str:
+    """CPU ms per episode (measured inside the episodes) and the cores the batch got on
+    average (episode CPU seconds / wall seconds): on a shared machine the speed-up of a
+    run cannot exceed the cores it got."""
+    if figures["cpu"] <= 0.0:
+        return f"{'-':>10} {'-':>10}"
+    return f"{1000 * figures['cpu'] / n:10.1f} {figures['cpu'] / figures['wall']:10.2f}"
 
 
 def report_target(figures: dict, params: list[dict], rounds: int) -> None:
