@@ -14,15 +14,24 @@ own simulator, and returns one :class:`EpisodeResult` per episode in input order
                         backend="process", workers=2, output_dir="runs/drops")
 
 Backends (:mod:`engine.batch.backends`): ``"serial"`` (this process), ``"process"`` (all
-local cores, ``concurrent.futures`` with spawned workers) and ``"ray"`` (a local or remote
+local cores, ``concurrent.futures`` worker processes; keep a :class:`WorkerPool` to reuse
+them across batches) and ``"ray"`` (a local or remote
 Ray cluster, optional extra ``rigidsim[ray]``). Seeds depend only on the batch seed and the
 episode index (:mod:`engine.batch.episodes`), so every backend and worker count gives the
 same results. With ``output_dir`` the results are written as they finish
 (:mod:`engine.batch.store`) and ``resume=True`` continues an interrupted batch.
 """
 
+from engine.batch.backends import WorkerPool
 from engine.batch.episodes import EpisodeResult, episode_seed, worker_cache
 from engine.batch.runner import run_batch
 from engine.batch.store import read_results
 
-__all__ = ["EpisodeResult", "episode_seed", "read_results", "run_batch", "worker_cache"]
+__all__ = [
+    "EpisodeResult",
+    "WorkerPool",
+    "episode_seed",
+    "read_results",
+    "run_batch",
+    "worker_cache",
+]

@@ -4,13 +4,15 @@ Every backend takes the pickled episode function and a list of :class:`EpisodeTa
 yields one :class:`EpisodeResult` per task, in the order they finish.
 
 - ``serial``: a plain loop in this process (for debugging: breakpoints and prints work).
-- ``process``: ``concurrent.futures.ProcessPoolExecutor`` with the ``spawn`` start method
-  (a fresh interpreter per worker: no state copied from the parent by ``fork``). At most
-  ``workers`` episodes are in flight. When a worker process dies (killed, out of memory,
-  a crash in native code), the pool breaks (``BrokenProcessPool``) and every episode in
-  flight fails with it, although only one of them killed it. The pool is then rebuilt and
-  those suspects run again one at a time: a suspect that breaks the pool on its own is
-  reported ``"lost"``, the others finish normally.
+- ``process``: ``concurrent.futures.ProcessPoolExecutor`` (:class:`WorkerPool`). Workers
+  start from a fresh interpreter, never as a copy of the caller: ``forkserver`` (a clean
+  server process that imported rigidsim once; each worker is a copy of it, ready in
+  milliseconds) where the platform has it, else ``spawn``. At most ``workers`` chunks are
+  in flight; short episodes travel several to a chunk. When a worker process dies (killed,
+  out of memory, a crash in native code), the pool breaks (``BrokenProcessPool``) and every
+  episode in flight fails with it, although only one of them killed it. The pool is then
+  rebuilt and those suspects run again one at a time: a suspect that breaks the pool on its
+  own is reported ``"lost"``, the others finish normally.
 - ``ray``: Ray tasks (``@ray.remote(max_retries=...)``); Ray reruns a task whose worker
   died, on any node of the cluster, up to ``max_retries`` times, then reports it lost.
   Ray is imported only here, so it stays an optional extra.
@@ -21,6 +23,7 @@ from __future__ import annotations
 import importlib
 import multiprocessing
 import os
+import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -33,6 +36,7 @@ from engine.batch.episodes import (
     call_episode,
     lost_result,
     run_episode,
+    run_episodes,
 )
 
 BACKENDS = ("serial", "process", "ray")
@@ -50,67 +54,189 @@ def run_serial(
 
 
 # ------------------------------------------------------------------------------------------
-# process: a local pool of spawned worker processes
+# process: a local pool of worker processes
 # ------------------------------------------------------------------------------------------
-def _new_pool(workers: int) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+# What every worker imports before its first episode: the fork server imports these once and
+# each worker starts as a copy of it, instead of every spawned interpreter importing rigidsim
+# (about 0.5 s) and building its first Simulator (about 0.7 s of lazy imports) on its own.
+WORKER_PRELOAD = ("__main__", "engine", "engine.simulator", "engine.batch")
+# Episodes shorter than this go to a worker several at a time (one round trip per chunk).
+CHUNK_SECONDS = 0.05
+
+
+def worker_context() -> multiprocessing.context.BaseContext:
+    """The start method of worker processes: ``forkserver`` with rigidsim preloaded where
+    the platform has it (Linux, macOS), else ``spawn`` (Windows).
+
+    Both start workers from a fresh interpreter, never as a copy of the caller (``fork``
+    would copy its threads, locks and simulators): the fork server is a clean process that
+    imported ``WORKER_PRELOAD`` and nothing else. Its preload list is set only until the
+    server first starts (once per session); later pools fork from the same server.
+    """
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload(list(WORKER_PRELOAD))
+        return context
+    return multiprocessing.get_context("spawn")
+
+
+def _worker_pid(pause: float) -> int:
+    time.sleep(pause)  # long enough that one idle worker cannot take every start-up call
+    return os.getpid()
+
+
+class WorkerPool:
+    """Local worker processes that can outlive one batch.
+
+    ``run_batch(..., backend="process")`` starts a pool for the batch and stops it at the
+    end; starting the workers is the fixed cost of a batch (about 1 s for the first pool of
+    a session, which starts the fork server, about 0.1 s after). To pay it once for several
+    batches (a notebook, a benchmark), keep a pool and pass it::
+
+        with WorkerPool(2) as pool:
+            pool.start()                                  # optional: start the workers now
+            run_batch(drop, sweep_1, backend="process", pool=pool)
+            run_batch(drop, sweep_2, backend="process", pool=pool)
+
+    A worker that dies breaks the pool; the batch running on it restarts it.
+    """
+
+    def __init__(self, workers: int | None = None) -> None:
+        if workers is not None and (
+            isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+        ):
+            raise ValueError(f"workers must be a positive int or None, got {workers!r}")
+        self.workers = workers or os.cpu_count() or 1
+        self._executor: ProcessPoolExecutor | None = None
+
+    @property
+    def executor(self) -> ProcessPoolExecutor:
+        """The running ``ProcessPoolExecutor`` (created on first use)."""
+        if self._executor is None:
+            self._executor = ProcessPoolExecutor(self.workers, mp_context=worker_context())
+        return self._executor
+
+    def start(self, timeout: float = 120.0) -> float:
+        """Start every worker now and wait until each answers; returns the seconds it took."""
+        begin = time.perf_counter()
+        answered: set[int] = set()
+        while len(answered) < self.workers and time.perf_counter() - begin < timeout:
+            calls = [self.executor.submit(_worker_pid, 0.05) for _ in range(self.workers)]
+            answered.update(call.result() for call in calls)
+        return time.perf_counter() - begin
+
+    def restart(self) -> None:
+        """Replace a broken pool by a fresh one (after a worker died)."""
+        self.shutdown()
+        self._executor = ProcessPoolExecutor(self.workers, mp_context=worker_context())
+
+    def shutdown(self) -> None:
+        """Stop the workers (episodes not started yet are cancelled)."""
+        if self._executor is not None:
+            self._executor.shutdown(wait=True, cancel_futures=True)
+            self._executor = None
+
+    def __enter__(self) -> WorkerPool:
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.shutdown()
 
 
 def run_process(
-    payload: bytes, tasks: Sequence[EpisodeTask], workers: int, max_retries: int
+    payload: bytes,
+    tasks: Sequence[EpisodeTask],
+    workers: int,
+    max_retries: int,
+    pool: WorkerPool | None = None,
 ) -> Iterator[EpisodeResult]:
-    """Run the episodes on ``workers`` spawned processes; survive workers that die.
+    """Run the episodes on ``workers`` worker processes; survive workers that die.
 
-    ``max_retries`` is unused: a suspect of a broken pool always gets one solo run.
+    Episodes go out in chunks: one at a time until their wall time is known, then as many
+    as take about ``CHUNK_SECONDS`` (never more than a quarter of a worker's share of
+    what is left, so that the workers finish together). ``max_retries`` is unused: a
+    suspect of a broken pool always gets one solo run. With ``pool`` the batch runs on
+    those (possibly already started) workers and leaves them running.
     """
+    own_pool = pool is None
+    if pool is None:
+        pool = WorkerPool(workers)
+    workers = pool.workers
     pending: deque[EpisodeTask] = deque(tasks)
     suspects: deque[EpisodeTask] = deque()  # in flight when a worker died: rerun alone
-    running: dict[Future, tuple[EpisodeTask, bool]] = {}  # future -> (task, runs alone)
-    pool = _new_pool(workers)
+    running: dict[Future, tuple[list[EpisodeTask], bool]] = {}  # future -> (chunk, alone)
+    timing = _EpisodeTiming()
     try:
         while pending or suspects or running:
-            _submit(pool, running, pending, suspects, workers, payload)
+            _submit(pool.executor, running, pending, suspects, workers, payload, timing)
             done, _ = wait(running, return_when=FIRST_COMPLETED)
             broken = False
             for future in done:
-                task, alone = running.pop(future)
+                chunk, alone = running.pop(future)
                 try:
-                    yield future.result()
+                    finished = future.result()
                 except BrokenProcessPool:
                     broken = True
                     if alone:
-                        yield lost_result(task, "BrokenProcessPool: the worker process died")
+                        yield lost_result(chunk[0], "BrokenProcessPool: the worker process died")
                     else:
-                        suspects.append(task)
+                        suspects.extend(chunk)
+                    continue
+                for task, result in zip(chunk, finished, strict=True):
+                    result.params = task.params  # not shipped back: the parent has them
+                    timing.add(result.wall_time)
+                    yield result
             if broken:
                 # every other episode in flight went down with the pool: all are suspects
-                suspects.extend(task for task, _ in running.values())
+                suspects.extend(task for chunk, _ in running.values() for task in chunk)
                 running.clear()
-                pool.shutdown(wait=True, cancel_futures=True)
-                pool = _new_pool(workers)
+                pool.restart()
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+        if own_pool:
+            pool.shutdown()
+        elif running:  # stopped early (Ctrl-C): do not leave the kept pool busy
+            pool.restart()
+
+
+class _EpisodeTiming:
+    """Running mean of the episodes' wall times (sizes the chunks)."""
+
+    def __init__(self) -> None:
+        self.count, self.total = 0, 0.0
+
+    def add(self, seconds: float) -> None:
+        self.count += 1
+        self.total += seconds
+
+    def chunk_size(self, remaining: int, workers: int) -> int:
+        """Episodes per submission: about ``CHUNK_SECONDS`` of work, 1 while unknown."""
+        if self.count == 0:
+            return 1
+        mean = max(self.total / self.count, 1e-6)
+        return max(1, min(int(CHUNK_SECONDS / mean), remaining // (4 * workers)))
 
 
 def _submit(
-    pool: ProcessPoolExecutor,
+    executor: ProcessPoolExecutor,
     running: dict,
     pending: deque,
     suspects: deque,
     workers: int,
     payload: bytes,
+    timing: _EpisodeTiming,
 ) -> None:
-    """Fill the pool: one suspect alone, else up to ``workers`` pending episodes."""
+    """Fill the pool: one suspect alone, else up to ``workers`` chunks of pending episodes."""
     if any(alone for _, alone in running.values()):
         return  # a suspect is on trial: nothing runs beside it
     if suspects:
         if not running:
-            task = suspects.popleft()
-            running[pool.submit(run_episode, payload, task)] = (task, True)
+            chunk = [suspects.popleft()]
+            running[executor.submit(run_episodes, payload, chunk)] = (chunk, True)
         return
     while pending and len(running) < workers:
-        task = pending.popleft()
-        running[pool.submit(run_episode, payload, task)] = (task, False)
+        size = timing.chunk_size(len(pending), workers)
+        chunk = [pending.popleft() for _ in range(min(size, len(pending)))]
+        running[executor.submit(run_episodes, payload, chunk)] = (chunk, False)
 
 
 # ------------------------------------------------------------------------------------------

@@ -42,6 +42,7 @@ __all__ = [
     "EpisodeTask",
     "episode_seed",
     "run_episode",
+    "run_episodes",
     "serialize_episode_fn",
     "worker_cache",
 ]
@@ -234,6 +235,18 @@ def run_episode(payload: bytes, task: EpisodeTask) -> EpisodeResult:
         _LOADED.clear()
         episode_fn = _LOADED[payload] = pickle.loads(payload)
     return call_episode(episode_fn, task)
+
+
+def run_episodes(payload: bytes, tasks: list[EpisodeTask]) -> list[EpisodeResult]:
+    """Worker entry point of the process backend: run a chunk of episodes in order.
+
+    The records go back without their parameters (the parent has them and puts them back),
+    so large parameters cross between processes once, not twice.
+    """
+    results = [run_episode(payload, task) for task in tasks]
+    for result in results:
+        result.params = None
+    return results
 
 
 # ------------------------------------------------------------------------------------------

@@ -18,7 +18,7 @@ from typing import Any
 
 from tqdm.auto import tqdm
 
-from engine.batch.backends import BACKENDS, run_process, run_ray, run_serial
+from engine.batch.backends import BACKENDS, WorkerPool, run_process, run_ray, run_serial
 from engine.batch.episodes import EpisodeResult, EpisodeTask, episode_seed, serialize_episode_fn
 from engine.batch.store import ResultStore, json_round_trip
 
@@ -37,6 +37,7 @@ def run_batch(
     progress: bool = True,
     max_retries: int = 2,
     ray_address: str | None = None,
+    pool: WorkerPool | None = None,
 ) -> list[EpisodeResult]:
     """Run ``episode_fn(params[i], seed_i)`` for every ``i``; return the records in order.
 
@@ -65,6 +66,10 @@ def run_batch(
         ``ray``: times a task is rerun after its worker died.
     ray_address : str or None
         ``ray``: address of an existing cluster (default: ``$RAY_ADDRESS``, else a local one).
+    pool : WorkerPool or None
+        ``process``: run on these worker processes (already started, kept running after
+        the batch) instead of starting a pool for this batch; ``workers`` must be None or
+        the pool's size.
 
     Returns
     -------
@@ -73,6 +78,7 @@ def run_batch(
         (``error``, ``traceback``) or "lost" (its worker died).
     """
     params = _check_arguments(params, backend, workers, seed, output_dir, resume, max_retries)
+    _check_pool(pool, backend, workers)
     if workers is None and backend == "process":
         workers = os.cpu_count() or 1
     seeds = [episode_seed(seed, index) for index in range(len(params))]
@@ -94,7 +100,7 @@ def run_batch(
     bar = _ProgressBar(len(params), results.values(), progress)
     try:
         for result in _backend_results(
-            backend, episode_fn, tasks, workers, max_retries, ray_address
+            backend, episode_fn, tasks, workers, max_retries, ray_address, pool
         ):
             if store is not None:
                 result = store.write(result)
@@ -107,7 +113,7 @@ def run_batch(
     return [results[index] for index in range(len(params))]
 
 
-def _backend_results(backend, episode_fn, tasks, workers, max_retries, ray_address):
+def _backend_results(backend, episode_fn, tasks, workers, max_retries, ray_address, pool):
     """The backend's results, in the order episodes finish."""
     if not tasks:
         return iter(())
@@ -115,7 +121,7 @@ def _backend_results(backend, episode_fn, tasks, workers, max_retries, ray_addre
         return run_serial(episode_fn, tasks)
     payload = serialize_episode_fn(episode_fn)  # pickled once for all workers
     if backend == "process":
-        return run_process(payload, tasks, workers, max_retries)
+        return run_process(payload, tasks, workers, max_retries, pool)
     return run_ray(payload, tasks, workers, max_retries, ray_address)
 
 
@@ -145,6 +151,17 @@ def _check_arguments(params, backend, workers, seed, output_dir, resume, max_ret
                     f"params[{index}] is not JSON serializable (needed with output_dir): {error}"
                 ) from error
     return list(params)
+
+
+def _check_pool(pool, backend, workers) -> None:
+    if pool is None:
+        return
+    if not isinstance(pool, WorkerPool):
+        raise TypeError(f"pool must be an engine.batch.WorkerPool, got {pool!r}")
+    if backend != "process":
+        raise ValueError(f"pool= runs the process backend, not backend={backend!r}")
+    if workers is not None and workers != pool.workers:
+        raise ValueError(f"workers={workers} but the pool has {pool.workers} workers")
 
 
 def _qualified_name(episode_fn: Callable[..., Any]) -> str:

@@ -1,10 +1,20 @@
 """``rigidsim/PushObject-v0``: the locobot pushes a cube onto a target patch on the floor.
 
 A continuous-control task on rigidsim's physics. The world is a 6 x 6 m floor slab (a
-STATIC box, top face at y = 0), a 20 cm cube of 0.5 kg (DYNAMIC) and the locobot, a
-KINEMATIC body driven by its ``VelocityControl``: every step the command sets its local
-linear velocity along -Z (forward) and its angular velocity about +Y, the world integrates
-its pose, and contacts push the cube (a kinematic body acts as infinite mass on it).
+STATIC box, top face at y = 0), a 20 cm cube of 0.5 kg and the locobot (4 kg), both
+DYNAMIC. The robot is driven by its ``VelocityControl``: the command sets its local linear
+velocity along -Z (forward) and its angular velocity about +Y; contacts push the cube, and
+the cube pushes back (the robot slows while it pushes).
+
+The command is applied at the physics rate. Habitat's dynamic velocity control sets the
+velocity once per ``step_physics`` call, after which gravity and contacts act: a body
+sliding on the floor loses ``mu g`` of speed per second (pair friction ``mu`` = 0.5 x 0.5
+here), so one call of 0.1 s would let the robot coast down from 0.5 to 0.26 m/s and average
+about 0.36 m/s. The environment therefore runs each action as fixed steps of
+``get_physics_time_step()`` (0.008 s) and the command is set again before each one: the
+robot loses only ``mu g h`` = 0.02 m/s to friction per step and drives at about 0.48 m/s
+(``tests/physics/test_velocity_control_friction.py`` checks both cases against Coulomb's
+law).
 
 - action (Box [-1, 1]^2): ``[forward, turn]``, scaled to ``forward * 0.5 m/s`` and
   ``turn * 1.5 rad/s``; held for 0.1 s of simulated time (one control step);
@@ -80,6 +90,7 @@ class PushObjectEnv(gym.Env):
         self._robot: ManagedRigidObject  # the locobot, set by reset()
         self._cube: ManagedRigidObject  # the cube to push, set by reset()
         self._target = np.zeros(3)
+        self._control_time = 0.0  # simulated seconds of the actions taken since reset
 
     # --------------------------------------------------------------------------------------
     # Gymnasium API
@@ -90,6 +101,7 @@ class PushObjectEnv(gym.Env):
             self._sim.close()
         self._sim, self._robot, self._cube = _build_world(self.render_mode, self._resolution)
         self._place(*self._sample_layout())
+        self._control_time = self._sim.get_world_time()
         return self._observe(), self._info()
 
     def step(self, action: np.ndarray):
@@ -103,7 +115,7 @@ class PushObjectEnv(gym.Env):
         control = self._robot.velocity_control
         control.linear_velocity = [0.0, 0.0, -forward * MAX_LINEAR_SPEED]
         control.angular_velocity = [0.0, turn * MAX_ANGULAR_SPEED, 0.0]
-        self._sim.step_physics(CONTROL_DT)
+        self._advance_to(self._control_time + CONTROL_DT)
         after = self._distances()
         success = after["cube_target"] < TARGET_RADIUS
         fell = float(self._cube.translation[1]) < -CUBE_HALF_SIZE
@@ -131,6 +143,19 @@ class PushObjectEnv(gym.Env):
     @property
     def sim(self) -> habitat_sim.Simulator | None:
         return self._sim
+
+    def _advance_to(self, control_time: float) -> None:
+        """Simulate up to ``control_time`` (s since reset) in fixed physics steps, one
+        ``step_physics`` call each, so that the velocity control sets the command before
+        every step (a controller at the physics rate). The world time ends within half a
+        step of ``control_time`` (0.1 s per action is 12 or 13 steps of 0.008 s)."""
+        sim = self._sim
+        if sim is None:
+            raise RuntimeError("PushObject: call reset() before step()")
+        step = sim.get_physics_time_step()
+        while sim.get_world_time() < control_time - 0.5 * step:
+            sim.step_physics(step)
+        self._control_time = control_time
 
     def _sample_layout(self) -> tuple[float, np.ndarray, np.ndarray]:
         """Robot heading, cube and target positions (floor plane, y of their centers)."""
@@ -189,7 +214,7 @@ class PushObjectEnv(gym.Env):
 
 
 def _build_world(render_mode: str | None, resolution: Sequence[int]):
-    """A fresh simulator with the floor slab, the cube and the kinematic locobot."""
+    """A fresh simulator with the floor slab, the cube and the locobot (both dynamic)."""
     agent_cfg = habitat_sim.agent.AgentConfiguration()
     if render_mode == "rgb_array":
         spec = habitat_sim.CameraSensorSpec()
@@ -216,7 +241,7 @@ def _build_world(render_mode: str | None, resolution: Sequence[int]):
     cube = _add_box(templates, objects, cube_handle, "push_cube", [CUBE_HALF_SIZE] * 3, CUBE_MASS)
     locobot_id = templates.load_configs(str(demo_data_path() / "objects/locobot_merged"))[0]
     robot = objects.add_object_by_template_id(locobot_id, sim.agents[0].scene_node)
-    robot.motion_type = MotionType.KINEMATIC
+    robot.motion_type = MotionType.DYNAMIC
     control = robot.velocity_control
     control.controlling_lin_vel = control.controlling_ang_vel = True
     control.lin_vel_is_local = control.ang_vel_is_local = True

@@ -127,6 +127,7 @@ def run_tutorial(
     keep_observations: bool = False,
     jobs: int = 1,
     sections: Sequence[str] | None = None,
+    group_report: list | None = None,
 ) -> list[SectionResult]:
     """Run the tutorial's sections and return their results in the tutorial's order.
 
@@ -150,6 +151,9 @@ def run_tutorial(
     sections : sequence of str or None
         Names of the sections to run (``SECTION_NAMES``); default all. The sections before
         them still run, without video, to build the world they start from.
+    group_report : list or None
+        With ``jobs > 1``: gets one dict per group of sections (estimated, wall and CPU
+        seconds of its worker, render threads).
     """
     selected = select_sections(sections)
     if jobs > 1:
@@ -158,6 +162,7 @@ def run_tutorial(
         return run_in_parallel(
             selected,
             jobs,
+            group_report,
             output_dir=output_dir,
             make_video=make_video,
             fast=fast,
@@ -241,6 +246,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``python -m engine.tutorial``; returns the process exit code."""
     args = parse_args(argv)
     start = time.perf_counter()
+    groups: list[dict] = []
     results = run_tutorial(
         args.output_dir,
         args.make_video,
@@ -249,12 +255,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         progress=not args.quiet,
         jobs=args.jobs,
         sections=args.sections,
+        group_report=groups,
     )
     resolution = FAST_RESOLUTION if args.fast else TUTORIAL_RESOLUTION
     settings = {"resolution": list(resolution), "seed": args.seed, "make_video": args.make_video}
     settings["jobs"] = args.jobs
     settings["wall_time"] = time.perf_counter() - start
+    if groups:
+        settings["groups"] = groups
     summary_path = write_summary(results, settings, args.output_dir)
     print(format_summary(results))
+    for group in groups:  # --jobs N: what each worker did, in the order they started
+        print(
+            f"group {', '.join(group['sections'])}: {group['wall_seconds']:.1f} s wall, "
+            f"{group['cpu_seconds']:.1f} s CPU (estimated {group['estimated_seconds']:.0f} s), "
+            f"{group['render_threads'] or 'default'} render thread(s), worker {group['worker']}"
+        )
     print(f"whole job: {settings['wall_time']:.1f} s wall; summary: {summary_path}")
     return 0

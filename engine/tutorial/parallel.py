@@ -9,14 +9,24 @@ sections before them run without rendering. Rendering never changes the simulati
 checks that ``--no-make-video`` gives the same world bit for bit), so every recorded section
 starts from exactly the world of the one-process run and writes exactly the same video.
 
-The price is the physics of those prerequisite sections, a few seconds per group
-(rendering and encoding are about 90 % of the job). The groups are ordered longest first and
-run with :func:`engine.batch.run_batch` (``backend="process"``): on two cores the two
-longest groups start together and the short ones fill in behind them.
+Scheduling is longest processing time first (Graham's LPT rule): the groups are sorted by
+their estimated seconds (own sections plus the physics-only replay of the sections before
+them, ``SECTION_SECONDS``) and handed out in that order, each to the first worker that is
+free (:func:`engine.batch.run_batch`, ``backend="process"``). On two cores the two longest
+groups start together and the short ones fill in behind whichever finishes first.
+
+Threads: one process already uses more than one core (two render threads for the two
+camera groups, a background encoder, ffmpeg). With several workers on few cores those
+threads only compete, so each worker renders on ``cores // workers`` threads (at least one)
+unless ``RIGIDSIM_RENDER_THREADS`` says otherwise. The encoder is left alone: its settings
+must be the same in every mode for the videos to be identical.
 """
 
 from __future__ import annotations
 
+import os
+import resource
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -25,14 +35,39 @@ from engine.demo import demo_data_path
 from engine.tutorial.cli import SECTION_NAMES, run_sections
 from engine.tutorial.context import SectionResult
 
-# Sections recorded together by one worker, longest group first (wall seconds at 544 x 720
-# before rendering was sped up: 36 + 6 s of prerequisites, 29 + 3, 19 + 2, 17).
+# Sections recorded together by one worker (a group shares one replay of the sections
+# before it; the navmesh pair and the onlooker's sections are cheaper together than apart).
 GROUPS: tuple[tuple[str, ...], ...] = (
     ("embodied_agent_navmesh_sliding", "embodied_agent_navmesh_no_sliding"),
     ("embodied_agent",),
     ("kinematic_interactions", "kinematic_update", "velocity_control", "local_velocity_control"),
     ("basics", "object_user_configurations", "dynamic_control"),
 )
+# Wall seconds of each section at 544 x 720 in one process, (recorded, replayed without
+# rendering = its physics seconds): a --jobs 1 run on this project's 2-core machine (97 s).
+# Only their order matters: they sort the groups, longest first.
+SECTION_SECONDS: dict[str, tuple[float, float]] = {
+    "basics": (1.8, 0.6),
+    "object_user_configurations": (0.0, 0.0),
+    "dynamic_control": (4.1, 2.1),
+    "kinematic_interactions": (1.6, 0.7),
+    "kinematic_update": (0.8, 0.2),
+    "velocity_control": (1.3, 0.2),
+    "local_velocity_control": (1.1, 0.2),
+    "embodied_agent": (34.9, 5.8),
+    "embodied_agent_navmesh_sliding": (24.4, 1.4),
+    "embodied_agent_navmesh_no_sliding": (26.8, 1.9),
+}
+
+
+def estimated_seconds(group: Sequence[int]) -> float:
+    """A group's estimated wall seconds: its own sections recorded, the ones before it
+    replayed without rendering."""
+    total = 0.0
+    for index in range(max(group) + 1):
+        recorded, replayed = SECTION_SECONDS[SECTION_NAMES[index]]
+        total += recorded if index in group else replayed
+    return total
 
 
 def plan_groups(selected: Sequence[int]) -> list[list[int]]:
@@ -43,36 +78,84 @@ def plan_groups(selected: Sequence[int]) -> list[list[int]]:
         chosen = [index for index in indices if index in selected]
         if chosen:
             groups.append(chosen)
-    return groups
+    return sorted(groups, key=estimated_seconds, reverse=True)
 
 
-def run_group(params: dict[str, Any], seed: int) -> list[SectionResult]:
+def render_threads_per_worker(workers: int) -> int:
+    """Render threads of each worker: the cores shared out, at least one."""
+    return max(1, (os.cpu_count() or 1) // workers)
+
+
+def run_group(params: dict[str, Any], seed: int) -> dict[str, Any]:
     """Worker side: a fresh simulator runs the tutorial up to the group's last section and
     records the group's sections (``seed`` of the batch is unused: the tutorial's own
-    ``params["seed"]`` seeds every group alike)."""
+    ``params["seed"]`` seeds every group alike). Returns the sections' results and the
+    group's wall and CPU seconds (this process and its finished children, e.g. ffmpeg)."""
     settings = dict(params)
     sections = settings.pop("sections")
-    return run_sections(sections, **settings)
+    threads = settings.pop("render_threads")
+    if threads is not None:
+        os.environ["RIGIDSIM_RENDER_THREADS"] = str(threads)  # read by the new simulator
+    wall, cpu = time.perf_counter(), _cpu_seconds()
+    results = run_sections(sections, **settings)
+    return {
+        "sections": results,
+        "wall_seconds": time.perf_counter() - wall,
+        "cpu_seconds": _cpu_seconds() - cpu,
+        "render_threads": threads,
+    }
 
 
-def run_in_parallel(selected: Sequence[int], jobs: int, **settings: Any) -> list[SectionResult]:
+def _cpu_seconds() -> float:
+    """User + system CPU seconds of this process and its waited-for children."""
+    own, children = (
+        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def run_in_parallel(
+    selected: Sequence[int],
+    jobs: int,
+    group_report: list | None = None,
+    **settings: Any,
+) -> list[SectionResult]:
     """Run the groups of ``selected`` sections on ``jobs`` processes; results in order.
 
     ``settings``: ``output_dir``, ``make_video``, ``fast``, ``seed``, ``progress``,
-    ``keep_observations`` as for :func:`engine.tutorial.cli.run_sections`.
+    ``keep_observations`` as for :func:`engine.tutorial.cli.run_sections`. With
+    ``group_report`` (a list), one dict per group is appended: its sections, estimated,
+    wall and CPU seconds and render threads.
     """
     demo_data_path()  # generate the demo dataset once, before the workers read it
     progress = settings.pop("progress", True)
     groups = plan_groups(selected)
-    params = [{"sections": group, "progress": False, **settings} for group in groups]
-    results = run_batch(
-        run_group, params, backend="process", workers=min(jobs, len(groups)), progress=progress
+    workers = min(jobs, len(groups))
+    threads = (
+        None if os.environ.get("RIGIDSIM_RENDER_THREADS") else render_threads_per_worker(workers)
     )
+    params = [
+        {"sections": group, "progress": False, "render_threads": threads, **settings}
+        for group in groups
+    ]
+    results = run_batch(run_group, params, backend="process", workers=workers, progress=progress)
     failed = [r for r in results if not r.ok]
     if failed:
         raise RuntimeError(
             f"tutorial group {failed[0].params['sections']} failed: "
             f"{failed[0].error}\n{failed[0].traceback or ''}"
         )
-    sections = [section for result in results for section in result.value]
+    if group_report is not None:
+        for group, result in zip(groups, results, strict=True):
+            group_report.append(
+                {
+                    "sections": [SECTION_NAMES[index] for index in group],
+                    "estimated_seconds": round(estimated_seconds(group), 1),
+                    "wall_seconds": round(result.value["wall_seconds"], 2),
+                    "cpu_seconds": round(result.value["cpu_seconds"], 2),
+                    "render_threads": result.value["render_threads"],
+                    "worker": result.worker,
+                }
+            )
+    sections = [section for result in results for section in result.value["sections"]]
     return sorted(sections, key=lambda section: SECTION_NAMES.index(section.name))

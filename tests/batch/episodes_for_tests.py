@@ -50,6 +50,11 @@ def toss_cube(params: dict, seed: int, episode_dir: str | None = None) -> dict:
     }
 
 
+def seed_echo(params: dict, seed: int) -> dict:
+    """No simulation: the parameters and the seed back (batches of very short episodes)."""
+    return {"i": params["i"], "seed": seed}
+
+
 def ray_node_id(params: dict, seed: int) -> dict:
     """Which Ray node ran the episode (it sleeps so that both nodes get work)."""
     import ray

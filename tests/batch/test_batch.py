@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine.batch import episode_seed, read_results, run_batch
+from engine.batch import WorkerPool, episode_seed, read_results, run_batch
 
-from .episodes_for_tests import toss_cube
+from .episodes_for_tests import seed_echo, toss_cube
 
 PARAMS = [{"speed": 0.5 + 0.25 * i} for i in range(6)]
 GRAVITY_Y = -9.8
@@ -69,6 +69,32 @@ def test_process_backend_matches_serial(serial_results, workers):
     assert values(results) == values(serial_results)  # bit for bit
     pids = {r.value["pid"] for r in results}
     assert len(pids) <= workers
+
+
+def test_a_kept_pool_runs_several_batches_and_survives_a_killed_worker(serial_results):
+    with WorkerPool(2) as pool:
+        assert pool.start() > 0
+        first = run_batch(toss_cube, PARAMS, backend="process", pool=pool, seed=11, progress=False)
+        killed = run_batch(
+            toss_cube, [{}, {"kill": True}, {}], backend="process", pool=pool, progress=False
+        )
+        again = run_batch(toss_cube, PARAMS, backend="process", pool=pool, seed=11, progress=False)
+    assert values(first) == values(serial_results) == values(again)
+    assert [r.status for r in killed] == ["ok", "lost", "ok"]
+    with pytest.raises(ValueError, match="pool"):
+        run_batch(toss_cube, [{}], backend="serial", pool=WorkerPool(1))
+    with pytest.raises(ValueError, match="workers"):
+        run_batch(toss_cube, [{}], workers=3, pool=WorkerPool(2))
+
+
+def test_short_episodes_travel_in_chunks_and_keep_their_order():
+    # 0.1 ms episodes: after the first ones, chunks of many episodes per submission
+    params = [{"i": i} for i in range(300)]
+    results = run_batch(seed_echo, params, backend="process", workers=2, seed=5, progress=False)
+    assert [r.index for r in results] == list(range(300))
+    assert [r.params for r in results] == params
+    assert [r.value for r in results] == [{"i": i, "seed": episode_seed(5, i)} for i in range(300)]
+    assert len({r.worker for r in results}) <= 2
 
 
 def test_a_failing_episode_is_reported_and_the_others_complete():

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -105,6 +106,29 @@ def test_job_runs_every_section_in_order(job: dict) -> None:
     for name in names:
         assert name in job["stdout"]
     assert "total" in job["stdout"]
+
+
+def test_groups_ran_longest_first_each_section_once(job: dict) -> None:
+    from engine.tutorial.cli import SECTION_NAMES
+    from engine.tutorial.parallel import (
+        SECTION_SECONDS,
+        estimated_seconds,
+        plan_groups,
+        render_threads_per_worker,
+    )
+
+    groups = job["settings"]["groups"]  # in the order they were handed to the workers
+    estimates = [group["estimated_seconds"] for group in groups]
+    assert estimates == sorted(estimates, reverse=True) and len(groups) == 4
+    assert sorted(name for g in groups for name in g["sections"]) == sorted(SECTION_NAMES)
+    if not os.environ.get("RIGIDSIM_RENDER_THREADS"):  # 2 workers share the cores
+        assert {group["render_threads"] for group in groups} == {render_threads_per_worker(2)}
+    assert all(g["cpu_seconds"] > 0 and g["wall_seconds"] > 0 for g in groups)
+    # a group's estimate: its sections recorded plus the replay of every section before
+    replay = sum(SECTION_SECONDS[name][1] for name in SECTION_NAMES[:8])
+    assert estimated_seconds([8]) == pytest.approx(replay + SECTION_SECONDS[SECTION_NAMES[8]][0])
+    # selecting sections keeps only the groups that have some, still longest first
+    assert plan_groups([0, 9]) == [[9], [0]]
 
 
 @pytest.mark.parametrize("section", sorted(VIDEOS))
