@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from . import settings
+from .box_box import box_box_contacts, box_shape_frames
 from .collide import (
     _POLYHEDRA,
     _midpoint_contacts,
@@ -108,6 +109,9 @@ def narrow_phase(
         "polyhedra": defaultdict(list),
     }
     contacts, pair_of_seq = _Contacts(), list[int]()
+    # polyhedron pairs wait for fcl with their fcl objects; box pairs go to box_box first
+    pending: list[tuple[Job, Any, Any]] = []
+    boxes: list[tuple[Job, Any, Any]] = []
     for position, (a, c) in enumerate(pairs):
         for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(
@@ -120,16 +124,10 @@ def narrow_phase(
                     if found:
                         job = Job(seq, shape_a, a, shape_c, c, found)
                         jobs["stage"][len(shape_c.hull_vertices)].append(job)
+                elif shape_a.kind == shape_c.kind == "box" and not coincident(b, a, c):
+                    boxes.append((Job(seq, shape_a, a, shape_c, c, []), obj_a, obj_c))
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
-                    found = fcl_raw_contacts(obj_a, obj_c)
-                    if found:
-                        sizes = (
-                            len(shape_a.hull_vertices),
-                            len(shape_a.plane_normals),
-                            len(shape_c.hull_vertices),
-                            len(shape_c.plane_normals),
-                        )
-                        jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
+                    pending.append((Job(seq, shape_a, a, shape_c, c, []), obj_a, obj_c))
                 elif shape_a.kind == shape_c.kind == "sphere" and coincident(b, a, c):
                     contacts.add_one(seq, coincident_spheres(b, a, shape_a, c, shape_c, rotation))
                 else:
@@ -137,6 +135,20 @@ def narrow_phase(
                     contacts.add_one(
                         seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
                     )
+    if boxes:  # analytic; overlaps deeper than BOX_DEEP_OVERLAP go to fcl as polyhedra
+        deep = _box_group([job for job, _, _ in boxes], rotation, b.body_position, contacts)
+        pending += [boxes[k] for k in np.flatnonzero(deep).tolist()]
+    for job, obj_a, obj_c in pending:
+        found = fcl_raw_contacts(obj_a, obj_c)
+        if found:
+            shape_a, shape_c = job.shape_a, job.shape_b
+            sizes = (
+                len(shape_a.hull_vertices),
+                len(shape_a.plane_normals),
+                len(shape_c.hull_vertices),
+                len(shape_c.plane_normals),
+            )
+            jobs["polyhedra"][sizes].append(job._replace(contacts=found))
     for group in jobs["stage"].values():
         _stage_group(
             group,
@@ -148,6 +160,25 @@ def narrow_phase(
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts, b)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
+
+
+def _box_group(jobs, rotation, position, contacts: _Contacts) -> np.ndarray:
+    """Analytic contacts of box pairs (:mod:`box_box`: separating axes + clipping); returns
+    ``deep (g,)`` bool, the pairs overlapping by more than ``BOX_DEEP_OVERLAP`` (left to fcl).
+
+    Reference: :func:`reference_contacts.pair_contacts` ->
+    :func:`reference_box_box.box_box_contacts_reference` (one pair)."""
+    seq = np.array([job.seq for job in jobs], dtype=np.int64)
+    frames = []
+    for shape, body in (("shape_a", "body_a"), ("shape_b", "body_b")):
+        r, x = _pose([getattr(job, body) for job in jobs], rotation, position)
+        offset = np.stack([getattr(job, shape).body_from_shape for job in jobs])
+        center, world = box_shape_frames(r, x, offset)
+        half = np.array([getattr(job, shape).geometry.side for job in jobs]) / 2.0
+        frames += [center, world, half]
+    pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
+    contacts.add(seq[pair], local, point_a, point_b, normal)
+    return deep
 
 
 def coincident(b, a: int, c: int) -> bool:

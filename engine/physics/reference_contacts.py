@@ -30,44 +30,8 @@ from .collide import (
 )
 from .contacts import SLOTS, ManifoldStore, tie_key
 from .narrow_phase import coincident, coincident_spheres, deepest_record, spread_direction
-
-
-def dot(u: np.ndarray, v: np.ndarray) -> float:
-    """``u . v`` of two 3-vectors, summed in index order."""
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-
-
-def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``u x v`` of two 3-vectors."""
-    return np.array(
-        [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
-    )
-
-
-def rotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``R v``: a body-frame vector in the world frame."""
-    return np.array([dot(r[0], v), dot(r[1], v), dot(r[2], v)])
-
-
-def unrotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``R^T v``: a world vector in the body frame."""
-    return np.array([dot(r[:, 0], v), dot(r[:, 1], v), dot(r[:, 2], v)])
-
-
-@dataclass
-class Contact:
-    """One contact point: world anchors on A and B, unit normal from A to B.
-
-    ``depth = (point_a - point_b) . normal`` is positive when the bodies overlap.
-    """
-
-    point_a: np.ndarray
-    point_b: np.ndarray
-    normal: np.ndarray
-
-    @property
-    def depth(self) -> float:
-        return dot(self.point_a - self.point_b, self.normal)
+from .reference_box_box import box_box_contacts_reference
+from .reference_geometry import Contact, cross3, dot, rotate, unrotate
 
 
 # ------------------------------------------------------------------------------------------
@@ -93,6 +57,10 @@ def pair_contacts(
                     contacts += stage_polyhedron_contacts(
                         shape_a, shape_c, pose_c, found, cached_stage_normals(store, c)
                     )
+            elif (
+                boxed := _analytic_boxes(bodies, a, shape_a, pose_a, c, shape_c, pose_c)
+            ) is not None:
+                contacts += boxed  # separating axes + clipping, no fcl (narrow_phase._box_group)
             elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, obj_c)
                 if found:
@@ -108,6 +76,25 @@ def pair_contacts(
                 if result is not None:
                     contacts += [Contact(*point) for point in zip(*result, strict=True)]
     return contacts
+
+
+def _analytic_boxes(bodies, a, shape_a, pose_a, c, shape_c, pose_c) -> list[Contact] | None:
+    """The analytic contacts of two boxes; None when the pair is not two boxes, or the
+    boxes share a center or overlap deeper than ``BOX_DEEP_OVERLAP`` (polyhedron path)."""
+    if shape_a.kind != "box" or shape_c.kind != "box" or coincident(bodies, a, c):
+        return None
+    return box_box_contacts_reference(box_frame(shape_a, pose_a), box_frame(shape_c, pose_c))
+
+
+def box_frame(shape, pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A box shape in the world: center ``R t + x``, axes (rows: the columns of
+    ``R R_shape``) and half extents (mirrors ``box_box.box_shape_frames``)."""
+    rotation, position = pose
+    offset = shape.body_from_shape
+    center = rotate(rotation, offset[:3, 3]) + position
+    world = rotation @ offset[:3, :3]
+    half = np.asarray(shape.geometry.side, dtype=np.float64) / 2.0
+    return center, world.T.copy(), half
 
 
 def cached_stage_normals(store: ManifoldStore, body: int) -> list[tuple[np.ndarray, np.ndarray]]:
