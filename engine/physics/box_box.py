@@ -54,12 +54,21 @@ FACE_CANDIDATES = 24
 #: the reference rectangle's corners (in units of its half extents), counter-clockwise,
 #: and the incident quad's corners in the same order.
 CORNER_SIGNS = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]])
+#: index k+1 and k+2 (mod 3) of a 3-vector's components, for the cross products.
+NEXT, AFTER = np.array([1, 2, 0]), np.array([2, 0, 1])
+#: the next corner of a quad, k+1 (mod 4).
+FOLLOWING = np.array([1, 2, 3, 0])
+
+
+def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """``M v`` for stacks ``(g, k, 3) x (g, 3) -> (g, k)``: row k of M dotted with v."""
+    return (matrices @ vectors[:, :, None])[..., 0]
 
 
 def box_shape_frames(rotation: np.ndarray, position: np.ndarray, body_from_shape: np.ndarray):
     """World centers ``(g, 3)`` and rotations ``(g, 3, 3)`` of box shapes: body poses
     ``(R, x)`` composed with the shapes' body-frame poses ``body_from_shape (g, 4, 4)``."""
-    center = np.einsum("gij,gj->gi", rotation, body_from_shape[:, :3, 3]) + position
+    center = _apply(rotation, body_from_shape[:, :3, 3]) + position  # R t + x
     return center, rotation @ body_from_shape[:, :3, :3]
 
 
@@ -71,7 +80,10 @@ def separating_axes(center_a, rot_a, half_a, center_b, rot_b, half_b):
     """
     axes_a, axes_b = rot_a.transpose(0, 2, 1), rot_b.transpose(0, 2, 1)  # rows: box axes
     # a_i x b_j for every i, j, (g, 9, 3), then normalized where the edges are not parallel
-    edges = np.cross(axes_a[:, :, None, :], axes_b[:, None, :, :]).reshape(-1, 9, 3)
+    # (a x b)_k = a_{k+1} b_{k+2} - a_{k+2} b_{k+1}, written out (np.cross is slow on small arrays)
+    a_1, a_2 = axes_a[:, :, None, NEXT], axes_a[:, :, None, AFTER]
+    b_1, b_2 = axes_b[:, None, :, NEXT], axes_b[:, None, :, AFTER]
+    edges = (a_1 * b_2 - a_2 * b_1).reshape(-1, 9, 3)
     length = np.sqrt((edges * edges).sum(axis=2))
     is_axis = length > settings.BOX_PARALLEL_EDGES
     edges = edges / np.where(is_axis, length, 1.0)[..., None]
@@ -79,7 +91,7 @@ def separating_axes(center_a, rot_a, half_a, center_b, rot_b, half_b):
     # radii of the boxes along each axis: sum_k e_k |u . a_k|, (g, 15); (axes @ R)[u, k] = u . a_k
     radius_a = (np.abs(axes @ rot_a) @ half_a[:, :, None])[..., 0]
     radius_b = (np.abs(axes @ rot_b) @ half_b[:, :, None])[..., 0]
-    distance = np.einsum("gui,gi->gu", axes, center_b - center_a)
+    distance = _apply(axes, center_b - center_a)  # u . (c_b - c_a), (g, 15)
     separation = np.abs(distance) - radius_a - radius_b
     separation[:, 6:] = np.where(is_axis, separation[:, 6:], -np.inf)
     return axes, separation, distance
@@ -123,10 +135,14 @@ def box_box_contacts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     frames = (center_a, rot_a, half_a, center_b, rot_b, half_b)
     face_pairs = np.flatnonzero(close & (axis < 6))
     edge_pairs = np.flatnonzero(close & (axis >= 6))
-    parts = [
-        _face_contacts(face_pairs, axis[face_pairs], normal[face_pairs], frames),
-        _edge_contacts(edge_pairs, axis[edge_pairs], normal[edge_pairs], frames),
-    ]
+    parts = []  # each already in (pair, candidate) order
+    if len(face_pairs):
+        parts.append(_face_contacts(face_pairs, axis[face_pairs], normal[face_pairs], frames))
+    if len(edge_pairs):
+        parts.append(_edge_contacts(edge_pairs, axis[edge_pairs], normal[edge_pairs], frames))
+    if len(parts) < 2:
+        empty = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), *[np.zeros((0, 3))] * 3
+        return *(parts[0] if parts else empty), deep
     pair, local, point_a, point_b, normal = (np.concatenate(p) for p in zip(*parts, strict=True))
     order = np.lexsort((local, pair))  # by pair, then by candidate
     return pair[order], local[order], point_a[order], point_b[order], normal[order], deep
@@ -152,7 +168,7 @@ def _face_contacts(pairs, axis, normal, frames):
     tangent_u, tangent_v = axes_r[g, k1], axes_r[g, k2]
     extent = np.stack([half_r[g, k1], half_r[g, k2]], axis=1)  # (g, 2) rectangle half sizes
     # incident face: the face of I most anti-parallel to n_ref, outward normal m
-    alignment = np.einsum("gki,gi->gk", axes_i, n_ref)
+    alignment = _apply(axes_i, n_ref)  # b_k . n_ref
     j = tie_key(np.abs(alignment)).argmax(axis=1)
     m = -np.where(alignment[g, j] >= 0.0, 1.0, -1.0)[:, None] * axes_i[g, j]
     incident_center = center_i + half_i[g, j][:, None] * m
@@ -168,8 +184,8 @@ def _face_contacts(pairs, axis, normal, frames):
     relative = corners - face_center[:, None]
     quad = np.stack(
         [
-            np.einsum("gki,gi->gk", relative, tangent_u),
-            np.einsum("gki,gi->gk", relative, tangent_v),
+            _apply(relative, tangent_u),
+            _apply(relative, tangent_v),
         ],
         axis=2,
     )  # (g, 4, 2) the incident quad in the reference face's 2D frame
@@ -205,11 +221,12 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     quad_inside = (np.abs(quad) <= grown).all(axis=2)
     # 4-7: the rectangle's corners inside the quad: on the inner side of its 4 edges
     rect = CORNER_SIGNS[None] * extent[:, None]  # (g, 4, 2)
-    edge = np.roll(quad, -1, axis=1) - quad  # q_{k+1} - q_k, (g, 4, 2)
+    following = quad[:, FOLLOWING]  # q_{k+1}
+    edge = following - quad  # q_{k+1} - q_k, (g, 4, 2)
     # twice the quad's signed area: its orientation (+1 counter-clockwise)
-    area = (quad[..., 0] * np.roll(quad[..., 1], -1, axis=1)).sum(axis=1) - (
-        quad[..., 1] * np.roll(quad[..., 0], -1, axis=1)
-    ).sum(axis=1)
+    area = (quad[..., 0] * following[..., 1]).sum(axis=1) - (quad[..., 1] * following[..., 0]).sum(
+        axis=1
+    )
     orientation = np.where(area >= 0.0, 1.0, -1.0)
     to_corner = rect[:, :, None] - quad[:, None]  # r_c - q_k, (g, 4 corners, 4 edges, 2)
     # 2D cross product e_k x (r_c - q_k), (g, 4, 4)
@@ -241,7 +258,7 @@ def _edge_crossings(quad, edge, edge_length, extent):
     s = (level[:, None] - start) / np.where(parallel, 1.0, run)
     point = quad[:, :, None] + s[..., None] * edge[:, :, None]
     free = 1 - fixed
-    free_value = np.take_along_axis(point, free[None, None, :, None], axis=3)[..., 0]
+    free_value = point[:, :, np.arange(4), free]  # the other coordinate, (g, 4, 4)
     margin = tol / np.maximum(edge_length, settings.TINY)[..., None]  # tol as a fraction of e_k
     valid = (
         ~parallel
@@ -264,13 +281,13 @@ def _edge_contacts(pairs, axis, normal, frames):
     i, j = (axis - 6) // 3, (axis - 6) % 3
     axes_a, axes_b = rot_a.transpose(0, 2, 1), rot_b.transpose(0, 2, 1)
     # A's edge: its corner furthest along n, with the coordinate along a_i set to 0
-    weight_a = half_a * np.where(np.einsum("gki,gi->gk", axes_a, normal) >= 0.0, 1.0, -1.0)
+    weight_a = half_a * np.where(_apply(axes_a, normal) >= 0.0, 1.0, -1.0)
     weight_a[g, i] = 0.0
-    mid_a = center_a + np.einsum("gk,gki->gi", weight_a, axes_a)
+    mid_a = center_a + (weight_a[:, None] @ axes_a)[:, 0]  # c + sum_k w_k a_k
     # B's edge: its corner furthest along -n, the coordinate along b_j set to 0
-    weight_b = half_b * np.where(np.einsum("gki,gi->gk", axes_b, normal) >= 0.0, 1.0, -1.0)
+    weight_b = half_b * np.where(_apply(axes_b, normal) >= 0.0, 1.0, -1.0)
     weight_b[g, j] = 0.0
-    mid_b = center_b - np.einsum("gk,gki->gi", weight_b, axes_b)
+    mid_b = center_b - (weight_b[:, None] @ axes_b)[:, 0]
     dir_a, dir_b = axes_a[g, i], axes_b[g, j]
     # closest points of the lines mid_a + s d_a, mid_b + t d_b (unit d), clamped to the edges
     r = mid_a - mid_b
