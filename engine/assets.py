@@ -48,6 +48,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+from trimesh.visual import ColorVisuals, TextureVisuals
 
 from engine.primitives import PRIMITIVE_ASSET_HANDLES, is_primitive_handle, primitive_geometry
 
@@ -126,7 +127,7 @@ def load_meshes(
     path: str | os.PathLike,
     up: Sequence[float] = (0.0, 1.0, 0.0),
     front: Sequence[float] = (0.0, 0.0, -1.0),
-    scale: Sequence[float] = (1.0, 1.0, 1.0),
+    scale: Sequence[float] | np.ndarray = (1.0, 1.0, 1.0),
     units_to_meters: float = 1.0,
 ) -> list[MeshData]:
     """Load every mesh of an asset file, node transforms applied, in rigidsim's frame.
@@ -260,6 +261,8 @@ def _load_uncached(
         scene = trimesh.load(str(path), force="scene", process=False)
     except Exception as error:  # trimesh raises many types for broken files
         raise ValueError(f"cannot read asset file {str(path)!r}: {error}") from error
+    if not isinstance(scene, trimesh.Scene):  # force="scene" promises one; say so if not
+        raise ValueError(f"cannot read asset file {str(path)!r}: not a scene ({type(scene)})")
     # p_world = S R (u T_node p): one affine map per node.
     linear = scale[:, None] * rotation * units
     meshes = []
@@ -287,15 +290,15 @@ def _convert_geometry(geometry: trimesh.Trimesh, name: str) -> MeshData:
     kind = getattr(visual, "kind", None)
     base_color = _material_base_color(getattr(visual, "material", None))
     mesh = MeshData(vertices=vertices, faces=faces, base_color=base_color, name=name)
-    if kind == "texture":
+    if kind == "texture" and isinstance(visual, TextureVisuals):
         image = _material_image(visual.material)
         if image is not None and visual.uv is not None and len(visual.uv) == len(vertices):
             mesh.uvs = np.asarray(visual.uv, dtype=np.float32)
             mesh.texture = image
-    elif kind == "vertex":
+    elif kind == "vertex" and isinstance(visual, ColorVisuals):
         colors = np.asarray(visual.vertex_colors, dtype=np.uint8)
         mesh.vertex_colors = _multiply_colors(colors, base_color)
-    elif kind == "face":
+    elif kind == "face" and isinstance(visual, ColorVisuals):
         # Give every face its own three vertices so a per-face color becomes per-vertex.
         face_colors = np.asarray(visual.face_colors, dtype=np.uint8)
         mesh.vertices = vertices[faces.ravel()]
@@ -378,7 +381,7 @@ def _unit_vector(value: Sequence[float], name: str) -> np.ndarray:
     return vector / length
 
 
-def _positive_vector(value: Sequence[float], name: str) -> np.ndarray:
+def _positive_vector(value: Sequence[float] | np.ndarray, name: str) -> np.ndarray:
     """Finite 3-vector with every component > 0; ValueError naming ``name`` otherwise."""
     try:
         vector = np.asarray(value, dtype=np.float64).reshape(-1)

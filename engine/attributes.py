@@ -18,7 +18,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -121,6 +121,9 @@ def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
     return number
 
 
+_Attributes = TypeVar("_Attributes", bound="AbstractAttributes")  # a template's own class
+
+
 class AbstractAttributes:
     """Shared machinery: typed fields from a table, JSON loading, copying, user config."""
 
@@ -198,7 +201,7 @@ class AbstractAttributes:
         """True when the field was given by the JSON file or a setter (not left at default)."""
         return name in self._explicit
 
-    def copy(self) -> AbstractAttributes:
+    def copy(self: _Attributes) -> _Attributes:
         clone = type(self).__new__(type(self))
         for key, value in self.__dict__.items():
             object.__setattr__(clone, key, _copy_value(value))
@@ -212,7 +215,7 @@ class AbstractAttributes:
 
     # -- JSON ------------------------------------------------------------------------------
     @classmethod
-    def from_json_file(cls, path: str | Path) -> AbstractAttributes:
+    def from_json_file(cls: type[_Attributes], path: str | Path) -> _Attributes:
         """Read a config file; the template handle is its full path."""
         path = Path(path).resolve()
         if not path.is_file():

@@ -56,7 +56,7 @@ T = TypeVar("T", bound=AbstractAttributes)
 class _AttributesManager(Generic[T]):
     """Handle <-> id bookkeeping shared by every template manager."""
 
-    template_class: type[AbstractAttributes] = AbstractAttributes
+    template_class: type[T]  # the template class of each manager (set by the subclasses)
     config_suffix = ".json"
 
     def __init__(self) -> None:
@@ -179,6 +179,10 @@ class _AttributesManager(Generic[T]):
         if handle in self._locked or handle in self._undeletable:
             warnings.warn(f"template {handle!r} is locked and was not removed", stacklevel=2)
             return None
+        return self._pop(handle)
+
+    def _pop(self, handle: str) -> T:
+        """Remove a registered template (the caller checked it may be removed)."""
         self._ids.pop(handle)
         return self._templates.pop(handle)
 
@@ -196,7 +200,7 @@ class _AttributesManager(Generic[T]):
             for h in self.get_template_handles(search_str, contains)
             if h not in self._locked and h not in self._undeletable
         ]
-        return [self.remove_template_by_handle(h) for h in removable]
+        return [self._pop(h) for h in removable]
 
     def remove_all_templates(self) -> None:
         self.remove_templates_by_str("", True)
@@ -289,9 +293,9 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
         raise KeyError(f"unknown primitive class {primitive_class!r}")
 
     def _default(self, primitive_class: str, is_wireframe: bool) -> PrimitiveAssetAttributes:
-        return self.get_template_by_handle(
-            self.get_default_template_handle(primitive_class, bool(is_wireframe))
-        )
+        """A copy of a default primitive template (always registered: undeletable)."""
+        handle = self.get_default_template_handle(primitive_class, bool(is_wireframe))
+        return self._templates[handle].copy()
 
     def get_default_capsule_template(self, is_wireframe: bool) -> PrimitiveAssetAttributes:
         """A copy of the default capsule primitive (solid or wireframe)."""
@@ -381,5 +385,5 @@ class PhysicsAttributesManager(_AttributesManager[PhysicsManagerAttributes]):
             template = PhysicsManagerAttributes("default.physics_config.json")
         else:
             template = PhysicsManagerAttributes.from_json_file(self._config_files(path)[0])
-        self.register_template(template)
-        return self.get_template_by_handle(template.handle)
+        self.register_template(template)  # -1 when locked: the registered one is returned
+        return self._templates[template.handle].copy()

@@ -2,10 +2,11 @@
 setup keys, turned into the rasterizer's :class:`render.shade.Lights` arrays.
 
 A light setup is a list of :class:`LightInfo` stored in the simulator under a string key
-(``sim.set_light_setup(lights, key)``, ``sim.get_light_setup(key)``). Every drawable names
-the key it is lit by: objects ``DEFAULT_LIGHTING_KEY`` unless added with another
-``light_setup_key``, the stage ``sim_cfg.scene_light_setup`` (``NO_LIGHT_KEY`` by default:
-drawn flat, as Habitat draws it). An empty setup is flat shading.
+(``sim.set_light_setup(lights, key)``, ``sim.get_light_setup(key)``; the store is
+:class:`LightSetups`). Every drawable names the key it is lit by: objects
+``DEFAULT_LIGHTING_KEY`` unless added with another ``light_setup_key``, the stage
+``sim_cfg.scene_light_setup`` (``NO_LIGHT_KEY`` by default: drawn flat, as Habitat draws
+it). An empty setup is flat shading.
 
 ``LightInfo.vector`` is homogeneous: ``w = 0`` a directional light shining from direction
 ``(x, y, z)``, ``w = 1`` a point light at ``(x, y, z)``. ``model`` says which frame the
@@ -37,6 +38,7 @@ __all__ = [
     "NO_LIGHT_KEY",
     "LightInfo",
     "LightPositionModel",
+    "LightSetups",
     "default_light_setup",
     "to_render_lights",
 ]
@@ -68,6 +70,10 @@ class LightInfo:
     white by default), ``model`` (``LightPositionModel.Global`` by default)."""
 
     __slots__ = ("_vector", "_color", "_model")
+    # the checked values, stored by __setattr__ (read through the properties below)
+    _vector: mn.Vector4
+    _color: mn.Color3
+    _model: LightPositionModel
 
     def __init__(
         self,
@@ -109,7 +115,7 @@ class LightInfo:
             and self._model == other._model
         )
 
-    __hash__ = None
+    # No __hash__ (a mutable value): __eq__ alone sets it to None.
 
     def copy(self) -> LightInfo:
         return LightInfo(self.vector, self.color, self.model)
@@ -137,3 +143,43 @@ def to_render_lights(setup: list[LightInfo]) -> Lights:
     intensities = np.array([float(np.mean(np.asarray(light.color))) for light in setup])
     frames = tuple(_FRAME[light.model] for light in setup)
     return Lights(vectors, intensities, frames, AMBIENT)
+
+
+class LightSetups:
+    """The simulator's light setups by key (``sim.set_light_setup`` / ``get_light_setup``)
+    and the rasterizer's :class:`render.shade.Lights` of each, converted once per change.
+
+    Starts with ``DEFAULT_LIGHTING_KEY`` (:func:`default_light_setup`) and ``NO_LIGHT_KEY``
+    (always empty: flat shading).
+    """
+
+    def __init__(self) -> None:
+        self._setups: dict[str, list[LightInfo]] = {
+            DEFAULT_LIGHTING_KEY: default_light_setup(),
+            NO_LIGHT_KEY: [],
+        }
+        self._render_lights = {key: to_render_lights(setup) for key, setup in self._setups.items()}
+
+    def set(self, light_setup: list[LightInfo], key: str = DEFAULT_LIGHTING_KEY) -> None:
+        """Store a copy of ``light_setup`` (a list of ``LightInfo``) under ``key``."""
+        if not isinstance(key, str):
+            raise TypeError(f"light setup key must be a str, got {key!r}")
+        if key == NO_LIGHT_KEY:
+            raise ValueError(f"the {NO_LIGHT_KEY!r} setup is always empty (flat shading)")
+        setup = list(light_setup)
+        for light in setup:
+            if not isinstance(light, LightInfo):
+                raise TypeError(f"a light setup holds LightInfo, got {type(light).__name__}")
+        self._setups[key] = [light.copy() for light in setup]
+        self._render_lights[key] = to_render_lights(self._setups[key])
+
+    def get(self, key: str = DEFAULT_LIGHTING_KEY) -> list[LightInfo]:
+        """A copy of the setup under ``key`` (an unknown key is an empty setup, as Habitat)."""
+        return [light.copy() for light in self._setups.get(key, [])]
+
+    def render_lights(self, key: str) -> Lights:
+        """The renderer's arrays for a drawable's light setup key (unknown: flat)."""
+        lights = self._render_lights.get(key)
+        if lights is None:
+            lights = self._render_lights.setdefault(key, to_render_lights([]))
+        return lights

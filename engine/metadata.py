@@ -174,7 +174,7 @@ def _load_dataset(path: Path) -> DatasetManagers:
     data = read_json_object(path)
     dataset = DatasetManagers(str(path.resolve()))
     root = path.parent
-    managers = {
+    managers: dict[str, ObjectAttributesManager | StageAttributesManager] = {
         "objects": dataset.object_template_manager,
         "stages": dataset.stage_template_manager,
     }
@@ -186,9 +186,10 @@ def _load_dataset(path: Path) -> DatasetManagers:
             for config in _config_files(root, entry, suffix):
                 _register(manager, template_class, config, {}, defaults, None)
         if section == "stages":
+            stages = dataset.stage_template_manager
             for entry in block.get("paths", {}).get(".glb", []):
                 for asset in sorted(glob.glob(str(root / entry))):
-                    manager.register_template(manager.create_template_for_asset(asset))
+                    stages.register_template(stages.create_template_for_asset(asset))
         for config in block.get("configs", []):
             _register_config(manager, template_class, root, config, defaults)
     for entry in data.get("scene_instances", {}).get("paths", {}).get(".json", []):

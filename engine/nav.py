@@ -116,7 +116,10 @@ class GreedyGeodesicFollower:
                 f"Could not find an action spec corresponding to {name!r} in the "
                 f"agent's action space ({len(found)} found)"
             )
-        return found[0]
+        key, actuation = found[0]
+        if actuation is None:
+            raise ValueError(f"the action spec of {name!r} has no actuation (no amount)")
+        return key, actuation
 
     # -- primitives on scratch nodes -----------------------------------------------------------
     def _run(self, node: SceneNode, code: GreedyFollowerCodes) -> bool:

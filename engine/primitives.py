@@ -321,7 +321,8 @@ def lathe(radii: np.ndarray, heights: np.ndarray, segments: int) -> tuple[np.nda
     """
     phi = 2.0 * np.pi * np.arange(segments) / segments
     ring_dir = np.stack([np.sin(phi), np.zeros(segments), np.cos(phi)], axis=1)  # (S, 3)
-    vertices, ring_start = [], []
+    vertices: list[np.ndarray] = []  # one (1, 3) pole or (S, 3) ring per profile point
+    ring_start: list[int] = []  # index of each ring's first vertex
     for k, (r, y) in enumerate(zip(radii, heights, strict=True)):
         ring_start.append(sum(len(v) for v in vertices))
         if r == 0.0 and k in (0, len(radii) - 1):

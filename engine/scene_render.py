@@ -192,19 +192,19 @@ class SceneRenderer:
             else:
                 self._moving_scene.world_from_mesh[index - self._n_static] = pose
         if self._full_scene is not None:
-            self._set_full_poses()
+            self._set_full_poses(self._full_scene)
         return self._static_scene.world_from_mesh.tobytes()
 
     def _full(self) -> RenderScene:
         """The scene of every drawable, static ones first (built when first needed)."""
         if self._full_scene is None:
             self._full_scene = RenderScene(self._static_scene.meshes + self._moving_scene.meshes)
-            self._set_full_poses()
+            self._set_full_poses(self._full_scene)
         return self._full_scene
 
-    def _set_full_poses(self) -> None:
-        self._full_scene.world_from_mesh[: self._n_static] = self._static_scene.world_from_mesh
-        self._full_scene.world_from_mesh[self._n_static :] = self._moving_scene.world_from_mesh
+    def _set_full_poses(self, full_scene: RenderScene) -> None:
+        full_scene.world_from_mesh[: self._n_static] = self._static_scene.world_from_mesh
+        full_scene.world_from_mesh[self._n_static :] = self._moving_scene.world_from_mesh
 
     @staticmethod
     def _camera(sensor: CameraSensor) -> Camera:
@@ -290,14 +290,14 @@ class SceneRenderer:
             )
             state.layer = StaticLayer.from_frame(state.static_buffers)
             state.layer_signature = signature
-        if mode == "full":
-            frame = render_frame(
-                self._full_scene, camera, pose, state.buffers, cull_back_faces=True
-            )
-        else:
+        if mode == "full":  # the full scene was built before the threads started
+            frame = render_frame(self._full(), camera, pose, state.buffers, cull_back_faces=True)
+        elif state.layer is not None:  # "layer" and "new layer" have a valid static layer
             frame = render_over_layer(
                 state.layer, self._moving_scene, camera, pose, state.buffers, cull_back_faces=True
             )
+        else:
+            raise RuntimeError(f"render mode {mode!r} without a static layer")
         state.buffers, state.last_signature = frame, signature
         return {sensor.uuid: _buffer_for(sensor.spec.sensor_type, frame) for sensor in members}
 

@@ -10,9 +10,10 @@
    ``sim_cfg.navmesh_settings`` is set;
 4. creates the agents and their camera sensors.
 
-It stays thin: physics lives in :class:`engine.physics.world.PhysicsWorld`, rendering in
-:class:`engine.scene_render.SceneRenderer` (over :mod:`render`), navigation in
-:class:`navmesh.PathFinder`.
+It stays thin: the configuration classes live in :mod:`engine.simulator_config`, steps 1 to
+3 in :mod:`engine.scene_loading`, physics in :class:`engine.physics.world.PhysicsWorld`,
+rendering in :class:`engine.scene_render.SceneRenderer` (over :mod:`render`), light setups
+in :class:`engine.gfx.LightSetups`, navigation in :class:`navmesh.PathFinder`.
 
 The agent loop is Habitat's: ``sim.step(action)`` (or ``{agent_id: action}``) acts, steps
 the physics by ``dt`` and returns the observations with ``collided``; ``sim.reset()`` puts
@@ -28,105 +29,35 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from engine import mn
-from engine.agent import Agent, AgentConfiguration, AgentState
-from engine.assets import load_meshes, merge_meshes
-from engine.attributes import StageAttributes
+from engine.agent import Agent, AgentState
 from engine.attributes_managers import (
     AssetAttributesManager,
     ObjectAttributesManager,
     PhysicsAttributesManager,
     StageAttributesManager,
 )
-from engine.fixed_fields import FixedFields
-from engine.gfx import (
-    DEFAULT_LIGHTING_KEY,
-    NO_LIGHT_KEY,
-    LightInfo,
-    default_light_setup,
-    to_render_lights,
-)
+from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
 from engine.metadata import MetadataMediator
 from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
+from engine.scene_loading import (
+    append_triangles,
+    load_navmesh_beside_stage,
+    load_physics_config,
+    load_stage,
+    stage_triangles,
+)
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
+from engine.simulator_config import Configuration, Random, SimulatorConfiguration
 from navmesh import NavMeshSettings, PathFinder
 
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
-
-
-@dataclass
-class SimulatorConfiguration(FixedFields):
-    """Habitat's ``SimulatorConfiguration`` (``scene_id = "NONE"`` is an empty world).
-
-    Fixed fields: a misspelt name raises ``AttributeError`` naming the closest field. The
-    fields after ``load_semantic_mesh`` are Habitat's renderer and dataset switches, stored
-    so that Habitat code setting them runs; rigidsim's software renderer ignores them.
-    """
-
-    scene_id: str = "NONE"
-    scene_dataset_config_file: str = "default"
-    enable_physics: bool = True
-    physics_config_file: str = ""
-    allow_sliding: bool = True
-    random_seed: int = 0
-    navmesh_settings: NavMeshSettings | None = None
-    scene_light_setup: str = NO_LIGHT_KEY
-    default_agent_id: int = 0
-    load_semantic_mesh: bool = False
-    scene_dataset_config_file: str = "default"
-    gpu_device_id: int = 0
-    default_camera_uuid: str = "rgba_camera"
-    compress_textures: bool = False
-    create_renderer: bool = True
-    frustum_culling: bool = True
-    enable_hbao: bool = False
-    override_scene_light_defaults: bool = False
-    force_separate_semantic_scene_graph: bool = False
-    requires_textures: bool = True
-    leave_context_with_background_renderer: bool = False
-    use_semantic_textures: bool = False
-    enable_gfx_replay_save: bool = False
-    pbr_image_based_lighting: bool = False
-
-
-@dataclass
-class Configuration(FixedFields):
-    """A simulator configuration and the agents' configurations (fixed fields)."""
-
-    sim_cfg: SimulatorConfiguration = field(default_factory=SimulatorConfiguration)
-    agents: list[AgentConfiguration] = field(default_factory=lambda: [AgentConfiguration()])
-    metadata_mediator: Any = None  # an engine.metadata.MetadataMediator, or None: a new one
-    enable_batch_renderer: bool = False
-
-
-class Random:
-    """Habitat's ``sim.random``: a seeded source of uniform and normal numbers."""
-
-    def __init__(self, seed: int = 0) -> None:
-        self.seed(seed)
-
-    def seed(self, new_seed: int) -> None:
-        self._rng = np.random.default_rng(int(new_seed) & 0xFFFFFFFF)
-
-    def uniform_float(self, a: float = 0.0, b: float = 1.0) -> float:
-        return float(self._rng.uniform(a, b))
-
-    def uniform_float_01(self) -> float:
-        return float(self._rng.uniform(0.0, 1.0))
-
-    def uniform_int(self, a: int = 0, b: int = 2**31 - 1) -> int:
-        return int(self._rng.integers(a, b))
-
-    def normal_float_01(self) -> float:
-        return float(self._rng.normal())
 
 
 class Simulator:
@@ -135,6 +66,10 @@ class Simulator:
     def __init__(self, config: Configuration) -> None:
         if not isinstance(config, Configuration):
             raise TypeError(f"Simulator needs a Configuration, got {type(config).__name__}")
+        self._build(config)
+
+    def _build(self, config: Configuration) -> None:
+        """Build everything from ``config`` (the module docstring's steps 1 to 4)."""
         self.config = config
         self._closed = False
         sim_cfg = config.sim_cfg
@@ -146,23 +81,21 @@ class Simulator:
         self._asset_template_manager = self.metadata_mediator.asset_template_manager
         self._stage_template_manager = self.metadata_mediator.stage_template_manager
         self._physics_template_manager = self.metadata_mediator.physics_template_manager
-        physics_attributes = self._load_physics_config(sim_cfg.physics_config_file)
-        stage_attributes, stage_meshes = self._load_stage(sim_cfg.scene_id)
+        physics_attributes = load_physics_config(
+            self._physics_template_manager, sim_cfg.physics_config_file
+        )
+        stage_attributes, stage_meshes = load_stage(self._stage_template_manager, sim_cfg.scene_id)
 
         self.root_node = SceneNode(name="root")
         self._scene_graph = SceneGraph(self.root_node)
         self.random = Random(sim_cfg.random_seed)
         self._stage_node = SceneNode(self.root_node, name="stage")
-        self._light_setups = {DEFAULT_LIGHTING_KEY: default_light_setup(), NO_LIGHT_KEY: []}
-        self._render_lights = {
-            key: to_render_lights(setup) for key, setup in self._light_setups.items()
-        }
+        self._lights = LightSetups()
         self._stage_node.drawables = [
             Drawable(m, semantic_id=0, light_setup_key=sim_cfg.scene_light_setup)
             for m in stage_meshes
         ]
         self._stage_meshes = stage_meshes
-        self._stage_attributes = stage_attributes
         self._world = PhysicsWorld(
             physics_attributes,
             self.root_node,
@@ -171,13 +104,16 @@ class Simulator:
         )
         self._world.set_stage(stage_meshes or None, stage_attributes)
         self._renderer = SceneRenderer(
-            self.root_node, self._static_drawable_ids, lights_for=self._lights_for
+            self.root_node, self._static_drawable_ids, lights_for=self._lights.render_lights
         )
         # Habitat draws the navmesh wireframe when True; rigidsim stores the flag only
         self.navmesh_visualization = False
 
         self.pathfinder = PathFinder()
-        self._load_navmesh(sim_cfg)
+        if sim_cfg.navmesh_settings is not None:
+            self.recompute_navmesh(self.pathfinder, sim_cfg.navmesh_settings)
+        else:  # as Habitat: a scene without triangles warns and has no navmesh
+            load_navmesh_beside_stage(self.pathfinder, stage_attributes)
         self.pathfinder.seed(sim_cfg.random_seed)
         if not config.agents:
             raise ValueError("Config has no agents specified; give at least 1 agent")
@@ -191,78 +127,6 @@ class Simulator:
         self._last_states: dict[int, AgentState] = {}
         for agent_id in range(len(self.agents)):
             self.initialize_agent(agent_id)
-
-    # ------------------------------------------------------------------------------------------
-    # loading
-    # ------------------------------------------------------------------------------------------
-    def _load_physics_config(self, path: str):
-        """The physics config at ``path``; Habitat's defaults (and a warning) when the file
-        does not exist, as Habitat logs and creates default physics attributes."""
-        try:
-            return self._physics_template_manager.load(path)
-        except FileNotFoundError:
-            warnings.warn(
-                f"physics config {path!r} not found; using the default physics "
-                f"settings (timestep 0.008 s, gravity -9.8 m/s^2)",
-                stacklevel=3,
-            )
-            return self._physics_template_manager.load("")
-
-    def _load_stage(self, scene_id: str) -> tuple[StageAttributes | None, list]:
-        """The stage's template and its meshes in the world frame (none for ``"NONE"``)."""
-        if not isinstance(scene_id, str):
-            raise TypeError(f"scene_id must be a string, got {scene_id!r}")
-        if scene_id in ("NONE", ""):
-            return None, []
-        stages = self._stage_template_manager
-        if stages.get_library_has_handle(scene_id):  # a stage template of the dataset
-            stage = stages.get_template_by_handle(scene_id)
-        else:
-            stage = stages.create_template_for_asset(scene_id)
-            stages.register_template(stage)
-        scale = np.asarray(stage.scale) * 1.0
-        meshes = load_meshes(
-            stage.render_asset_handle,
-            up=stage.orient_up,
-            front=stage.orient_front,
-            scale=scale,
-            units_to_meters=stage.units_to_meters,
-        )
-        return stage, meshes
-
-    def _stage_triangles(self) -> tuple[np.ndarray, np.ndarray]:
-        """The stage's triangles in the world frame, merged: ``(V, 3)``, ``(F, 3)``."""
-        if not self._stage_meshes:
-            return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
-        merged = merge_meshes(self._stage_meshes)
-        return merged.vertices, merged.faces
-
-    def _load_navmesh(self, sim_cfg: SimulatorConfiguration) -> None:
-        """Load ``<stage stem>.navmesh`` beside the stage asset, or build from settings.
-
-        Settings on a scene without triangles (``"NONE"``) leave the simulator without a
-        navmesh and warn, as Habitat logs and goes on.
-        """
-        if sim_cfg.navmesh_settings is not None:
-            self.recompute_navmesh(self.pathfinder, sim_cfg.navmesh_settings)
-            return
-        if self._stage_attributes is None:
-            return
-        asset = Path(self._stage_attributes.render_asset_handle)
-        navmesh_file = asset.with_name(asset.name.split(".")[0] + ".navmesh")
-        if not navmesh_file.is_file():
-            return
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            loaded = self.pathfinder.load_nav_mesh(str(navmesh_file))
-        if not loaded:
-            # as Habitat: a bad navmesh file is logged, the simulator runs without a navmesh
-            reason = "; ".join(str(w.message) for w in caught)
-            warnings.warn(
-                f"{navmesh_file} is not a valid navmesh, the simulator has no "
-                f"navmesh (recompute_navmesh builds one): {reason}",
-                stacklevel=3,
-            )
 
     # ------------------------------------------------------------------------------------------
     # managers
@@ -506,30 +370,16 @@ class Simulator:
     # ------------------------------------------------------------------------------------------
     # lights (engine.gfx)
     # ------------------------------------------------------------------------------------------
-    def set_light_setup(self, light_setup: list, key: str = DEFAULT_LIGHTING_KEY) -> None:
+    def set_light_setup(
+        self, light_setup: list[LightInfo], key: str = DEFAULT_LIGHTING_KEY
+    ) -> None:
         """Store a copy of ``light_setup`` (a list of ``LightInfo``) under ``key``; every
         drawable naming that key is lit by it from the next observation on."""
-        if not isinstance(key, str):
-            raise TypeError(f"light setup key must be a str, got {key!r}")
-        if key == NO_LIGHT_KEY:
-            raise ValueError(f"the {NO_LIGHT_KEY!r} setup is always empty (flat shading)")
-        setup = list(light_setup)
-        for light in setup:
-            if not isinstance(light, LightInfo):
-                raise TypeError(f"a light setup holds LightInfo, got {type(light).__name__}")
-        self._light_setups[key] = [light.copy() for light in setup]
-        self._render_lights[key] = to_render_lights(self._light_setups[key])
+        self._lights.set(light_setup, key)
 
-    def get_light_setup(self, key: str = DEFAULT_LIGHTING_KEY) -> list:
+    def get_light_setup(self, key: str = DEFAULT_LIGHTING_KEY) -> list[LightInfo]:
         """A copy of the setup under ``key`` (an unknown key is an empty setup, as Habitat)."""
-        return [light.copy() for light in self._light_setups.get(key, [])]
-
-    def _lights_for(self, key: str):
-        """The renderer's arrays for a drawable's light setup key (empty: flat)."""
-        lights = self._render_lights.get(key)
-        if lights is None:
-            lights = self._render_lights.setdefault(key, to_render_lights([]))
-        return lights
+        return self._lights.get(key)
 
     # ------------------------------------------------------------------------------------------
     # navigation
@@ -547,17 +397,14 @@ class Simulator:
         """
         if not isinstance(navmesh_settings, NavMeshSettings):
             raise TypeError(f"navmesh_settings must be NavMeshSettings, got {navmesh_settings!r}")
-        vertices, faces = self._stage_triangles()
+        vertices, faces = stage_triangles(self._stage_meshes)
         with_statics = (
             navmesh_settings.include_static_objects
             if include_static_objects is None
             else bool(include_static_objects)
         )
         if with_statics:
-            parts = [(vertices, faces), *self._world.static_meshes_world()]
-            offsets = np.cumsum([0] + [len(v) for v, _ in parts[:-1]])
-            vertices = np.concatenate([v for v, _ in parts])
-            faces = np.concatenate([f + o for (_, f), o in zip(parts, offsets, strict=True)])
+            vertices, faces = append_triangles(vertices, faces, self._world.static_meshes_world())
         if len(faces) == 0:
             warnings.warn(
                 "recompute_navmesh: the scene has no triangles; no navmesh is built "
@@ -601,7 +448,7 @@ class Simulator:
         if config is self.config and not self._closed:
             return
         self.close()
-        self.__init__(config)
+        self._build(config)
 
     def close(self, destroy: bool = True) -> None:
         """Release the world; further use raises RuntimeError. Safe to call twice.

@@ -106,9 +106,9 @@ class Configuration:
 
     def get_as_string(self, key: str) -> str:
         """The value formatted as Habitat does (see the module docstring)."""
-        value_type, value = self._values[key] if key in self._values else (None, None)
-        if value_type is None:
+        if key not in self._values:
             raise KeyError(f"user attribute {key!r} not found")
+        value_type, value = self._values[key]
         if value_type is ConfigValType.Boolean:
             return "True" if value else "False"
         if value_type is ConfigValType.Integer:
@@ -135,7 +135,7 @@ class Configuration:
 
     def get_keys_by_type(self, value_type: ConfigValType | type) -> list[str]:
         """Keys whose values have ``value_type`` (a ConfigValType or a Python type), sorted."""
-        by_python_type = {
+        by_python_type: dict[type, ConfigValType] = {
             bool: ConfigValType.Boolean,
             int: ConfigValType.Integer,
             float: ConfigValType.Float,
@@ -143,7 +143,11 @@ class Configuration:
             mn.Vector3: ConfigValType.MagnumVec3,
             mn.Quaternion: ConfigValType.MagnumQuat,
         }
-        wanted = by_python_type.get(value_type, value_type)
+        wanted = (
+            value_type
+            if isinstance(value_type, ConfigValType)
+            else by_python_type.get(value_type)  # None (matches nothing) for other types
+        )
         return sorted(k for k, (t, _) in self._values.items() if t is wanted)
 
     def get_keys(self) -> list[str]:
@@ -180,7 +184,7 @@ class Configuration:
             return False
         return self.to_dict() == other.to_dict()
 
-    __hash__ = None
+    # No __hash__ (mutable): __eq__ alone sets it to None.
 
     @classmethod
     def from_dict(cls, data: dict, source: str = "user_defined") -> Configuration:

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from navmesh import heightfield as hf
 from navmesh import layers
@@ -36,9 +37,7 @@ from navmesh.settings import (
 )
 
 
-def build_navmesh(
-    vertices: np.ndarray, faces: np.ndarray, settings: NavMeshSettings
-) -> NavMeshData:
+def build_navmesh(vertices: ArrayLike, faces: ArrayLike, settings: NavMeshSettings) -> NavMeshData:
     """Build the layered navigation grid of a triangle mesh.
 
     Parameters
@@ -134,7 +133,7 @@ def check_build_budget(
     )
 
 
-def check_mesh(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
+def check_mesh(vertices: ArrayLike, faces: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Return ``vertices (V, 3) float64`` and ``faces (F, 3) int64`` or raise naming the input."""
     try:
         vertices = np.asarray(vertices, dtype=np.float64)

@@ -40,6 +40,8 @@ from navmesh.settings import (
 )
 from navmesh.step_filter import try_step
 
+_NOT_LOADED = "PathFinder is not loaded: build() or load_nav_mesh() first"
+
 
 def _nan3() -> np.ndarray:
     return np.full(3, np.nan)
@@ -169,8 +171,14 @@ class PathFinder:
 
     def _require(self) -> NavMeshData:
         if self._data is None:
-            raise RuntimeError("PathFinder is not loaded: build() or load_nav_mesh() first")
+            raise RuntimeError(_NOT_LOADED)
         return self._data
+
+    def _require_grid(self) -> NavGrid:
+        """The query grid of the loaded navmesh (set together with ``_data``)."""
+        if self._grid is None:
+            raise RuntimeError(_NOT_LOADED)
+        return self._grid
 
     # -- global properties -------------------------------------------------------------------
     def get_bounds(self) -> tuple[np.ndarray, np.ndarray]:
@@ -181,8 +189,7 @@ class PathFinder:
     @property
     def num_islands(self) -> int:
         """Number of connected navigable components."""
-        self._require()
-        return self._grid.n_islands
+        return self._require_grid().n_islands
 
     @property
     def navigable_area(self) -> float:
@@ -191,19 +198,17 @@ class PathFinder:
 
     def island_area(self, island_index: int = -1) -> float:
         """Navigable XZ area of one island (all islands for -1), square meters."""
-        self._require()
+        grid = self._require_grid()
         self._check_island(island_index)
-        grid = self._grid
         mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
         return float(np.count_nonzero(mask)) * grid.cell_size**2
 
-    def _check_island(self, island_index) -> None:
+    def _check_island(self, island_index: object) -> None:
         if isinstance(island_index, bool) or not isinstance(island_index, (int, np.integer)):
             raise TypeError(f"island_index must be an int, got {island_index!r}")
-        if not -1 <= island_index < self._grid.n_islands:
-            raise ValueError(
-                f"island_index {island_index} out of range [-1, {self._grid.n_islands})"
-            )
+        n_islands = self._require_grid().n_islands
+        if not -1 <= island_index < n_islands:
+            raise ValueError(f"island_index {island_index} out of range [-1, {n_islands})")
 
     # -- points ------------------------------------------------------------------------------
     def seed(self, new_seed: int) -> None:
@@ -215,18 +220,17 @@ class PathFinder:
     def snap_point(self, point: ArrayLike, island_index: int = -1) -> np.ndarray:
         """Closest navigable point (Detour's findNearestPoly box: 2 m, 4 m, 2 m); NaN if none."""
         p = as_point(point, "point")
-        self._require()
+        grid = self._require_grid()
         self._check_island(island_index)
-        node, snapped = self._grid.nearest_node(p, island_index)
-        return snapped if node >= 0 else _nan3()
+        _, snapped = grid.nearest_node(p, island_index)
+        return snapped if snapped is not None else _nan3()
 
     def is_navigable(self, pt: ArrayLike, max_y_delta: float = 0.5) -> bool:
         """True when ``pt`` snaps onto the navmesh with no XZ motion (<= 1 cm) and at most
         ``max_y_delta`` meters vertically."""
         p = as_point(pt, "pt")
-        self._require()
-        node, snapped = self._grid.nearest_node(p)
-        if node < 0:
+        _, snapped = self._require_grid().nearest_node(p)
+        if snapped is None:  # nothing within the snap box
             return False
         horizontal = math.hypot(snapped[0] - p[0], snapped[2] - p[2])
         return abs(snapped[1] - p[1]) <= max_y_delta and horizontal <= NAVIGABLE_XZ_TOLERANCE
@@ -234,9 +238,9 @@ class PathFinder:
     def get_island(self, pt: ArrayLike) -> int:
         """Island index of the navmesh point nearest ``pt``, -1 when nothing is near."""
         p = as_point(pt, "pt")
-        self._require()
-        node, _ = self._grid.nearest_node(p)
-        return int(self._grid.island[node]) if node >= 0 else -1
+        grid = self._require_grid()
+        node, _ = grid.nearest_node(p)
+        return int(grid.island[node]) if node >= 0 else -1
 
     def island_radius(self, pt: ArrayLike | int) -> float:
         """Largest distance of the island's cell centres from their centroid (Habitat's
@@ -246,16 +250,16 @@ class PathFinder:
         Habitat's newer API, an island index (``int``).
         """
         if isinstance(pt, (int, np.integer)) and not isinstance(pt, bool):
-            self._require()
-            if not 0 <= pt < self._grid.n_islands:
-                raise ValueError(f"island_index {pt} out of range [0, {self._grid.n_islands})")
+            n_islands = self._require_grid().n_islands
+            if not 0 <= pt < n_islands:
+                raise ValueError(f"island_index {pt} out of range [0, {n_islands})")
             island = int(pt)
         else:
             island = self.get_island(pt)
         if island < 0:
             return 0.0
         if self._island_radius is None:
-            self._island_radius = island_radii(self._grid)
+            self._island_radius = island_radii(self._require_grid())
         return float(self._island_radius[island])
 
     def get_random_navigable_point(self, max_tries: int = 10, island_index: int = -1) -> np.ndarray:
@@ -266,9 +270,8 @@ class PathFinder:
         """
         if int(max_tries) < 1:
             raise ValueError(f"max_tries must be >= 1, got {max_tries!r}")
-        self._require()
+        grid = self._require_grid()
         self._check_island(island_index)
-        grid = self._grid
         mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
         nodes = np.flatnonzero(mask)
         if nodes.size == 0:
@@ -283,15 +286,13 @@ class PathFinder:
         center = as_point(circle_center, "circle_center")
         if not (isinstance(radius, (int, float)) and math.isfinite(radius) and radius > 0):
             raise ValueError(f"radius must be a finite number > 0, got {radius!r}")
-        self._require()
+        grid = self._require_grid()
         self._check_island(island_index)
-        node, _ = self._grid.nearest_node(center, island_index)
+        node, _ = grid.nearest_node(center, island_index)
         if node < 0:
             return _nan3()
         # no navmesh is 1e30 m wide: a larger radius selects the same squares, no overflow
-        nodes = nodes_in_disk(
-            self._grid, center, min(float(radius), 1e30), int(self._grid.island[node])
-        )
+        nodes = nodes_in_disk(grid, center, min(float(radius), 1e30), int(grid.island[node]))
         for _ in range(max(1, int(max_tries))):
             point = self._sample_in(nodes)
             if np.linalg.norm(point - center) < radius:
@@ -300,7 +301,7 @@ class PathFinder:
 
     def _sample_in(self, nodes: np.ndarray) -> np.ndarray:
         """Pick a node uniformly, then a uniform point inside its square."""
-        grid = self._grid
+        grid = self._require_grid()
         node = int(nodes[self._rng.integers(nodes.size)])
         u, v = self._rng.random(2)
         ix, iz = grid.node_cell(node)
@@ -333,57 +334,65 @@ class PathFinder:
         path.points, path.geodesic_distance = points, path_length(points)
         return True
 
-    def _best_path(self, start: np.ndarray, ends: list[np.ndarray]):
+    def _best_path(self, start: np.ndarray, ends: list[np.ndarray]) -> tuple[int, list[np.ndarray]]:
         """(index of the closest reachable end, its waypoints) or (-1, [])."""
-        grid = self._grid
+        grid = self._require_grid()
         start_node, start_pt = grid.nearest_node(start)
-        if start_node < 0:
+        if start_pt is None:  # start is off the navmesh (start_node == -1)
             return -1, []
-        goals = []
+        goals: list[tuple[int, int, np.ndarray]] = []  # (end index, node, snapped end)
         for k, end in enumerate(ends):
             node, pt = grid.nearest_node(end)
-            if node >= 0 and grid.island[node] == grid.island[start_node]:
+            if pt is not None and grid.island[node] == grid.island[start_node]:
                 goals.append((k, node, pt))
         if not goals:
             return -1, []
         if self._graph is None:
             self._graph = GridGraph(grid)
+        graph = self._graph
         # Habitat's multi-goal pruning: visit ends by straight-line distance (a lower bound of
         # the geodesic) and skip those that cannot beat the best path found so far.
         goals.sort(key=lambda goal: (float(np.linalg.norm(goal[2] - start_pt)), goal[0]))
-        best = (-1, [], math.inf)
+        best: tuple[int, list[np.ndarray], float] = (-1, [], math.inf)
         for k, node, pt in goals:
             if np.linalg.norm(pt - start_pt) >= best[2]:
                 continue
-            points = self._single_path(start_node, start_pt, node, pt)
+            points = self._single_path(graph, start_node, start_pt, node, pt)
             length = path_length(points)
             if length < best[2]:
                 best = (k, points, length)
         return best[0], best[1]
 
-    def _single_path(self, start_node: int, start_pt, end_node: int, end_pt) -> list:
+    def _single_path(
+        self,
+        graph: GridGraph,
+        start_node: int,
+        start_pt: np.ndarray,
+        end_node: int,
+        end_pt: np.ndarray,
+    ) -> list[np.ndarray]:
         """Waypoints from start_pt to end_pt (same island): straight when in line of sight,
         else Dijkstra on the grid graph then string pulling."""
-        grid = self._grid
+        grid = self._require_grid()
         if np.allclose(start_pt, end_pt):
             return [start_pt.copy(), end_pt.copy()]
         if grid.line_of_sight(start_node, start_pt[[0, 2]], end_pt[[0, 2]], end_node):
             return [start_pt.copy(), end_pt.copy()]
         limit = 2.0 * float(np.linalg.norm(end_pt - start_pt)) + 1.0
-        _, pred = self._graph.tree_from(start_node, [end_node], limit)
-        nodes = self._graph.node_path(pred, start_node, end_node)
+        _, pred = graph.tree_from(start_node, [end_node], limit)
+        nodes = graph.node_path(pred, start_node, end_node)
         return pull_string(grid, nodes, start_pt, end_pt)
 
     # -- stepping ----------------------------------------------------------------------------
     def try_step(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:
         """Move from ``start`` toward ``end``, sliding along walls (see ``step_filter``)."""
-        self._require()
-        return try_step(self._grid, as_point(start, "start"), as_point(end, "end"), True)
+        grid = self._require_grid()
+        return try_step(grid, as_point(start, "start"), as_point(end, "end"), True)
 
     def try_step_no_sliding(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:
         """Move from ``start`` toward ``end``, stopping at the first wall (direction kept)."""
-        self._require()
-        return try_step(self._grid, as_point(start, "start"), as_point(end, "end"), False)
+        grid = self._require_grid()
+        return try_step(grid, as_point(start, "start"), as_point(end, "end"), False)
 
     # -- obstacles ---------------------------------------------------------------------------
     def distance_to_closest_obstacle(self, pt: ArrayLike, max_search_radius: float = 2.0) -> float:
@@ -401,10 +410,9 @@ class PathFinder:
         p = as_point(pt, "pt")
         if not (isinstance(max_search_radius, (int, float)) and max_search_radius > 0):
             raise ValueError(f"max_search_radius must be > 0, got {max_search_radius!r}")
-        self._require()
-        grid = self._grid
+        grid = self._require_grid()
         node, snapped = grid.nearest_node(p)
-        if node < 0:
+        if snapped is None:  # off the navmesh (node == -1)
             return HitRecord(np.zeros(3), np.zeros(3), math.inf)
         hit = closest_boundary_point(grid, node, snapped, float(max_search_radius))
         if hit is None:
@@ -432,9 +440,8 @@ class PathFinder:
 
     def _cell_squares(self, island_index: int) -> np.ndarray:
         """``(4 * cells, 3)`` corners of the navigable cells of one island (or all for -1)."""
-        self._require()
+        grid = self._require_grid()
         self._check_island(island_index)
-        grid = self._grid
         mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
         nodes = np.flatnonzero(mask)
         iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)  # node -> (row z, column x)
@@ -491,4 +498,6 @@ class PathFinder:
             "MAX_TOPDOWN_PIXELS",
             f"a top-down view at {meters_per_pixel} m per pixel",
         )
-        return topdown_islands(self._grid, data.bounds, float(meters_per_pixel), height, eps)
+        return topdown_islands(
+            self._require_grid(), data.bounds, float(meters_per_pixel), height, eps
+        )

@@ -213,7 +213,8 @@ class NavMeshSettings:
             raise AttributeError(f"'NavMeshSettings' object has no attribute {name!r}{hint}")
         object.__setattr__(self, name, value)
 
-    __hash__ = None  # mutable and compared with a tolerance: not hashable
+    # Not hashable (mutable and compared with a tolerance): a class that defines __eq__ and
+    # no __hash__ gets ``__hash__ = None`` from Python itself.
 
 
 def _check_field(name: str, value: object, kind: str) -> None:

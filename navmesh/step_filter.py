@@ -45,7 +45,8 @@ def try_step(grid: NavGrid, start, end, allow_sliding: bool) -> np.ndarray:
     end = np.asarray(end, dtype=np.float64)
     start_node, start_pt = grid.nearest_node(start)
     end_node, _ = grid.nearest_node(end)
-    if start_node < 0 or end_node < 0 or grid.island[start_node] != grid.island[end_node]:
+    # start_pt is None exactly when start_node is -1 (start is off the navmesh)
+    if start_pt is None or end_node < 0 or grid.island[start_node] != grid.island[end_node]:
         return start
     node, x, z, reached = _walk_straight(grid, start_node, start_pt, end)
     if allow_sliding and not reached:

@@ -419,7 +419,7 @@ class _ShadingInputs:
         if self.tri_light is None:
             return None
         light = self.tri_light[visible.winner]
-        if self.light_planes is not None:
+        if self.light_planes is not None and self.is_smooth is not None:  # set together
             sel = np.flatnonzero(self.is_smooth[visible.winner])
             gouraud = self.light_planes.evaluate(visible.subset(sel))[0]
             light[sel] = np.clip(gouraud, 0.0, 1.0)

@@ -69,8 +69,8 @@ def plane_coefficients(tri: np.ndarray, camera: Camera) -> tuple[np.ndarray, np.
     planes : (3, 3, T) float64, ``planes[f, :, t] = (A, B, C)`` for f in (q_0, q_1, w).
     valid : (T,) bool, False for edge-on triangles (plane through the eye, or zero area).
     """
-    if camera.is_pinhole:
-        corners = (tri[0], tri[1], tri[2])
+    if camera.is_pinhole:  # 3D corners (x, y, z)
+        corners = tuple((tri[k, 0], tri[k, 1], tri[k, 2]) for k in range(3))
     else:  # orthographic: 2D homogeneous corners (x, y, 1)
         one = np.ones(tri.shape[2])
         corners = tuple((tri[k, 0], tri[k, 1], one) for k in range(3))

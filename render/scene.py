@@ -55,13 +55,14 @@ def _finite_array(name: str, value: object, shape_tail: tuple[int, ...]) -> np.n
 def _uint8_color_array(name: str, value: object, n: int | None) -> np.ndarray:
     """RGBA uint8 colors ``(n, 4)`` (or ``(4,)`` when ``n`` is None); RGB gets alpha 255."""
     arr = np.asarray(value)
+    given_shape = arr.shape
     if arr.dtype.kind not in "uif" or np.any(arr < 0) or np.any(arr > 255) or np.any(np.isnan(arr)):
         raise ValueError(f"{name} must hold numbers in [0, 255], got dtype {arr.dtype}")
     expected = (4,) if n is None else (n, 4)
     if arr.shape[-1:] == (3,):
         arr = np.concatenate([arr, np.full(arr.shape[:-1] + (1,), 255)], axis=-1)
     if arr.shape != expected:
-        raise ValueError(f"{name} must have shape {expected} (RGBA), got {np.shape(value)}")
+        raise ValueError(f"{name} must have shape {expected} (RGBA), got {given_shape}")
     return np.rint(arr).astype(np.uint8)
 
 
@@ -186,8 +187,8 @@ class RenderScene:
         tri_mesh = np.repeat(np.arange(n_meshes), n_faces)
         self._group_lights(meshes, tri_mesh)
         self.tri_semantic = np.array([m.semantic_id for m in meshes], dtype=np.uint32)[tri_mesh]
-        faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
-        faces = np.concatenate(faces or [np.zeros((0, 3), np.int64)])
+        mesh_faces = [m.faces + off for m, off in zip(meshes, offsets[:-1], strict=True)]
+        faces = np.concatenate(mesh_faces or [np.zeros((0, 3), np.int64)])
         self.materials = _material_table(meshes, tri_mesh, np.ascontiguousarray(faces.T))
         self.smooth_meshes = [
             i

@@ -411,22 +411,32 @@ def shade_pixels(
     textured_meshes = [i for i, t in enumerate(materials.textures) if t is not None]
     if FAST_SHADING and len(textured_meshes) == 1 and len(kind) and kind.min() == TEXTURED:
         # every pixel samples the one texture (TEXTURED is the largest kind): no selections
-        packed = _textured_colors(materials, textured_meshes[0], visible, uv_planes, color_planes)
+        uvs = _needed(uv_planes, "uv_planes")
+        packed = _textured_colors(materials, textured_meshes[0], visible, uvs, color_planes)
         return _lit_and_opaque(packed, light)
     packed = materials.tri_base_packed[triangle]  # flat triangles: one gather
     blended = np.flatnonzero(kind == VERTEX_COLOR)
     if len(blended):  # premultiplied base * sum_k b_k c_k
-        color = color_planes.evaluate(visible.subset(blended)).T * np.float32(255.0)
+        colors = _needed(color_planes, "color_planes")
+        color = colors.evaluate(visible.subset(blended)).T * np.float32(255.0)
         packed[blended] = pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
     textured = np.flatnonzero(kind == TEXTURED)
     if len(textured):
+        uvs = _needed(uv_planes, "uv_planes")
         mesh_of_pixel = materials.tri_mesh[triangle[textured]] if len(textured_meshes) > 1 else None
         for mesh in textured_meshes:  # one texture at a time
             sel = textured if mesh_of_pixel is None else textured[mesh_of_pixel == mesh]
             if len(sel):
                 subset = visible if len(sel) == len(triangle) else visible.subset(sel)
-                packed[sel] = _textured_colors(materials, mesh, subset, uv_planes, color_planes)
+                packed[sel] = _textured_colors(materials, mesh, subset, uvs, color_planes)
     return _lit_and_opaque(packed, light)
+
+
+def _needed(planes: AttributePlanes | None, name: str) -> AttributePlanes:
+    """``planes``, which the caller passes whenever a pixel of that kind is visible."""
+    if planes is None:
+        raise ValueError(f"shade_pixels: {name} is None but a visible pixel needs it")
+    return planes
 
 
 def _lit_and_opaque(packed: np.ndarray, light: np.ndarray | None) -> np.ndarray:
@@ -453,7 +463,9 @@ def _textured_colors(
     sample = sample_bilinear_fast if FAST_SHADING else sample_bilinear
     texel = sample(materials.textures[mesh], u, v, materials.uv_origins[mesh])
     if materials.has_vertex_colors[mesh]:
-        factor = color_planes.evaluate(visible).T  # premultiplied base * vertex color, (n, 4)
+        factor = (
+            _needed(color_planes, "color_planes").evaluate(visible).T
+        )  # premultiplied base * vertex color, (n, 4)
     elif materials.base_colors[mesh].tolist() == [1.0, 1.0, 1.0, 1.0]:
         return texel  # the common case: a plain textured mesh
     else:

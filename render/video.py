@@ -36,7 +36,7 @@ import sys
 import threading
 import time
 from collections import deque
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence, Sized
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
 from typing import Any
@@ -224,7 +224,8 @@ def _primary_array(observation: np.ndarray, kind: str, clip: float) -> np.ndarra
         rgba = np.full(ids.shape + (4,), 255, np.uint8)
         rgba[..., :3] = D3_40_COLORS_RGB[ids % 40]  # the palette lookup of semantic_to_rgb
         return rgba
-    return observation_to_image(observation, kind)  # prints Habitat's message, returns None
+    observation_to_image(observation, kind)  # an unsupported kind: prints Habitat's message
+    return None
 
 
 def _paste(frame: np.ndarray, patch: np.ndarray, x: int, y: int) -> None:
@@ -343,7 +344,10 @@ def _in_order_on_threads(function, items: Iterable, threads: int, ahead: int = 4
 
 
 def save_video(
-    video_file: str, frames: Iterable[np.ndarray], fps: int = 60, n_frames: int | None = None
+    video_file: str,
+    frames: Iterable[np.ndarray] | Callable[[], Iterable[np.ndarray]],
+    fps: int = 60,
+    n_frames: int | None = None,
 ) -> str:
     """Encode uint8 frames (RGB, RGBA or gray) to ``video_file`` (mp4), else to a GIF.
 
@@ -353,7 +357,7 @@ def save_video(
     ``PROGRESS_BAR_MIN_FRAMES``. Returns the path written (``.gif`` on fallback).
     """
     make_frames = frames if callable(frames) else (lambda: iter(frames))
-    if n_frames is None and hasattr(frames, "__len__"):
+    if n_frames is None and isinstance(frames, Sized):
         n_frames = len(frames)
     if n_frames == 0:
         raise ValueError(f"save_video: no frames to write to {video_file!r}")

@@ -77,7 +77,32 @@ def _check_finite(position: np.ndarray, name: str) -> None:
         raise ValueError(f"{name} must be finite, got {position.tolist()}")
 
 
-class AgentState(FixedFields):
+class _Pose(FixedFields):
+    """The ``position`` and ``rotation`` properties shared by :class:`AgentState` and
+    :class:`SixDOFPose` (conversions in AgentState's docstring)."""
+
+    _position: np.ndarray  # (3,) float64, meters
+    _rotation: np.ndarray  # (4,) float64 unit quaternion [x, y, z, w]
+
+    @property
+    def position(self) -> np.ndarray:
+        return self._position.copy()
+
+    @position.setter
+    def position(self, value: Any) -> None:
+        self._position = _as_position(value, "AgentState.position")
+
+    @property
+    def rotation(self) -> quaternion.quaternion:
+        x, y, z, w = self._rotation
+        return quaternion.quaternion(w, x, y, z)
+
+    @rotation.setter
+    def rotation(self, value: Any) -> None:
+        self._rotation = mn.to_quaternion(value, "AgentState.rotation").xyzw
+
+
+class AgentState(_Pose):
     """An agent's pose: ``position`` (3,) in meters and ``rotation`` (a unit quaternion).
 
     As in Habitat, ``rotation`` reads back as a numpy-quaternion ``np.quaternion(w, x, y, z)``
@@ -104,28 +129,11 @@ class AgentState(FixedFields):
         self.rotation = mn.Quaternion() if rotation is None else rotation
         self.sensor_states = {} if sensor_states is None else dict(sensor_states)
 
-    @property
-    def position(self) -> np.ndarray:
-        return self._position.copy()
-
-    @position.setter
-    def position(self, value: Any) -> None:
-        self._position = _as_position(value, "AgentState.position")
-
-    @property
-    def rotation(self) -> quaternion.quaternion:
-        x, y, z, w = self._rotation
-        return quaternion.quaternion(w, x, y, z)
-
-    @rotation.setter
-    def rotation(self, value: Any) -> None:
-        self._rotation = mn.to_quaternion(value, "AgentState.rotation").xyzw
-
     def __repr__(self) -> str:
         return f"AgentState(position={self._position.tolist()}, rotation={self.rotation!r})"
 
 
-class SixDOFPose(FixedFields):
+class SixDOFPose(_Pose):
     """A sensor's world pose in ``AgentState.sensor_states``: ``position``, ``rotation``.
 
     Same types and conversions as :class:`AgentState` (the properties are shared).
@@ -135,9 +143,6 @@ class SixDOFPose(FixedFields):
         self.position = position
         _check_finite(self._position, "SixDOFPose.position")
         self.rotation = mn.Quaternion() if rotation is None else rotation
-
-    position = AgentState.position
-    rotation = AgentState.rotation
 
     def __repr__(self) -> str:
         return f"SixDOFPose(position={self._position.tolist()}, rotation={self.rotation!r})"

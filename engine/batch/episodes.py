@@ -119,7 +119,8 @@ class EpisodeResult:
     def from_dict(cls, data: dict[str, Any]) -> EpisodeResult:
         if data.get("status") not in STATUSES:
             raise ValueError(f"not an episode record: status {data.get('status')!r}")
-        return cls(**{name: data.get(name) for name in cls.__dataclass_fields__})
+        fields: dict[str, Any] = {name: data.get(name) for name in cls.__dataclass_fields__}
+        return cls(**fields)
 
 
 def lost_result(task: EpisodeTask, reason: str) -> EpisodeResult:
@@ -177,10 +178,10 @@ def call_episode(episode_fn: Callable[..., Any], task: EpisodeTask) -> EpisodeRe
 # ------------------------------------------------------------------------------------------
 # Shipping the episode function to worker processes
 # ------------------------------------------------------------------------------------------
-def _importable(module_name: str) -> bool:
+def _importable(module_name: str | None) -> bool:
     """True when a fresh process can import ``module_name`` (not ``__main__``, not a file
     loaded by path such as a notebook cell or a pytest module in importlib mode)."""
-    if module_name in ("__main__", "__mp_main__", None):
+    if module_name is None or module_name in ("__main__", "__mp_main__"):
         return False
     try:
         return importlib.util.find_spec(module_name) is not None

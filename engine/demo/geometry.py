@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+from numpy.typing import ArrayLike
 from PIL import Image
 
 from engine.primitives import box_geometry, concatenate_geometry, lathe
@@ -52,8 +53,8 @@ def rgba(color: tuple[int, ...]) -> np.ndarray:
 
 
 def box(
-    lo: tuple[float, float, float],
-    hi: tuple[float, float, float],
+    lo: tuple[float, float, float] | np.ndarray,
+    hi: tuple[float, float, float] | np.ndarray,
     color: tuple[int, ...],
     bake_light: bool = False,
     name: str = "box",
@@ -84,8 +85,8 @@ def horizontal_quad(
 
 
 def lathe_part(
-    radii: np.ndarray,
-    heights: np.ndarray,
+    radii: ArrayLike,
+    heights: ArrayLike,
     segments: int,
     color: tuple[int, ...],
     center: tuple[float, float, float] = (0.0, 0.0, 0.0),

@@ -151,6 +151,8 @@ def banana_object() -> tuple[list[Part], dict]:
     radii = 0.004 + 0.014 * np.sin(np.pi * s) ** 0.6  # thick middle, thin tips
     body = tube(spine, radii, (0.0, 0.0, 1.0), 12, (232, 200, 52), name="banana")
     tips = body.vertices[:, 0] ** 2 > (0.11 * np.sin(np.radians(44.0))) ** 2
+    if body.colors is None:  # tube() always colors its vertices
+        raise RuntimeError("the banana body has no vertex colors to paint its tips on")
     body.colors[tips] = (96, 70, 36, 255)
     config = {"render_asset": "banana.glb", "mass": 0.066, "friction_coefficient": 0.5}
     return [body], config

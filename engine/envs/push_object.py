@@ -27,6 +27,7 @@ front of it, the target 0.4-0.8 m beyond the cube within 45 degrees of the same 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -36,6 +37,7 @@ from gymnasium import spaces
 import engine as habitat_sim
 from engine import mn
 from engine.demo import demo_data_path
+from engine.physics import ManagedRigidObject
 
 MotionType = habitat_sim.physics.MotionType
 
@@ -75,7 +77,8 @@ class PushObjectEnv(gym.Env):
             -OBSERVATION_BOUND, OBSERVATION_BOUND, (10,), np.float32
         )
         self._sim: habitat_sim.Simulator | None = None
-        self._robot = self._cube = None
+        self._robot: ManagedRigidObject  # the locobot, set by reset()
+        self._cube: ManagedRigidObject  # the cube to push, set by reset()
         self._target = np.zeros(3)
 
     # --------------------------------------------------------------------------------------
@@ -185,7 +188,7 @@ class PushObjectEnv(gym.Env):
         }
 
 
-def _build_world(render_mode: str | None, resolution: tuple[int, int]):
+def _build_world(render_mode: str | None, resolution: Sequence[int]):
     """A fresh simulator with the floor slab, the cube and the kinematic locobot."""
     agent_cfg = habitat_sim.agent.AgentConfiguration()
     if render_mode == "rgb_array":

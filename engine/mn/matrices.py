@@ -57,7 +57,8 @@ class _MatrixN:
         except (TypeError, ValueError):
             return False
 
-    __hash__ = None  # mutable-looking value type, like ndarray
+    # No __hash__: a mutable-looking value type, like ndarray (a class that defines __eq__
+    # and no __hash__ gets ``__hash__ = None`` from Python).
 
     def __matmul__(self, other: Any) -> Any:
         result = self._data @ np.asarray(other, dtype=np.float64)
@@ -89,12 +90,21 @@ class _TranslationAccessor:
     """``Matrix4.translation(v)`` builds a translation; ``m.translation`` reads one (Magnum).
     The same for ``Matrix3`` in 2D."""
 
-    def __get__(self, instance: Any, owner: type) -> Any:
+    def __get__(self, instance: Any, owner: type[Matrix3] | type[Matrix4]) -> Any:
         if instance is None:
             return owner._translation_matrix
         if isinstance(instance, Matrix3):
             return Vector2(instance._data[:2, 2])
         return Vector3(instance._data[:3, 3])
+
+
+class _DualRotation2D:
+    """``Matrix3.rotation(angle)`` on the class, ``m.rotation()`` (2x2 block) on an instance."""
+
+    def __get__(self, instance: Matrix3 | None, owner: type[Matrix3]) -> Any:
+        if instance is None:
+            return owner._rotation_matrix
+        return lambda: instance._data[:2, :2] / np.linalg.norm(instance._data[:2, :2], axis=0)
 
 
 class Matrix3(Matrix3x3):
@@ -103,6 +113,7 @@ class Matrix3(Matrix3x3):
 
     __slots__ = ()
     translation = _TranslationAccessor()
+    rotation = _DualRotation2D()
 
     @classmethod
     def from_(cls, rotation_scaling: Any, translation: Any) -> Matrix3:
@@ -143,16 +154,13 @@ class Matrix3(Matrix3x3):
         return Matrix3.from_(rotation.T, -rotation.T @ self._data[:2, 2])
 
 
-class _DualRotation2D:
-    """``Matrix3.rotation(angle)`` on the class, ``m.rotation()`` (2x2 block) on an instance."""
+class _DualRotation:
+    """``Matrix4.rotation(angle, axis)`` on the class, ``m.rotation()`` on an instance."""
 
-    def __get__(self, instance: Matrix3 | None, owner: type) -> Any:
+    def __get__(self, instance: Matrix4 | None, owner: type[Matrix4]) -> Any:
         if instance is None:
-            return owner._rotation_matrix
-        return lambda: instance._data[:2, :2] / np.linalg.norm(instance._data[:2, :2], axis=0)
-
-
-Matrix3.rotation = _DualRotation2D()
+            return lambda angle, axis: owner.from_(axis_angle_matrix(angle, axis), (0.0, 0.0, 0.0))
+        return instance.rotation_normalized
 
 
 class Matrix4(_MatrixN):
@@ -161,6 +169,7 @@ class Matrix4(_MatrixN):
     _size = 4
     __slots__ = ()
     translation = _TranslationAccessor()
+    rotation = _DualRotation()
 
     @classmethod
     def from_(cls, rotation_scaling: Any, translation: Any) -> Matrix4:
@@ -223,18 +232,6 @@ def axis_angle_matrix(angle: Any, axis: Any) -> np.ndarray:
     return quaternion_to_matrix(
         np.append(axis_array / axis_length * math.sin(half), math.cos(half))
     )
-
-
-class _DualRotation:
-    """``Matrix4.rotation(angle, axis)`` on the class, ``m.rotation()`` on an instance."""
-
-    def __get__(self, instance: Matrix4 | None, owner: type) -> Any:
-        if instance is None:
-            return lambda angle, axis: owner.from_(axis_angle_matrix(angle, axis), (0.0, 0.0, 0.0))
-        return instance.rotation_normalized
-
-
-Matrix4.rotation = _DualRotation()
 
 
 # --------------------------------------------------------------------------------------------
@@ -322,7 +319,7 @@ class _RangeN:
             and fuzzy_equal(self._max, other._max)
         )
 
-    __hash__ = None
+    # No __hash__ (fuzzy equality): __eq__ alone sets it to None.
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(min={self.min!r}, max={self.max!r})"

@@ -21,6 +21,7 @@ from engine.mn.vectors import (
     Vector3,
     finite_array,
     fuzzy_equal,
+    is_scalar,
     radians,
     stable_norm,
 )
@@ -87,8 +88,8 @@ def matrix_to_quaternion(matrix: np.ndarray) -> np.ndarray:
     else:
         s = 2.0 * math.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
         q = [(m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, s / 4, (m[1, 0] - m[0, 1]) / s]
-    q = np.array(q)
-    return q / np.linalg.norm(q)
+    xyzw = np.array(q)
+    return xyzw / np.linalg.norm(xyzw)
 
 
 def _is_vector_scalar_pair(value: Any) -> bool:
@@ -129,7 +130,7 @@ class Quaternion:
         xyz = np.array(vector, dtype=np.float64).reshape(-1)
         if xyz.shape != (3,):
             raise ValueError(f"Quaternion vector part needs 3 components, got {vector!r}")
-        if isinstance(scalar, bool) or not np.isscalar(scalar):
+        if isinstance(scalar, bool) or not is_scalar(scalar):
             raise TypeError(f"Quaternion scalar part must be a number, got {scalar!r}")
         self._xyzw = np.append(xyz, float(scalar))
 
@@ -199,7 +200,8 @@ class Quaternion:
         """Magnum's fuzzy compare of vector and scalar parts (relative epsilon 1e-5)."""
         return isinstance(other, Quaternion) and fuzzy_equal(self._xyzw, other._xyzw)
 
-    __hash__ = None  # fuzzy equality has no consistent hash (as Magnum's Python type)
+    # No __hash__: fuzzy equality has no consistent hash (as Magnum's Python type); a class
+    # that defines __eq__ and no __hash__ gets ``__hash__ = None`` from Python.
 
     # -- algebra --------------------------------------------------------------------------------
     def __mul__(self, other: Any) -> Quaternion:

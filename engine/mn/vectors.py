@@ -38,6 +38,7 @@ __all__ = [
     "Vector4",
     "finite_array",
     "fuzzy_equal",
+    "is_scalar",
     "radians",
     "to_vector3",
 ]
@@ -59,6 +60,13 @@ def fuzzy_equal(a: Any, b: Any, epsilon: float = FLOAT_EPSILON) -> bool:
         relative = difference / (np.abs(a) + np.abs(b))
         equal = (a == b) | np.where(near_zero, difference < epsilon, relative < epsilon)
     return bool(np.all(equal))
+
+
+def is_scalar(value: object) -> bool:
+    """``np.isscalar`` as a plain bool: True for a number (or str/bytes), False for arrays
+    and sequences. (numpy's stub declares ``isscalar`` a TypeGuard that would narrow the
+    caller's value to numpy's scalar union, which ``float()`` does not accept.)"""
+    return bool(np.isscalar(value))
 
 
 # --------------------------------------------------------------------------------------------
@@ -151,7 +159,7 @@ class _VectorN:
     def __init__(self, *values: Any) -> None:
         if len(values) == 0:
             data = np.zeros(self._size)
-        elif len(values) == 1 and np.isscalar(values[0]):
+        elif len(values) == 1 and is_scalar(values[0]):
             data = np.full(self._size, float(values[0]))
         else:
             # components, one sequence, or a shorter vector plus components:
@@ -192,7 +200,8 @@ class _VectorN:
             return False
         return fuzzy_equal(self._data, other_array)
 
-    __hash__ = None  # fuzzy equality has no consistent hash (Magnum's types are unhashable)
+    # No __hash__: fuzzy equality has no consistent hash (Magnum's types are unhashable);
+    # a class that defines __eq__ and no __hash__ gets ``__hash__ = None`` from Python.
 
     def _wrap(self, data: np.ndarray) -> Any:
         return type(self)(data)
@@ -393,7 +402,7 @@ class Color4(Vector4):
     __slots__ = ()
 
     def __init__(self, *values: Any) -> None:
-        if len(values) == 1 and np.isscalar(values[0]):
+        if len(values) == 1 and is_scalar(values[0]):
             values = (float(values[0]),) * 3 + (1.0,)
         elif len(values) == 1 and len(np.asarray(values[0]).reshape(-1)) == 3:
             values = (values[0], 1.0)
@@ -426,8 +435,8 @@ class _IntVectorN(_VectorN):
     def __getitem__(self, index: int) -> int:
         return int(self._data[index])
 
-    def __setitem__(self, index: int, value: int) -> None:
-        self._data[index] = int(value)
+    def __setitem__(self, index: int, value: float) -> None:
+        self._data[index] = int(value)  # a float truncates towards zero
 
     def __iter__(self):
         return iter(self._data.tolist())
@@ -443,7 +452,7 @@ class _IntVectorN(_VectorN):
         except (TypeError, ValueError):
             return False
 
-    __hash__ = None
+    # No __hash__ (unhashable, as the float vectors): __eq__ alone sets it to None.
 
     def _wrap(self, data: np.ndarray) -> Any:
         return type(self)(np.trunc(data))
@@ -451,8 +460,21 @@ class _IntVectorN(_VectorN):
     def __truediv__(self, other: Any) -> Any:
         return self._wrap(self._data / np.asarray(other, dtype=np.float64))
 
-    x = property(lambda self: int(self._data[0]), _VectorN.x.fset)
-    y = property(lambda self: int(self._data[1]), _VectorN.y.fset)
+    @property
+    def x(self) -> int:
+        return int(self._data[0])
+
+    @x.setter
+    def x(self, value: float) -> None:
+        self._data[0] = float(value)  # stored in the int64 array: truncates towards zero
+
+    @property
+    def y(self) -> int:
+        return int(self._data[1])
+
+    @y.setter
+    def y(self, value: float) -> None:
+        self._data[1] = float(value)
 
 
 class Vector2i(_IntVectorN):

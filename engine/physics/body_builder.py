@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .settings import MIN_BOX_HALF_EXTENT
 from .shapes import Shape, box_shape, convex_shape, primitive_shape, unit_mass_inertia
 
 
@@ -126,7 +127,7 @@ def _collision_shapes(template, collision_handle, render_handle, com) -> list[Sh
     if template.bounding_box_collisions:
         cloud = np.concatenate(clouds)
         lo, hi = cloud.min(0), cloud.max(0)
-        return [box_shape(np.maximum(0.5 * (hi - lo), 1e-4), 0.5 * (lo + hi))]
+        return [box_shape(np.maximum(0.5 * (hi - lo), MIN_BOX_HALF_EXTENT), 0.5 * (lo + hi))]
     if template.join_collision_meshes or len(clouds) == 1:
         return [convex_shape(np.concatenate(clouds), name)]
     return [convex_shape(cloud, f"{name} mesh {i}") for i, cloud in enumerate(clouds)]

@@ -148,7 +148,7 @@ def boxes_separated(
     """
     rel = np.swapaxes(rotation_a, 1, 2) @ rotation_b  # R_ij = a_i . b_j
     t = (np.swapaxes(rotation_a, 1, 2) @ (center_b - center_a)[:, :, None])[..., 0]
-    abs_rel = np.abs(rel) + 1e-9  # guards the edge axes of (nearly) parallel edges
+    abs_rel = np.abs(rel) + settings.BOX_TEST_PARALLEL_GUARD  # (nearly) parallel edges
     # axes a_i: |t_i| > h_a_i + sum_j h_b_j |R_ij|
     apart = (np.abs(t) > half_a + (abs_rel @ half_b[:, :, None])[..., 0]).any(1)
     # axes b_j: |t . R_:j| > sum_i h_a_i |R_ij| + h_b_j
@@ -280,7 +280,8 @@ def _sphere_triangle_contacts(tris, normal, center, radius):
     best = int(np.argmin(distance))
     if distance[best] > radius + settings.STAGE_SPECULATIVE_DISTANCE:
         return None
-    n = offset[best] / distance[best] if distance[best] > 1e-9 else normal[best]
+    off_surface = distance[best] > settings.SPHERE_CENTER_ON_SURFACE  # has an offset direction
+    n = offset[best] / distance[best] if off_surface else normal[best]
     point_a = closest[best][None]
     point_b = (center - radius * n)[None]
     return point_a, point_b, n[None]

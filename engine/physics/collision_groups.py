@@ -73,7 +73,7 @@ def _default_masks() -> dict[int, int]:
 
 
 def _default_names() -> dict[str, int]:
-    return {g.name: int(g) for g in CollisionGroups}
+    return {name: int(group) for name, group in CollisionGroups.__members__.items()}
 
 
 class CollisionGroupHelper:

@@ -35,7 +35,6 @@ import math
 import fcl
 import numpy as np
 
-from . import settings as constants
 from .bodies import DYNAMIC, STAGE_ID, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
 from .collision_groups import filter_pairs
@@ -43,7 +42,15 @@ from .contacts import FreshPoints, ManifoldStore, feature_length
 from .narrow_phase import narrow_phase
 from .profiling import StageTimer
 from .quaternions import live_rotations
-from .settings import SolverSettings
+from .settings import (
+    AABB_MARGIN,
+    CONTACT_CACHE_DISTANCE,
+    MAX_MANIFOLD_POINTS,
+    MIN_PAIRS_FOR_BOX_TEST,
+    SLEEP_MAX_PENETRATION,
+    STAGE_SPECULATIVE_DISTANCE,
+    SolverSettings,
+)
 from .shapes import Shape, probe_geometry
 from .sleeping import moving_kinematic_mask
 
@@ -68,9 +75,7 @@ class CollisionObjects:
         self.probe_objects[index] = [
             None
             if s.kind == "mesh"
-            else fcl.CollisionObject(
-                probe_geometry(s, constants.STAGE_SPECULATIVE_DISTANCE), fcl.Transform()
-            )
+            else fcl.CollisionObject(probe_geometry(s, STAGE_SPECULATIVE_DISTANCE), fcl.Transform())
             for s in shapes
         ]
 
@@ -176,11 +181,11 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
         b.body_position[live],
         b.body_rotation[live],
     )
-    b.body_aabb_min[live] = lo - constants.AABB_MARGIN
-    b.body_aabb_max[live] = hi + constants.AABB_MARGIN
+    b.body_aabb_min[live] = lo - AABB_MARGIN
+    b.body_aabb_max[live] = hi + AABB_MARGIN
     # the stage also covers the speculative distance of its contacts
-    b.body_aabb_min[STAGE_ID] -= constants.STAGE_SPECULATIVE_DISTANCE
-    b.body_aabb_max[STAGE_ID] += constants.STAGE_SPECULATIVE_DISTANCE
+    b.body_aabb_min[STAGE_ID] -= STAGE_SPECULATIVE_DISTANCE
+    b.body_aabb_max[STAGE_ID] += STAGE_SPECULATIVE_DISTANCE
     dynamic = b.body_motion_type[:n] == DYNAMIC
     active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
     pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
@@ -200,7 +205,7 @@ def touching_candidates(
     """
     pair_list = [(a, c) for a, c in pairs.tolist()]
     check = [k for k, (a, c) in enumerate(pair_list) if a != STAGE_ID and (a, c) not in store]
-    if len(check) < constants.MIN_PAIRS_FOR_BOX_TEST:
+    if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
     apart = set(np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)].tolist())
     return [pair for k, pair in enumerate(pair_list) if k not in apart]
@@ -223,14 +228,14 @@ def changed_pairs(
         b.body_shape_half[store.bodies[rows[known], 1]], axis=1
     )
     unchanged = store.unchanged_rows(
-        rows[known], rotation, b.body_position, radius_b, constants.CONTACT_CACHE_DISTANCE
+        rows[known], rotation, b.body_position, radius_b, CONTACT_CACHE_DISTANCE
     )
     # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
     # is still being pushed apart, and its contacts must follow that (asked every step)
     point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
     depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
-    shallow = np.where(used, depth, -np.inf).max(axis=1) <= constants.SLEEP_MAX_PENETRATION
+    shallow = np.where(used, depth, -np.inf).max(axis=1) <= SLEEP_MAX_PENETRATION
     skip = set(known[unchanged & shallow].tolist())
     return [pair for k, pair in enumerate(pairs) if k not in skip]
 
@@ -248,7 +253,7 @@ def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray)
     # box center in the world: x + R c
     center_a = b.body_position[a] + (rotation[a] @ b.body_shape_center[a][:, :, None])[..., 0]
     center_c = b.body_position[c] + (rotation[c] @ b.body_shape_center[c][:, :, None])[..., 0]
-    margin = constants.AABB_MARGIN
+    margin = AABB_MARGIN
     apart = boxes_separated(
         center_a,
         rotation[a],
@@ -324,9 +329,7 @@ def add_manifold_row(bodies: Bodies, store: ManifoldStore, key: tuple[int, int])
     length from the bodies' thickness (the stage counts as infinitely thick)."""
     rolling = any(s.kind == "sphere" for s in bodies.shapes[key[0]] + bodies.shapes[key[1]])
     thickness = [math.inf if i == STAGE_ID else 2.0 * bodies.body_min_half_extent[i] for i in key]
-    return store.add(
-        key, 1 if rolling else constants.MAX_MANIFOLD_POINTS, feature_length(*thickness)
-    )
+    return store.add(key, 1 if rolling else MAX_MANIFOLD_POINTS, feature_length(*thickness))
 
 
 def drop_stale_manifolds(

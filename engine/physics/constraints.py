@@ -40,8 +40,8 @@ from __future__ import annotations
 
 import enum
 import warnings
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -52,8 +52,12 @@ from .bodies import Bodies
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
 from .quaternions import cross, quat_to_matrix
-from .settings import SolverSettings
+from .settings import TINY, SolverSettings
+from .sleeping import wake_body
 from .solve_stage import solver_velocities
+
+if TYPE_CHECKING:
+    from .world import PhysicsWorld
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
 
@@ -158,8 +162,9 @@ class ConstraintRows:
     ``k_inv (k, 3, 3)`` inverse linear effective mass; ``fixed (k,)`` bool;
     ``angle_error (k, 3)``; ``k_ang_inv (k, 3, 3)``; ``limit (k,)`` max impulse;
     ``lin_impulse, ang_impulse (k, 3)`` accumulated this step; ``colors``: index arrays of
-    the graph colors once sorted (:func:`order_by_color`); ``bias (k, 3)`` the velocity the
-    point block aims at, negated (:func:`point_bias`).
+    the graph colors, filled when the rows are sorted (:func:`order_by_color`; empty
+    before); ``bias (k, 3)`` the velocity the point block aims at, negated, filled by
+    :func:`point_bias` (``(0, 3)`` before).
     """
 
     a: np.ndarray
@@ -174,8 +179,8 @@ class ConstraintRows:
     limit: np.ndarray
     lin_impulse: np.ndarray
     ang_impulse: np.ndarray
-    colors: list | None = None
-    bias: np.ndarray | None = None
+    colors: list[np.ndarray] = field(default_factory=list)
+    bias: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
@@ -195,7 +200,7 @@ class ConstraintStore:
         self._next_id = 0
 
     # -- API ---------------------------------------------------------------------------------
-    def create(self, world, settings: RigidConstraintSettings) -> int:
+    def create(self, world: PhysicsWorld, settings: RigidConstraintSettings) -> int:
         """A new constraint's id, or -1 with a warning when its bodies are not live objects
         (Habitat's failure value)."""
         if not isinstance(settings, RigidConstraintSettings):
@@ -208,21 +213,23 @@ class ConstraintStore:
         constraint_id = self._next_id
         self._next_id += 1
         self._settings[constraint_id] = settings.copy()
-        self.wake_bodies(world)
+        self.wake_bodies(world.bodies)
         return constraint_id
 
-    def update(self, world, constraint_id: int, settings: RigidConstraintSettings) -> None:
+    def update(
+        self, world: PhysicsWorld, constraint_id: int, settings: RigidConstraintSettings
+    ) -> None:
         self._get(constraint_id)
         self._check_bodies(world, settings)
         self._settings[constraint_id] = settings.copy()
-        self.wake_bodies(world)
+        self.wake_bodies(world.bodies)
 
-    def remove(self, world, constraint_id: int) -> None:
+    def remove(self, world: PhysicsWorld, constraint_id: int) -> None:
         settings = self._get(constraint_id)
         del self._settings[constraint_id]
         for index in (settings.object_id_a, settings.object_id_b):
             if index != WORLD and index < world.bodies.count:
-                world.wake(index)
+                wake_body(world.bodies, index)
 
     def get_settings(self, constraint_id: int) -> RigidConstraintSettings:
         return self._get(constraint_id).copy()
@@ -236,7 +243,7 @@ class ConstraintStore:
         return self._settings[constraint_id]
 
     @staticmethod
-    def _check_bodies(world, settings: RigidConstraintSettings) -> None:
+    def _check_bodies(world: PhysicsWorld, settings: RigidConstraintSettings) -> None:
         b = world.bodies
         for name in ("object_id_a", "object_id_b"):
             index = getattr(settings, name)
@@ -255,12 +262,13 @@ class ConstraintStore:
             del self._settings[constraint_id]
 
     # -- step hooks ------------------------------------------------------------------------------
-    def wake_bodies(self, world) -> None:
-        """Bodies held by a constraint stay awake (a moving partner must be able to pull)."""
+    def wake_bodies(self, bodies: Bodies) -> None:
+        """Bodies held by a constraint stay awake (a moving partner must be able to pull):
+        wakes them in ``bodies`` (the first thing a step does)."""
         for settings in self._settings.values():
             for index in (settings.object_id_a, settings.object_id_b):
                 if index != WORLD:
-                    world.wake(index)
+                    wake_body(bodies, index)
 
     def solve(self, bodies: Bodies, moving: np.ndarray, h: float, settings: SolverSettings) -> None:
         """Constraint stage of a step: build rows, iterate, write the dynamic velocities.
@@ -358,7 +366,7 @@ def order_by_color(rows: ConstraintRows, inv_mass: np.ndarray) -> ConstraintRows
 def _safe_inverse(matrices: np.ndarray) -> np.ndarray:
     """Inverse of each 3x3 matrix; zero for singular ones (two immovable bodies)."""
     out = np.zeros_like(matrices)
-    regular = np.abs(np.linalg.det(matrices)) > 1e-300
+    regular = np.abs(np.linalg.det(matrices)) > TINY
     out[regular] = np.linalg.inv(matrices[regular])
     return out
 

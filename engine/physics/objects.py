@@ -1,5 +1,6 @@
 """Habitat's object API: ``RigidObjectManager`` (``MotionType`` in :mod:`motion_type`,
-``ManagedRigidObject`` in :mod:`object_properties`).
+``ManagedRigidObject`` in :mod:`object_properties`, on its base ``ManagedPhysicsObject`` in
+:mod:`physics_object`).
 
 A ``ManagedRigidObject`` is a thin handle on one body of the :class:`PhysicsWorld`: every
 property reads or writes the world's ``body_*`` arrays, so an object is never out of sync

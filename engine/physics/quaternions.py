@@ -17,6 +17,8 @@ import numpy as np
 # one rotation matrix -> [x, y, z, w] (Shepperd's method): the scalar path lives in engine.mn
 from engine.mn.rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
 
+from .settings import SMALL_ROTATION_ANGLE
+
 X, Y, Z, W = range(4)
 
 
@@ -86,7 +88,8 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
     """
     angle = np.sqrt(np.sum(rotation_vector * rotation_vector, axis=-1, keepdims=True))
     # sin(theta/2) / theta -> 1/2 as theta -> 0 (the axis is irrelevant at zero angle)
-    scale = np.where(angle > 1e-12, np.sin(angle / 2) / np.where(angle > 1e-12, angle, 1.0), 0.5)
+    turned = angle > SMALL_ROTATION_ANGLE
+    scale = np.where(turned, np.sin(angle / 2) / np.where(turned, angle, 1.0), 0.5)
     return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
 
 

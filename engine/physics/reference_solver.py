@@ -32,13 +32,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import settings as constants
 from .bodies import Bodies
 from .contacts import SLOTS, ManifoldStore
 from .quaternions import quat_to_matrix
 from .reference_geometry import cross3, dot, rotate
 from .rolling_friction import ContactLoads
-from .settings import SolverSettings
+from .settings import (
+    DEEP_OVERLAP,
+    IMPACT_SPEED,
+    MAX_CORRECTION_SPEED,
+    OVERLAP_BAUMGARTE,
+    POSITION_BAUMGARTE,
+    RESTITUTION_VELOCITY_THRESHOLD,
+    SPLIT_TOUCH_DISTANCE,
+    TANGENT_AXIS_SWITCH,
+    TINY,
+    SolverSettings,
+)
 
 
 @dataclass
@@ -95,11 +105,11 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     reaches ``TANGENT_AXIS_SWITCH`` (then Y), and ``t2 = n x t1``."""
     axis = (
         np.array([1.0, 0.0, 0.0])
-        if abs(normal[0]) < constants.TANGENT_AXIS_SWITCH
+        if abs(normal[0]) < TANGENT_AXIS_SWITCH
         else np.array([0.0, 1.0, 0.0])
     )
     t1 = cross3(normal, axis)
-    t1 = t1 / max(np.sqrt(dot(t1, t1)), constants.TINY)
+    t1 = t1 / max(np.sqrt(dot(t1, t1)), TINY)
     return t1, cross3(normal, t1)
 
 
@@ -112,7 +122,7 @@ def effective_mass(bodies: Bodies6, a: int, b: int, r_a, r_b, direction, n_split
         + dot(ra_x_d, rotate(bodies.inv_inertia[a], ra_x_d))
         + dot(rb_x_d, rotate(bodies.inv_inertia[b], rb_x_d))
     )
-    return 1.0 / (n_split * max(k, constants.TINY))
+    return 1.0 / (n_split * max(k, TINY))
 
 
 def build_rows(
@@ -149,7 +159,7 @@ def build_rows(
                     impulse,
                 )
             )
-        touching = sum(p.depth > -constants.SPLIT_TOUCH_DISTANCE for p in points)
+        touching = sum(p.depth > -SPLIT_TOUCH_DISTANCE for p in points)
         n_split = max(touching, 1) if settings.block_jacobi else 1
         for p in points:
             p.masses = [effective_mass(state, a, b, p.r_a, p.r_b, d, n_split) for d in p.directions]
@@ -167,11 +177,16 @@ def build_rows(
 
 
 def solve_reference(
-    bodies: Bodies, store: ManifoldStore, problem, h: float, settings: SolverSettings
-) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+    bodies: Bodies,
+    store: ManifoldStore,
+    problem,
+    h: float,
+    settings: SolverSettings,
+    with_loads: bool = True,
+) -> tuple[np.ndarray, np.ndarray, ContactLoads | None]:
     """Reference for ``solve_stage._solve_batched``: updates ``problem.velocity`` and the
     store's impulses; returns pseudo velocities ``(n, 6)``, depths ``(m, S)`` and the
-    manifolds' normal loads (rolling friction's input)."""
+    manifolds' normal loads (rolling friction's input; None unless ``with_loads``)."""
     state = Bodies6(problem.velocity, problem.inv_mass, problem.inv_inertia)
     approach = Bodies6(problem.approach_velocity, problem.inv_mass, problem.inv_inertia)
     manifolds = build_rows(bodies, store, problem.rows, state, approach, settings)
@@ -200,11 +215,12 @@ def solve_reference(
         for slot, p in enumerate(m.points):
             # warm start next step from resting loads only: an impact's impulse (a point
             # that approached faster than IMPACT_SPEED) would relaunch the body it stopped
-            impact = p.approach_speed < -constants.IMPACT_SPEED
+            impact = p.approach_speed < -IMPACT_SPEED
             store.impulse[row, slot] = 0.0 if impact else p.impulse
             depth[k, slot] = p.depth
     pseudo = solve_positions_reference(manifolds, problem, h, settings)
-    return pseudo, depth, contact_loads(manifolds, problem.color_slices)
+    loads = contact_loads(manifolds, problem.color_slices) if with_loads else None
+    return pseudo, depth, loads
 
 
 def contact_loads(manifolds: list[ManifoldRows], color_slices) -> ContactLoads:
@@ -260,7 +276,7 @@ def _friction_impulses(state: Bodies6, m: ManifoldRows, group: list, accumulate:
             for t in range(2)
         ]
         limit = m.friction * p.impulse[0]
-        scale = min(1.0, limit / max(np.hypot(new[0], new[1]), constants.TINY))
+        scale = min(1.0, limit / max(np.hypot(new[0], new[1]), TINY))
         new = [value * scale for value in new]
         step = [new[t] - old[t] for t in range(2)] if accumulate else new
         p.impulse[1:] = [old[t] + step[t] for t in range(2)]
@@ -273,7 +289,7 @@ def _restitution_impulses(state: Bodies6, m: ManifoldRows, group: list) -> None:
     """Bounce the loaded points that approached faster than the threshold: ``v_n = -e v_n0``."""
     steps = []
     for p in group:
-        fast = p.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
+        fast = p.approach_speed < -RESTITUTION_VELOCITY_THRESHOLD
         if not (m.restitution > 0 and fast and p.impulse[0] > 0):
             steps.append(0.0)
             continue
@@ -303,15 +319,13 @@ def solve_positions_reference(
     # bodies created overlapping (contacts deeper than DEEP_OVERLAP beyond the slop): more
     # sweeps, and a firmer Baumgarte factor for those contacts; still capped at
     # MAX_CORRECTION_SPEED
-    deep = {
-        id(p): p.depth - slop[id(p)] > constants.DEEP_OVERLAP for m in manifolds for p in m.points
-    }
+    deep = {id(p): p.depth - slop[id(p)] > DEEP_OVERLAP for m in manifolds for p in m.points}
     iterations = settings.position_iterations
     if any(deep.values()):
         iterations = max(iterations, settings.overlap_position_iterations)
 
     def target_of(p: ContactRow) -> float:
-        beta = constants.OVERLAP_BAUMGARTE if deep[id(p)] else constants.POSITION_BAUMGARTE
+        beta = OVERLAP_BAUMGARTE if deep[id(p)] else POSITION_BAUMGARTE
         return _position_target(p, h, slop[id(p)], beta)
 
     groups = _slot_groups(settings.block_jacobi)
@@ -336,7 +350,7 @@ def solve_positions_reference(
 def _position_target(p: ContactRow, h: float, slop: float, beta: float) -> float:
     """m/s, the separation speed that removes ``beta (depth - slop)`` this step, at most
     ``MAX_CORRECTION_SPEED``."""
-    return min(beta * max(p.depth - slop, 0.0) / h, constants.MAX_CORRECTION_SPEED)
+    return min(beta * max(p.depth - slop, 0.0) / h, MAX_CORRECTION_SPEED)
 
 
 # ------------------------------------------------------------------------------------------

@@ -35,11 +35,28 @@ from typing import NamedTuple
 import numpy as np
 
 from .quaternions import cross
+from .settings import TANGENT_AXIS_SWITCH, TINY
 
-__all__ = ["ContactLoads", "apply_rolling_friction", "combined_coefficients"]
+__all__ = [
+    "ContactLoads",
+    "apply_rolling_friction",
+    "combined_coefficients",
+    "needs_rolling_friction",
+]
 
 #: Bullet's clamp of combined friction coefficients.
 MAX_COMBINED = 10.0
+
+
+def needs_rolling_friction(bodies, pair_bodies: np.ndarray) -> bool:
+    """True when a body of the solved pairs ``pair_bodies (m, 2)`` has a non-zero rolling or
+    spinning coefficient. Otherwise every pair coefficient is 0 and the solve stage skips
+    rolling friction altogether (it builds no :class:`ContactLoads`): the common case costs
+    nothing, and the result is the same (the resistance of a zero coefficient is 0)."""
+    ids = pair_bodies.ravel()
+    rolling = bodies.body_rolling_friction[ids] > 0.0
+    spinning = bodies.body_spinning_friction[ids] > 0.0
+    return bool(rolling.any() or spinning.any())
 
 
 def combined_coefficients(
@@ -94,7 +111,7 @@ def apply_rolling_friction(
 def _tangents(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` of unit normals (the least aligned axis trick)."""
     axis = np.zeros_like(normal)
-    axis[..., 0] = np.abs(normal[..., 0]) < 0.57
+    axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
     t1 = cross(normal, axis)
     t1 /= np.linalg.norm(t1, axis=-1, keepdims=True)
@@ -124,10 +141,10 @@ def rolling_friction_scalar(
             basis = np.stack([t1, t2], axis=1)  # (3, 2)
             w_rel = velocity[b, 3:] - velocity[a, 3:]
             k_roll = basis.T @ k_inv @ basis
-            if abs(np.linalg.det(k_roll)) > 1e-300:
+            if abs(np.linalg.det(k_roll)) > TINY:
                 amount = -np.linalg.solve(k_roll, basis.T @ w_rel)
                 limit = rolling[m] * lambda_n[m]
-                amount *= min(1.0, limit / max(float(np.linalg.norm(amount)), 1e-300))
+                amount *= min(1.0, limit / max(float(np.linalg.norm(amount)), TINY))
                 impulse = basis @ amount
                 velocity[a, 3:] -= inv_inertia[a] @ impulse
                 velocity[b, 3:] += inv_inertia[b] @ impulse
@@ -154,14 +171,14 @@ def rolling_friction_vectorized(
         basis = np.stack([t1[s], t2[s]], axis=2)  # (k, 3, 2)
         w_rel = velocity[b, 3:] - velocity[a, 3:]
         k_roll = np.swapaxes(basis, 1, 2) @ k_inv @ basis  # (k, 2, 2)
-        solvable = np.abs(np.linalg.det(k_roll)) > 1e-300
+        solvable = np.abs(np.linalg.det(k_roll)) > TINY
         rhs = (np.swapaxes(basis, 1, 2) @ w_rel[..., None])[..., 0]
         amount = np.zeros((len(a), 2))
         if solvable.any():
             amount[solvable] = -np.linalg.solve(k_roll[solvable], rhs[solvable][..., None])[..., 0]
         limit = rolling[s] * np.maximum(lambda_n[s], 0.0)
         norm = np.linalg.norm(amount, axis=1)
-        amount *= np.minimum(1.0, limit / np.maximum(norm, 1e-300))[:, None]
+        amount *= np.minimum(1.0, limit / np.maximum(norm, TINY))[:, None]
         _apply(velocity, inv_inertia, a, b, (basis @ amount[..., None])[..., 0])
 
 

@@ -1,6 +1,12 @@
 """Solver switches and physical constants of the rigid-body world, with units.
 
-Every tunable number of the physics engine lives here, never as a scattered literal.
+Every tunable number of the physics engine lives here, never as a scattered literal, each
+with its unit and one line saying what it does.
+
+Names: a :class:`SolverSettings` instance is always called ``settings`` (``world.settings``,
+the ``settings`` argument of every stage). Modules that take one import the constants they
+use by name (``from .settings import TINY``); the others may refer to them through the
+module, ``settings.TINY``. Nothing else (no ``constants``, no ``options``).
 The boolean switches mirror box2d-lite's demo toggles (accumulated impulses, warm
 starting, position correction) so a student can turn each idea off and watch what breaks.
 
@@ -145,6 +151,13 @@ BARYCENTRIC_TOLERANCE = 1e-9
 COINCIDENT_FRACTION = 0.05
 #: fcl contacts requested per shape pair.
 MAX_FCL_CONTACTS = 32
+#: 1 (a cosine), added to every ``|R_ij|`` of the oriented-box separating-axis test
+#: (``boxes_separated``): the edge-edge axes of (nearly) parallel edges have a cross
+#: product near 0, and the guard keeps round-off from separating boxes along them.
+BOX_TEST_PARALLEL_GUARD = 1e-9
+#: m, a sphere center closer than this to its nearest stage triangle point has no offset
+#: direction: the sphere-triangle contact takes the triangle's normal instead.
+SPHERE_CENTER_ON_SURFACE = 1e-9
 
 # --- broad phase ------------------------------------------------------------------------
 #: m, broad-phase AABB inflation of every body (keeps touching pairs found).
@@ -177,6 +190,34 @@ SLEEP_MAX_PENETRATION = 0.01
 #: 1 (unit of whatever it divides), smallest positive divisor: ``x / max(y, TINY)`` guards a
 #: division by a length, mass or speed that may be exactly 0.
 TINY = 1e-300
+#: rad, below this rotation angle ``rotation_quat`` uses the limit ``sin(theta/2) / theta
+#: -> 1/2`` (the rotation axis is undefined at zero angle; no 0 / 0).
+SMALL_ROTATION_ANGLE = 1e-12
+#: m^2 (for a unit ray direction), a triangle whose Moller-Trumbore determinant
+#: ``e1 . (d x e2)`` is smaller in magnitude lies parallel to the ray: no hit.
+RAY_PARALLEL_DETERMINANT = 1e-14
+#: m, added to a body's bounding-sphere radius before a ray marches up to the sphere
+#: (``cast_ray``), so round-off never starts the ray inside the body.
+RAY_SPHERE_MARGIN = 1e-3
+#: m, a hull vertex this close to the hull's center has no outward direction: growing the
+#: hull into its speculative probe divides by this instead of its distance.
+PROBE_MIN_OFFSET = 1e-12
+#: m^3, a convex collision hull with no more volume than this is degenerate (refused).
+MIN_HULL_VOLUME = 1e-12
+#: 1, a point set whose smallest principal extent is at most this fraction of its largest
+#: is flat: it gets ``FLAT_HULL_THICKNESS`` before its hull is built.
+FLAT_HULL_RATIO = 1e-9
+#: m^3, the least hull volume a unit-mass inertia is divided by (density 1 -> per kg).
+MIN_INERTIA_VOLUME = 1e-18
+#: m, half extent given to a bounding-box collision shape along an axis the mesh is flat in.
+MIN_BOX_HALF_EXTENT = 1e-4
+#: 1, a pose quaternion whose norm is at most this is degenerate (refused by pose setters).
+MIN_QUATERNION_NORM = 1e-12
+#: 1, a transformation whose rotation columns are shorter than this is degenerate (refused).
+MIN_AXIS_SCALE = 1e-9
+#: 1, a transformation whose normalized rotation part R has ``|R^T R - I|`` above this in
+#: some entry is a shear, not a rotation (refused).
+ORTHOGONALITY_TOLERANCE = 1e-4
 
 # --- robustness -------------------------------------------------------------------------
 #: m, the thinnest collision shape an object may have (smallest dimension of its body-frame
@@ -196,6 +237,13 @@ CCD_MOTION_FRACTION = 0.5
 CCD_SWEEPS = 3
 #: m, how deep a swept body is left inside the wall it hit, so the next step sees the contact.
 CCD_PENETRATION = 0.001
+#: 1, ... at most this fraction of the body's smallest half extent (thin bodies stay thin).
+CCD_PENETRATION_FRACTION = 0.2
+#: m, the least smallest-half-extent the CCD threshold uses (a zero-size body would
+#: otherwise count as fast at any speed).
+CCD_MIN_RADIUS = 1e-6
+#: m, padding of the box swept by a fast body, inside which obstacle triangles are tested.
+SWEEP_BOX_PADDING = 1e-6
 
 # --- analytic box-box contacts (box_box.py) -----------------------------------------------
 #: 1, a B face axis replaces A's, and an edge-edge axis replaces the best face, only when

@@ -28,6 +28,14 @@ import fcl
 import numpy as np
 import trimesh
 
+from .settings import (
+    FLAT_HULL_RATIO,
+    FLAT_HULL_THICKNESS,
+    MIN_HULL_VOLUME,
+    MIN_INERTIA_VOLUME,
+    PROBE_MIN_OFFSET,
+)
+
 #: segments used to tessellate round primitives for ray casts and vertex contacts.
 ROUND_SEGMENTS = 24
 
@@ -90,7 +98,7 @@ def probe_geometry(shape: Shape, margin: float):
     center = shape.hull_vertices.mean(0)
     offset = shape.hull_vertices - center
     grown = shape.hull_vertices + margin * offset / np.maximum(
-        np.linalg.norm(offset, axis=1, keepdims=True), 1e-12
+        np.linalg.norm(offset, axis=1, keepdims=True), PROBE_MIN_OFFSET
     )
     return convex_shape(grown, "probe").geometry
 
@@ -222,7 +230,7 @@ def convex_shape(points: np.ndarray, name: str) -> Shape:
         raise ValueError(f"{name}: hull points contain NaN or inf")
     points = _thicken_if_flat(points)
     hull = trimesh.convex.convex_hull(points)
-    if hull.volume <= 1e-12 or len(hull.faces) < 4:
+    if hull.volume <= MIN_HULL_VOLUME or len(hull.faces) < 4:
         raise ValueError(
             f"{name}: degenerate (empty or collinear) collision mesh, volume {hull.volume}"
         )
@@ -235,11 +243,9 @@ def convex_shape(points: np.ndarray, name: str) -> Shape:
 def _thicken_if_flat(points: np.ndarray) -> np.ndarray:
     """A planar point set (a single quad face, as in ``transform_box.glb``) becomes a slab
     ``FLAT_HULL_THICKNESS`` thick, like Bullet's collision margin gives it thickness."""
-    from .settings import FLAT_HULL_THICKNESS
-
     centered = points - points.mean(0)
     _, singular, axes = np.linalg.svd(centered, full_matrices=False)
-    if singular[0] <= 0 or singular[-1] > 1e-9 * singular[0]:
+    if singular[0] <= 0 or singular[-1] > FLAT_HULL_RATIO * singular[0]:
         return points
     offset = 0.5 * FLAT_HULL_THICKNESS * axes[-1]  # along the plane normal
     return np.concatenate([points + offset, points - offset])
@@ -276,5 +282,5 @@ def unit_mass_inertia(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
     if shape.kind == "sphere":
         return center, np.full(3, 0.4 * shape.radius**2)  # I = 2/5 m r^2
     hull = trimesh.convex.convex_hull(shape.hull_vertices)
-    inertia = np.asarray(hull.moment_inertia) / max(hull.volume, 1e-18)  # density 1 -> per kg
+    inertia = np.asarray(hull.moment_inertia) / max(hull.volume, MIN_INERTIA_VOLUME)  # per kg
     return np.asarray(hull.center_mass), np.diag(inertia).copy()

@@ -8,7 +8,8 @@ least-rested body has rested ``TIME_TO_SLEEP`` seconds (a body still overlapping
 more than ``SLEEP_MAX_PENETRATION`` is not resting): velocities are zeroed and the solver
 treats its bodies as static until woken. A sleeping body in an island that also holds an
 awake, non-resting body is woken, so a moving body wakes whatever it touches; touching a
-moving kinematic body resets the rest timer.
+moving kinematic body resets the rest timer. Outside the step, :func:`wake_body` and
+:func:`wake_island` wake what a user's change (a pose write, a removed support) disturbs.
 """
 
 from __future__ import annotations
@@ -103,3 +104,28 @@ def wake_touched(bodies, manifolds) -> bool:
     bodies.body_awake[woken] = True
     bodies.body_sleep_time[woken] = 0.0
     return len(woken) > 0
+
+
+def wake_body(bodies, index: int) -> None:
+    """Wake body ``index`` and restart its rest timer (a no-op for non-dynamic bodies)."""
+    if bodies.body_motion_type[index] == DYNAMIC:
+        bodies.body_awake[index] = True
+        bodies.body_sleep_time[index] = 0.0
+
+
+def wake_island(bodies, manifolds, index: int) -> None:
+    """Wake the islands touching body ``index``: every dynamic body connected to it through
+    contact manifolds (a support removed or moved lets the whole stack above move)."""
+    neighbors: dict[int, list[int]] = {}
+    for a, c in manifolds:
+        neighbors.setdefault(a, []).append(c)
+        neighbors.setdefault(c, []).append(a)
+    frontier, seen = [index], {index}
+    while frontier:
+        current = frontier.pop()
+        for other in neighbors.get(current, []):
+            if other in seen or bodies.body_motion_type[other] != DYNAMIC:
+                continue  # static and kinematic bodies do not join islands
+            seen.add(other)
+            wake_body(bodies, other)
+            frontier.append(other)

@@ -21,14 +21,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import settings as constants
 from .bodies import DYNAMIC, KINEMATIC, Bodies
 from .coloring import color_manifolds
 from .contacts import ManifoldStore
 from .integrate import world_inverse_inertia
 from .quaternions import live_rotations
-from .rolling_friction import ContactLoads, apply_rolling_friction, combined_coefficients
-from .settings import SolverSettings
+from .rolling_friction import (
+    ContactLoads,
+    apply_rolling_friction,
+    combined_coefficients,
+    needs_rolling_friction,
+)
+from .settings import IMPACT_SPEED, PENETRATION_SLOP, SLEEP_MAX_PENETRATION, TINY, SolverSettings
 from .solver import SLOTS, build_batch, solve_contacts
 
 
@@ -83,23 +87,26 @@ def solve_stage(
     problem = gather_solver_input(bodies, store, moving, start_velocity)
     if problem is None:
         return SolveResult(None, np.zeros(0, dtype=np.int64))
+    # rolling and spinning resistance (rolling_friction.py) only if some body of the
+    # solved pairs has it: then the solve also returns the manifolds' normal loads
+    rolling = needs_rolling_friction(bodies, store.bodies[problem.rows])
     if settings.use_vectorized:
-        pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings)
+        pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings, rolling)
     else:
         from .reference_solver import solve_reference
 
-        pseudo, depth, loads = solve_reference(bodies, store, problem, h, settings)
-    # rolling and spinning resistance (rolling_friction.py), a no-op when all are zero
-    apply_rolling_friction(
-        loads,
-        problem.velocity,
-        problem.inv_inertia,
-        *combined_coefficients(bodies, loads.body_a, loads.body_b),
-        settings.use_vectorized,
-    )
+        pseudo, depth, loads = solve_reference(bodies, store, problem, h, settings, rolling)
+    if loads is not None:
+        apply_rolling_friction(
+            loads,
+            problem.velocity,
+            problem.inv_inertia,
+            *combined_coefficients(bodies, loads.body_a, loads.body_b),
+            settings.use_vectorized,
+        )
     bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
     bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
-    deep = depth.max(axis=1) > constants.SLEEP_MAX_PENETRATION
+    deep = depth.max(axis=1) > SLEEP_MAX_PENETRATION
     overlapping = store.bodies[problem.rows[deep]].ravel()
     return SolveResult(pseudo, overlapping)
 
@@ -126,7 +133,7 @@ def gather_solver_input(
         for color, (_, stop) in zip(colors, color_slices, strict=True)
     ]
     rows = rows[np.concatenate(colors)]
-    inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], constants.TINY), 0.0)
+    inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
     velocity = solver_velocities(b, n)
@@ -136,7 +143,7 @@ def gather_solver_input(
     dynamic = b.body_motion_type[:n] == DYNAMIC
     approach_velocity[dynamic] = start_velocity[dynamic]
     lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
-    slop = np.minimum(constants.PENETRATION_SLOP, store.feature[rows])
+    slop = np.minimum(PENETRATION_SLOP, store.feature[rows])
     return SolverInput(
         rows,
         color_slices,
@@ -151,11 +158,16 @@ def gather_solver_input(
 
 
 def _solve_batched(
-    bodies: Bodies, store: ManifoldStore, problem: SolverInput, h: float, settings: SolverSettings
-) -> tuple[np.ndarray, np.ndarray, ContactLoads]:
+    bodies: Bodies,
+    store: ManifoldStore,
+    problem: SolverInput,
+    h: float,
+    settings: SolverSettings,
+    with_loads: bool = True,
+) -> tuple[np.ndarray, np.ndarray, ContactLoads | None]:
     """Batched path: padded arrays, one NumPy batch per color. Returns the pseudo
     velocities ``(n, 6)``, the contact depths ``(m, S)`` (0 in empty slots) and the
-    manifolds' normal loads (rolling friction's input)."""
+    manifolds' normal loads (rolling friction's input; None unless ``with_loads``)."""
     b, n, rows = bodies, bodies.count, problem.rows
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
@@ -186,17 +198,18 @@ def _solve_batched(
         slop=problem.slop,
     )
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
-    # every slot of a manifold shares its normal; lambda_n is the total normal impulse
-    loads = ContactLoads(
-        batch.body_a,
-        batch.body_b,
-        batch.color_slices,
-        batch.normal_jac[:, 0, 6:9],
-        batch.impulse[:, :, 0].sum(axis=1),
-    )
+    loads = None
+    if with_loads:  # every slot of a manifold shares its normal; lambda_n is the sum
+        loads = ContactLoads(
+            batch.body_a,
+            batch.body_b,
+            batch.color_slices,
+            batch.normal_jac[:, 0, 6:9],
+            batch.impulse[:, :, 0].sum(axis=1),
+        )
     # warm start next step from resting loads only: an impact's impulse (a point that
     # approached faster than IMPACT_SPEED) would relaunch the body it just stopped
-    impact = batch.approach_speed < -constants.IMPACT_SPEED
+    impact = batch.approach_speed < -IMPACT_SPEED
     store.impulse[rows] = np.where(impact[..., None], 0.0, batch.impulse)  # 0 in empty slots
     return pseudo, batch.depth, loads
 

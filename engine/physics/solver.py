@@ -52,11 +52,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import settings as constants
 from .quaternions import cross
+from .settings import (
+    DEEP_OVERLAP,
+    MAX_CORRECTION_SPEED,
+    MAX_MANIFOLD_POINTS,
+    OVERLAP_BAUMGARTE,
+    PENETRATION_SLOP,
+    POSITION_BAUMGARTE,
+    RESTITUTION_VELOCITY_THRESHOLD,
+    SPLIT_TOUCH_DISTANCE,
+    TANGENT_AXIS_SWITCH,
+    TINY,
+    SolverSettings,
+)
 from .stage_priority import stage_rows_last
 
-SLOTS = constants.MAX_MANIFOLD_POINTS
+SLOTS = MAX_MANIFOLD_POINTS
 
 
 @dataclass
@@ -97,7 +109,7 @@ class ContactBatch:
     split: np.ndarray
     priority_starts: list = field(default_factory=list)
     lower: np.ndarray | None = None
-    slop: np.ndarray | float = constants.PENETRATION_SLOP
+    slop: np.ndarray | float = PENETRATION_SLOP
     colors: dict = field(default_factory=dict)
 
 
@@ -137,10 +149,10 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
     # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
     axis = np.zeros_like(normal)
-    axis[..., 0] = np.abs(normal[..., 0]) < constants.TANGENT_AXIS_SWITCH
+    axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
     t1 = cross(normal, axis)
-    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), constants.TINY)
+    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), TINY)
     return t1, cross(normal, t1)
 
 
@@ -212,15 +224,15 @@ def build_batch(
     tangent_jac, tangent_w = _rows(tangents, *r2, *args[2:])
     depth = ((points_a - points_b) * normals).sum(axis=-1)
     # n_split = touching points (gap < SPLIT_TOUCH_DISTANCE) with mass splitting, else 1
-    touching = mask & (depth > -constants.SPLIT_TOUCH_DISTANCE)
+    touching = mask & (depth > -SPLIT_TOUCH_DISTANCE)
     n_touching = np.maximum(touching.sum(axis=1), 1)[:, None]
     split = n_touching if split_mass else np.ones((len(counts), 1))
     # m_eff = 1 / (n_split J M^-1 J^T)
     k_normal = (normal_jac * normal_w).sum(axis=-1)
-    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, constants.TINY)), 0.0)
+    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, TINY)), 0.0)
     k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
     tangent_mass = np.where(
-        np.repeat(mask, 2, axis=1), 1.0 / (split * np.maximum(k_tangent, constants.TINY)), 0.0
+        np.repeat(mask, 2, axis=1), 1.0 / (split * np.maximum(k_tangent, TINY)), 0.0
     )
     vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
@@ -245,7 +257,7 @@ def build_batch(
         split,
         [stop for _, stop in color_slices] if priority_starts is None else list(priority_starts),
         lower,
-        constants.PENETRATION_SLOP if slop is None else slop[:, None],
+        PENETRATION_SLOP if slop is None else slop[:, None],
     )
 
 
@@ -335,14 +347,16 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
     new = lam_t + step if accumulate else step
     limit = block.friction * lam_n  # mu lambda_n, (k, r, 1)
     norm = np.hypot(new[:, 0::2], new[:, 1::2])  # |lambda_t| = sqrt(t1^2 + t2^2), (k, r, 1)
-    scale = np.minimum(1.0, limit / np.maximum(norm, constants.TINY))  # back onto the circle
+    scale = np.minimum(1.0, limit / np.maximum(norm, TINY))  # back onto the circle
     new *= scale.repeat(2, axis=1)  # the same scale for t1 and t2
     step = new - lam_t if accumulate else new
     lam_t += step
     vab += block.tangent_w @ step  # V += W_t d_lambda
 
 
-def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> None:
+def solve_velocities(
+    batch: ContactBatch, velocity: np.ndarray, h: float, settings: SolverSettings
+) -> None:
     """Velocity iterations (normal then friction per color), then the restitution pass.
 
     Reference: the loops of :func:`reference_solver.solve_reference`."""
@@ -351,7 +365,7 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
     bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
     lam_n = batch.impulse[..., :1].copy()  # (m, S, 1) normal impulses
     lam_t = batch.impulse[..., 1:].reshape(len(lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy: t1, t2
-    colors = _color_blocks(batch, options.block_jacobi)
+    colors = _color_blocks(batch, settings.block_jacobi)
     work = [
         [
             (block, bias[block.normal_index], lam_n[block.normal_index], lam_t[block.tangent_index])
@@ -359,8 +373,8 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
         ]
         for color in colors
     ]
-    accumulate = options.accumulate_impulses
-    for _ in range(options.velocity_iterations):
+    accumulate = settings.accumulate_impulses
+    for _ in range(settings.velocity_iterations):
         for color, blocks in zip(colors, work, strict=True):
             vab = _gather(flat, color)
             for block, b, ln, lt in blocks:
@@ -368,7 +382,7 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
-    stage_rows_last(batch, flat, bias, options)
+    stage_rows_last(batch, flat, bias, settings)
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
@@ -376,7 +390,7 @@ def solve_velocities(batch: ContactBatch, velocity: np.ndarray, h: float, option
 
 def _restitution(batch, flat, colors, lam_n):
     """Bounce pass: target ``v_n = -e v_n0`` on the loaded, fast-approaching points."""
-    fast = batch.approach_speed < -constants.RESTITUTION_VELOCITY_THRESHOLD
+    fast = batch.approach_speed < -RESTITUTION_VELOCITY_THRESHOLD
     bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
     if not bounce.any():
         return
@@ -401,27 +415,29 @@ def _restitution_rows(block, vab, target, lam):
     vab += block.normal_w @ step
 
 
-def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np.ndarray:
+def solve_positions(
+    batch: ContactBatch, n_bodies: int, h: float, settings: SolverSettings
+) -> np.ndarray:
     """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop.
 
     Reference: :func:`reference_solver.solve_positions_reference`."""
     pseudo = np.zeros((n_bodies, 6))
-    if not options.position_correction or options.position_iterations == 0:
+    if not settings.position_correction or settings.position_iterations == 0:
         return pseudo
     flat = pseudo.reshape(-1)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
     excess = np.maximum(batch.depth - batch.slop, 0.0)
     # bodies created overlapping (contacts deeper than DEEP_OVERLAP): more sweeps, and a
     # firmer push for those contacts
-    deep = excess > constants.DEEP_OVERLAP
-    beta = np.where(deep, constants.OVERLAP_BAUMGARTE, constants.POSITION_BAUMGARTE)
-    iterations = options.position_iterations
+    deep = excess > DEEP_OVERLAP
+    beta = np.where(deep, OVERLAP_BAUMGARTE, POSITION_BAUMGARTE)
+    iterations = settings.position_iterations
     if deep.any():
-        iterations = max(iterations, options.overlap_position_iterations)
-    target = np.minimum(beta * excess / h, constants.MAX_CORRECTION_SPEED)
+        iterations = max(iterations, settings.overlap_position_iterations)
+    target = np.minimum(beta * excess / h, MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
     lam = np.zeros_like(bias)
-    colors = _color_blocks(batch, options.block_jacobi)
+    colors = _color_blocks(batch, settings.block_jacobi)
     work = [
         [(block, bias[block.normal_index], lam[block.normal_index]) for block in color.blocks]
         for color in colors
@@ -432,15 +448,17 @@ def solve_positions(batch: ContactBatch, n_bodies: int, h: float, options) -> np
             for block, b, block_lam in blocks:
                 _normal_rows(block, vab, b, block_lam, True)
             _scatter(flat, color, vab)
-    stage_rows_last(batch, flat, bias, options)
+    stage_rows_last(batch, flat, bias, settings)
     return pseudo
 
 
-def solve_contacts(batch: ContactBatch, velocity: np.ndarray, h: float, options) -> np.ndarray:
+def solve_contacts(
+    batch: ContactBatch, velocity: np.ndarray, h: float, settings: SolverSettings
+) -> np.ndarray:
     """Full solve: warm start, velocity iterations, restitution; returns pseudo velocities."""
-    if options.warm_starting:
+    if settings.warm_starting:
         warm_start(batch, velocity)
     else:
         batch.impulse[:] = 0.0
-    solve_velocities(batch, velocity, h, options)
-    return solve_positions(batch, len(velocity), h, options)
+    solve_velocities(batch, velocity, h, settings)
+    return solve_positions(batch, len(velocity), h, settings)

@@ -27,13 +27,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import settings as constants
+from .settings import TINY, SolverSettings
 
 if TYPE_CHECKING:
     from .solver import ContactBatch
 
 
-def stage_rows_last(batch, flat, bias, options) -> None:
+def stage_rows_last(batch, flat, bias, settings: SolverSettings) -> None:
     """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
     over the dynamic pairs with the lower body held fixed (:func:`shock_rows`).
 
@@ -42,11 +42,11 @@ def stage_rows_last(batch, flat, bias, options) -> None:
         (start, stop)
         for (_, stop), start in zip(batch.color_slices, batch.priority_starts, strict=True)
     ]
-    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, options.stage_iterations)
+    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, settings.stage_iterations)
     shock = shock_rows(batch)
     if shock is not None:
         _lumped_sweeps(
-            batch, batch.color_slices, shock.with_bias(bias), flat, options.stage_iterations
+            batch, batch.color_slices, shock.with_bias(bias), flat, settings.stage_iterations
         )
 
 
@@ -69,7 +69,7 @@ class LumpedRows:
         jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
         w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
         k = (jac * w).sum(axis=1)  # J W^T
-        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, constants.TINY), 0.0)
+        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, TINY), 0.0)
         return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
 
     def with_bias(self, bias: np.ndarray) -> LumpedRows:

@@ -60,7 +60,7 @@ def sweep_fast_bodies(bodies: Bodies, moving: np.ndarray, old_position: np.ndarr
     travel = b.body_position[moving] - old_position
     length = np.linalg.norm(travel, axis=1)
     radius = b.body_min_half_extent[moving]
-    fast = length > settings.CCD_MOTION_FRACTION * np.maximum(radius, 1e-6)
+    fast = length > settings.CCD_MOTION_FRACTION * np.maximum(radius, settings.CCD_MIN_RADIUS)
     if not np.any(fast):
         return
     n = b.count
@@ -93,8 +93,9 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
         return np.zeros(3)
     u = travel / length
     starts = np.vstack([position[None], world_vertices]) - travel  # the step's start
-    lo = np.minimum(starts.min(0), starts.min(0) + travel) - 1e-6
-    hi = np.maximum(starts.max(0), starts.max(0) + travel) + 1e-6
+    pad = settings.SWEEP_BOX_PADDING
+    lo = np.minimum(starts.min(0), starts.min(0) + travel) - pad
+    hi = np.maximum(starts.max(0), starts.max(0) + travel) + pad
     triangles = _obstacle_triangles(bodies, obstacle, lo, hi)
     if len(triangles) == 0:
         return np.zeros(3)
@@ -108,7 +109,9 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
     # the center ray stands for the whole body: add its support along -n (half thickness)
     support = np.max(-(world_vertices - position) @ normal[0])
     depth[0] += max(support, 0.0)
-    allowed = min(settings.CCD_PENETRATION, 0.2 * b.body_min_half_extent[index])
+    allowed = min(
+        settings.CCD_PENETRATION, settings.CCD_PENETRATION_FRACTION * b.body_min_half_extent[index]
+    )
     correction = np.zeros(3)
     for ray in np.argsort(-depth, kind="stable").tolist():
         if not hit[ray]:
@@ -158,7 +161,7 @@ def first_hits(origins: np.ndarray, direction: np.ndarray, triangles: np.ndarray
     e1, e2 = triangles[:, 1] - a, triangles[:, 2] - a
     p = np.cross(direction, e2)  # (t, 3), the same for every ray
     det = np.sum(e1 * p, axis=1)
-    ok = np.abs(det) > 1e-14
+    ok = np.abs(det) > settings.RAY_PARALLEL_DETERMINANT
     inv_det = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
     rel = origins[:, None, :] - a[None]  # o - a, (k, t, 3)
     u = np.einsum("kti,ti->kt", rel, p) * inv_det  # barycentric u = (o - a) . p / det
@@ -169,6 +172,6 @@ def first_hits(origins: np.ndarray, direction: np.ndarray, triangles: np.ndarray
     s = np.where(hit, s, np.inf)
     best = s.argmin(axis=1)
     normal = np.cross(e1, e2)[best]
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), settings.TINY)
     normal *= np.where(normal @ direction > 0, -1.0, 1.0)[:, None]  # n . u < 0: faces the start
     return s[np.arange(len(s)), best], normal

@@ -34,6 +34,19 @@ batched NumPy code or through the plain per-pair / per-point reference code
 contacts and trajectories to rounding. Wall time per stage is summed by
 :class:`profiling.StageTimer` (``world.profile``), outside the stage functions.
 
+**Composition.** The world owns its parts and hands them to plain functions: ``bodies``
+(:class:`Bodies`, every per-body array), ``manifolds`` (:class:`ManifoldStore`),
+``collision_objects`` (:class:`CollisionObjects`, fcl), ``constraints``
+(:class:`ConstraintStore`), ``node_sync`` (:class:`NodeSync`, bodies <-> scene nodes) and
+the per-object dictionaries ``nodes``, ``velocity_controls``, ``render_meshes``,
+``creation_state``. Its methods are of three kinds, each a few lines: the step above;
+body bookkeeping that must touch several parts at once (:meth:`add_body`,
+:meth:`remove_body`, :meth:`set_body_pose`, :meth:`reset`, :meth:`set_stage`); and
+Habitat's world API (time, gravity, ray casts, contact points), one-line calls of
+:mod:`queries` and :mod:`sleeping` functions that take the parts they read explicitly. A
+reader looking for what ``cast_ray`` does opens one function in one module, with every
+input in its signature; no method is inherited.
+
 ``step_physics(dt)`` wraps it the way Habitat wraps ``btDiscreteDynamicsWorld::
 stepSimulation``: it accumulates ``dt`` and runs whole fixed steps of ``timestep`` (0.008 s
 default), so world time lags the requested time by less than one step; ``dt <= 0`` runs
@@ -51,7 +64,7 @@ import numpy as np
 
 from engine import mn
 
-from . import settings as constants
+from . import queries
 from .bodies import DYNAMIC, KINEMATIC, STAGE_ID, STATIC, Bodies
 from .collision_groups import assign_group
 from .collision_stage import CollisionObjects, collision_stage
@@ -66,17 +79,18 @@ from .integrate import (
 from .node_sync import NodeSync
 from .profiling import StageTimer
 from .quaternions import quat_to_matrix
-from .settings import SolverSettings
+from .queries import ContactPointData, RaycastResults
+from .settings import MAX_STEPS_PER_CALL, SolverSettings
 from .shapes import mesh_shape
-from .sleeping import update_sleep, wake_touched
+from .sleeping import update_sleep, wake_body, wake_island, wake_touched
 from .solve_stage import solve_stage
-from .world_api import WorldApiMixin
 
 __all__ = ["STAGE_ID", "PhysicsWorld"]
 
 
-class PhysicsWorld(WorldApiMixin):
-    """The rigid-body world behind ``Simulator`` (see the module docstring)."""
+class PhysicsWorld:
+    """The rigid-body world behind ``Simulator`` (see the module docstring): it owns the
+    state, runs the step, and answers Habitat's world queries."""
 
     def __init__(
         self, physics_attributes, root_node, object_template_manager, asset_template_manager=None
@@ -104,9 +118,9 @@ class PhysicsWorld(WorldApiMixin):
         self.render_meshes: dict[int, list] = {}
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self.node_sync = NodeSync(self.bodies, self.nodes)
-        self._time = 0.0
-        self._accumulator = 0.0
-        self.n_overlapping_pairs = 0
+        self._time = 0.0  # s, whole fixed steps since creation or reset
+        self._accumulator = 0.0  # s, requested time not yet stepped (< one fixed step)
+        self.n_overlapping_pairs = 0  # broad-phase pairs of the last collision pass
         self.timer = StageTimer()
         self.profile = self.timer.seconds  # {stage name: wall seconds}, read by benchmarks
         self.rigid_object_manager = RigidObjectManager(self, object_template_manager, root_node)
@@ -161,6 +175,115 @@ class PhysicsWorld(WorldApiMixin):
         r = quat_to_matrix(self.bodies.body_rotation[index]) if rotation is None else rotation
         self.collision_objects.move(self.bodies, np.array([index]), r[None])
 
+    def get_stage_is_collidable(self) -> bool:
+        return bool(self.bodies.body_collidable[STAGE_ID] and self.bodies.shapes[STAGE_ID])
+
+    def set_stage_is_collidable(self, collidable: bool) -> None:
+        """Turn the stage's collisions (contacts, ray hits, contact tests) on or off."""
+        if not isinstance(collidable, bool | np.bool_):
+            raise TypeError(f"collidable must be a bool, got {collidable!r}")
+        b = self.bodies
+        b.body_collidable[STAGE_ID] = bool(collidable) and bool(b.shapes[STAGE_ID])
+        for key in [k for k in self.manifolds if STAGE_ID in k]:
+            wake_body(b, key[1])
+            del self.manifolds[key]
+
+    # ------------------------------------------------------------------------------------
+    # bodies: bookkeeping across the world's parts
+    # ------------------------------------------------------------------------------------
+    def add_body(self, description, template) -> int:
+        """Create a DYNAMIC body from a BodyDescription and its template; returns its id."""
+        b = self.bodies
+        index = b.allocate()  # a recycled slot if any (Habitat's recycled object ids)
+        b.body_mass[index] = description.mass
+        b.body_inertia[index] = description.inertia
+        b.body_motion_type[index] = DYNAMIC
+        b.body_friction[index] = float(template.friction_coefficient)
+        b.body_rolling_friction[index] = float(template.rolling_friction_coefficient)
+        b.body_spinning_friction[index] = float(template.spinning_friction_coefficient)
+        assign_group(b, index)  # the group of its motion type, until overridden
+        b.body_restitution[index] = float(template.restitution_coefficient)
+        b.body_linear_damping[index] = float(template.linear_damping)
+        b.body_angular_damping[index] = float(template.angular_damping)
+        b.body_collidable[index] = bool(template.is_collidable)
+        self._install_shapes(index, description.shapes)
+        self.creation_state[index] = (b.body_position[index].copy(), b.body_rotation[index].copy())
+        return index
+
+    def remove_body(self, index: int) -> None:
+        """Remove body ``index`` and wake its neighbors; its slot (cleared, ``body_alive``
+        False) is recycled for the next new body, and no part of the world keeps it."""
+        wake_island(self.bodies, self.manifolds, index)
+        self.constraints.drop_body(index)
+        for key in [k for k in self.manifolds if index in k]:
+            del self.manifolds[key]
+        self.bodies.release(index)
+        self.collision_objects.remove(index)
+        self.render_meshes.pop(index, None)
+        self.node_sync.forget(index)
+        self.nodes.pop(index, None)
+        self.velocity_controls.pop(index, None)
+        self.creation_state.pop(index, None)
+
+    def set_body_pose(
+        self, index: int, position: np.ndarray, rotation: np.ndarray, wake: bool = True
+    ) -> None:
+        """Teleport body ``index`` (position (3,), rotation [x, y, z, w]); node follows."""
+        b = self.bodies
+        b.body_position[index] = position
+        b.body_rotation[index] = rotation / np.linalg.norm(rotation)
+        if index in self.collision_objects:
+            self._update_fcl(index)
+        self.node_sync.write_node(index)
+        if wake:
+            wake_body(b, index)
+            wake_island(b, self.manifolds, index)
+
+    def reset(self) -> None:
+        """World time 0; every object back to its creation pose, at rest, awake."""
+        b = self.bodies
+        for index, (position, rotation) in self.creation_state.items():
+            b.body_position[index] = position
+            b.body_rotation[index] = rotation
+            b.body_awake[index] = True
+            self._update_fcl(index)
+            self.node_sync.write_node(index)
+        n = b.count
+        for array in (
+            b.body_linear_velocity,
+            b.body_angular_velocity,
+            b.body_force,
+            b.body_torque,
+            b.body_solver_velocity,
+            b.body_solver_angular_velocity,
+        ):
+            array[:n] = 0.0
+        b.body_sleep_time[:n] = 0.0
+        self.manifolds.clear()
+        self._time = 0.0
+        self._accumulator = 0.0
+
+    # ------------------------------------------------------------------------------------
+    # time and gravity
+    # ------------------------------------------------------------------------------------
+    def get_world_time(self) -> float:
+        """Simulated seconds: a whole number of fixed steps since creation or reset."""
+        return self._time
+
+    def get_physics_time_step(self) -> float:
+        """The fixed step, seconds (0.008 by default)."""
+        return self._timestep
+
+    def get_gravity(self) -> mn.Vector3:
+        return mn.Vector3(self._gravity)
+
+    def set_gravity(self, gravity: Any) -> None:
+        """Set gravity (m/s^2, world frame) and wake every dynamic body."""
+        self._gravity = np.asarray(mn.to_vector3(gravity, "gravity"))
+        n = self.bodies.count
+        self.bodies.body_awake[:n] |= self.bodies.body_alive[:n]
+        self.bodies.body_sleep_time[:n] = 0.0
+
     # ------------------------------------------------------------------------------------
     # stepping
     # ------------------------------------------------------------------------------------
@@ -175,10 +298,10 @@ class PhysicsWorld(WorldApiMixin):
             dt = self._timestep
         accumulated = self._accumulator + dt
         n_steps = int(accumulated / self._timestep)
-        if n_steps > constants.MAX_STEPS_PER_CALL:
+        if n_steps > MAX_STEPS_PER_CALL:
             raise ValueError(
                 f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
-                f"the limit per call is {constants.MAX_STEPS_PER_CALL}"
+                f"the limit per call is {MAX_STEPS_PER_CALL}"
             )
         self._read_user_moves()  # raises ValueError before it changes anything
         self._apply_velocity_control(dt)
@@ -195,7 +318,7 @@ class PhysicsWorld(WorldApiMixin):
         """Bodies of KINEMATIC/STATIC objects whose nodes the user moved take those poses."""
         for index in self.node_sync.read_user_moves():
             self._update_fcl(index)
-            self.wake_neighbors(index)
+            wake_island(self.bodies, self.manifolds, index)
 
     def _substeps(self) -> int:
         return max(1, int(self.settings.substeps))
@@ -206,7 +329,7 @@ class PhysicsWorld(WorldApiMixin):
         Every stage is a function of explicit arguments; ``timed`` only adds up wall time.
         """
         bodies, store, settings, timed = self.bodies, self.manifolds, self.settings, self.timer.run
-        self.constraints.wake_bodies(self)  # constrained bodies never sleep
+        self.constraints.wake_bodies(bodies)  # constrained bodies never sleep
         # ---- 1. forces: v += h (g + F/m), w += h I^-1 tau, damping -------------------------
         moving = awake_dynamic_bodies(bodies)  # (k,) body indices
         start_velocity = body_velocities(bodies)  # (n, 6) [v, w] before this step's forces
@@ -226,13 +349,40 @@ class PhysicsWorld(WorldApiMixin):
         timed("sleep", update_sleep, bodies, store, h, solved.overlapping_bodies)
 
     # ------------------------------------------------------------------------------------
-    # collision stage without stepping
+    # queries (Habitat's world API): the functions of queries.py on the world's parts
     # ------------------------------------------------------------------------------------
     def perform_discrete_collision_detection(self) -> None:
         """Run the collision stage without stepping (refreshes contact points)."""
         self._read_user_moves()
         self.n_overlapping_pairs = collision_stage(
             self.bodies, self.collision_objects, self.manifolds, self.settings, self.timer
+        )
+
+    def cast_ray(self, ray, max_distance: float = 100.0) -> RaycastResults:
+        """All hits of ``ray`` up to ``max_distance`` (:func:`queries.cast_ray`)."""
+        return queries.cast_ray(self.bodies, ray, max_distance)
+
+    def get_physics_contact_points(self) -> list[ContactPointData]:
+        """Contact points of every manifold, last step's impulses as forces."""
+        h = self._timestep / self._substeps()  # the impulses were applied over one solver step
+        return queries.contact_points(self.bodies, self.manifolds, h)
+
+    def get_physics_num_active_contact_points(self) -> int:
+        """Number of manifold points touching at least one awake dynamic body."""
+        return queries.active_contact_point_count(self.bodies, self.manifolds)
+
+    def get_physics_num_active_overlapping_pairs(self) -> int:
+        """Broad-phase pairs found by the last collision pass."""
+        return self.n_overlapping_pairs
+
+    def static_meshes_world(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """``(vertices (V, 3), faces (F, 3))`` of the STATIC objects' render meshes, world frame."""
+        return queries.static_meshes_world(self.bodies, self.nodes, self.render_meshes)
+
+    def state_hash(self) -> str:
+        """SHA-256 of every body's full state, the manifolds, world time and gravity."""
+        return queries.state_hash(
+            self.bodies, self.manifolds, self._time, self._accumulator, self._gravity
         )
 
     # ------------------------------------------------------------------------------------
@@ -278,4 +428,4 @@ class PhysicsWorld(WorldApiMixin):
                     b.body_linear_velocity[index] = linear
                 if angular is not None:
                     b.body_angular_velocity[index] = angular
-                self.wake(index)
+                wake_body(b, index)

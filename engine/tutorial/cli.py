@@ -199,11 +199,12 @@ def run_sections(
     data_path = str(demo_data_path())
     with habitat_sim.Simulator(make_configuration(data_path, resolution, seed)) as sim:
         place_agent(sim)
-        context = TutorialContext(sim, data_path, None, random.Random(seed))
+        simulate_only = partial(_new_recorder, sim, output_dir, False, False, None)
+        context = TutorialContext(sim, data_path, simulate_only, random.Random(seed))
         results = []
         for index, (label, section, world_seconds) in enumerate(SECTIONS[: max(selected) + 1]):
             if index not in selected:  # a prerequisite: simulate only
-                context.new_recorder = partial(_new_recorder, sim, output_dir, False, False, None)
+                context.new_recorder = simulate_only
                 section(context)
                 continue
             bar = tqdm(total=world_seconds, desc=label, bar_format=BAR_FORMAT, disable=not progress)
@@ -226,7 +227,7 @@ def _new_recorder(
     output_dir: str,
     make_video: bool,
     keep_observations: bool,
-    on_frame: Callable[[float], object],
+    on_frame: Callable[[float], object] | None,
     video: VideoSpec | None,
 ) -> SectionRecorder:
     """The recorder of one section: streams its video when ``make_video`` is on."""

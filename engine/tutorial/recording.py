@@ -22,6 +22,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -55,6 +56,17 @@ class VideoSpec:
     overlay_settings: list[dict[str, Any]] | None = None
     fps: int = 60
     depth_clip: float = 10.0
+
+
+def _compose_frame(video: VideoSpec, observation: dict[str, np.ndarray]) -> np.ndarray:
+    """The video frame of one observation, exactly as ``make_video`` composes it."""
+    return vut.compose_video_frame(
+        observation,
+        video.primary_obs,
+        video.primary_obs_type,
+        video.overlay_settings,
+        video.depth_clip,
+    )
 
 
 @dataclass
@@ -129,32 +141,24 @@ class SectionRecorder:
             if self.keep_observations:
                 self.observations.append(observation)
             if self.video is not None:
-                self._encode(observation)
+                self._encode(observation, self.video)
         if self.on_frame is not None:
             world_time = self.sim.get_world_time()
             self.on_frame(world_time - self._last_world_time)
             self._last_world_time = world_time
 
-    def _encode(self, observation: dict[str, np.ndarray]) -> None:
+    def _encode(self, observation: dict[str, np.ndarray], video: VideoSpec) -> None:
         """Queue the frame for the encoder thread (opened at the first frame)."""
         if self._writer is None:
+            if not self.video_path:
+                raise ValueError(f"video_path must be given with video={video.name!r}")
             # the encoder settings of render.video.save_video (H.264 in an mp4 container)
-            options = {"fps": self.video.fps, "format": "FFMPEG", "macro_block_size": 1}
+            options = {"fps": video.fps, "format": "FFMPEG", "macro_block_size": 1}
             start = time.perf_counter()
-            self._writer = vut.BackgroundVideoWriter(self.video_path, options, self._compose)
+            compose = partial(_compose_frame, video)
+            self._writer = vut.BackgroundVideoWriter(self.video_path, options, compose)
             self.timings.encoding += time.perf_counter() - start
         self._writer.append(observation)
-
-    def _compose(self, observation: dict[str, np.ndarray]) -> np.ndarray:
-        """The video frame of one observation, exactly as ``make_video`` composes it."""
-        video = self.video
-        return vut.compose_video_frame(
-            observation,
-            video.primary_obs,
-            video.primary_obs_type,
-            video.overlay_settings,
-            video.depth_clip,
-        )
 
     def close(self) -> str | None:
         """Finish the video file and the section's wall clock; return the video path."""

@@ -21,10 +21,10 @@ COLUMNS = ("section", "world s", "frames", "wall s", "physics", "render", "encod
 
 def summary_rows(results: Sequence[SectionResult]) -> list[tuple[str, ...]]:
     """One row of formatted cells per section, then a total row."""
-    rows = []
+    rows: list[tuple[str, ...]] = []
     for r in results:
         t = r.timings
-        cells = (r.name, f"{r.world_time:.3f}", str(r.frames), f"{t.total:.2f}")
+        cells: tuple[str, ...] = (r.name, f"{r.world_time:.3f}", str(r.frames), f"{t.total:.2f}")
         cells += (f"{t.physics:.2f}", f"{t.rendering:.2f}", f"{t.encoding:.2f}")
         rows.append(cells + (r.video_path or "-",))
     total = [sum(getattr(r.timings, k) for r in results) for k in ("total", "physics")]

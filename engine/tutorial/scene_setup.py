@@ -49,7 +49,9 @@ def place_agent(sim: habitat_sim.Simulator) -> mn.Matrix4:
     """Place agent 0 where the tutorial's onlooker stands and return its transformation."""
     agent_state = habitat_sim.AgentState()
     agent_state.position = list(AGENT_POSITION)
-    agent_state.rotation = np.quaternion(*AGENT_ROTATION_WXYZ)
+    # Habitat's line, kept: numpy-quaternion adds np.quaternion to numpy at import time, which
+    # numpy's type stubs cannot know (the one third-party typing gap ignored here).
+    agent_state.rotation = np.quaternion(*AGENT_ROTATION_WXYZ)  # type: ignore[attr-defined]
     agent = sim.initialize_agent(0, agent_state)
     return agent.scene_node.transformation_matrix()
 

@@ -94,7 +94,7 @@ def embodied_agent(ctx: TutorialContext) -> SectionResult:
     # simulate settling
     steps.append(simulate(recorder, dt=3.0))
 
-    outcomes = {
+    outcomes: dict[str, Any] = {
         "settled": settled,
         "robot": {**pose(locobot), "y_extent": world_y_extent(locobot)},
         "agent_position": vec(ctx.sim.agents[0].get_state().position),

@@ -34,12 +34,8 @@ __all__ = ["default_sim_settings", "make_cfg"]
 
 def _black() -> Any:
     """Habitat's ``mn.Color4.from_linear_rgb_int(0)`` (a list where mn has no Color4)."""
-    color4 = getattr(mn, "Color4", None)
-    return (
-        color4.from_linear_rgb_int(0)
-        if hasattr(color4, "from_linear_rgb_int")
-        else [0.0, 0.0, 0.0, 1.0]
-    )
+    from_linear_rgb_int = getattr(getattr(mn, "Color4", None), "from_linear_rgb_int", None)
+    return from_linear_rgb_int(0) if from_linear_rgb_int is not None else [0.0, 0.0, 0.0, 1.0]
 
 
 default_sim_settings: dict[str, Any] = {

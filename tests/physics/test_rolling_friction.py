@@ -100,3 +100,46 @@ def test_both_solver_paths_agree_on_rolling_and_spinning():
                 np.concatenate([ball.translation, ball.linear_velocity, ball.angular_velocity])
             )
     np.testing.assert_allclose(finals[0], finals[1], atol=1e-9)
+
+
+def _count_contact_loads(monkeypatch) -> list:
+    """Record every ContactLoads (rolling friction's input) either solve path builds."""
+    from engine.physics import reference_solver, solve_stage
+    from engine.physics.rolling_friction import ContactLoads
+
+    built = []
+
+    def counting(*fields):
+        built.append(len(fields[0]))  # manifolds in the loads
+        return ContactLoads(*fields)
+
+    monkeypatch.setattr(solve_stage, "ContactLoads", counting)
+    monkeypatch.setattr(reference_solver, "ContactLoads", counting)
+    return built
+
+
+def rolled_state(vectorized: bool, rolling: float = 0.0) -> str:
+    """State hash of the ball after rolling 0.35 s on the slab."""
+    sim, ball = ball_on_slab(rolling=rolling, vectorized=vectorized)
+    with sim:
+        roll(sim, ball)
+        sim.step_physics(0.25)
+        return sim.get_physics_world().state_hash()
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_all_zero_coefficients_skip_rolling_friction_and_change_nothing(monkeypatch, vectorized):
+    from engine.physics import solve_stage
+
+    built = _count_contact_loads(monkeypatch)
+    skipped = rolled_state(vectorized)
+    assert built == []  # no body has a rolling or spinning coefficient: no loads built
+    # forcing the rolling-friction pass (every pair coefficient 0) gives the same bits
+    monkeypatch.setattr(solve_stage, "needs_rolling_friction", lambda *_: True)
+    assert rolled_state(vectorized) == skipped
+    assert len(built) > 0 and all(count > 0 for count in built)
+    # a ball with rolling friction brings the pass back, and it changes the result
+    monkeypatch.undo()
+    built = _count_contact_loads(monkeypatch)
+    assert rolled_state(vectorized, rolling=0.01) != skipped
+    assert len(built) > 0

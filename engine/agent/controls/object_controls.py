@@ -54,10 +54,13 @@ class ObjectControls:
         self,
         obj: SceneNode,
         action_name: str,
-        actuation_spec: ActuationSpec,
+        actuation_spec: ActuationSpec | None,
         apply_filter: bool = True,
     ) -> bool:
-        """Run control ``action_name`` on ``obj``; return whether the filter blocked it."""
+        """Run control ``action_name`` on ``obj``; return whether the filter blocked it.
+
+        ``actuation_spec`` is None when the action spec has none (as Habitat's
+        ``ActionSpec.actuation``); a custom control may ignore it."""
         control = _lookup(action_name)
         start = np.asarray(obj.absolute_translation, dtype=np.float64)
         control(obj, actuation_spec)
@@ -74,7 +77,7 @@ class ObjectControls:
         self,
         obj: SceneNode,
         action_name: str,
-        actuation_spec: ActuationSpec,
+        actuation_spec: ActuationSpec | None,
         apply_filter: bool = True,
     ) -> bool:
         return self.action(obj, action_name, actuation_spec, apply_filter)
