@@ -33,25 +33,24 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import contextlib
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "physics"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from helpers import add, make_world, register_primitive  # noqa: E402
+from physics_scenes import (  # noqa: E402
+    WATCH_FROM,
+    column_positions,
+    have_pybullet,
+    pile_positions,
+    pyramid_positions,
+    run_pybullet,
+    run_rigidsim,
+    stack_positions,
+)
 
-from engine import mn  # noqa: E402
-from engine.physics import settings as physics_settings  # noqa: E402
-from engine.physics.quaternions import quat_to_matrix  # noqa: E402
-
-FRAME = 1.0 / 60.0
-STEP = 0.008
-HALF = 0.1
-GRAVITY = 9.8
 #: stage timer names, in step order, for the profile columns (others go to "rest")
 STAGES = (
     "forces",
@@ -64,226 +63,6 @@ STAGES = (
     "sleep",
 )
 ROOT = Path(__file__).resolve().parents[1]
-
-
-# ------------------------------------------------------------------------------------------
-# scenes
-# ------------------------------------------------------------------------------------------
-def column_positions(n: int, height: float = 5.0, seed: int = 0):
-    """A loose column of ``n`` cubes: 12 layers (fewer when n < 12) from 0.3 m up to
-    ``height``, each layer a jittered square grid of 0.36 m pitch (more than a cube's
-    0.35 m diagonal, so no two cubes start overlapping); random orientations."""
-    rng = np.random.default_rng(seed)
-    layers = min(n, 12)
-    per_layer = int(np.ceil(n / layers))
-    side = int(np.ceil(np.sqrt(per_layer)))
-    pitch_y = (height - 0.3) / max(layers - 1, 1)
-    positions, rotations = [], []
-    for k in range(n):
-        layer, cell = divmod(k, per_layer)
-        row, col = divmod(cell, side)
-        positions.append(
-            [
-                (col - (side - 1) / 2) * 0.36 + rng.uniform(-0.005, 0.005),
-                0.3 + pitch_y * layer,
-                (row - (side - 1) / 2) * 0.36 + rng.uniform(-0.005, 0.005),
-            ]
-        )
-        q = rng.normal(size=4)
-        rotations.append(q / np.linalg.norm(q))
-    return positions, rotations
-
-
-def pile_positions(n: int, seed: int = 0):
-    """Loose grid of ``n`` drop positions and random unit quaternions [x, y, z, w]."""
-    rng = np.random.default_rng(seed)
-    side = int(np.ceil(np.sqrt(min(n, 100))))
-    positions, rotations = [], []
-    for k in range(n):
-        layer, cell = divmod(k, side * side)
-        row, col = divmod(cell, side)
-        positions.append(
-            [
-                (col - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
-                0.3 + 0.3 * layer + rng.uniform(0, 0.05),
-                (row - side / 2) * 0.25 + rng.uniform(-0.03, 0.03),
-            ]
-        )
-        q = rng.normal(size=4)
-        rotations.append(q / np.linalg.norm(q))
-    return positions, rotations
-
-
-def stack_positions(n: int = 10):
-    return [[0.0, HALF + 0.201 * i, 0.0] for i in range(n)], [[0, 0, 0, 1.0]] * n
-
-
-def pyramid_positions(base: int = 6):
-    positions = []
-    for level in range(base):
-        for i in range(base - level):
-            positions.append([(i - (base - 1 - level) / 2) * 0.202, HALF + level * 0.201, 0.0])
-    return positions, [[0, 0, 0, 1.0]] * len(positions)
-
-
-@contextlib.contextmanager
-def sleeping_disabled(disabled: bool):
-    """Switch rigidsim's sleeping off (an island would need infinite rest to sleep)."""
-    saved = physics_settings.TIME_TO_SLEEP
-    if disabled:
-        physics_settings.TIME_TO_SLEEP = float("inf")
-    try:
-        yield
-    finally:
-        physics_settings.TIME_TO_SLEEP = saved
-
-
-# ------------------------------------------------------------------------------------------
-# measurements
-# ------------------------------------------------------------------------------------------
-def penetration(world) -> tuple[float, float]:
-    """Deepest true overlaps of the cubes, m: ``(floor, pair)``, below the floor (y = 0) by
-    their lowest corner, and between touching cubes by the separating-axis overlap (the
-    smallest overlap over the 15 axes of two boxes, Ericson 4.4.1), not the manifold's
-    bookkept point depths."""
-    b, n = world.bodies, world.bodies.count
-    ids = np.arange(1, n)[b.body_alive[1:n]]
-    if len(ids) == 0:
-        return 0.0, 0.0
-    rotation = quat_to_matrix(b.body_rotation[:n])
-    half = b.body_shape_half[:n]
-    center = b.body_position[:n] + np.einsum("nij,nj->ni", rotation, b.body_shape_center[:n])
-    # lowest corner: y of the center minus the box's half height along world Y
-    lowest = center[ids, 1] - (np.abs(rotation[ids, 1, :]) * half[ids]).sum(axis=1)
-    floor, deepest = max(0.0, float(-lowest.min())), 0.0
-    store = world.manifolds
-    rows = store.rows_with_points()
-    pairs = store.bodies[rows]
-    pairs = pairs[pairs[:, 0] != 0]
-    if len(pairs):
-        a, c = pairs[:, 0], pairs[:, 1]
-        axes_a, axes_c = rotation[a], rotation[c]  # box axes = matrix columns
-        cross = np.cross(axes_a[:, :, :, None], axes_c[:, :, None, :], axis=1)  # (p, 3, 3, 3)
-        axes = np.concatenate([axes_a, axes_c, cross.reshape(len(a), 3, 9)], axis=2)  # (p,3,15)
-        length = np.linalg.norm(axes, axis=1)  # (p, 15)
-        usable = length > 1e-6  # parallel edges give no axis
-        axes = axes / np.maximum(length, 1e-12)[:, None, :]
-        # projected radius of box k on axis L: sum_i h_i |a_i . L|
-        radius_a = (np.abs(np.einsum("pij,pik->pjk", axes_a, axes)) * half[a][:, :, None]).sum(1)
-        radius_c = (np.abs(np.einsum("pij,pik->pjk", axes_c, axes)) * half[c][:, :, None]).sum(1)
-        distance = np.abs(np.einsum("pi,pik->pk", center[c] - center[a], axes))
-        overlap = np.where(usable, radius_a + radius_c - distance, np.inf).min(axis=1)
-        deepest = max(deepest, float(overlap.max()))
-    return floor, deepest
-
-
-def energy(world) -> float:
-    """Kinetic + potential energy of the dynamic bodies, J (potential: m g y)."""
-    b, n = world.bodies, world.bodies.count
-    ids = np.arange(1, n)[b.body_alive[1:n]]
-    m, v, w = b.body_mass[ids], b.body_linear_velocity[ids], b.body_angular_velocity[ids]
-    rotation = quat_to_matrix(b.body_rotation[ids])
-    w_body = np.einsum("nji,nj->ni", rotation, w)  # R^T w: body-frame angular velocity
-    kinetic = 0.5 * (m * (v * v).sum(1)).sum() + 0.5 * (b.body_inertia[ids] * w_body**2).sum()
-    return float(kinetic + (m * GRAVITY * b.body_position[ids, 1]).sum())
-
-
-#: s, penetration and energy drift are measured from this time on (the loose piles start
-#: with overlapping cubes, and falling cubes first convert potential energy)
-WATCH_FROM = 1.0
-
-
-def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True, vectorized=True):
-    """Step a scene; wall time counts ``step_physics`` only (measurements are outside)."""
-    with sleeping_disabled(not sleep):
-        world, templates = make_world(floor_half=20.0)
-        world.settings.use_vectorized = vectorized
-        handle = register_primitive(templates, "cubeSolid", (HALF, HALF, HALF))
-        boxes = []
-        for p, q in zip(positions, rotations, strict=True):
-            box = add(world, templates, handle, p)
-            box.rotation = mn.Quaternion.from_xyzw(q)
-            boxes.append(box)
-        world.timer.reset()
-        energy_start = None
-        wall, cpu, settled, deepest = 0.0, 0.0, None, np.zeros(2)
-        steps_before = world._time
-        for frame in range(int(round(seconds / FRAME))):
-            start, start_cpu = time.perf_counter(), time.process_time()
-            world.step_physics(FRAME)
-            wall += time.perf_counter() - start
-            cpu += time.process_time() - start_cpu
-            if (frame + 1) * FRAME >= WATCH_FROM - 1e-9:
-                if energy_start is None:
-                    energy_start = energy(world)
-                if watch:
-                    deepest = np.maximum(deepest, penetration(world))
-            if settled is None and not world.bodies.body_awake[1 : world.bodies.count].any():
-                settled = ((frame + 1) * FRAME, wall)
-        steps = int(round((world._time - steps_before) / STEP))
-        b, n = world.bodies, world.bodies.count
-        speed = np.linalg.norm(b.body_linear_velocity[1:n], axis=1).max(initial=0.0)
-        return {
-            "wall": wall,
-            "cpu": cpu,
-            "steps": steps,
-            "settled": settled,
-            "final": np.array([np.asarray(box.translation) for box in boxes]),
-            "asleep": sum(not box.awake for box in boxes),
-            "profile": dict(world.profile),
-            "deepest": deepest,
-            "resting_depth": np.array(penetration(world)),
-            "energy_change": energy(world) - (energy_start or energy(world)),
-            "touching_pairs": len(world.manifolds.rows_with_points()),
-            "end_speed": float(speed),
-        }
-
-
-def run_pybullet(positions, rotations, seconds, sleep=True):
-    import pybullet as p
-
-    client = p.connect(p.DIRECT)
-    p.setGravity(0, -GRAVITY, 0, physicsClientId=client)
-    p.setTimeStep(STEP, physicsClientId=client)
-    plane = p.createCollisionShape(p.GEOM_BOX, halfExtents=[20, 0.05, 20], physicsClientId=client)
-    p.createMultiBody(0, plane, basePosition=[0, -0.05, 0], physicsClientId=client)
-    box = p.createCollisionShape(p.GEOM_BOX, halfExtents=[HALF] * 3, physicsClientId=client)
-    bodies = [
-        p.createMultiBody(
-            1.0, box, basePosition=pos, baseOrientation=list(q), physicsClientId=client
-        )
-        for pos, q in zip(positions, rotations, strict=True)
-    ]
-    if not sleep:
-        for body in bodies:
-            p.changeDynamics(
-                body,
-                -1,
-                activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
-                physicsClientId=client,
-            )
-    steps, accumulated = 0, 0.0
-    start, start_cpu = time.perf_counter(), time.process_time()
-    for _ in range(int(round(seconds / FRAME))):  # the same accumulator as step_physics
-        accumulated += FRAME
-        while accumulated >= STEP:
-            p.stepSimulation(physicsClientId=client)
-            accumulated -= STEP
-            steps += 1
-    wall, cpu = time.perf_counter() - start, time.process_time() - start_cpu
-    final = np.array(
-        [p.getBasePositionAndOrientation(b, physicsClientId=client)[0] for b in bodies]
-    )
-    p.disconnect(client)
-    return {"wall": wall, "cpu": cpu, "steps": steps, "final": final}
-
-
-def have_pybullet() -> bool:
-    try:
-        import pybullet  # noqa: F401
-    except ImportError:
-        return False
-    return True
 
 
 def shares(profile: dict, wall: float) -> dict:

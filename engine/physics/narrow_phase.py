@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from . import settings
+from .box_box import box_box_contacts, box_shape_frames
 from .collide import (
     _POLYHEDRA,
     _midpoint_contacts,
@@ -108,6 +109,9 @@ def narrow_phase(
         "polyhedra": defaultdict(list),
     }
     contacts, pair_of_seq = _Contacts(), list[int]()
+    # polyhedron pairs wait for fcl with their fcl objects; box pairs go to box_box first
+    pending: list[tuple[Job, Any, Any]] = []
+    boxes: list[tuple[Job, Any, Any]] = []
     for position, (a, c) in enumerate(pairs):
         for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(
@@ -120,16 +124,10 @@ def narrow_phase(
                     if found:
                         job = Job(seq, shape_a, a, shape_c, c, found)
                         jobs["stage"][len(shape_c.hull_vertices)].append(job)
+                elif shape_a.kind == shape_c.kind == "box":
+                    boxes.append((Job(seq, shape_a, a, shape_c, c, []), obj_a, obj_c))
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
-                    found = fcl_raw_contacts(obj_a, obj_c)
-                    if found:
-                        sizes = (
-                            len(shape_a.hull_vertices),
-                            len(shape_a.plane_normals),
-                            len(shape_c.hull_vertices),
-                            len(shape_c.plane_normals),
-                        )
-                        jobs["polyhedra"][sizes].append(Job(seq, shape_a, a, shape_c, c, found))
+                    pending.append((Job(seq, shape_a, a, shape_c, c, []), obj_a, obj_c))
                 elif shape_a.kind == shape_c.kind == "sphere" and coincident(b, a, c):
                     contacts.add_one(seq, coincident_spheres(b, a, shape_a, c, shape_c, rotation))
                 else:
@@ -137,6 +135,20 @@ def narrow_phase(
                     contacts.add_one(
                         seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
                     )
+    if boxes:  # analytic; coincident boxes and deep overlaps go to fcl as polyhedra
+        general = _box_group([job for job, _, _ in boxes], rotation, b, contacts)
+        pending += [boxes[k] for k in np.flatnonzero(general).tolist()]
+    for job, obj_a, obj_c in pending:
+        found = fcl_raw_contacts(obj_a, obj_c)
+        if found:
+            shape_a, shape_c = job.shape_a, job.shape_b
+            sizes = (
+                len(shape_a.hull_vertices),
+                len(shape_a.plane_normals),
+                len(shape_c.hull_vertices),
+                len(shape_c.plane_normals),
+            )
+            jobs["polyhedra"][sizes].append(job._replace(contacts=found))
     for group in jobs["stage"].values():
         _stage_group(
             group,
@@ -148,6 +160,46 @@ def narrow_phase(
     for group in jobs["polyhedra"].values():
         _polyhedron_group(group, rotation, b.body_position, contacts, b)
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
+
+
+def _box_group(jobs, rotation, bodies, contacts: _Contacts) -> np.ndarray:
+    """Analytic contacts of box pairs (:mod:`box_box`: separating axes + clipping); returns
+    ``general (g,)`` bool, the pairs left to the general polyhedron path: bodies with
+    (nearly) the same center (:func:`coincident`) and overlaps deeper than
+    ``BOX_DEEP_OVERLAP``.
+
+    Reference: :func:`reference_contacts.pair_contacts` ->
+    :func:`reference_box_box.box_box_contacts_reference` (one pair)."""
+    a = np.array([job.body_a for job in jobs], dtype=np.int64)
+    c = np.array([job.body_b for job in jobs], dtype=np.int64)
+    general = coincident_mask(bodies, a, c)
+    analytic = np.flatnonzero(~general)
+    if len(analytic) == 0:
+        return general
+    frames = []
+    for shape, index in (("shape_a", a), ("shape_b", c)):
+        r, x = rotation[index[analytic]], bodies.body_position[index[analytic]]
+        offset = np.stack([getattr(jobs[k], shape).body_from_shape for k in analytic.tolist()])
+        center, world = box_shape_frames(r, x, offset)
+        side = [getattr(jobs[k], shape).geometry.side for k in analytic.tolist()]
+        frames += [center, world, np.array(side, dtype=np.float64) / 2.0]
+    pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
+    seq = np.array([jobs[k].seq for k in analytic.tolist()], dtype=np.int64)
+    contacts.add(seq[pair], local, point_a, point_b, normal)
+    general[analytic] = deep
+    return general
+
+
+def coincident_mask(b, a: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """(g,) bool, :func:`coincident` for the body pairs ``(a[k], c[k])`` at once."""
+    gap = b.body_position[c] - b.body_position[a]
+    # coincident: |x_c - x_a| < fraction * the thinner body's smallest dimension
+    limit = (
+        settings.COINCIDENT_FRACTION
+        * 2.0
+        * np.minimum(b.body_min_half_extent[a], b.body_min_half_extent[c])
+    )
+    return (gap * gap).sum(axis=1) < limit * limit
 
 
 def coincident(b, a: int, c: int) -> bool:
@@ -319,14 +371,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: _Contacts, bodies) -> 
     n = np.array([deepest_record(job.contacts).normal for job in jobs])
     a = np.array([job.body_a for job in jobs])
     c = np.array([job.body_b for job in jobs])
-    gap = position[c] - position[a]
-    # coincident: |x_c - x_a| < fraction * the thinner body's smallest dimension
-    limit = (
-        settings.COINCIDENT_FRACTION
-        * 2.0
-        * np.minimum(bodies.body_min_half_extent[a], bodies.body_min_half_extent[c])
-    )
-    coincident = (gap * gap).sum(axis=1) < limit * limit
+    coincident = coincident_mask(bodies, a, c)
     if coincident.any():
         n[coincident] = spread_direction(a[coincident], c[coincident])
     frame_a = _pose([job.body_a for job in jobs], rotation, position)

@@ -1,6 +1,7 @@
 """Reference path of the collision stage: contacts and manifolds one body pair at a time.
 
-This is the plain version of :mod:`narrow_phase` (batched contact generation) and of
+This is the plain version of :mod:`narrow_phase` (batched contact generation; box pairs
+in :mod:`reference_box_box`) and, with :mod:`reference_manifolds`, of
 :meth:`contacts.ManifoldStore.update` (batched manifold refresh, merge and reduction), the
 size of box2d-lite's ``Collide`` + ``Arbiter::Update``: loops over shapes, vertices and
 triangles a student can step through in a debugger. ``SolverSettings.use_vectorized =
@@ -15,8 +16,6 @@ Matrix-vector products are written out as three dot products (:func:`rotate`,
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from . import settings
@@ -30,44 +29,9 @@ from .collide import (
 )
 from .contacts import SLOTS, ManifoldStore, tie_key
 from .narrow_phase import coincident, coincident_spheres, deepest_record, spread_direction
-
-
-def dot(u: np.ndarray, v: np.ndarray) -> float:
-    """``u . v`` of two 3-vectors, summed in index order."""
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-
-
-def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``u x v`` of two 3-vectors."""
-    return np.array(
-        [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
-    )
-
-
-def rotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``R v``: a body-frame vector in the world frame."""
-    return np.array([dot(r[0], v), dot(r[1], v), dot(r[2], v)])
-
-
-def unrotate(r: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``R^T v``: a world vector in the body frame."""
-    return np.array([dot(r[:, 0], v), dot(r[:, 1], v), dot(r[:, 2], v)])
-
-
-@dataclass
-class Contact:
-    """One contact point: world anchors on A and B, unit normal from A to B.
-
-    ``depth = (point_a - point_b) . normal`` is positive when the bodies overlap.
-    """
-
-    point_a: np.ndarray
-    point_b: np.ndarray
-    normal: np.ndarray
-
-    @property
-    def depth(self) -> float:
-        return dot(self.point_a - self.point_b, self.normal)
+from .reference_box_box import box_box_contacts_reference
+from .reference_geometry import Contact, dot, rotate, unrotate
+from .reference_manifolds import ManifoldPoint, select_support, update_manifold
 
 
 # ------------------------------------------------------------------------------------------
@@ -93,6 +57,10 @@ def pair_contacts(
                     contacts += stage_polyhedron_contacts(
                         shape_a, shape_c, pose_c, found, cached_stage_normals(store, c)
                     )
+            elif (
+                boxed := _analytic_boxes(bodies, a, shape_a, pose_a, c, shape_c, pose_c)
+            ) is not None:
+                contacts += boxed  # separating axes + clipping, no fcl (narrow_phase._box_group)
             elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                 found = fcl_raw_contacts(obj_a, obj_c)
                 if found:
@@ -108,6 +76,25 @@ def pair_contacts(
                 if result is not None:
                     contacts += [Contact(*point) for point in zip(*result, strict=True)]
     return contacts
+
+
+def _analytic_boxes(bodies, a, shape_a, pose_a, c, shape_c, pose_c) -> list[Contact] | None:
+    """The analytic contacts of two boxes; None when the pair is not two boxes, or the
+    boxes share a center or overlap deeper than ``BOX_DEEP_OVERLAP`` (polyhedron path)."""
+    if shape_a.kind != "box" or shape_c.kind != "box" or coincident(bodies, a, c):
+        return None
+    return box_box_contacts_reference(box_frame(shape_a, pose_a), box_frame(shape_c, pose_c))
+
+
+def box_frame(shape, pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A box shape in the world: center ``R t + x``, axes (rows: the columns of
+    ``R R_shape``) and half extents (mirrors ``box_box.box_shape_frames``)."""
+    rotation, position = pose
+    offset = shape.body_from_shape
+    center = rotate(rotation, offset[:3, 3]) + position
+    world = rotation @ offset[:3, :3]
+    half = np.asarray(shape.geometry.side, dtype=np.float64) / 2.0
+    return center, world.T.copy(), half
 
 
 def cached_stage_normals(store: ManifoldStore, body: int) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -284,25 +271,6 @@ def _midpoint_contacts(mid, normals, depths) -> list[Contact]:
 # ------------------------------------------------------------------------------------------
 # manifold update (mirrors ManifoldStore.update)
 # ------------------------------------------------------------------------------------------
-@dataclass
-class ManifoldPoint:
-    """A persistent point: anchors in the body frames, normal in A's frame, and the solver's
-    accumulated impulse ``[normal, tangent1, tangent2]`` in N s."""
-
-    local_a: np.ndarray
-    local_b: np.ndarray
-    normal_local: np.ndarray
-    impulse: np.ndarray = field(default_factory=lambda: np.zeros(3))
-
-    def world(self, frame_a, frame_b) -> Contact:
-        (ra, xa), (rb, xb) = frame_a, frame_b
-        return Contact(
-            rotate(ra, self.local_a) + xa,
-            rotate(rb, self.local_b) + xb,
-            rotate(ra, self.normal_local),
-        )
-
-
 def update_manifolds_reference(
     bodies: Bodies,
     objects,
@@ -349,188 +317,6 @@ def update_manifolds_reference(
                 point.normal_local,
                 point.impulse,
             )
-
-
-def update_manifold(
-    cached: list[ManifoldPoint],
-    fresh: list[Contact],
-    frame_a,
-    frame_b,
-    max_points: int,
-    feature: float = settings.CONTACT_MATCH_DISTANCE,
-) -> list[ManifoldPoint]:
-    """One manifold's step (box2d-lite's ``Arbiter::Update``, with Bullet's persistence).
-
-    ``feature`` (m) is the pair's feature length (``contacts.feature_length``): the match,
-    drift and support-band distances are capped at it, so a small body keeps distinct points.
-
-    1. keep the cached points still in contact (:func:`still_touching`);
-    2. too many fresh points: keep the supporting polygon, preferring points that match
-       cached ones; drop fresh points within ``feature`` of a deeper one;
-    3. fresh points inherit the impulse of the nearest unused cached point closer than
-       ``feature`` (warm starting); a rolling point always inherits;
-    4. three or more fresh points replace the cache, fewer join its unmatched points;
-    5. more than ``max_points``: the supporting polygon's points.
-    """
-    cached = [p for p in cached if still_touching(p, frame_a, frame_b, feature)]
-    (ra, xa), (rb, xb) = frame_a, frame_b
-    band = min(settings.SUPPORT_DEPTH_BAND, feature)
-    if len(fresh) > max_points:
-        fresh = _support_of_fresh(fresh, cached, rb, xb, max_points, feature, band)
-    fresh = _distinct(fresh, feature)
-    points = [
-        ManifoldPoint(
-            unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb), unrotate(ra, c.normal)
-        )
-        for c in fresh
-    ]
-    used = _inherit_impulses(points, cached, max_points, feature)
-    if len(points) >= 3:
-        merged = points
-    else:
-        merged = [p for p, is_used in zip(cached, used, strict=True) if not is_used] + points
-    if len(merged) > max_points:
-        world = [p.world(frame_a, frame_b) for p in merged]
-        chosen = select_support(
-            [c.point_b for c in world],
-            [c.depth for c in world],
-            world[0].normal,
-            max_points,
-            band=band,
-        )
-        merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
-    return merged
-
-
-def still_touching(
-    point: ManifoldPoint, frame_a, frame_b, feature: float = settings.CONTACT_DRIFT_DISTANCE
-) -> bool:
-    """A cached point persists while its bodies separate less than
-    ``CONTACT_BREAKING_DISTANCE`` along the normal and its anchors drift apart less than
-    ``CONTACT_DRIFT_DISTANCE`` (capped at the feature length) tangentially."""
-    contact = point.world(frame_a, frame_b)
-    gap = contact.point_a - contact.point_b
-    depth = dot(gap, contact.normal)
-    drift_sq = dot(gap, gap) - depth**2  # |tangential part of the gap|^2
-    return bool(
-        depth > -settings.CONTACT_BREAKING_DISTANCE
-        and drift_sq < min(settings.CONTACT_DRIFT_DISTANCE, feature) ** 2
-    )
-
-
-def _support_of_fresh(
-    fresh: list[Contact],
-    cached: list[ManifoldPoint],
-    rb,
-    xb,
-    max_points: int,
-    feature: float,
-    band: float,
-) -> list[Contact]:
-    """The fresh points spanning the supporting polygon; near-ties go to points matching a
-    cached one within ``feature`` (hysteresis: a face on many coplanar vertices keeps the
-    same four)."""
-    limit = feature**2
-    preferred = []
-    for contact in fresh:
-        local_b = unrotate(rb, contact.point_b - xb)
-        preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit for p in cached))
-    depths = [c.depth for c in fresh]
-    deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
-    chosen = select_support(
-        [c.point_b for c in fresh], depths, fresh[deepest].normal, max_points, preferred, band
-    )
-    return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
-
-
-def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
-    """Deepest first, drop any point within ``radius`` of a kept one (B's world anchors)."""
-    # stable sort, deepest first: equal depths (to TIE_QUANTUM) keep their order
-    by_depth = sorted(fresh, key=lambda c: -tie_key(c.depth))
-    kept: list[Contact] = []
-    for contact in by_depth:
-        if all(
-            dot(contact.point_b - k.point_b, contact.point_b - k.point_b) >= radius * radius
-            for k in kept
-        ):
-            kept.append(contact)
-    return kept
-
-
-def _inherit_impulses(
-    points: list[ManifoldPoint], cached: list[ManifoldPoint], max_points: int, feature: float
-) -> list[bool]:
-    """Greedy one-to-one matching in B's frame; returns which cached points were used."""
-    used = [False] * len(cached)
-    if max_points == 1:  # a rolling point keeps the impulse of the cached one
-        for point in points:
-            point.impulse = cached[0].impulse.copy() if cached else np.zeros(3)
-        return [True] * len(cached)
-    limit = feature**2
-    for point in points:
-        best, best_sq = None, np.inf
-        for i, old in enumerate(cached):
-            gap = point.local_b - old.local_b
-            if not used[i] and dot(gap, gap) < best_sq:
-                best, best_sq = i, dot(gap, gap)
-        if best is not None and best_sq < limit:
-            point.impulse = cached[best].impulse.copy()
-            used[best] = True
-    return used
-
-
-def select_support(
-    points: list,
-    depths: list,
-    normal: np.ndarray,
-    count: int,
-    preferred: list | None = None,
-    band: float = settings.SUPPORT_DEPTH_BAND,
-) -> list[bool]:
-    """Up to ``count`` of the points spanning the largest supporting area (mirrors
-    ``contacts.select_support`` for one row).
-
-    Supporting points lie within ``band`` (m) of the deepest. Among them: the
-    deepest (``p0``), the farthest from it (``p1``), the one spanning the largest triangle
-    with those two, then the largest on the other side of edge p0-p1. Preferred points win
-    near-ties (1 mm of depth, 10 % of distance or area). Slots left over take the remaining
-    points, deepest first.
-    """
-    k = len(points)
-    lowest = max(depths) - band
-    supporting = [d >= lowest for d in depths]
-    bonus = [float(p) for p in preferred] if preferred is not None else [0.0] * k
-    scale = [1.0 + settings.PREFERRED_SIZE_BONUS * b for b in bonus]
-    chosen = [False] * k
-
-    def best_of(values):  # the first supporting slot holding the largest value
-        masked = [tie_key(v) if s else -np.inf for v, s in zip(values, supporting, strict=True)]
-        return int(np.argmax(masked))
-
-    first = best_of(
-        [d + settings.PREFERRED_DEPTH_BONUS * b for d, b in zip(depths, bonus, strict=True)]
-    )
-    chosen[first] = True
-    p0 = points[first]
-    second = best_of([dot(p - p0, p - p0) * s for p, s in zip(points, scale, strict=True)])
-    chosen[second] |= count >= 2
-    edge = points[second] - p0
-    # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
-    area = [dot(cross3(edge, p - p0), normal) * s for p, s in zip(points, scale, strict=True)]
-    third = best_of([abs(a) for a in area])
-    chosen[third] |= count >= 3
-    side = -np.sign(area[third])
-    opposite = [
-        side * a if s and not c else -np.inf
-        for a, s, c in zip(area, supporting, chosen, strict=True)
-    ]
-    fourth = int(np.argmax(tie_key(np.array(opposite))))
-    chosen[fourth] |= count >= 4 and bool(np.isfinite(opposite[fourth]))
-    remaining = count - sum(chosen)
-    rest = sorted((i for i in range(k) if not chosen[i]), key=lambda i: -tie_key(depths[i]))
-    for i in rest[: max(remaining, 0)]:
-        chosen[i] = True
-    return chosen
 
 
 __all__ = [

@@ -35,7 +35,7 @@ import numpy as np
 from .bodies import Bodies
 from .contacts import SLOTS, ManifoldStore
 from .quaternions import quat_to_matrix
-from .reference_contacts import cross3, dot, rotate
+from .reference_geometry import cross3, dot, rotate
 from .rolling_friction import ContactLoads
 from .settings import (
     DEEP_OVERLAP,
@@ -354,7 +354,7 @@ def _position_target(p: ContactRow, h: float, slop: float, beta: float) -> float
 
 
 # ------------------------------------------------------------------------------------------
-# the stage's last word (mirrors solver._stage_rows_last)
+# the stage's last word (mirrors stage_priority.stage_rows_last)
 # ------------------------------------------------------------------------------------------
 def jacobian_row(p: ContactRow) -> np.ndarray:
     """``J = [-n, -(r_a x n), n, r_b x n]`` (12,) of a point's normal row."""

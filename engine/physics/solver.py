@@ -41,20 +41,9 @@ Jolt's position solve (Baumgarte 0.2 beyond ``mPenetrationSlop`` = 2 cm, at most
 Restitution (Box2D v3 "relax + restitution"): after the iterations, points that approached
 faster than ``RESTITUTION_VELOCITY_THRESHOLD`` and carry load get ``v_n = -e v_n0``.
 
-The stage always wins (``SolverSettings.stage_iterations``): push-only sweeps of one lumped
-normal row per manifold (:func:`lumped_rows`) over the *stage rows* (manifolds with a body
-the solver does not move: the stage, static and kinematic bodies), then over the dynamic
-pairs with the body nearer the stage held fixed (:func:`shock_rows`), end both the
-velocity and the position solve. Gauss-Seidel with a
-mass ratio of 1000 converges far too slowly for a light box under a heavy one to be held
-up by the floor; the last word of the stage rows guarantees the light box does not move
-into the floor this step (it may be squeezed into the heavy box instead, which is
-harmless). Bullet has no such rule (its light bodies sink); Box2D v3 keeps the contacts of
-a dynamic and a static body in its last graph colors (``B2_DYNAMIC_COLOR_COUNT`` = colors
-- 4) so every iteration solves them after the dynamic pairs, "to reduce tunneling due to
-push through" (we also put the stage rows last in each color); Jolt relies on iterations
-and contact callbacks that scale masses; Guendelman et al.'s shock propagation freezes the
-bodies below, a stronger form of the same priority.
+The stage always wins (``SolverSettings.stage_iterations``): :mod:`stage_priority` ends
+both the velocity and the position solve with push-only sweeps that give the stage
+contacts, then the body nearer the stage, the last word.
 """
 
 from __future__ import annotations
@@ -77,6 +66,7 @@ from .settings import (
     TINY,
     SolverSettings,
 )
+from .stage_priority import stage_rows_last
 
 SLOTS = MAX_MANIFOLD_POINTS
 
@@ -392,107 +382,10 @@ def solve_velocities(
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
-    _stage_rows_last(batch, flat, bias, settings)
+    stage_rows_last(batch, flat, bias, settings)
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
-
-
-def _stage_rows_last(batch, flat, bias, settings: SolverSettings) -> None:
-    """The stage wins: ``stage_iterations`` lumped sweeps over the stage rows, then as many
-    over the dynamic pairs with the lower body held fixed (:func:`shock_rows`).
-
-    Reference: :func:`reference_solver.stage_rows_last`."""
-    stage = [
-        (start, stop)
-        for (_, stop), start in zip(batch.color_slices, batch.priority_starts, strict=True)
-    ]
-    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, settings.stage_iterations)
-    shock = shock_rows(batch)
-    if shock is not None:
-        _lumped_sweeps(
-            batch, batch.color_slices, shock.with_bias(bias), flat, settings.stage_iterations
-        )
-
-
-@dataclass
-class LumpedRows:
-    """Each manifold's points lumped into one normal row (see :func:`lumped_rows`):
-    ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``), the points'
-    averaging ``weight (m, S)`` and ``bias (m, 1, 1)``."""
-
-    jac: np.ndarray
-    w: np.ndarray
-    neg_mass: np.ndarray
-    weight: np.ndarray
-    bias: np.ndarray | None = None
-
-    @classmethod
-    def of(cls, normal_jac, normal_w, active) -> LumpedRows:
-        """``J = mean_i J_i``, ``W = mean_i W_i`` over the ``active (m, S)`` points."""
-        count = np.maximum(active.sum(axis=1), 1)[:, None]
-        jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
-        w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
-        k = (jac * w).sum(axis=1)  # J W^T
-        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, TINY), 0.0)
-        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
-
-    def with_bias(self, bias: np.ndarray) -> LumpedRows:
-        """The rows with the mean of their points' biases ``bias (m, S, 1)``."""
-        row_bias = (bias[..., 0] * self.weight).sum(axis=1)
-        return LumpedRows(self.jac, self.w, self.neg_mass, self.weight, row_bias[:, None, None])
-
-
-def lumped_rows(batch: ContactBatch, bias: np.ndarray) -> LumpedRows:
-    """Each manifold's points lumped into one normal row: ``J = mean_i J_i``, ``W = mean_i
-    W_i``, ``m_eff = 1 / (J W^T)``, bias = the mean of its points' biases; rows without an
-    active point get ``m_eff = 0`` (made once per batch and cached).
-
-    One row per manifold cannot explode the way a clamped block solve of nearly dependent
-    rows can, and it removes a uniform approach in one sweep (mass splitting removes a
-    quarter of a box's per sweep).
-    """
-    if "lumped" not in batch.colors:
-        active = batch.mask & (batch.normal_mass > 0)
-        batch.colors["lumped"] = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
-    return batch.colors["lumped"].with_bias(bias)
-
-
-def shock_rows(batch: ContactBatch) -> LumpedRows | None:
-    """The lumped rows of the shock pass (Guendelman et al. 2003, "shock propagation"),
-    made once and cached: in each dynamic pair the body nearer the stage (``lower``) gets
-    infinite mass (its half of ``W`` is zeroed); the other rows get ``m_eff = 0``. None when
-    no pair has a lower body."""
-    if "shock" not in batch.colors:
-        shock = None
-        lower = batch.lower
-        if lower is not None and bool(np.any(lower)):
-            # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
-            keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
-            active = batch.mask & (batch.normal_mass > 0) & np.any(lower, axis=1)[:, None]
-            shock = LumpedRows.of(batch.normal_jac, batch.normal_w * keep[:, :, None], active)
-        batch.colors["shock"] = shock
-    return batch.colors["shock"]
-
-
-def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> None:
-    """``iterations`` push-only sweeps of the lumped ``rows`` over the manifold ranges
-    ``[(start, stop), ...]`` (one per color): ``d_lambda = max(-m_eff (J V + b), 0)``,
-    ``V += W d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
-    work = []
-    for start, stop in ranges:
-        if start == stop:
-            continue
-        s = slice(start, stop)
-        # flat index of component c of body b: 6 b + c
-        gather = (6 * batch.pair_bodies[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
-        bias = rows.bias if rows.bias is not None else np.zeros((len(rows.jac), 1, 1))
-        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], bias[s]))
-    for _ in range(iterations):
-        for gather, j, w, m, b in work:
-            vab = flat[gather]
-            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
-            flat[gather] = vab + w @ step
 
 
 def _restitution(batch, flat, colors, lam_n):
@@ -555,7 +448,7 @@ def solve_positions(
             for block, b, block_lam in blocks:
                 _normal_rows(block, vab, b, block_lam, True)
             _scatter(flat, color, vab)
-    _stage_rows_last(batch, flat, bias, settings)
+    stage_rows_last(batch, flat, bias, settings)
     return pseudo
 
 
