@@ -38,10 +38,12 @@ Switches (attributes of :class:`SceneRenderer`, for teaching and the tests):
 
 from __future__ import annotations
 
+import itertools
 import os
+import warnings
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -49,11 +51,12 @@ from engine.scene_node import Drawable, SceneNode
 from engine.sensors import CameraSensor, SensorSubType, SensorType
 from render import shade
 from render.camera import Camera
-from render.frame import FrameBuffers, StaticLayer, render_frame, render_over_layer
-from render.scene import RenderMesh, RenderScene
+from render.frame import FrameBuffers
+from render.scene import RenderMesh
 from render.shade import Lights
+from render.worker import LayeredView, RenderProcess, SplitScene, WorkerLost
 
-__all__ = ["SceneRenderer", "default_render_threads"]
+__all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]
 
 
 def default_render_threads() -> int:
@@ -65,6 +68,18 @@ def default_render_threads() -> int:
             raise ValueError(f"RIGIDSIM_RENDER_THREADS must be >= 1, got {value!r}")
         return threads
     return max(1, min(2, os.cpu_count() or 1))
+
+
+def default_render_processes() -> int:
+    """Render worker processes by default: ``RIGIDSIM_RENDER_PROCESSES`` if set (0 or 1),
+    else 1 on a machine with two cores or more."""
+    value = os.environ.get("RIGIDSIM_RENDER_PROCESSES", "")
+    if value:
+        processes = int(value)
+        if processes not in (0, 1):
+            raise ValueError(f"RIGIDSIM_RENDER_PROCESSES must be 0 or 1, got {value!r}")
+        return processes
+    return 1 if (os.cpu_count() or 1) >= 2 else 0
 
 
 def _render_mesh(drawable: Drawable, lights: Lights | None = None) -> RenderMesh:
@@ -89,14 +104,19 @@ def _light_signature() -> tuple:
     return (shade.LIGHT_DIRECTIONS.tobytes(), float(shade.AMBIENT), float(shade.DIFFUSE))
 
 
+_VIEW_KEYS = itertools.count(1)
+
+
 @dataclass
 class _GroupState:
-    """What one group of sensors keeps between frames: buffers, its static layer and the
-    signature of its previous frame."""
+    """What one group of sensors keeps between frames: where it renders (here: its
+    :class:`render.worker.LayeredView`; or in the worker process under ``key``), whether a
+    static layer is kept and its signature, and the signature of its previous frame."""
 
-    buffers: FrameBuffers | None = None
-    static_buffers: FrameBuffers | None = None
-    layer: StaticLayer | None = None
+    remote: bool = False
+    view: LayeredView = field(default_factory=LayeredView)
+    key: int = field(default_factory=lambda: next(_VIEW_KEYS))
+    has_layer: bool = False
     layer_signature: tuple | None = None
     last_signature: tuple | None = None
 
@@ -113,7 +133,13 @@ class SceneRenderer:
         setups); None: every lit mesh uses the renderer's default setup.
     static_layer : reuse a group's static frame while its signature is unchanged.
     threads : render independent sensor groups on this many threads (1: no pool).
+    processes : 1: render all groups but the first in a worker process (started at the
+        first frame with two groups of at least ``process_min_pixels`` pixels); 0: none.
     """
+
+    #: groups smaller than this (pixels) always render in this process: small frames
+    #: cost less than the round trip to the worker
+    process_min_pixels = 65_536
 
     def __init__(
         self,
@@ -122,25 +148,30 @@ class SceneRenderer:
         lights_for: Callable[[str], Lights | None] | None = None,
         static_layer: bool = True,
         threads: int | None = None,
+        processes: int | None = None,
     ) -> None:
         self.root = root
         self.static_drawables = static_drawables
         self.lights_for = lights_for
         self.static_layer = static_layer
         self.threads = default_render_threads() if threads is None else int(threads)
+        self.processes = default_render_processes() if processes is None else int(processes)
         self._scene_key: tuple = ()
         self._drawables: list[Drawable] = []  # keeps the key's ids alive (no reuse)
         self._lights: list[Lights | None] = []  # the same for the drawables' light setups
-        self._static_scene = RenderScene([])
-        self._moving_scene = RenderScene([])
-        self._full_scene: RenderScene | None = None
+        self._scene = SplitScene()
         self._n_static = 0
         self._static_version = 0
+        self._moving_version = 0
         self._groups: dict[tuple, _GroupState] = {}
         self._pool: ThreadPoolExecutor | None = None
         self._pool_size = 0
+        self._worker: RenderProcess | None = None
+        self._worker_versions: tuple[int, int] = (-1, -1)  # (static, moving) it holds
         #: how the last observation rendered each group: "full", "new layer" or "layer"
         self.last_modes: dict[tuple, str] = {}
+        #: where: "here" or "worker" (the worker process)
+        self.last_places: dict[tuple, str] = {}
 
     # -- stages 1-2 ----------------------------------------------------------------------
     def _gather(self) -> tuple[list[Drawable], list[np.ndarray], list[bool]]:
@@ -179,32 +210,17 @@ class SceneRenderer:
         if key != self._scene_key:
             n_static = sum(is_static)
             meshes = [_render_mesh(d, light) for d, light in zip(drawables, lights, strict=True)]
+            static = None
             if key[:n_static] != self._scene_key[: self._n_static] or n_static != self._n_static:
                 self._static_version += 1  # the static layers of every group are stale
-                self._static_scene = RenderScene(meshes[:n_static])
-            self._moving_scene = RenderScene(meshes[n_static:])
-            self._full_scene = None
+                static = meshes[:n_static]
+            self._scene.set_meshes(static=static, moving=meshes[n_static:])
+            self._moving_version += 1
             self._scene_key, self._drawables, self._n_static = key, drawables, n_static
             self._lights = lights
-        for index, pose in enumerate(poses):
-            if index < self._n_static:
-                self._static_scene.world_from_mesh[index] = pose
-            else:
-                self._moving_scene.world_from_mesh[index - self._n_static] = pose
-        if self._full_scene is not None:
-            self._set_full_poses()
-        return self._static_scene.world_from_mesh.tobytes()
-
-    def _full(self) -> RenderScene:
-        """The scene of every drawable, static ones first (built when first needed)."""
-        if self._full_scene is None:
-            self._full_scene = RenderScene(self._static_scene.meshes + self._moving_scene.meshes)
-            self._set_full_poses()
-        return self._full_scene
-
-    def _set_full_poses(self) -> None:
-        self._full_scene.world_from_mesh[: self._n_static] = self._static_scene.world_from_mesh
-        self._full_scene.world_from_mesh[self._n_static :] = self._moving_scene.world_from_mesh
+        stacked = np.array(poses, dtype=np.float64).reshape(len(poses), 4, 4)
+        self._scene.set_poses(stacked[: self._n_static], stacked[self._n_static :])
+        return self._scene.static.world_from_mesh.tobytes()
 
     @staticmethod
     def _camera(sensor: CameraSensor) -> Camera:
@@ -225,7 +241,7 @@ class SceneRenderer:
         if isinstance(sensors, dict):
             sensors = list(sensors.values())
         static_poses = self._update_scenes()
-        self.last_modes = {}
+        self.last_modes, self.last_places = {}, {}
         groups: dict[tuple, list[CameraSensor]] = {}
         for sensor in sensors:
             pose = sensor.world_from_camera()
@@ -233,33 +249,137 @@ class SceneRenderer:
             groups.setdefault(key, []).append(sensor)
         lights = _light_signature()
         jobs = []
-        for (camera_key, pose_bytes), members in groups.items():
+        for index, ((camera_key, pose_bytes), members) in enumerate(groups.items()):
             name = tuple(sensor.uuid for sensor in members)
             signature = (self._static_version, static_poses, camera_key, pose_bytes, lights)
             # per sensor objects: agents may reuse uuids (the signature keeps it exact anyway)
-            state = self._groups.setdefault(tuple(map(id, members)), _GroupState())
+            state = self._groups.get(tuple(map(id, members)))
+            if state is None:
+                state = self._groups[tuple(map(id, members))] = _GroupState(
+                    remote=self._wants_worker(index, len(groups), camera_key[0])
+                )
             mode = self._choose_mode(state, signature)
+            camera = self._camera(members[0])
             pose = np.frombuffer(pose_bytes).reshape(4, 4)
-            jobs.append((state, mode, members, pose, signature))
+            jobs.append((state, mode, members, camera, pose, signature))
             self.last_modes[name] = mode
-        if any(job[1] == "full" for job in jobs):
-            self._full()  # built here, not on the pool's threads
-        if self.threads > 1 and len(jobs) > 1:
-            results = list(self._thread_pool().map(lambda job: self._render_group(*job), jobs))
-        else:
-            results = [self._render_group(*job) for job in jobs]
+            self.last_places[name] = "worker" if state.remote else "here"
+        frames = self._render_jobs(jobs)
         observations: dict[str, np.ndarray] = {}
-        for part in results:
-            observations.update(part)
+        for (_, _, members, *_), frame in zip(jobs, frames, strict=True):
+            for sensor in members:
+                observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, frame)
         return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
+
+    def _wants_worker(self, index: int, n_groups: int, resolution: tuple[int, int]) -> bool:
+        """Where a new group renders: all groups but the first of a frame go to the worker
+        process when there is one and they are large enough."""
+        height, width = resolution
+        return (
+            self.processes > 0
+            and n_groups > 1
+            and index > 0
+            and height * width >= self.process_min_pixels
+        )
+
+    def _render_jobs(self, jobs: list[tuple]) -> list[FrameBuffers]:
+        """Render every group: the worker's first (it starts at once), then this process's
+        (on the thread pool when there are several), then wait for the worker's."""
+        remote = [job for job in jobs if job[0].remote]
+        if remote and self.processes == 0:  # switched off: render them here from now on
+            self._stop_worker(remote)
+            remote = []
+        if remote:
+            try:
+                self._submit(remote)
+            except WorkerLost as error:
+                self._lose_worker(error, remote)
+                remote = []
+        local = [job for job in jobs if not job[0].remote]
+        try:
+            rendered = self._render_all_here(local)
+        except BaseException:
+            if remote:  # keep the worker in step: take its reply before raising
+                try:
+                    self._worker.collect()
+                except Exception:  # noqa: BLE001, S110 - the first error is the one to see
+                    pass
+            raise
+        frames = {id(job[0]): frame for job, frame in zip(local, rendered, strict=True)}
+        if remote:
+            try:
+                collected = self._worker.collect()
+            except WorkerLost as error:
+                self._lose_worker(error, remote)
+                collected = {}
+                for job in remote:
+                    frames[id(job[0])] = self._render_here(*job)
+            for job in remote:
+                if job[0].key in collected:
+                    frames[id(job[0])] = collected[job[0].key]
+                    job[0].last_signature = job[5]
+        return [frames[id(job[0])] for job in jobs]
+
+    def _render_all_here(self, local: list[tuple]) -> list[FrameBuffers]:
+        """Render groups in this process, on the thread pool when there are several."""
+        if any(job[1] == "full" for job in local):
+            self._scene.full()  # built here, not on the pool's threads
+        if self.threads > 1 and len(local) > 1:
+            return list(self._thread_pool().map(lambda job: self._render_here(*job), local))
+        return [self._render_here(*job) for job in local]
+
+    def _submit(self, remote: list[tuple]) -> None:
+        """Send the worker what changed (meshes) and its jobs of this frame."""
+        if self._worker is None:
+            self._worker = RenderProcess()
+            self._worker_versions = (-1, -1)
+        static_version, moving_version = self._static_version, self._moving_version
+        sent_static, sent_moving = self._worker_versions
+        if (static_version, moving_version) != (sent_static, sent_moving):
+            self._worker.set_meshes(
+                self._scene.static.meshes if static_version != sent_static else None,
+                self._scene.moving.meshes if moving_version != sent_moving else None,
+            )
+            self._worker_versions = (static_version, moving_version)
+        for state, mode, *_ in remote:
+            state.has_layer = mode != "full"
+        self._worker.submit(
+            self._scene.static.world_from_mesh,
+            self._scene.moving.world_from_mesh,
+            [(state.key, mode, camera, pose) for state, mode, _, camera, pose, _ in remote],
+        )
+
+    def _lose_worker(self, error: Exception, remote: list[tuple]) -> None:
+        """The worker died: render its groups here (full renders) from now on."""
+        warnings.warn(
+            f"rigidsim: the render worker process failed ({error}); rendering in this "
+            "process from now on",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+        self._stop_worker(remote)
+        self.processes = 0
+
+    def _stop_worker(self, remote: list[tuple]) -> None:
+        """Close the worker; its groups render here, starting with a full render."""
+        for state in self._groups.values():
+            if state.remote:
+                state.remote, state.has_layer, state.layer_signature = False, False, None
+        for job_index, job in enumerate(remote):
+            state = job[0]
+            remote[job_index] = (state, "full", *job[2:])
+        if self._worker is not None:
+            self._worker.close()
+            self._worker = None
 
     def _choose_mode(self, state: _GroupState, signature: tuple) -> str:
         """How to render a group: ``"layer"`` (over its valid static layer), ``"new layer"``
         (second frame with this signature: keep a static layer first) or ``"full"``."""
-        if self.static_layer and state.layer is not None and state.layer_signature == signature:
+        if self.static_layer and state.has_layer and state.layer_signature == signature:
             return "layer"
-        state.layer = state.layer_signature = None  # stale: free its memory
+        state.has_layer, state.layer_signature = False, None
         if self.static_layer and state.last_signature == signature:
+            state.layer_signature = signature
             return "new layer"
         return "full"
 
@@ -271,41 +391,39 @@ class SceneRenderer:
             self._pool_size = self.threads
         return self._pool
 
-    def _render_group(
+    def _render_here(
         self,
         state: _GroupState,
         mode: str,
         members: list[CameraSensor],
+        camera: Camera,
         pose: np.ndarray,
         signature: tuple,
-    ) -> dict[str, np.ndarray]:
-        """Render one group as ``mode`` says and copy each member's buffer.
+    ) -> FrameBuffers:
+        """Render one group in this process as ``mode`` says.
 
-        Runs on a pool thread: it touches only this group's state and reads the scenes.
+        May run on a pool thread: it touches only this group's state and reads the scenes.
         """
-        camera = self._camera(members[0])
-        if mode == "new layer":
-            state.static_buffers = render_frame(
-                self._static_scene, camera, pose, state.static_buffers, cull_back_faces=True
-            )
-            state.layer = StaticLayer.from_frame(state.static_buffers)
-            state.layer_signature = signature
+        if mode == "layer" and state.view.layer is None:  # its layer was in the worker
+            mode = "full"
         if mode == "full":
-            frame = render_frame(
-                self._full_scene, camera, pose, state.buffers, cull_back_faces=True
-            )
-        else:
-            frame = render_over_layer(
-                state.layer, self._moving_scene, camera, pose, state.buffers, cull_back_faces=True
-            )
-        state.buffers, state.last_signature = frame, signature
-        return {sensor.uuid: _buffer_for(sensor.spec.sensor_type, frame) for sensor in members}
+            self._scene.full()
+        frame = state.view.render(mode, self._scene, camera, pose)
+        state.has_layer = state.view.layer is not None
+        state.last_signature = signature
+        return frame
 
     def close(self) -> None:
-        """Stop the render threads (a new observation starts them again)."""
+        """Stop the render threads and the worker process (a new observation starts them
+        again)."""
         if self._pool is not None:
             self._pool.shutdown()
             self._pool = None
+        if self._worker is not None:
+            for state in self._groups.values():
+                state.has_layer, state.layer_signature = False, None
+            self._worker.close()
+            self._worker = None
 
 
 def _buffer_for(sensor_type: SensorType, frame: FrameBuffers) -> np.ndarray:
