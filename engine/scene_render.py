@@ -263,10 +263,11 @@ class SceneRenderer:
             pose = np.frombuffer(pose_bytes).reshape(4, 4)
             jobs.append((state, mode, members, camera, pose, signature))
             self.last_modes[name] = mode
-            self.last_places[name] = "worker" if state.remote else "here"
         frames = self._render_jobs(jobs)
         observations: dict[str, np.ndarray] = {}
-        for (_, _, members, *_), frame in zip(jobs, frames, strict=True):
+        for (state, _, members, *_), frame in zip(jobs, frames, strict=True):
+            name = tuple(sensor.uuid for sensor in members)
+            self.last_places[name] = "worker" if state.remote else "here"
             for sensor in members:
                 observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, frame)
         return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
