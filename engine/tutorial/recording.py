@@ -139,7 +139,7 @@ class SectionRecorder:
         """Queue the frame for the encoder thread (opened at the first frame)."""
         if self._writer is None:
             # the encoder settings of render.video.save_video (H.264 in an mp4 container)
-            options = {"fps": self.video.fps, "format": "FFMPEG", "macro_block_size": 1}
+            options = vut.mp4_options(self.video.fps)
             start = time.perf_counter()
             self._writer = vut.BackgroundVideoWriter(self.video_path, options, self._compose)
             self.timings.encoding += time.perf_counter() - start
