@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import itertools
 import os
+import time
 import warnings
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -51,7 +52,7 @@ from engine.scene_node import Drawable, SceneNode
 from engine.sensors import CameraSensor, SensorSubType, SensorType
 from render import shade
 from render.camera import Camera
-from render.frame import FrameBuffers
+from render.frame import FrameBuffers, band_rows, render_frame
 from render.scene import RenderMesh
 from render.shade import Lights
 from render.worker import LayeredView, RenderProcess, SplitScene, WorkerLost
@@ -119,6 +120,8 @@ class _GroupState:
     has_layer: bool = False
     layer_signature: tuple | None = None
     last_signature: tuple | None = None
+    split: int = 0  # full renders of a worker's group: rows 0 .. split - 1 render here
+    tile: FrameBuffers | None = None  # ... into these buffers
 
 
 class SceneRenderer:
@@ -140,6 +143,9 @@ class SceneRenderer:
     #: groups smaller than this (pixels) always render in this process: small frames
     #: cost less than the round trip to the worker
     process_min_pixels = 65_536
+    #: a full render of the worker's group is shared: its top rows are shaded here too
+    #: (balanced from frame to frame) when this process would otherwise wait for the worker
+    share_full_renders = True
 
     def __init__(
         self,
@@ -263,13 +269,15 @@ class SceneRenderer:
             pose = np.frombuffer(pose_bytes).reshape(4, 4)
             jobs.append((state, mode, members, camera, pose, signature))
             self.last_modes[name] = mode
-        frames = self._render_jobs(jobs)
+        parts_of_groups = self._render_jobs(jobs)
         observations: dict[str, np.ndarray] = {}
-        for (state, _, members, *_), frame in zip(jobs, frames, strict=True):
+        for (state, _, members, *_), parts in zip(jobs, parts_of_groups, strict=True):
             name = tuple(sensor.uuid for sensor in members)
             self.last_places[name] = "worker" if state.remote else "here"
+            if len(parts) > 1:
+                self.last_places[name] = "shared"
             for sensor in members:
-                observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, frame)
+                observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, parts)
         return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
 
     def _wants_worker(self, index: int, n_groups: int, resolution: tuple[int, int]) -> bool:
@@ -283,9 +291,13 @@ class SceneRenderer:
             and height * width >= self.process_min_pixels
         )
 
-    def _render_jobs(self, jobs: list[tuple]) -> list[FrameBuffers]:
+    def _render_jobs(self, jobs: list[tuple]) -> list[list[tuple[FrameBuffers, int]]]:
         """Render every group: the worker's first (it starts at once), then this process's
-        (on the thread pool when there are several), then wait for the worker's."""
+        (on the thread pool when there are several), then wait for the worker's.
+
+        Returns per group its parts ``(frame, first row)``: one part from row 0, or, for a
+        full render shared with the worker, the top rows from here and the rest from there.
+        """
         remote = [job for job in jobs if job[0].remote]
         if remote and self.processes == 0:  # switched off: render them here from now on
             self._stop_worker(remote)
@@ -297,8 +309,11 @@ class SceneRenderer:
                 self._lose_worker(error, remote)
                 remote = []
         local = [job for job in jobs if not job[0].remote]
+        tiles = [job for job in remote if job[1] == "full" and job[0].split > 0]
+        start = time.perf_counter()
         try:
             rendered = self._render_all_here(local)
+            rendered_tiles = [self._render_tile(*job) for job in tiles]
         except BaseException:
             if remote:  # keep the worker in step: take its reply before raising
                 try:
@@ -306,20 +321,56 @@ class SceneRenderer:
                 except Exception:  # noqa: BLE001, S110 - the first error is the one to see
                     pass
             raise
-        frames = {id(job[0]): frame for job, frame in zip(local, rendered, strict=True)}
+        busy_here = time.perf_counter() - start
+        parts = {id(job[0]): [(frame, 0)] for job, frame in zip(local, rendered, strict=True)}
         if remote:
             try:
                 collected = self._worker.collect()
             except WorkerLost as error:
                 self._lose_worker(error, remote)
-                collected = {}
+                collected, tiles = {}, []
                 for job in remote:
-                    frames[id(job[0])] = self._render_here(*job)
+                    parts[id(job[0])] = [(self._render_here(*job), 0)]
             for job in remote:
                 if job[0].key in collected:
-                    frames[id(job[0])] = collected[job[0].key]
+                    parts[id(job[0])] = [(collected[job[0].key], 0)]
                     job[0].last_signature = job[5]
-        return [frames[id(job[0])] for job in jobs]
+            for job, tile in zip(tiles, rendered_tiles, strict=True):
+                parts[id(job[0])] = [(tile, 0), (collected[job[0].key], job[0].split)]
+            self._balance(remote, collected, busy_here)
+        return [parts[id(job[0])] for job in jobs]
+
+    def _render_tile(
+        self, state: _GroupState, mode: str, members, camera: Camera, pose: np.ndarray, *_
+    ) -> FrameBuffers:
+        """The top ``state.split`` rows of a full render the worker shares."""
+        state.tile = render_frame(
+            self._scene.full(), camera, pose, state.tile, True, rows=(0, state.split)
+        )
+        return state.tile
+
+    def _balance(self, remote: list[tuple], collected: dict, busy_here: float) -> None:
+        """Move the split row of the worker's first full render so that both processes
+        finish together: each shading band moved from there to here shifts about twice
+        its shading time (a first tile here also rasterizes the frame)."""
+        full = [job for job in remote if job[1] == "full" and job[0].key in collected]
+        if not full or not self.share_full_renders:
+            return
+        state, camera = full[0][0], full[0][3]
+        timings = collected[state.key].timings
+        busy_there = sum(timings.values()) / 1e3
+        step = band_rows(camera)
+        rows_there = camera.height - state.split
+        if rows_there <= 0:
+            return
+        shade_per_row = timings.get("shade", 0.0) / 1e3 / rows_there
+        raster = busy_there - timings.get("shade", 0.0) / 1e3
+        surplus = busy_there - busy_here - (raster if state.split == 0 else 0.0)
+        if shade_per_row <= 0.0:
+            return
+        move = 0.5 * surplus / (2.0 * shade_per_row)  # damped: times are noisy
+        split = int(round((state.split + move) / step)) * step
+        state.split = min(max(split, 0), max(0, (camera.height // step - 1) * step))
 
     def _render_all_here(self, local: list[tuple]) -> list[FrameBuffers]:
         """Render groups in this process, on the thread pool when there are several."""
@@ -347,7 +398,10 @@ class SceneRenderer:
         self._worker.submit(
             self._scene.static.world_from_mesh,
             self._scene.moving.world_from_mesh,
-            [(state.key, mode, camera, pose) for state, mode, _, camera, pose, _ in remote],
+            [
+                (state.key, mode, camera, pose, _rows_there(state, mode, camera))
+                for state, mode, _, camera, pose, _ in remote
+            ],
         )
 
     def _lose_worker(self, error: Exception, remote: list[tuple]) -> None:
@@ -427,10 +481,21 @@ class SceneRenderer:
             self._worker = None
 
 
-def _buffer_for(sensor_type: SensorType, frame: FrameBuffers) -> np.ndarray:
-    """A fresh copy of the buffer a sensor type reads."""
-    if sensor_type is SensorType.COLOR:
-        return frame.rgba.copy()
-    if sensor_type is SensorType.DEPTH:
-        return frame.depth.copy()
-    return frame.ids.copy()
+def _rows_there(state: _GroupState, mode: str, camera: Camera) -> tuple[int, int] | None:
+    """The rows the worker shades of a group's render: all, or below the split."""
+    if mode == "full" and state.split > 0:
+        return (state.split, camera.height)
+    return None
+
+
+def _buffer_for(sensor_type: SensorType, parts: list[tuple[FrameBuffers, int]]) -> np.ndarray:
+    """A fresh copy of the buffer a sensor type reads, from the frame's parts: ``(frame,
+    first row)``, each part up to the next one's first row."""
+    name = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}.get(sensor_type, "ids")
+    if len(parts) == 1:
+        return getattr(parts[0][0], name).copy()
+    out = np.empty_like(getattr(parts[0][0], name))
+    ends = [first for _, first in parts[1:]] + [len(out)]
+    for (frame, first), end in zip(parts, ends, strict=True):
+        out[first:end] = getattr(frame, name)[first:end]
+    return out

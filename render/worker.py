@@ -171,18 +171,26 @@ class LayeredView:
     out: FrameBuffers | None = field(default=None, repr=False)
 
     def render(
-        self, mode: str, scene: SplitScene, camera: Camera, world_from_camera: np.ndarray
+        self,
+        mode: str,
+        scene: SplitScene,
+        camera: Camera,
+        world_from_camera: np.ndarray,
+        rows: tuple[int, int] | None = None,
     ) -> FrameBuffers:
-        """Render the view as ``mode`` says; returns its (reused) buffers."""
+        """Render the view as ``mode`` says; returns its (reused) buffers. ``rows``: only
+        these image rows of a full render (``render_frame``'s ``rows``)."""
         if mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
         if mode == "layer" and self.layer is None:
             raise ValueError("mode 'layer' needs a static layer: render a 'new layer' first")
+        if rows is not None and mode != "full":
+            raise ValueError(f"rows are for full renders, not mode {mode!r}")
         buffers = self.buffers if self.out is None else self.out
         if mode == "full":
             self.layer = None  # stale: free its memory
             frame = render_frame(
-                scene.full(), camera, world_from_camera, buffers, cull_back_faces=True
+                scene.full(), camera, world_from_camera, buffers, cull_back_faces=True, rows=rows
             )
         else:
             if mode == "new layer":
@@ -269,7 +277,13 @@ class _Worker:
         return None
 
     def render(
-        self, key: int, block_name: str, mode: str, camera: Camera, pose: np.ndarray
+        self,
+        key: int,
+        block_name: str,
+        mode: str,
+        camera: Camera,
+        pose: np.ndarray,
+        rows: tuple[int, int] | None,
     ) -> tuple[int, dict, int]:
         view = self.views.get(key)
         if view is None or self.blocks[key].name != block_name:
@@ -279,7 +293,7 @@ class _Worker:
             view = self.views[key] = LayeredView()
             view.out = _frame_on_block(block.buf, camera.resolution)
             view.out.zkey = np.empty(camera.height * camera.width, np.uint64)
-        frame = view.render(mode, self.scene, camera, pose)
+        frame = view.render(mode, self.scene, camera, pose, rows)
         return key, frame.timings, frame.n_fragments
 
 
@@ -446,10 +460,12 @@ class RenderProcess:
         self,
         static_poses: np.ndarray,
         moving_poses: np.ndarray,
-        jobs: list[tuple[int, str, Camera, np.ndarray]],
+        jobs: list[tuple],
     ) -> None:
         """Start rendering ``jobs``: ``(view key, mode, camera, world_from_camera)`` each,
-        with the meshes at these poses. ``collect`` waits for the frames."""
+        optionally with a fifth item ``rows`` (a full render's rows to shade, as
+        ``render_frame``'s), with the meshes at these poses. ``collect`` waits for the
+        frames."""
         if self._pending is not None:
             raise RuntimeError("collect the previous frames before submitting new ones")
         settings = current_settings()
@@ -457,11 +473,12 @@ class RenderProcess:
             self._send(("settings", _settings_payload()))
             self._settings = settings
         message = []
-        for key, mode, camera, pose in jobs:
+        for key, mode, camera, pose, *rows in jobs:
             block = self._block(key, camera.resolution)
-            message.append((key, block.name, mode, camera, np.asarray(pose, np.float64)))
+            pose = np.asarray(pose, np.float64)
+            message.append((key, block.name, mode, camera, pose, rows[0] if rows else None))
         self._send(("frame", static_poses, moving_poses, message))
-        self._pending = [key for key, *_ in jobs]
+        self._pending = [job[0] for job in jobs]
 
     def _block(self, key: int, resolution: tuple[int, int]) -> shared_memory.SharedMemory:
         block = self._blocks.get(key)

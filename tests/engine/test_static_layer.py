@@ -176,3 +176,28 @@ def test_the_switches_select_single_threaded_full_renders(checked):
     assert set(renderer.last_modes.values()) == {"layer"}
     assert np.any(observation["rgba_camera_1stperson"][..., :3])
     sim.close()
+
+
+def test_full_renders_shared_between_this_process_and_the_worker_match(checked, monkeypatch):
+    import render.frame
+
+    monkeypatch.setattr(render.frame, "SHADE_BAND_PIXELS", 64 * 8)  # bands of 8 rows
+    splits = iter([8, 16, 40, 0, 24, 8, 32, 16])
+
+    def next_split(self, remote, collected, busy_here):  # any split gives the same frame
+        for job in remote:
+            job[0].split = next(splits, 8)
+
+    monkeypatch.setattr(CheckedRenderer, "_balance", next_split)
+    monkeypatch.setattr(CheckedRenderer, "FULL_CHECK_EVERY", 1)
+    sim = small_sim()
+    renderer = sim.get_renderer()
+    agent = sim.get_agent(0)
+    for k in range(8):
+        state = agent.get_state()
+        state.position = state.position + np.array([0.02, 0.0, -0.03 * k])  # cameras move
+        agent.set_state(state)
+        sim.get_sensor_observations()  # checked against the reference renderer
+        assert renderer.last_modes[("rgba_camera_3rdperson",)] == "full"
+    assert checked.places["shared"] >= 6
+    sim.close()

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from render import shade
+from render import frame, shade
 from render.camera import Camera
 from render.frame import RenderScene, render_frame
 from render.worker import LayeredView, RenderProcess, SplitScene, WorkerLost
@@ -135,3 +135,33 @@ def test_errors_come_back_to_the_caller_and_a_dead_worker_is_reported():
     finally:
         process.close()
     process.close()  # twice is fine
+
+
+def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(
+    worker, monkeypatch
+):
+    monkeypatch.setattr(frame, "SHADE_BAND_PIXELS", 1200)  # bands of 10 rows (the worker's too)
+    static, moving = split_meshes()
+    scene = SplitScene()
+    scene.set_meshes(static, moving)
+    static_poses = np.array([m.world_from_mesh for m in static])
+    moving_poses = np.array([m.world_from_mesh for m in moving])
+    scene.set_poses(static_poses, moving_poses)
+    worker.set_meshes(static, moving)
+    key, camera, pose = views()[0]
+    whole = frame_bytes(render_frame(scene.full(), camera, pose, cull_back_faces=True))
+    step = frame.band_rows(camera)
+    assert step == 10
+    for split in (step, 5 * step, camera.height):
+        worker.submit(static_poses, moving_poses, [(key, "full", camera, pose, (split, 90))])
+        there = worker.collect()[key]
+        here = LayeredView().render("full", scene, camera, pose, rows=(0, split))
+        names = ("rgba", "depth", "ids")
+        parts = [
+            np.concatenate([getattr(here, n)[:split], getattr(there, n)[split:]]) for n in names
+        ]
+        assert tuple(part.tobytes() for part in parts) == whole, split
+    with pytest.raises(ValueError, match="multiple of"):
+        render_frame(scene.full(), camera, pose, rows=(1, 90))
+    with pytest.raises(ValueError, match="rows are for full renders"):
+        LayeredView().render("new layer", scene, camera, pose, rows=(0, step))
