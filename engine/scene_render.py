@@ -7,17 +7,28 @@ arrays and camera poses. This module bridges the two, once per observation:
    render meshes posed by the node's world matrix (``world_from_mesh = node.world_matrix()``).
    Each drawable is *static* (the stage, STATIC objects: the ``static_drawables`` callback
    names them) or *moving* (everything else).
-2. **Cache**: two :class:`render.RenderScene` s, the static meshes and the moving ones, are
-   rebuilt only when the set of drawables or their static/moving split changes (an object
-   added or removed, a motion type changed); otherwise only the poses are updated. The
-   full scene (static meshes first, then the moving ones) is built when first needed.
+2. **Cache**: two :class:`render.RenderScene` s, the static meshes and the moving ones
+   (:class:`render.worker.SplitScene`), are rebuilt only when the set of drawables or their
+   static/moving split changes (an object added or removed, a motion type changed);
+   otherwise only the poses are updated. The full scene (static meshes first, then the
+   moving ones) is built when first needed.
 3. **Group**: sensors whose camera intrinsics and pose are equal share one rasterization
    (the tutorial's 1st-person color and depth cameras are one render).
 4. **Render**: per group, with :func:`render.render_frame`, or, when nothing static changed
    since the group's previous frame, by drawing only the moving meshes over the group's
-   kept static frame (:func:`render.render_over_layer`: bit for bit the same image).
-   Independent groups render on a thread pool (NumPy releases the GIL in its large
-   operations; the tutorial's 1st- and 3rd-person cameras use both cores).
+   kept static frame (:func:`render.render_over_layer`: bit for bit the same image); both
+   in :class:`render.worker.LayeredView`. The first group renders in this process; the
+   others (when at least ``process_min_pixels`` large) in a **render worker process**
+   (:class:`render.worker.RenderProcess`, started at the first such frame), which holds its
+   own copy of the meshes, gets the poses each frame and returns the frame through shared
+   memory. Threads cannot do this: the renderer's many cache-sized NumPy passes hold the
+   GIL most of the time (two render threads measured 6 % faster than one). A full render
+   of a worker's group is **shared**: this process shades its top ``split`` rows as well
+   (everything is rasterized by both, each shades its rows), and ``split`` moves from frame
+   to frame so that both processes finish together (the tutorial's robot: the 1st-person
+   render here, the costlier 3rd-person one mostly there). Results do not depend on where
+   or how a frame was split (tested bit for bit); a worker that dies is replaced by
+   renders in this process, with a warning.
 5. **Copy**: each sensor gets a fresh copy of its buffer (COLOR -> rgba, DEPTH -> depth,
    SEMANTIC -> ids). Back faces are culled, as GPU renderers do: closed meshes look the same
    and cost about a third fewer fragments.
@@ -33,7 +44,10 @@ A layer is built at the second frame with the same signature (a moving camera ne
 for one). Mesh arrays are assumed not to be modified in place (as for ``RenderScene``).
 
 Switches (attributes of :class:`SceneRenderer`, for teaching and the tests):
-``static_layer`` (False: every frame is a full render) and ``threads`` (1: one thread).
+``static_layer`` (False: every frame is a full render), ``processes`` (0: no worker
+process; default 1 on two cores or more, ``RIGIDSIM_RENDER_PROCESSES=0`` turns it off),
+``share_full_renders`` (False: the worker renders its groups alone) and ``threads`` (the
+groups rendered in this process on a thread pool: 1, one thread).
 """
 
 from __future__ import annotations
