@@ -344,8 +344,11 @@ def _picklable(error: BaseException) -> BaseException:
 # ------------------------------------------------------------------------------------------
 # The caller's handle
 # ------------------------------------------------------------------------------------------
-def _close_process(conn: Any, process: Any, blocks: dict) -> None:
-    """Stop the worker and free the shared blocks (also run by the finalizer)."""
+def _close_process(conn: Any, process: Any, blocks: dict, owner: int) -> None:
+    """Stop the worker and free the shared blocks (also run by the finalizer); only in the
+    process that started it (a forked child inherits the handle but must not stop it)."""
+    if os.getpid() != owner:
+        return
     try:
         conn.send(("stop",))
     except (OSError, ValueError):
@@ -400,7 +403,7 @@ class RenderProcess:
         self._settings: tuple | None = None
         self._pending: list[int] | None = None
         self._finalizer = weakref.finalize(
-            self, _close_process, self._conn, self._process, self._blocks
+            self, _close_process, self._conn, self._process, self._blocks, os.getpid()
         )
 
     @property
