@@ -14,7 +14,8 @@ sensors, unless ``--fast``), in a temporary folder. A first injected cell wraps
 timers; after every notebook cell an injected cell prints and resets them, with the CPU
 seconds the cell used (the kernel's threads and its finished children, ffmpeg): on a shared
 machine CPU time is steadier than wall time. Wall time per cell comes from nbclient's
-execution timestamps. With ``--baseline`` the other checkout's
+execution timestamps (the CPU of living child processes, such as the render worker, is read
+with psutil when it is installed). With ``--baseline`` the other checkout's
 notebook runs first, then this one, in the same invocation (compare ratios: the machine is
 shared).
 """
@@ -44,9 +45,22 @@ import render.video as _video
 _bench = {"physics": 0.0, "render": 0.0, "encode": 0.0}
 
 def _cpu_seconds():
-    # CPU time of the kernel (all threads) and of its finished children (ffmpeg)
+    # CPU time of the kernel (all threads), of its finished children (ffmpeg) and of its
+    # living ones (the render worker process; needs psutil, else they count when they end)
     children = _resource.getrusage(_resource.RUSAGE_CHILDREN)
-    return _time.process_time() + children.ru_utime + children.ru_stime
+    living = 0.0
+    try:
+        import psutil as _psutil
+
+        for child in _psutil.Process().children(recursive=True):
+            try:
+                times = child.cpu_times()
+                living += times.user + times.system
+            except _psutil.Error:
+                pass
+    except ImportError:
+        pass
+    return _time.process_time() + children.ru_utime + children.ru_stime + living
 
 _cpu_start = _cpu_seconds()
 

@@ -7,17 +7,28 @@ arrays and camera poses. This module bridges the two, once per observation:
    render meshes posed by the node's world matrix (``world_from_mesh = node.world_matrix()``).
    Each drawable is *static* (the stage, STATIC objects: the ``static_drawables`` callback
    names them) or *moving* (everything else).
-2. **Cache**: two :class:`render.RenderScene` s, the static meshes and the moving ones, are
-   rebuilt only when the set of drawables or their static/moving split changes (an object
-   added or removed, a motion type changed); otherwise only the poses are updated. The
-   full scene (static meshes first, then the moving ones) is built when first needed.
+2. **Cache**: two :class:`render.RenderScene` s, the static meshes and the moving ones
+   (:class:`render.worker.SplitScene`), are rebuilt only when the set of drawables or their
+   static/moving split changes (an object added or removed, a motion type changed);
+   otherwise only the poses are updated. The full scene (static meshes first, then the
+   moving ones) is built when first needed.
 3. **Group**: sensors whose camera intrinsics and pose are equal share one rasterization
    (the tutorial's 1st-person color and depth cameras are one render).
 4. **Render**: per group, with :func:`render.render_frame`, or, when nothing static changed
    since the group's previous frame, by drawing only the moving meshes over the group's
-   kept static frame (:func:`render.render_over_layer`: bit for bit the same image).
-   Independent groups render on a thread pool (NumPy releases the GIL in its large
-   operations; the tutorial's 1st- and 3rd-person cameras use both cores).
+   kept static frame (:func:`render.render_over_layer`: bit for bit the same image); both
+   in :class:`render.worker.LayeredView`. The first group renders in this process; the
+   others (when at least ``process_min_pixels`` large) in a **render worker process**
+   (:class:`render.worker.RenderProcess`, started at the first such frame), which holds its
+   own copy of the meshes, gets the poses each frame and returns the frame through shared
+   memory. Threads cannot do this: the renderer's many cache-sized NumPy passes hold the
+   GIL most of the time (two render threads measured 6 % faster than one). A full render
+   of a worker's group is **shared**: this process shades its top ``split`` rows as well
+   (everything is rasterized by both, each shades its rows), and ``split`` moves from frame
+   to frame so that both processes finish together (the tutorial's robot: the 1st-person
+   render here, the costlier 3rd-person one mostly there). Results do not depend on where
+   or how a frame was split (tested bit for bit); a worker that dies is replaced by
+   renders in this process, with a warning.
 5. **Copy**: each sensor gets a fresh copy of its buffer (COLOR -> rgba, DEPTH -> depth,
    SEMANTIC -> ids). Back faces are culled, as GPU renderers do: closed meshes look the same
    and cost about a third fewer fragments.
@@ -33,15 +44,21 @@ A layer is built at the second frame with the same signature (a moving camera ne
 for one). Mesh arrays are assumed not to be modified in place (as for ``RenderScene``).
 
 Switches (attributes of :class:`SceneRenderer`, for teaching and the tests):
-``static_layer`` (False: every frame is a full render) and ``threads`` (1: one thread).
+``static_layer`` (False: every frame is a full render), ``processes`` (0: no worker
+process; default 1 on two cores or more, ``RIGIDSIM_RENDER_PROCESSES=0`` turns it off),
+``share_full_renders`` (False: the worker renders its groups alone) and ``threads`` (the
+groups rendered in this process on a thread pool: 1, one thread).
 """
 
 from __future__ import annotations
 
+import itertools
 import os
+import time
+import warnings
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -49,11 +66,12 @@ from engine.scene_node import Drawable, SceneNode
 from engine.sensors import CameraSensor, SensorSubType, SensorType
 from render import shade
 from render.camera import Camera
-from render.frame import FrameBuffers, StaticLayer, render_frame, render_over_layer
-from render.scene import RenderMesh, RenderScene
+from render.frame import FrameBuffers, band_rows, render_frame
+from render.scene import RenderMesh
 from render.shade import Lights
+from render.worker import LayeredView, RenderProcess, SplitScene, WorkerLost
 
-__all__ = ["SceneRenderer", "default_render_threads"]
+__all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]
 
 
 def default_render_threads() -> int:
@@ -65,6 +83,18 @@ def default_render_threads() -> int:
             raise ValueError(f"RIGIDSIM_RENDER_THREADS must be >= 1, got {value!r}")
         return threads
     return max(1, min(2, os.cpu_count() or 1))
+
+
+def default_render_processes() -> int:
+    """Render worker processes by default: ``RIGIDSIM_RENDER_PROCESSES`` if set (0 or 1),
+    else 1 on a machine with two cores or more."""
+    value = os.environ.get("RIGIDSIM_RENDER_PROCESSES", "")
+    if value:
+        processes = int(value)
+        if processes not in (0, 1):
+            raise ValueError(f"RIGIDSIM_RENDER_PROCESSES must be 0 or 1, got {value!r}")
+        return processes
+    return 1 if (os.cpu_count() or 1) >= 2 else 0
 
 
 def _render_mesh(drawable: Drawable, lights: Lights | None = None) -> RenderMesh:
@@ -89,16 +119,23 @@ def _light_signature() -> tuple:
     return (shade.LIGHT_DIRECTIONS.tobytes(), float(shade.AMBIENT), float(shade.DIFFUSE))
 
 
+_VIEW_KEYS = itertools.count(1)
+
+
 @dataclass
 class _GroupState:
-    """What one group of sensors keeps between frames: buffers, its static layer and the
-    signature of its previous frame."""
+    """What one group of sensors keeps between frames: where it renders (here: its
+    :class:`render.worker.LayeredView`; or in the worker process under ``key``), whether a
+    static layer is kept and its signature, and the signature of its previous frame."""
 
-    buffers: FrameBuffers | None = None
-    static_buffers: FrameBuffers | None = None
-    layer: StaticLayer | None = None
+    remote: bool = False
+    view: LayeredView = field(default_factory=LayeredView)
+    key: int = field(default_factory=lambda: next(_VIEW_KEYS))
+    has_layer: bool = False
     layer_signature: tuple | None = None
     last_signature: tuple | None = None
+    split: int = 0  # full renders of a worker's group: rows 0 .. split - 1 render here
+    tile: FrameBuffers | None = None  # ... into these buffers
 
 
 class SceneRenderer:
@@ -113,7 +150,16 @@ class SceneRenderer:
         setups); None: every lit mesh uses the renderer's default setup.
     static_layer : reuse a group's static frame while its signature is unchanged.
     threads : render independent sensor groups on this many threads (1: no pool).
+    processes : 1: render all groups but the first in a worker process (started at the
+        first frame with two groups of at least ``process_min_pixels`` pixels); 0: none.
     """
+
+    #: groups smaller than this (pixels) always render in this process: small frames
+    #: cost less than the round trip to the worker
+    process_min_pixels = 65_536
+    #: a full render of the worker's group is shared: its top rows are shaded here too
+    #: (balanced from frame to frame) when this process would otherwise wait for the worker
+    share_full_renders = True
 
     def __init__(
         self,
@@ -122,25 +168,30 @@ class SceneRenderer:
         lights_for: Callable[[str], Lights | None] | None = None,
         static_layer: bool = True,
         threads: int | None = None,
+        processes: int | None = None,
     ) -> None:
         self.root = root
         self.static_drawables = static_drawables
         self.lights_for = lights_for
         self.static_layer = static_layer
         self.threads = default_render_threads() if threads is None else int(threads)
+        self.processes = default_render_processes() if processes is None else int(processes)
         self._scene_key: tuple = ()
         self._drawables: list[Drawable] = []  # keeps the key's ids alive (no reuse)
         self._lights: list[Lights | None] = []  # the same for the drawables' light setups
-        self._static_scene = RenderScene([])
-        self._moving_scene = RenderScene([])
-        self._full_scene: RenderScene | None = None
+        self._scene = SplitScene()
         self._n_static = 0
         self._static_version = 0
+        self._moving_version = 0
         self._groups: dict[tuple, _GroupState] = {}
         self._pool: ThreadPoolExecutor | None = None
         self._pool_size = 0
+        self._worker: RenderProcess | None = None
+        self._worker_versions: tuple[int, int] = (-1, -1)  # (static, moving) it holds
         #: how the last observation rendered each group: "full", "new layer" or "layer"
         self.last_modes: dict[tuple, str] = {}
+        #: where: "here" or "worker" (the worker process)
+        self.last_places: dict[tuple, str] = {}
 
     # -- stages 1-2 ----------------------------------------------------------------------
     def _gather(self) -> tuple[list[Drawable], list[np.ndarray], list[bool]]:
@@ -179,32 +230,17 @@ class SceneRenderer:
         if key != self._scene_key:
             n_static = sum(is_static)
             meshes = [_render_mesh(d, light) for d, light in zip(drawables, lights, strict=True)]
+            static = None
             if key[:n_static] != self._scene_key[: self._n_static] or n_static != self._n_static:
                 self._static_version += 1  # the static layers of every group are stale
-                self._static_scene = RenderScene(meshes[:n_static])
-            self._moving_scene = RenderScene(meshes[n_static:])
-            self._full_scene = None
+                static = meshes[:n_static]
+            self._scene.set_meshes(static=static, moving=meshes[n_static:])
+            self._moving_version += 1
             self._scene_key, self._drawables, self._n_static = key, drawables, n_static
             self._lights = lights
-        for index, pose in enumerate(poses):
-            if index < self._n_static:
-                self._static_scene.world_from_mesh[index] = pose
-            else:
-                self._moving_scene.world_from_mesh[index - self._n_static] = pose
-        if self._full_scene is not None:
-            self._set_full_poses(self._full_scene)
-        return self._static_scene.world_from_mesh.tobytes()
-
-    def _full(self) -> RenderScene:
-        """The scene of every drawable, static ones first (built when first needed)."""
-        if self._full_scene is None:
-            self._full_scene = RenderScene(self._static_scene.meshes + self._moving_scene.meshes)
-            self._set_full_poses(self._full_scene)
-        return self._full_scene
-
-    def _set_full_poses(self, full_scene: RenderScene) -> None:
-        full_scene.world_from_mesh[: self._n_static] = self._static_scene.world_from_mesh
-        full_scene.world_from_mesh[self._n_static :] = self._moving_scene.world_from_mesh
+        stacked = np.array(poses, dtype=np.float64).reshape(len(poses), 4, 4)
+        self._scene.set_poses(stacked[: self._n_static], stacked[self._n_static :])
+        return self._scene.static.world_from_mesh.tobytes()
 
     @staticmethod
     def _camera(sensor: CameraSensor) -> Camera:
@@ -225,7 +261,7 @@ class SceneRenderer:
         if isinstance(sensors, dict):
             sensors = list(sensors.values())
         static_poses = self._update_scenes()
-        self.last_modes = {}
+        self.last_modes, self.last_places = {}, {}
         groups: dict[tuple, list[CameraSensor]] = {}
         for sensor in sensors:
             pose = sensor.world_from_camera()
@@ -233,33 +269,188 @@ class SceneRenderer:
             groups.setdefault(key, []).append(sensor)
         lights = _light_signature()
         jobs = []
-        for (camera_key, pose_bytes), members in groups.items():
+        for index, ((camera_key, pose_bytes), members) in enumerate(groups.items()):
             name = tuple(sensor.uuid for sensor in members)
             signature = (self._static_version, static_poses, camera_key, pose_bytes, lights)
             # per sensor objects: agents may reuse uuids (the signature keeps it exact anyway)
-            state = self._groups.setdefault(tuple(map(id, members)), _GroupState())
+            state = self._groups.get(tuple(map(id, members)))
+            if state is None:
+                state = self._groups[tuple(map(id, members))] = _GroupState(
+                    remote=self._wants_worker(index, len(groups), camera_key[0])
+                )
             mode = self._choose_mode(state, signature)
+            camera = self._camera(members[0])
             pose = np.frombuffer(pose_bytes).reshape(4, 4)
-            jobs.append((state, mode, members, pose, signature))
+            jobs.append((state, mode, members, camera, pose, signature))
             self.last_modes[name] = mode
-        if any(job[1] == "full" for job in jobs):
-            self._full()  # built here, not on the pool's threads
-        if self.threads > 1 and len(jobs) > 1:
-            results = list(self._thread_pool().map(lambda job: self._render_group(*job), jobs))
-        else:
-            results = [self._render_group(*job) for job in jobs]
+        parts_of_groups = self._render_jobs(jobs)
         observations: dict[str, np.ndarray] = {}
-        for part in results:
-            observations.update(part)
+        for (state, _, members, *_), parts in zip(jobs, parts_of_groups, strict=True):
+            name = tuple(sensor.uuid for sensor in members)
+            self.last_places[name] = "worker" if state.remote else "here"
+            if len(parts) > 1:
+                self.last_places[name] = "shared"
+            for sensor in members:
+                observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, parts)
         return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
+
+    def _wants_worker(self, index: int, n_groups: int, resolution: tuple[int, int]) -> bool:
+        """Where a new group renders: all groups but the first of a frame go to the worker
+        process when there is one and they are large enough."""
+        height, width = resolution
+        return (
+            self.processes > 0
+            and n_groups > 1
+            and index > 0
+            and height * width >= self.process_min_pixels
+        )
+
+    def _render_jobs(self, jobs: list[tuple]) -> list[list[tuple[FrameBuffers, int]]]:
+        """Render every group: the worker's first (it starts at once), then this process's
+        (on the thread pool when there are several), then wait for the worker's.
+
+        Returns per group its parts ``(frame, first row)``: one part from row 0, or, for a
+        full render shared with the worker, the top rows from here and the rest from there.
+        """
+        remote = [job for job in jobs if job[0].remote]
+        if remote and self.processes == 0:  # switched off: render them here from now on
+            self._stop_worker(remote)
+            remote = []
+        if remote:
+            try:
+                self._submit(remote)
+            except WorkerLost as error:
+                self._lose_worker(error, remote)
+                remote = []
+        worker = self._worker
+        assert worker is not None or not remote  # remote jobs exist only with a live worker
+        local = [job for job in jobs if not job[0].remote]
+        tiles = [job for job in remote if job[1] == "full" and job[0].split > 0]
+        start = time.perf_counter()
+        try:
+            rendered = self._render_all_here(local)
+            rendered_tiles = [self._render_tile(*job) for job in tiles]
+        except BaseException:
+            if remote:  # keep the worker in step: take its reply before raising
+                try:
+                    worker.collect()  # type: ignore[union-attr]
+                except Exception:  # noqa: BLE001, S110 - the first error is the one to see
+                    pass
+            raise
+        busy_here = time.perf_counter() - start
+        parts = {id(job[0]): [(frame, 0)] for job, frame in zip(local, rendered, strict=True)}
+        if remote:
+            try:
+                collected = worker.collect()  # type: ignore[union-attr]
+            except WorkerLost as error:
+                self._lose_worker(error, remote)
+                collected, tiles = {}, []
+                for job in remote:
+                    parts[id(job[0])] = [(self._render_here(*job), 0)]
+            for job in remote:
+                if job[0].key in collected:
+                    parts[id(job[0])] = [(collected[job[0].key], 0)]
+                    job[0].last_signature = job[5]
+            for job, tile in zip(tiles, rendered_tiles, strict=True):
+                parts[id(job[0])] = [(tile, 0), (collected[job[0].key], job[0].split)]
+            self._balance(remote, collected, busy_here)
+        return [parts[id(job[0])] for job in jobs]
+
+    def _render_tile(
+        self, state: _GroupState, mode: str, members, camera: Camera, pose: np.ndarray, *_
+    ) -> FrameBuffers:
+        """The top ``state.split`` rows of a full render the worker shares."""
+        state.tile = render_frame(
+            self._scene.full(), camera, pose, state.tile, True, rows=(0, state.split)
+        )
+        return state.tile
+
+    def _balance(self, remote: list[tuple], collected: dict, busy_here: float) -> None:
+        """Move the split row of the worker's first full render so that both processes
+        finish together: each shading band moved from there to here shifts about twice
+        its shading time (a first tile here also rasterizes the frame)."""
+        full = [job for job in remote if job[1] == "full" and job[0].key in collected]
+        if not full or not self.share_full_renders:
+            return
+        state, camera = full[0][0], full[0][3]
+        timings = collected[state.key].timings
+        busy_there = sum(timings.values()) / 1e3
+        step = band_rows(camera)
+        rows_there = camera.height - state.split
+        if rows_there <= 0:
+            return
+        shade_per_row = timings.get("shade", 0.0) / 1e3 / rows_there
+        raster = busy_there - timings.get("shade", 0.0) / 1e3
+        surplus = busy_there - busy_here - (raster if state.split == 0 else 0.0)
+        if shade_per_row <= 0.0:
+            return
+        move = 0.5 * surplus / (2.0 * shade_per_row)  # damped: times are noisy
+        split = int(round((state.split + move) / step)) * step
+        state.split = min(max(split, 0), max(0, (camera.height // step - 1) * step))
+
+    def _render_all_here(self, local: list[tuple]) -> list[FrameBuffers]:
+        """Render groups in this process, on the thread pool when there are several."""
+        if any(job[1] == "full" for job in local):
+            self._scene.full()  # built here, not on the pool's threads
+        if self.threads > 1 and len(local) > 1:
+            return list(self._thread_pool().map(lambda job: self._render_here(*job), local))
+        return [self._render_here(*job) for job in local]
+
+    def _submit(self, remote: list[tuple]) -> None:
+        """Send the worker what changed (meshes) and its jobs of this frame."""
+        if self._worker is None:
+            self._worker = RenderProcess()
+            self._worker_versions = (-1, -1)
+        static_version, moving_version = self._static_version, self._moving_version
+        sent_static, sent_moving = self._worker_versions
+        if (static_version, moving_version) != (sent_static, sent_moving):
+            self._worker.set_meshes(
+                self._scene.static.meshes if static_version != sent_static else None,
+                self._scene.moving.meshes if moving_version != sent_moving else None,
+            )
+            self._worker_versions = (static_version, moving_version)
+        for state, mode, *_ in remote:
+            state.has_layer = mode != "full"
+        self._worker.submit(
+            self._scene.static.world_from_mesh,
+            self._scene.moving.world_from_mesh,
+            [
+                (state.key, mode, camera, pose, _rows_there(state, mode, camera))
+                for state, mode, _, camera, pose, _ in remote
+            ],
+        )
+
+    def _lose_worker(self, error: Exception, remote: list[tuple]) -> None:
+        """The worker died: render its groups here (full renders) from now on."""
+        warnings.warn(
+            f"rigidsim: the render worker process failed ({error}); rendering in this "
+            "process from now on",
+            RuntimeWarning,
+            stacklevel=4,
+        )
+        self._stop_worker(remote)
+        self.processes = 0
+
+    def _stop_worker(self, remote: list[tuple]) -> None:
+        """Close the worker; its groups render here, starting with a full render."""
+        for state in self._groups.values():
+            if state.remote:
+                state.remote, state.has_layer, state.layer_signature = False, False, None
+        for job_index, job in enumerate(remote):
+            state = job[0]
+            remote[job_index] = (state, "full", *job[2:])
+        if self._worker is not None:
+            self._worker.close()
+            self._worker = None
 
     def _choose_mode(self, state: _GroupState, signature: tuple) -> str:
         """How to render a group: ``"layer"`` (over its valid static layer), ``"new layer"``
         (second frame with this signature: keep a static layer first) or ``"full"``."""
-        if self.static_layer and state.layer is not None and state.layer_signature == signature:
+        if self.static_layer and state.has_layer and state.layer_signature == signature:
             return "layer"
-        state.layer = state.layer_signature = None  # stale: free its memory
+        state.has_layer, state.layer_signature = False, None
         if self.static_layer and state.last_signature == signature:
+            state.layer_signature = signature
             return "new layer"
         return "full"
 
@@ -271,47 +462,56 @@ class SceneRenderer:
             self._pool_size = self.threads
         return self._pool
 
-    def _render_group(
+    def _render_here(
         self,
         state: _GroupState,
         mode: str,
         members: list[CameraSensor],
+        camera: Camera,
         pose: np.ndarray,
         signature: tuple,
-    ) -> dict[str, np.ndarray]:
-        """Render one group as ``mode`` says and copy each member's buffer.
+    ) -> FrameBuffers:
+        """Render one group in this process as ``mode`` says.
 
-        Runs on a pool thread: it touches only this group's state and reads the scenes.
+        May run on a pool thread: it touches only this group's state and reads the scenes.
         """
-        camera = self._camera(members[0])
-        if mode == "new layer":
-            state.static_buffers = render_frame(
-                self._static_scene, camera, pose, state.static_buffers, cull_back_faces=True
-            )
-            state.layer = StaticLayer.from_frame(state.static_buffers)
-            state.layer_signature = signature
-        if mode == "full":  # the full scene was built before the threads started
-            frame = render_frame(self._full(), camera, pose, state.buffers, cull_back_faces=True)
-        elif state.layer is not None:  # "layer" and "new layer" have a valid static layer
-            frame = render_over_layer(
-                state.layer, self._moving_scene, camera, pose, state.buffers, cull_back_faces=True
-            )
-        else:
-            raise RuntimeError(f"render mode {mode!r} without a static layer")
-        state.buffers, state.last_signature = frame, signature
-        return {sensor.uuid: _buffer_for(sensor.spec.sensor_type, frame) for sensor in members}
+        if mode == "layer" and state.view.layer is None:  # its layer was in the worker
+            mode = "full"
+        if mode == "full":
+            self._scene.full()
+        frame = state.view.render(mode, self._scene, camera, pose)
+        state.has_layer = state.view.layer is not None
+        state.last_signature = signature
+        return frame
 
     def close(self) -> None:
-        """Stop the render threads (a new observation starts them again)."""
+        """Stop the render threads and the worker process (a new observation starts them
+        again)."""
         if self._pool is not None:
             self._pool.shutdown()
             self._pool = None
+        if self._worker is not None:
+            for state in self._groups.values():
+                state.has_layer, state.layer_signature = False, None
+            self._worker.close()
+            self._worker = None
 
 
-def _buffer_for(sensor_type: SensorType, frame: FrameBuffers) -> np.ndarray:
-    """A fresh copy of the buffer a sensor type reads."""
-    if sensor_type is SensorType.COLOR:
-        return frame.rgba.copy()
-    if sensor_type is SensorType.DEPTH:
-        return frame.depth.copy()
-    return frame.ids.copy()
+def _rows_there(state: _GroupState, mode: str, camera: Camera) -> tuple[int, int] | None:
+    """The rows the worker shades of a group's render: all, or below the split."""
+    if mode == "full" and state.split > 0:
+        return (state.split, camera.height)
+    return None
+
+
+def _buffer_for(sensor_type: SensorType, parts: list[tuple[FrameBuffers, int]]) -> np.ndarray:
+    """A fresh copy of the buffer a sensor type reads, from the frame's parts: ``(frame,
+    first row)``, each part up to the next one's first row."""
+    name = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}.get(sensor_type, "ids")
+    if len(parts) == 1:
+        return getattr(parts[0][0], name).copy()
+    out = np.empty_like(getattr(parts[0][0], name))
+    ends = [first for _, first in parts[1:]] + [len(out)]
+    for (frame, first), end in zip(parts, ends, strict=True):
+        out[first:end] = getattr(frame, name)[first:end]
+    return out

@@ -222,7 +222,7 @@ class Simulator:
         return self._world
 
     def get_renderer(self) -> SceneRenderer:
-        """The sensors' renderer (rigidsim's; switches ``static_layer`` and ``threads``)."""
+        """The sensors' renderer (switches ``static_layer``, ``processes``, ``threads``)."""
         return self._renderer
 
     def _static_drawable_ids(self) -> set[int]:

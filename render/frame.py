@@ -101,6 +101,7 @@ def render_frame(
     world_from_camera: np.ndarray,
     buffers: FrameBuffers | None = None,
     cull_back_faces: bool = False,
+    rows: tuple[int, int] | None = None,
 ) -> FrameBuffers:
     """Render color, depth and semantic ids of ``meshes`` seen by ``camera``.
 
@@ -111,6 +112,10 @@ def render_frame(
     world_from_camera : (4, 4) float64 camera pose (camera looks down its local -Z, +Y up).
     buffers : buffers of a previous call with the same resolution to reuse, or None.
     cull_back_faces : skip triangles whose counter-clockwise front faces away from the eye.
+    rows : ``(first, end)``: shade and write only image rows ``first .. end - 1`` (whole
+        bands of ``band_rows(camera)`` rows, or the last row), leaving the other rows of the
+        buffers untouched. Everything is rasterized, so these rows get exactly the pixels of
+        a whole frame: two processes can each shade a part of one frame.
 
     Returns
     -------
@@ -118,6 +123,7 @@ def render_frame(
     """
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a render.Camera, got {type(camera).__name__}")
+    bands = _row_bands(camera) if rows is None else _bands_of_rows(camera, rows)
     scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
     camera_from_world = invert_rigid(world_from_camera)
     out = _prepare_buffers(buffers, camera)
@@ -138,7 +144,7 @@ def render_frame(
     )
     clock.lap("shade setup")
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
-    for band in _row_bands(camera):
+    for band in bands:
         visible = raster.resolve_depth(out.zkey, camera, band)
         _write_band(out, scene, shading, visible, band)
     clock.lap("shade")
@@ -340,9 +346,28 @@ def _prepare_buffers(buffers: FrameBuffers | None, camera: Camera) -> FrameBuffe
     return buffers
 
 
+def band_rows(camera: Camera) -> int:
+    """Image rows per shading band: ``SHADE_BAND_PIXELS // W`` (at least 1)."""
+    return max(1, SHADE_BAND_PIXELS // camera.width)
+
+
+def _bands_of_rows(camera: Camera, rows: tuple[int, int]) -> list[slice]:
+    """The bands of ``_row_bands`` covering image rows ``first .. end - 1`` exactly."""
+    first, end = (int(r) for r in rows)
+    step = band_rows(camera)
+    aligned = all(r % step == 0 or r == camera.height for r in (first, end))
+    if not (0 <= first <= end <= camera.height and aligned):
+        raise ValueError(
+            f"rows must be (first, end) with 0 <= first <= end <= {camera.height}, each a "
+            f"multiple of {step} rows (a shading band) or the last row; got {rows!r}"
+        )
+    width = camera.width
+    return [band for band in _row_bands(camera) if first * width <= band.start < end * width]
+
+
 def _row_bands(camera: Camera) -> list[slice]:
     """Flat-index slices of whole image rows, about ``SHADE_BAND_PIXELS`` each."""
-    rows_per_band = max(1, SHADE_BAND_PIXELS // camera.width)
+    rows_per_band = band_rows(camera)
     n_pixels = camera.height * camera.width
     step = rows_per_band * camera.width
     return [slice(start, min(start + step, n_pixels)) for start in range(0, n_pixels, step)]

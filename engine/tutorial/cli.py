@@ -191,18 +191,22 @@ def run_sections(
     seed: int = 0,
     progress: bool = True,
     keep_observations: bool = False,
+    render_processes: int | None = None,
 ) -> list[SectionResult]:
     """Run sections ``0 .. max(selected)`` in order on one simulator; record those in
     ``selected`` and return their results.
 
     The others run without rendering (rendering never changes the simulation), so every
     recorded section starts from exactly the world the full tutorial would give it.
+    ``render_processes`` sets the renderer's worker processes (None: its default).
     """
     if make_video:
         os.makedirs(output_dir, exist_ok=True)
     resolution = FAST_RESOLUTION if fast else TUTORIAL_RESOLUTION
     data_path = str(demo_data_path())
     with habitat_sim.Simulator(make_configuration(data_path, resolution, seed)) as sim:
+        if render_processes is not None:
+            sim.get_renderer().processes = render_processes
         place_agent(sim)
         simulate_only = partial(_new_recorder, sim, output_dir, False, False, None)
         context = TutorialContext(sim, data_path, simulate_only, random.Random(seed))

@@ -153,7 +153,7 @@ class SectionRecorder:
             if not self.video_path:
                 raise ValueError(f"video_path must be given with video={video.name!r}")
             # the encoder settings of render.video.save_video (H.264 in an mp4 container)
-            options = {"fps": video.fps, "format": "FFMPEG", "macro_block_size": 1}
+            options = vut.mp4_options(video.fps)
             start = time.perf_counter()
             compose = partial(_compose_frame, video)
             self._writer = vut.BackgroundVideoWriter(self.video_path, options, compose)

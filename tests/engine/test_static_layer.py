@@ -1,5 +1,6 @@
-"""The renderer's static layer and render threads change no pixel: every observation equals
-a full single-threaded render, across the whole tutorial and across scene changes."""
+"""The renderer's static layer, render threads and render worker process change no pixel:
+every observation equals a full single-threaded in-process render, across the whole tutorial
+and across scene changes; a worker that dies is replaced by in-process renders."""
 
 from __future__ import annotations
 
@@ -19,23 +20,31 @@ from render import shade
 
 
 class CheckedRenderer(SceneRenderer):
-    """Renders observations a second time with a full single-threaded renderer and asserts
-    the two are bit-identical: every frame that used a static layer, and every
-    ``FULL_CHECK_EVERY``-th frame of full renders (threads only); counts the modes."""
+    """Renders observations a second time with a full single-threaded in-process renderer
+    and asserts the two are bit-identical: every frame that used a static layer, and every
+    ``FULL_CHECK_EVERY``-th frame of full renders; counts the modes and the places. Groups
+    after the first render in a worker process when ``PROCESSES`` is 1 (at any size)."""
 
     modes: Counter = Counter()
+    places: Counter = Counter()
     FULL_CHECK_EVERY = 4
+    PROCESSES = 1
 
     def __init__(self, root, static_drawables=None, lights_for=None, **kwargs) -> None:
-        super().__init__(root, static_drawables, lights_for, static_layer=True, threads=2)
+        super().__init__(
+            root, static_drawables, lights_for, static_layer=True, threads=2,
+            processes=self.PROCESSES,
+        )  # fmt: skip
+        self.process_min_pixels = 0
         self.reference = SceneRenderer(
-            root, static_drawables, lights_for, static_layer=False, threads=1
+            root, static_drawables, lights_for, static_layer=False, threads=1, processes=0
         )
         self.n_full = 0
 
     def observe(self, sensors):
         fast = super().observe(sensors)
         CheckedRenderer.modes.update(self.last_modes.values())
+        CheckedRenderer.places.update(self.last_places.values())
         if set(self.last_modes.values()) == {"full"}:
             self.n_full += 1
             if self.n_full % self.FULL_CHECK_EVERY:
@@ -51,12 +60,13 @@ class CheckedRenderer(SceneRenderer):
 
 @pytest.fixture
 def checked(monkeypatch):
-    CheckedRenderer.modes = Counter()
+    CheckedRenderer.modes, CheckedRenderer.places = Counter(), Counter()
     monkeypatch.setattr(engine.simulator, "SceneRenderer", CheckedRenderer)
+    monkeypatch.setattr(CheckedRenderer, "PROCESSES", 1)
     return CheckedRenderer
 
 
-def test_every_tutorial_section_renders_the_same_with_the_static_layer_and_threads(
+def test_every_tutorial_section_renders_the_same_with_the_static_layer_and_the_worker(
     checked, tmp_path
 ):
     results = run_tutorial(
@@ -68,6 +78,24 @@ def test_every_tutorial_section_renders_the_same_with_the_static_layer_and_threa
     assert checked.modes["full"] > 1000
     assert checked.modes["new layer"] >= 6
     assert checked.modes["checked"] > 900
+    assert checked.places["worker"] > 1900  # the 3rd-person camera
+    assert checked.places["here"] > 1900
+
+
+def test_a_dead_worker_is_replaced_by_renders_in_this_process(checked):
+    sim = small_sim()
+    renderer = sim.get_renderer()
+    sim.get_sensor_observations()
+    assert renderer.last_places[("rgba_camera_3rdperson",)] == "worker"
+    renderer._worker._process.kill()  # noqa: SLF001 - simulate a crash
+    with pytest.warns(RuntimeWarning, match="render worker"):
+        sim.get_sensor_observations()  # checked against the reference renderer
+    assert set(renderer.last_places.values()) == {"here"}
+    for _ in range(3):
+        sim.step_physics(1.0 / 60.0)
+        sim.get_sensor_observations()
+    assert set(renderer.last_modes.values()) == {"layer"}
+    sim.close()
 
 
 def small_sim() -> habitat_sim.Simulator:
@@ -76,7 +104,11 @@ def small_sim() -> habitat_sim.Simulator:
     return sim
 
 
-def test_adding_removing_moving_and_relighting_objects_match_full_renders(checked):
+@pytest.mark.parametrize("processes", [0, 1])
+def test_adding_removing_moving_and_relighting_objects_match_full_renders(
+    checked, monkeypatch, processes
+):
+    monkeypatch.setattr(CheckedRenderer, "PROCESSES", processes)
     sim = small_sim()
     renderer = sim.get_renderer()
     templates = sim.get_object_template_manager()
@@ -143,4 +175,29 @@ def test_the_switches_select_single_threaded_full_renders(checked):
         observation = sim.get_sensor_observations()
     assert set(renderer.last_modes.values()) == {"layer"}
     assert np.any(observation["rgba_camera_1stperson"][..., :3])
+    sim.close()
+
+
+def test_full_renders_shared_between_this_process_and_the_worker_match(checked, monkeypatch):
+    import render.frame
+
+    monkeypatch.setattr(render.frame, "SHADE_BAND_PIXELS", 64 * 8)  # bands of 8 rows
+    splits = iter([8, 16, 40, 0, 24, 8, 32, 16])
+
+    def next_split(self, remote, collected, busy_here):  # any split gives the same frame
+        for job in remote:
+            job[0].split = next(splits, 8)
+
+    monkeypatch.setattr(CheckedRenderer, "_balance", next_split)
+    monkeypatch.setattr(CheckedRenderer, "FULL_CHECK_EVERY", 1)
+    sim = small_sim()
+    renderer = sim.get_renderer()
+    agent = sim.get_agent(0)
+    for k in range(8):
+        state = agent.get_state()
+        state.position = state.position + np.array([0.02, 0.0, -0.03 * k])  # cameras move
+        agent.set_state(state)
+        sim.get_sensor_observations()  # checked against the reference renderer
+        assert renderer.last_modes[("rgba_camera_3rdperson",)] == "full"
+    assert checked.places["shared"] >= 6
     sim.close()

@@ -1,0 +1,536 @@
+"""Rendering views of one scene in a worker process: the second core without the GIL.
+
+NumPy releases the GIL only inside each of its operations; a renderer made of many
+cache-sized passes (bands of 16k pixels, a few microseconds each) holds it most of the time,
+so two render *threads* measured hardly faster than one (the tutorial's robot frames: 39 ms
+of CPU per frame on one thread, 37 ms of wall time on two). A worker *process* has its own
+interpreter and GIL: the caller renders one view while the worker renders another.
+
+Pieces (plain arrays only, like the rest of :mod:`render`):
+
+* :class:`LayeredView`: what one view (a camera and its pose, rendered every frame) keeps
+  between frames, and the one function that renders it in a given *mode*: ``"full"``
+  (:func:`render_frame` of every mesh), ``"new layer"`` (first render the static meshes and
+  keep them as a :class:`StaticLayer`, then draw the moving ones over it) or ``"layer"``
+  (draw the moving meshes over the kept layer). The caller decides the mode (it knows when
+  the static meshes, the lights and the camera are unchanged); the caller's process and
+  the worker run this same code, so a view gives the same bits wherever it is rendered.
+* :class:`SplitScene`: the static and the moving meshes as two :class:`RenderScene` s, and
+  the scene of all of them (static first) built when a full render needs it.
+* :class:`RenderProcess`: the caller's handle on one worker process: a fresh interpreter
+  (``python -c``, talking over a ``multiprocessing`` pipe), so that, unlike the ``spawn``
+  start method, a caller's script without ``if __name__ == "__main__"`` is not run again.
+  The worker holds its own copy of the scene: the meshes are sent once when they change
+  (``set_meshes``), then each frame sends only the mesh poses and, per view, the mode, the
+  camera and its pose (``submit``). The worker renders into a block of shared memory per
+  view (``multiprocessing.shared_memory``: color, depth, ids) and replies; ``collect``
+  returns :class:`FrameBuffers` views of those blocks, valid until the next ``submit``.
+  A job may name ``rows`` of a full render (``render_frame``'s ``rows``): the caller then
+  shades the other rows of the same frame itself, and the two parts make the whole frame.
+  Nothing is shared mutably: the worker never sees the caller's objects, only copies.
+
+Bit-identical results: the worker unpickles exactly the caller's arrays (float64 poses,
+meshes, :class:`Lights`), receives the module switches that select code paths or constants
+(``SETTINGS``: ``render.shade.AMBIENT``, ``FAST_SHADING`` ...) whenever they change, keeps
+the identity of light setups (``DEFAULT_LIGHTS`` maps to the worker's own, which selects
+the same formula) and runs the same functions. ``tests/render/test_worker.py`` checks frames
+of scenes mixing every material against in-process renders, bit for bit.
+
+A worker that dies (killed, out of memory) raises :class:`WorkerLost` at the next call, so
+that the caller can render locally instead; an exception raised while rendering (bad
+input) is raised again in the caller.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import pickle
+import subprocess
+import sys
+import traceback
+import weakref
+from dataclasses import dataclass, field
+from multiprocessing import resource_tracker, shared_memory
+from multiprocessing.connection import Connection
+from typing import Any
+
+import numpy as np
+
+from render import frame as _frame
+from render import raster as _raster
+from render import shade as _shade
+from render.camera import Camera
+from render.frame import FrameBuffers, StaticLayer, render_frame, render_over_layer
+from render.scene import RenderMesh, RenderScene
+
+__all__ = [
+    "LayeredView",
+    "RenderProcess",
+    "SETTINGS",
+    "SplitScene",
+    "WorkerLost",
+    "current_settings",
+]
+
+#: module switches and constants that select code paths or change pixels: the worker gets
+#: the caller's values whenever they change (module, attribute)
+SETTINGS: tuple[tuple[Any, str], ...] = (
+    (_frame, "TRIANGLE_BATCH"),
+    (_frame, "REFINE_USED_ABOVE"),
+    (_frame, "SHADE_BAND_PIXELS"),
+    (_raster, "FRAGMENT_CHUNK"),
+    (_raster, "PIXEL_CENTER_TABLES"),
+    (_shade, "AMBIENT"),
+    (_shade, "DIFFUSE"),
+    (_shade, "LIGHT_DIRECTIONS"),
+    (_shade, "FAST_SHADING"),
+    (_shade, "LIGHT_ALL_ABOVE"),
+)
+
+MODES = ("full", "new layer", "layer")
+
+
+class WorkerLost(RuntimeError):
+    """The render worker process is gone (it died or was closed)."""
+
+
+def current_settings() -> tuple:
+    """The values of ``SETTINGS`` in this process (arrays as bytes, for comparison)."""
+    values = []
+    for module, name in SETTINGS:
+        value = getattr(module, name)
+        values.append(value.tobytes() if isinstance(value, np.ndarray) else value)
+    return tuple(values)
+
+
+def _settings_payload() -> list:
+    return [getattr(module, name) for module, name in SETTINGS]
+
+
+def _apply_settings(values: list) -> None:
+    for (module, name), value in zip(SETTINGS, values, strict=True):
+        setattr(module, name, value)
+
+
+# ------------------------------------------------------------------------------------------
+# What both processes run
+# ------------------------------------------------------------------------------------------
+class SplitScene:
+    """The static meshes and the moving ones as two scenes; the full scene on demand.
+
+    ``set_meshes`` rebuilds a part only when asked to; ``set_poses`` copies the poses in;
+    ``full()`` is ``RenderScene(static.meshes + moving.meshes)`` with both parts' poses.
+    """
+
+    def __init__(self) -> None:
+        self.static = RenderScene([])
+        self.moving = RenderScene([])
+        self._full: RenderScene | None = None
+
+    def set_meshes(
+        self, static: list[RenderMesh] | None = None, moving: list[RenderMesh] | None = None
+    ) -> None:
+        """Rebuild the static and/or moving scene (None: keep that part)."""
+        if static is not None:
+            self.static = RenderScene(static)
+        if moving is not None:
+            self.moving = RenderScene(moving)
+        if static is not None or moving is not None:
+            self._full = None
+
+    def set_poses(self, static_poses: np.ndarray, moving_poses: np.ndarray) -> None:
+        """Poses ``(n_static, 4, 4)`` and ``(n_moving, 4, 4)`` (float64) of the two parts."""
+        self.static.world_from_mesh[...] = static_poses
+        self.moving.world_from_mesh[...] = moving_poses
+        if self._full is not None:
+            self._set_full_poses()
+
+    def full(self) -> RenderScene:
+        """Every mesh, static ones first (built when first needed)."""
+        if self._full is None:
+            self._full = RenderScene(self.static.meshes + self.moving.meshes)
+            self._set_full_poses()
+        return self._full
+
+    def _set_full_poses(self) -> None:
+        full = self._full
+        assert full is not None  # built by full() before its poses are set
+        n_static = len(self.static.meshes)
+        full.world_from_mesh[:n_static] = self.static.world_from_mesh
+        full.world_from_mesh[n_static:] = self.moving.world_from_mesh
+
+
+@dataclass
+class LayeredView:
+    """One view's buffers and static layer between frames (see the module docstring).
+
+    ``out`` (optional) receives the frame's color, depth and ids instead of buffers of
+    the view's own (the worker passes views of shared memory).
+    """
+
+    buffers: FrameBuffers | None = None
+    static_buffers: FrameBuffers | None = None
+    layer: StaticLayer | None = None
+    out: FrameBuffers | None = field(default=None, repr=False)
+
+    def render(
+        self,
+        mode: str,
+        scene: SplitScene,
+        camera: Camera,
+        world_from_camera: np.ndarray,
+        rows: tuple[int, int] | None = None,
+    ) -> FrameBuffers:
+        """Render the view as ``mode`` says; returns its (reused) buffers. ``rows``: only
+        these image rows of a full render (``render_frame``'s ``rows``)."""
+        if mode not in MODES:
+            raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
+        if mode == "layer" and self.layer is None:
+            raise ValueError("mode 'layer' needs a static layer: render a 'new layer' first")
+        if rows is not None and mode != "full":
+            raise ValueError(f"rows are for full renders, not mode {mode!r}")
+        buffers = self.buffers if self.out is None else self.out
+        if mode == "full":
+            self.layer = None  # stale: free its memory
+            frame = render_frame(
+                scene.full(), camera, world_from_camera, buffers, cull_back_faces=True, rows=rows
+            )
+        else:
+            if mode == "new layer":
+                self.static_buffers = render_frame(
+                    scene.static, camera, world_from_camera, self.static_buffers, True
+                )
+                self.layer = StaticLayer.from_frame(self.static_buffers)
+            if self.layer is None:
+                raise RuntimeError("render worker: no static layer to draw over")
+            frame = render_over_layer(
+                self.layer, scene.moving, camera, world_from_camera, buffers, True
+            )
+        self.buffers = frame
+        return frame
+
+
+# ------------------------------------------------------------------------------------------
+# Shared memory blocks: color (H, W, 4) uint8, depth (H, W) float32, ids (H, W) uint32
+# ------------------------------------------------------------------------------------------
+def _block_size(resolution: tuple[int, int]) -> int:
+    height, width = resolution
+    return height * width * 12
+
+
+def _frame_on_block(
+    buffer: memoryview | None, resolution: tuple[int, int], zkey=None
+) -> FrameBuffers:
+    """FrameBuffers whose rgba, depth and ids are views of a shared block."""
+    if buffer is None:  # SharedMemory.buf is None once the block is closed
+        raise RuntimeError("render worker: the shared frame block is closed")
+    height, width = resolution
+    n = height * width
+    rgba = np.ndarray((height, width, 4), np.uint8, buffer, 0)
+    depth = np.ndarray((height, width), np.float32, buffer, 4 * n)
+    ids = np.ndarray((height, width), np.uint32, buffer, 8 * n)
+    if zkey is None:
+        zkey = np.empty(0, np.uint64)
+    return FrameBuffers(rgba, depth, ids, zkey)
+
+
+# ------------------------------------------------------------------------------------------
+# The worker process
+# ------------------------------------------------------------------------------------------
+class _Worker:
+    """The worker's state: the scene, the light setups by token, views and their blocks."""
+
+    def __init__(self) -> None:
+        self.scene = SplitScene()
+        self.lights: dict[int, _shade.Lights] = {}
+        self.views: dict[int, LayeredView] = {}
+        self.blocks: dict[int, shared_memory.SharedMemory] = {}
+
+    def meshes(self, encoded: list[dict]) -> list[RenderMesh]:
+        """RenderMesh objects from their fields; ``lights`` is a token (see ``_encode``)."""
+        meshes = []
+        for fields in encoded:
+            fields = dict(fields)
+            token = fields.pop("lights_token")
+            fields["lights"] = None if token is None else self._light(token)
+            meshes.append(RenderMesh(**fields))
+        return meshes
+
+    def _light(self, token: int) -> _shade.Lights:
+        return _shade.DEFAULT_LIGHTS if token == 0 else self.lights[token]
+
+    def handle(self, message: tuple) -> tuple | None:
+        kind = message[0]
+        if kind == "settings":
+            _apply_settings(message[1])
+        elif kind == "lights":
+            self.lights.update(message[1])
+        elif kind == "meshes":
+            static, moving = message[1], message[2]
+            self.scene.set_meshes(
+                None if static is None else self.meshes(static),
+                None if moving is None else self.meshes(moving),
+            )
+        elif kind == "forget":
+            for key in message[1]:
+                self.views.pop(key, None)
+                block = self.blocks.pop(key, None)
+                if block is not None:
+                    block.close()
+        elif kind == "frame":
+            _, static_poses, moving_poses, jobs = message
+            self.scene.set_poses(static_poses, moving_poses)
+            return ("done", [self.render(*job) for job in jobs])
+        else:
+            raise ValueError(f"unknown message {kind!r}")
+        return None
+
+    def render(
+        self,
+        key: int,
+        block_name: str,
+        mode: str,
+        camera: Camera,
+        pose: np.ndarray,
+        rows: tuple[int, int] | None,
+    ) -> tuple[int, dict, int]:
+        view = self.views.get(key)
+        if view is None or self.blocks[key].name != block_name:
+            block = shared_memory.SharedMemory(name=block_name)
+            _untrack(block)  # the caller owns (and unlinks) it
+            self.blocks[key] = block
+            view = self.views[key] = LayeredView()
+            view.out = _frame_on_block(block.buf, camera.resolution)
+            view.out.zkey = np.empty(camera.height * camera.width, np.uint64)
+        frame = view.render(mode, self.scene, camera, pose, rows)
+        return key, frame.timings, frame.n_fragments
+
+
+def _untrack(block: shared_memory.SharedMemory) -> None:
+    """Attaching registers a block with the resource tracker, which would unlink it when
+    this process exits (Python < 3.13): the creator owns it."""
+    try:
+        resource_tracker.unregister(block._name, "shared_memory")  # type: ignore[attr-defined]  # noqa: SLF001
+    except (AttributeError, KeyError, ValueError):
+        pass
+
+
+def serve_fd(fd: int) -> None:
+    """Entry point of the worker process: serve the pipe end ``fd``."""
+    _serve(Connection(fd))
+
+
+def _serve(conn: Any) -> None:
+    """The worker's loop: handle messages until ``("stop",)`` or the caller is gone."""
+    worker = _Worker()
+    while True:
+        try:
+            message = conn.recv()
+        except (EOFError, OSError):
+            break
+        if message[0] == "stop":
+            break
+        try:
+            reply = worker.handle(message)
+        except BaseException as error:  # noqa: BLE001 - reported to the caller
+            reply = ("error", _picklable(error), traceback.format_exc())
+        if reply is not None or message[0] == "frame":
+            conn.send(reply)
+    for block in worker.blocks.values():
+        block.close()
+
+
+def _picklable(error: BaseException) -> BaseException:
+    try:
+        pickle.loads(pickle.dumps(error))
+        return error
+    except Exception:  # noqa: BLE001 - any exception that does not travel
+        return RuntimeError(f"{type(error).__name__}: {error}")
+
+
+# ------------------------------------------------------------------------------------------
+# The caller's handle
+# ------------------------------------------------------------------------------------------
+def _close_process(conn: Any, process: Any, blocks: dict, owner: int) -> None:
+    """Stop the worker and free the shared blocks (also run by the finalizer); only in the
+    process that started it (a forked child inherits the handle but must not stop it)."""
+    if os.getpid() != owner:
+        return
+    try:
+        conn.send(("stop",))
+    except (OSError, ValueError):
+        pass
+    try:
+        process.wait(timeout=5)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait(timeout=5)
+    conn.close()
+    for block in blocks.values():
+        _release(block)
+    blocks.clear()
+
+
+def _release(block: shared_memory.SharedMemory) -> None:
+    """Unlink a block the caller created; close it unless arrays still view it (then the
+    memory goes when they do)."""
+    try:
+        block.unlink()
+    except FileNotFoundError:
+        pass
+    try:
+        block.close()
+    except BufferError:
+        pass
+
+
+class RenderProcess:
+    """A render worker process and the scene it holds (see the module docstring).
+
+    Usage per frame: ``set_meshes`` when the static or moving meshes changed, ``submit``
+    the poses and views to render, do other work, then ``collect`` the frames.
+    """
+
+    def __init__(self) -> None:
+        self._conn, child = multiprocessing.Pipe()
+        environment = dict(os.environ)
+        # the caller's import path (a notebook may have extended sys.path)
+        environment["PYTHONPATH"] = os.pathsep.join(path for path in sys.path if path)
+        command = f"from render.worker import serve_fd; serve_fd({child.fileno()})"
+        try:
+            self._process = subprocess.Popen(
+                [sys.executable, "-c", command], pass_fds=[child.fileno()], env=environment
+            )
+        finally:
+            child.close()
+        self._blocks: dict[int, shared_memory.SharedMemory] = {}
+        self._resolutions: dict[int, tuple[int, int]] = {}
+        self._lights: dict[int, _shade.Lights] = {}  # token -> Lights (kept alive)
+        self._tokens: dict[int, int] = {}  # id(Lights) -> token
+        self._settings: tuple | None = None
+        self._pending: list[int] | None = None
+        self._finalizer = weakref.finalize(
+            self, _close_process, self._conn, self._process, self._blocks, os.getpid()
+        )
+
+    @property
+    def alive(self) -> bool:
+        return self._finalizer.alive and self._process.poll() is None
+
+    def _send(self, message: tuple) -> None:
+        if not self._finalizer.alive:
+            raise WorkerLost("the render worker was closed")
+        try:
+            self._conn.send(message)
+        except (OSError, ValueError) as error:
+            raise WorkerLost(f"the render worker is gone ({error})") from error
+
+    def _receive(self) -> tuple:
+        try:
+            while not self._conn.poll(1.0):
+                if self._process.poll() is not None:
+                    raise WorkerLost(
+                        f"the render worker died (exit code {self._process.returncode})"
+                    )
+            return self._conn.recv()
+        except (EOFError, OSError) as error:
+            raise WorkerLost(f"the render worker is gone ({error})") from error
+
+    def set_meshes(
+        self, static: list[RenderMesh] | None = None, moving: list[RenderMesh] | None = None
+    ) -> None:
+        """Send the static and/or the moving meshes (None: unchanged) to the worker."""
+        encoded = [None if part is None else self._encode(part) for part in (static, moving)]
+        self._send(("meshes", *encoded))
+
+    def _encode(self, meshes: list[RenderMesh]) -> list[dict]:
+        """Mesh fields with light setups as tokens (0: ``DEFAULT_LIGHTS``), sending new
+        setups first: identity (one group per setup object) survives the copy."""
+        new = {}
+        encoded = []
+        for mesh in meshes:
+            fields = {name: getattr(mesh, name) for name in mesh.__dataclass_fields__}
+            lights = fields.pop("lights")
+            if lights is None:
+                token = None
+            elif lights is _shade.DEFAULT_LIGHTS:
+                token = 0
+            else:
+                token = self._tokens.get(id(lights))
+                if token is None or self._lights[token] is not lights:
+                    token = len(self._lights) + 1
+                    self._tokens[id(lights)] = token
+                    self._lights[token] = lights
+                    new[token] = lights
+            fields["lights_token"] = token
+            encoded.append(fields)
+        if new:
+            self._send(("lights", new))
+        return encoded
+
+    def submit(
+        self,
+        static_poses: np.ndarray,
+        moving_poses: np.ndarray,
+        jobs: list[tuple],
+    ) -> None:
+        """Start rendering ``jobs``: ``(view key, mode, camera, world_from_camera)`` each,
+        optionally with a fifth item ``rows`` (a full render's rows to shade, as
+        ``render_frame``'s), with the meshes at these poses. ``collect`` waits for the
+        frames."""
+        if self._pending is not None:
+            raise RuntimeError("collect the previous frames before submitting new ones")
+        settings = current_settings()
+        if settings != self._settings:
+            self._send(("settings", _settings_payload()))
+            self._settings = settings
+        message = []
+        for key, mode, camera, pose, *rows in jobs:
+            block = self._block(key, camera.resolution)
+            pose = np.asarray(pose, np.float64)
+            message.append((key, block.name, mode, camera, pose, rows[0] if rows else None))
+        self._send(("frame", static_poses, moving_poses, message))
+        self._pending = [job[0] for job in jobs]
+
+    def _block(self, key: int, resolution: tuple[int, int]) -> shared_memory.SharedMemory:
+        block = self._blocks.get(key)
+        if block is not None and self._resolutions[key] != tuple(resolution):
+            self.forget([key])
+            block = None
+        if block is None:
+            block = shared_memory.SharedMemory(create=True, size=_block_size(resolution))
+            self._blocks[key] = block
+            self._resolutions[key] = (int(resolution[0]), int(resolution[1]))
+        return block
+
+    def collect(self) -> dict[int, FrameBuffers]:
+        """Wait for the submitted frames: view key -> FrameBuffers on the shared blocks
+        (``zkey`` empty; valid until the next ``submit``; copy what you keep)."""
+        if self._pending is None:
+            raise RuntimeError("nothing was submitted")
+        keys, self._pending = self._pending, None
+        reply = self._receive()
+        if reply[0] == "error":
+            raise reply[1] from RuntimeError("in the render worker:\n" + reply[2])
+        frames = {}
+        for key, timings, n_fragments in reply[1]:
+            frame = _frame_on_block(self._blocks[key].buf, self._resolutions[key])
+            frame.timings, frame.n_fragments = timings, n_fragments
+            frames[key] = frame
+        assert sorted(frames) == sorted(keys)
+        return frames
+
+    def forget(self, keys: list[int]) -> None:
+        """Drop views (their layers and shared blocks) in the worker and here."""
+        keys = [key for key in keys if key in self._blocks]
+        if not keys:
+            return
+        self._send(("forget", keys))
+        for key in keys:
+            self._resolutions.pop(key)
+            _release(self._blocks.pop(key))
+
+    def close(self) -> None:
+        """Stop the worker and free its shared memory (safe to call twice)."""
+        self._finalizer()
