@@ -137,9 +137,7 @@ def test_errors_come_back_to_the_caller_and_a_dead_worker_is_reported():
     process.close()  # twice is fine
 
 
-def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(
-    worker, monkeypatch
-):
+def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(worker, monkeypatch):
     monkeypatch.setattr(frame, "SHADE_BAND_PIXELS", 1200)  # bands of 10 rows (the worker's too)
     static, moving = split_meshes()
     scene = SplitScene()
