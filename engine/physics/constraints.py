@@ -52,7 +52,7 @@ from .bodies import Bodies
 from .coloring import color_manifolds
 from .integrate import world_inverse_inertia
 from .quaternions import cross, quat_to_matrix
-from .settings import TINY, SolverSettings
+from .settings import CONSTRAINT_BAUMGARTE, TINY, SolverSettings
 from .sleeping import wake_body
 from .solve_stage import solver_velocities
 
@@ -61,8 +61,6 @@ if TYPE_CHECKING:
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
 
-#: 1, fraction of the position / orientation error removed per step (Bullet's default ERP).
-CONSTRAINT_BAUMGARTE = 0.2
 #: object id that means "the world" (Habitat's -1).
 WORLD = -1
 

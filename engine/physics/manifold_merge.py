@@ -192,9 +192,13 @@ def support_band(feature: np.ndarray) -> np.ndarray:
 
 
 def feature_length(thickness_a: float, thickness_b: float) -> float:
-    """m, a pair's feature length: a quarter of the thinner body's smallest dimension, at
-    most ``CONTACT_MATCH_DISTANCE`` (pass ``inf`` for the stage)."""
-    return min(settings.CONTACT_MATCH_DISTANCE, 0.25 * min(thickness_a, thickness_b))
+    """m, a pair's feature length: ``FEATURE_LENGTH_FRACTION`` (a quarter) of the thinner
+    body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE`` (pass ``inf`` for the
+    stage)."""
+    return min(
+        settings.CONTACT_MATCH_DISTANCE,
+        settings.FEATURE_LENGTH_FRACTION * min(thickness_a, thickness_b),
+    )
 
 
 def reduce_points(points: LocalPoints, frame_a, frame_b, max_points, feature) -> LocalPoints:

@@ -99,6 +99,12 @@ CONTACT_BREAKING_DISTANCE = 0.02
 CONTACT_DRIFT_DISTANCE = 0.02
 #: m, a new point closer than this to a cached one inherits its impulses (warm start).
 CONTACT_MATCH_DISTANCE = 0.02
+#: 1, a pair's feature length (match, drift and dedupe distances) is this fraction of the
+#: thinner body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE``.
+FEATURE_LENGTH_FRACTION = 0.25
+#: 1, fraction of a rigid constraint's position / orientation error removed per step
+#: (Baumgarte factor; Bullet's default ERP).
+CONSTRAINT_BAUMGARTE = 0.2
 #: m, polyhedron-polyhedron vertex contacts are kept up to this far outside the other body.
 SPECULATIVE_DISTANCE = 0.004
 #: m, bodies within this distance of the stage get speculative contacts (Box2D v3 uses 4 x
