@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from engine import mn
-from engine.mn.vectors import stable_norm
+from engine.mn.matrices import rotation_and_scaling
 
 if TYPE_CHECKING:  # pragma: no cover
     from engine.assets import MeshData
@@ -33,6 +33,9 @@ __all__ = ["MIN_SCALING", "Drawable", "SceneGraph", "SceneNode"]
 #: smallest scaling factor a node accepts on any axis: zero would collapse the node (its world
 #: matrix could not be inverted to read a pose back) and a negative one would reflect it.
 MIN_SCALING = 1e-9
+#: 1, a transformation whose normalized rotation part R has ``|R^T R - I|`` above this in some
+#: entry is a shear, not a rotation (refused by ``SceneNode.transformation``).
+ORTHOGONALITY_TOLERANCE = 1e-4
 
 
 @dataclass
@@ -154,21 +157,13 @@ class SceneNode:
     @transformation.setter
     def transformation(self, value: Any) -> None:
         """Decompose a rigid (optionally scaled) 4x4 matrix into translation, rotation, scaling."""
-        matrix = np.asarray(value, dtype=np.float64)
-        if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
-            raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
-        scaling = stable_norm(matrix[:3, :3], axis=0)
-        if np.any(scaling < MIN_SCALING) or not np.all(np.isfinite(scaling)):
-            raise ValueError(f"transformation has a scaling column below {MIN_SCALING}")
-        rotation = matrix[:3, :3] / scaling
-        if np.linalg.det(rotation) < 0.0:
-            raise ValueError("transformation is a reflection (negative determinant)")
-        if not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-4):
-            raise ValueError("transformation has a shear (its axes are not orthogonal)")
-        rotation = mn.matrix_to_quaternion(rotation)
+        rotation_matrix, scaling, translation = rotation_and_scaling(
+            value, MIN_SCALING, ORTHOGONALITY_TOLERANCE
+        )
+        rotation = mn.matrix_to_quaternion(rotation_matrix)
         # q and -q are one rotation: keep the sign of the current rotation (no flips)
         self._rotation = -rotation if float(rotation @ self._rotation) < 0.0 else rotation
-        self._translation = matrix[:3, 3].copy()
+        self._translation = translation
         self._scaling = scaling
 
     # -- world transform ------------------------------------------------------------------------

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from engine.mn.vectors import Vector2, Vector3, finite_array, fuzzy_equal, radians
+from engine.mn.vectors import Vector2, Vector3, finite_array, fuzzy_equal, radians, stable_norm
 
 __all__ = ["Matrix3", "Matrix3x3", "Matrix4", "Range2D", "Range3D"]
 
@@ -232,6 +232,36 @@ def axis_angle_matrix(angle: Any, axis: Any) -> np.ndarray:
     return quaternion_to_matrix(
         np.append(axis_array / axis_length * math.sin(half), math.cos(half))
     )
+
+
+def rotation_and_scaling(
+    value: Any, min_scaling: float, orthogonality_tolerance: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Split a 4x4 transformation into ``(rotation 3x3, scaling (3,), translation (3,))``.
+
+    ``M[:3, :3] = R diag(s)``: ``s`` are the column lengths, ``R = M[:3, :3] / s``. Refuses
+    with a ValueError what is not a scaled rotation plus translation: a non-finite or
+    non-4x4 value, a column shorter than ``min_scaling``, a reflection (``det R < 0``) or a
+    shear (``|R^T R - I|`` above ``orthogonality_tolerance`` in some entry).
+    """
+    try:
+        matrix = np.asarray(value, dtype=np.float64) if not isinstance(value, str) else None
+    except (TypeError, ValueError):
+        matrix = None
+    if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+        raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
+    scaling = stable_norm(matrix[:3, :3], axis=0)
+    if np.any(scaling < min_scaling) or not np.all(np.isfinite(scaling)):
+        raise ValueError(
+            f"transformation has a degenerate rotation part (a column shorter than "
+            f"{min_scaling}): {value!r}"
+        )
+    rotation = matrix[:3, :3] / scaling
+    if np.linalg.det(rotation) < 0.0:
+        raise ValueError(f"transformation is a reflection (negative determinant): {value!r}")
+    if not np.allclose(rotation.T @ rotation, np.eye(3), atol=orthogonality_tolerance):
+        raise ValueError(f"transformation has a shear (its axes are not orthogonal): {value!r}")
+    return rotation, scaling, matrix[:3, 3].copy()
 
 
 # --------------------------------------------------------------------------------------------

@@ -21,6 +21,7 @@ import numpy as np
 
 from engine import mn
 from engine.fixed_fields import public_names, unknown_attribute_error
+from engine.mn.matrices import rotation_and_scaling
 from engine.mn.vectors import stable_norm
 
 from .bodies import DYNAMIC, KINEMATIC, STATIC
@@ -195,24 +196,14 @@ class ManagedPhysicsObject:
     @transformation.setter
     def transformation(self, value: Any) -> None:
         self._check()
-        matrix = np.asarray(value, dtype=np.float64) if not isinstance(value, str) else None
-        if matrix is None or matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
-            raise ValueError(f"transformation must be a finite 4x4 matrix, got {value!r}")
-        scale = stable_norm(matrix[:3, :3], axis=0)
-        if np.any(scale < MIN_AXIS_SCALE) or not np.all(np.isfinite(scale)):
-            raise ValueError(f"transformation has a degenerate rotation part: {value!r}")
-        rotation_matrix = matrix[:3, :3] / scale
-        if np.linalg.det(rotation_matrix) < 0.0:
-            raise ValueError(f"transformation is a reflection (negative determinant): {value!r}")
-        if not np.allclose(
-            rotation_matrix.T @ rotation_matrix, np.eye(3), atol=ORTHOGONALITY_TOLERANCE
-        ):
-            raise ValueError(f"transformation has a shear (its axes are not orthogonal): {value!r}")
+        rotation_matrix, _, translation = rotation_and_scaling(
+            value, MIN_AXIS_SCALE, ORTHOGONALITY_TOLERANCE
+        )
         rotation = matrix_to_quat(rotation_matrix)
         current = self._world.bodies.body_rotation[self._check()]
         if float(rotation @ current) < 0.0:  # q and -q are one rotation: keep the sign
             rotation = -rotation
-        self._set_pose(matrix[:3, 3].copy(), rotation, "transformation")
+        self._set_pose(translation, rotation, "transformation")
 
     @property
     def rigid_state(self) -> RigidState:
