@@ -8,7 +8,7 @@ arrays and camera poses. This module bridges the two, once per observation:
    Each drawable is *static* (the stage, STATIC objects: the ``static_drawables`` callback
    names them) or *moving* (everything else).
 2. **Cache**: two :class:`render.RenderScene` s, the static meshes and the moving ones
-   (:class:`render.worker.SplitScene`), are rebuilt only when the set of drawables or their
+   (:class:`render.views.SplitScene`), are rebuilt only when the set of drawables or their
    static/moving split changes (an object added or removed, a motion type changed);
    otherwise only the poses are updated. The full scene (static meshes first, then the
    moving ones) is built when first needed.
@@ -17,7 +17,7 @@ arrays and camera poses. This module bridges the two, once per observation:
 4. **Render**: per group, with :func:`render.render_frame`, or, when nothing static changed
    since the group's previous frame, by drawing only the moving meshes over the group's
    kept static frame (:func:`render.render_over_layer`: bit for bit the same image); both
-   in :class:`render.worker.LayeredView`. The first group renders in this process; the
+   in :class:`render.views.LayeredView`. The first group renders in this process; the
    others (when at least ``process_min_pixels`` large) in a **render worker process**
    (:class:`render.worker.RenderProcess`, started at the first such frame), which holds its
    own copy of the meshes, gets the poses each frame and returns the frame through shared
@@ -69,7 +69,8 @@ from render.camera import Camera
 from render.frame import FrameBuffers, band_rows, render_frame
 from render.scene import RenderMesh
 from render.shade import Lights
-from render.worker import LayeredView, RenderProcess, SplitScene, WorkerLost
+from render.views import LayeredView, SplitScene
+from render.worker import RenderProcess, WorkerLost
 
 __all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]
 
@@ -125,7 +126,7 @@ _VIEW_KEYS = itertools.count(1)
 @dataclass
 class _GroupState:
     """What one group of sensors keeps between frames: where it renders (here: its
-    :class:`render.worker.LayeredView`; or in the worker process under ``key``), whether a
+    :class:`render.views.LayeredView`; or in the worker process under ``key``), whether a
     static layer is kept and its signature, and the signature of its previous frame."""
 
     remote: bool = False
