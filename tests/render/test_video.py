@@ -246,6 +246,9 @@ def random_observation(h: int = 54, w: int = 72, seed: int = 3) -> dict:
     rng = np.random.default_rng(seed)
     return {
         "rgba": rng.integers(0, 256, (h, w, 4), dtype=np.uint8),
+        "opaque": np.dstack(  # a rendered frame: alpha 255 everywhere
+            [rng.integers(0, 256, (h, w, 3), dtype=np.uint8), np.full((h, w), 255, np.uint8)]
+        ),
         "rgb": rng.integers(0, 256, (h, w, 3), dtype=np.uint8),
         "depth": rng.uniform(0.0, 14.0, (h, w)).astype(np.float32),
         "semantic": rng.integers(0, 2**32, (h, w), dtype=np.uint32),
@@ -257,6 +260,11 @@ OVERLAY_CASES = {
     "tutorial": [
         {"obs": "rgba", "type": "color", "dims": (18, 13), "pos": (10, 10), "border": 2},
         {"obs": "depth", "type": "depth", "dims": (18, 13), "pos": (10, 33), "border": 2},
+    ],
+    "tutorial, opaque color": [  # read as RGB, alpha dropped (video._resized_overlay)
+        {"obs": "opaque", "type": "color", "dims": (18, 13), "pos": (10, 10), "border": 2},
+        {"obs": "depth", "type": "depth", "dims": (18, 13), "pos": (10, 33), "border": 2},
+        {"obs": "opaque", "type": "color", "dims": (100, 70), "pos": (1, 2), "border": 0},
     ],
     "semantic, upscaled, clipped, colored": [
         {
@@ -340,3 +348,47 @@ def test_make_video_hands_the_encoder_the_pil_frames_in_order(monkeypatch, tmp_p
     assert len(captured) == len(expected)
     for got, want in zip(captured, expected, strict=True):
         assert got.tobytes() == np.asarray(want).tobytes()
+
+
+def test_opaque_rgba_overlays_take_the_rgbx_path_and_others_do_not(monkeypatch):
+    obs = random_observation()
+    calls = []
+    original = video.observation_to_image
+    monkeypatch.setattr(
+        video, "observation_to_image", lambda *a, **k: calls.append(a[1]) or original(*a, **k)
+    )
+    video.compose_video_frame(obs, "rgb", "color", OVERLAY_CASES["tutorial, opaque color"])
+    assert calls == ["depth"]  # both opaque color overlays were resized from their buffer
+    calls.clear()
+    video.compose_video_frame(obs, "rgb", "color", OVERLAY_CASES["tutorial"])
+    assert calls == ["color", "depth"]  # random alpha: PIL's premultiplied RGBA resize
+
+
+def test_to_even_frame_layouts():
+    rgb = np.arange(5 * 7 * 3, dtype=np.uint8).reshape(5, 7, 3)
+    rgba = np.dstack([rgb, np.full((5, 7), 9, np.uint8)])
+    assert video._to_even_frame(rgba, 3).tobytes() == rgb[:4, :6].copy().tobytes()
+    as_rgba = video._to_even_frame(rgb, 4)
+    assert as_rgba.shape == (4, 6, 4) and np.all(as_rgba[..., 3] == 255)
+    assert np.array_equal(as_rgba[..., :3], rgb[:4, :6])
+    gray = video._to_even_frame(rgb[..., 0], 4)
+    assert np.array_equal(gray[..., 1], rgb[:4, :6, 0]) and np.all(gray[..., 3] == 255)
+
+
+def test_rgba_frames_encode_like_rgb_frames(tmp_path):
+    """RGBA frames go to ffmpeg as they are (alpha ignored): the decoded video is the one
+    the same frames give as RGB, also when RGB frames follow an RGBA first frame."""
+    rng = np.random.default_rng(5)
+    rgb = [rng.integers(0, 256, (32, 48, 3), dtype=np.uint8) for _ in range(4)]
+    rgba = [np.dstack([f, np.full((32, 48), 255, np.uint8)]) for f in rgb]
+    options = {"fps": 10, "format": "FFMPEG", "macro_block_size": 1}
+    decoded = {}
+    for name, frames in (("rgb", rgb), ("rgba", rgba), ("mixed", rgba[:2] + rgb[2:])):
+        path = str(tmp_path / f"{name}.mp4")
+        with video.BackgroundVideoWriter(path, options) as writer:
+            for frame in frames:
+                writer.append(frame)
+        decoded[name] = np.stack(imageio.mimread(path))
+    assert decoded["rgb"].shape[0] == 4
+    assert np.array_equal(decoded["rgba"], decoded["rgb"])
+    assert np.array_equal(decoded["mixed"], decoded["rgb"])
