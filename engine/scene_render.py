@@ -23,8 +23,8 @@ arrays and camera poses. This module bridges the two, once per observation:
    own copy of the meshes, gets the poses each frame and returns the frame through shared
    memory. Threads cannot do this: the renderer's many cache-sized NumPy passes hold the
    GIL most of the time (two render threads measured 6 % faster than one). A full render
-   of a worker's group is **shared**: this process shades its top ``split`` rows as well
-   (everything is rasterized by both, each shades its rows), and ``split`` moves from frame
+   of a worker's group is **shared**: this process renders its top ``split`` rows and the
+   worker the others (each rasterizes and shades only its rows), and ``split`` moves from frame
    to frame so that both processes finish together (the tutorial's robot: the 1st-person
    render here, the costlier 3rd-person one mostly there). Results do not depend on where
    or how a frame was split (tested bit for bit); a worker that dies is replaced by
@@ -71,6 +71,9 @@ from render.scene import RenderMesh
 from render.shade import Lights
 from render.views import LayeredView, SplitScene
 from render.worker import RenderProcess, WorkerLost
+
+#: stages of ``render_frame`` (its ``timings``) whose cost does not depend on the rows drawn
+PER_FRAME_STAGES = ("transform", "cull", "assemble + clip", "setup", "shade setup")
 
 __all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]
 
@@ -368,8 +371,9 @@ class SceneRenderer:
 
     def _balance(self, remote: list[tuple], collected: dict, busy_here: float) -> None:
         """Move the split row of the worker's first full render so that both processes
-        finish together: each shading band moved from there to here shifts about twice
-        its shading time (a first tile here also rasterizes the frame)."""
+        finish together: each band of rows moved from there to here shifts about twice
+        its time (rasterizing and shading are per row; the per-frame stages, vertex
+        transform to shading setup, are paid by both)."""
         full = [job for job in remote if job[1] == "full" and job[0].key in collected]
         if not full or not self.share_full_renders:
             return
@@ -380,12 +384,12 @@ class SceneRenderer:
         rows_there = camera.height - state.split
         if rows_there <= 0:
             return
-        shade_per_row = timings.get("shade", 0.0) / 1e3 / rows_there
-        raster = busy_there - timings.get("shade", 0.0) / 1e3
-        surplus = busy_there - busy_here - (raster if state.split == 0 else 0.0)
-        if shade_per_row <= 0.0:
+        per_frame = sum(timings.get(stage, 0.0) for stage in PER_FRAME_STAGES) / 1e3
+        per_row = (busy_there - per_frame) / rows_there
+        surplus = busy_there - busy_here - (per_frame if state.split == 0 else 0.0)
+        if per_row <= 0.0:
             return
-        move = 0.5 * surplus / (2.0 * shade_per_row)  # damped: times are noisy
+        move = 0.5 * surplus / (2.0 * per_row)  # damped: times are noisy
         split = int(round((state.split + move) / step)) * step
         state.split = min(max(split, 0), max(0, (camera.height // step - 1) * step))
 

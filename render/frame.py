@@ -112,10 +112,11 @@ def render_frame(
     world_from_camera : (4, 4) float64 camera pose (camera looks down its local -Z, +Y up).
     buffers : buffers of a previous call with the same resolution to reuse, or None.
     cull_back_faces : skip triangles whose counter-clockwise front faces away from the eye.
-    rows : ``(first, end)``: shade and write only image rows ``first .. end - 1`` (whole
-        bands of ``band_rows(camera)`` rows, or the last row), leaving the other rows of the
-        buffers untouched. Everything is rasterized, so these rows get exactly the pixels of
-        a whole frame: two processes can each shade a part of one frame.
+    rows : ``(first, end)``: rasterize, shade and write only image rows ``first .. end - 1``
+        (whole bands of ``band_rows(camera)`` rows, or the last row), leaving the other rows
+        of the buffers untouched. Every row is rasterized on its own (its spans and depth
+        tests depend on no other row), so these rows get exactly the pixels of a whole
+        frame: two processes can each render a part of one frame.
 
     Returns
     -------
@@ -124,13 +125,14 @@ def render_frame(
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a render.Camera, got {type(camera).__name__}")
     bands = _row_bands(camera) if rows is None else _bands_of_rows(camera, rows)
+    rows = None if rows is None else (int(rows[0]), int(rows[1]))  # checked just above
     scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
     camera_from_world = invert_rigid(world_from_camera)
     out = _prepare_buffers(buffers, camera)
     clock = _StageClock(out.timings)
     out.zkey.fill(raster.EMPTY_KEY)
     vertices_camera, tri_index, drawn = _rasterize_scene(
-        scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=0
+        scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=0, rows=rows
     )
     # --- 7. shading inputs (attribute planes, light) of the triangles that can own pixels
     if len(tri_index) <= REFINE_USED_ABOVE:
@@ -254,10 +256,12 @@ def _rasterize_scene(
     out: FrameBuffers,
     clock: _StageClock,
     key_offset: int,
+    rows: tuple[int, int] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stages 1-6: depth-test every fragment of ``scene`` into ``out.zkey`` (not cleared).
 
-    The key of a fragment of candidate ``k`` carries the id ``k + key_offset``. Returns the
+    The key of a fragment of candidate ``k`` carries the id ``k + key_offset``; ``rows``
+    ``(first, end)`` limits the fragments to those image rows (None: all). Returns the
     camera-frame vertices ``(3, V)``, the candidate triangles ``tri_index (K,)`` (global
     ids) and ``drawn (K,)`` bool (candidates that produced fragments).
     """
@@ -278,7 +282,7 @@ def _rasterize_scene(
         source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
         tri = _corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
         out.n_fragments += _rasterize(
-            tri, source, camera, cull_back_faces, out, drawn, clock, key_offset
+            tri, source, camera, cull_back_faces, out, drawn, clock, key_offset, rows
         )
     return vertices_camera, tri_index, drawn
 
@@ -297,6 +301,7 @@ def _rasterize(
     drawn: np.ndarray,
     clock: _StageClock,
     key_offset: int = 0,
+    rows: tuple[int, int] | None = None,
 ) -> int:
     """Stages 3-6 for one batch: depth-test its fragments into ``out.zkey``.
 
@@ -323,7 +328,7 @@ def _rasterize(
     screen, piece_of = screen[:, :, usable], piece_of[usable]
     clock.lap("setup")
     # --- 5. scanline spans under the top-left fill rule
-    spans = raster.scanline_spans(screen, camera.height, camera.width)
+    spans = raster.scanline_spans(screen, camera.height, camera.width, rows)
     drawn[source[piece_of[spans.triangle]]] = True
     clock.lap("spans")
     # --- 6. fragments and depth test (keys carry the candidate id)

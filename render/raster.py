@@ -138,14 +138,20 @@ class Spans:
     n_pixels: np.ndarray
 
 
-def scanline_spans(screen: np.ndarray, height: int, width: int) -> Spans:
+def scanline_spans(
+    screen: np.ndarray, height: int, width: int, rows: tuple[int, int] | None = None
+) -> Spans:
     """Pixel rows and column runs covered by each triangle under the top-left rule.
 
     Parameters
     ----------
     screen : (3, 2, T) float64, corner pixel coordinates ``(px, py)``.
     height, width : image size in pixels.
+    rows : ``(first, end)``: only the spans on image rows ``first .. end - 1`` (each row's
+        span is computed on its own, so these are exactly the spans of the whole image on
+        those rows); None: all rows.
     """
+    first_row, end_row = (0, height) if rows is None else rows
     (x0, y0), (x1, y1), (x2, y2) = _sort_corners_by_y(screen)  # top, middle, bottom
     with np.errstate(divide="ignore", invalid="ignore"):
         slope02 = (x2 - x0) / (y2 - y0)  # dx/dy of the long edge
@@ -153,8 +159,8 @@ def scanline_spans(screen: np.ndarray, height: int, width: int) -> Spans:
         slope12 = (x2 - x1) / (y2 - y1)  # lower short edge
     # long edge 0->2 is on the left when the middle corner is right of it (cross < 0, y down)
     long_is_left = (x2 - x0) * (y1 - y0) - (y2 - y0) * (x1 - x0) < 0.0
-    row_first = np.clip(np.ceil(y0 - 0.5), 0, height).astype(np.int64)  # first yc >= y0
-    row_end = np.clip(np.ceil(y2 - 0.5), 0, height).astype(np.int64)  # first yc >= y2
+    row_first = np.clip(np.ceil(y0 - 0.5), first_row, end_row).astype(np.int64)  # first yc >= y0
+    row_end = np.clip(np.ceil(y2 - 0.5), first_row, end_row).astype(np.int64)  # first yc >= y2
     n_rows = np.maximum(row_end - row_first, 0)
     tri = np.repeat(np.arange(screen.shape[2]), n_rows)
     row = np.arange(len(tri)) - np.repeat(np.cumsum(n_rows) - n_rows - row_first, n_rows)

@@ -159,6 +159,10 @@ def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(wor
             np.concatenate([getattr(here, n)[:split], getattr(there, n)[split:]]) for n in names
         ]
         assert tuple(part.tobytes() for part in parts) == whole, split
+        if split < camera.height:  # each part rasterizes only its rows: the work is divided
+            full_fragments = render_frame(scene.full(), camera, pose, cull_back_faces=True)
+            assert here.n_fragments + there.n_fragments == full_fragments.n_fragments
+            assert 0 < here.n_fragments < full_fragments.n_fragments
     with pytest.raises(ValueError, match="multiple of"):
         render_frame(scene.full(), camera, pose, rows=(1, 90))
     with pytest.raises(ValueError, match="rows are for full renders"):
