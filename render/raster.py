@@ -320,6 +320,9 @@ class VisiblePixels:
 #: True: ``VisiblePixels.centered_coordinates`` reads cached per-camera tables; False:
 #: the plain ``divmod`` formula (same values, tested in tests/render/test_shade.py)
 PIXEL_CENTER_TABLES = True
+#: True: ``AttributePlanes.evaluate`` computes two-channel attributes (uvs) as one complex64
+#: (``_evaluate_paired``); False: channel by channel. Same bits (tests/render/test_shade.py).
+PAIRED_ATTRIBUTES = True
 _CENTER_TABLES: dict = {}
 
 
@@ -411,6 +414,9 @@ class AttributePlanes:
         self.coefficients = np.ascontiguousarray(attr, dtype=np.float32)
         self.multiply_by_depth = camera.is_pinhole
         self.row_of_triangle = row_of_triangle
+        self.paired = None  # two channels (uvs) as one complex64 plane: c0 + i c1, (3, K)
+        if attr.shape[0] == 2:
+            self.paired = self.coefficients[0] + np.complex64(1j) * self.coefficients[1]
 
     def evaluate(self, visible: VisiblePixels) -> np.ndarray:
         """Attribute values at the visible pixels, ``(C, n)`` float32 (channel-major).
@@ -422,6 +428,8 @@ class AttributePlanes:
         if self.row_of_triangle is not None:
             rows = self.row_of_triangle[rows]
         xc, yc = visible.centered_coordinates()
+        if PAIRED_ATTRIBUTES and self.paired is not None:
+            return self._evaluate_paired(rows, xc, yc, visible.depth)
         n_channels = self.coefficients.shape[0]
         out = np.empty((n_channels, len(rows)), dtype=np.float32)
         for c in range(n_channels):
@@ -433,6 +441,24 @@ class AttributePlanes:
         if self.multiply_by_depth:
             out *= visible.depth  # a = (a / z) * z
         return out
+
+    def _evaluate_paired(
+        self, rows: np.ndarray, xc: np.ndarray, yc: np.ndarray, depth: np.ndarray
+    ) -> np.ndarray:
+        """``evaluate`` of two channels at once: the same formula on ``c0 + i c1``.
+
+        A complex64 times a float32 is two float32 products (the imaginary part of the
+        float is 0, so no rounding differs): the same bits as the per-channel loop, with
+        half the gathers and passes. Returns a ``(2, n)`` float32 view (rows strided).
+        """
+        a, b, k = (self.paired[j].take(rows) for j in range(3))
+        a *= xc
+        b *= yc
+        a += b
+        a += k  # a/z = A (px - cx) + B (py - cy) + C, both channels
+        if self.multiply_by_depth:
+            a *= depth  # a = (a / z) * z
+        return a.view(np.float32).reshape(len(rows), 2).T
 
 
 def winning_triangles(zkey: np.ndarray, n_triangles: int) -> np.ndarray:

@@ -162,6 +162,9 @@ FAST_SHADING = True
 #: with FAST_SHADING, light every pixel in place (``light == 1`` leaves a color unchanged)
 #: when at least this fraction of them is lit; below, gather and scatter the lit ones
 LIGHT_ALL_ABOVE = 0.25
+#: with FAST_SHADING and one texture, sample it at every pixel (then keep the textured
+#: ones) when at least this fraction of the pixels is textured; below, sample the subset
+SAMPLE_ALL_ABOVE = 0.5
 
 
 @dataclass
@@ -420,6 +423,15 @@ def shade_pixels(
         colors = _needed(color_planes, "color_planes")
         color = colors.evaluate(visible.subset(blended)).T * np.float32(255.0)
         packed[blended] = pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
+    if FAST_SHADING and len(textured_meshes) == 1:
+        is_textured = kind == TEXTURED
+        if np.count_nonzero(is_textured) >= SAMPLE_ALL_ABOVE * len(kind):
+            # mostly one texture: sample it at every pixel (no subset gathers, no scatter)
+            # and keep the samples of the textured pixels only
+            uvs = _needed(uv_planes, "uv_planes")
+            texel = _textured_colors(materials, textured_meshes[0], visible, uvs, color_planes)
+            np.copyto(packed, texel, where=is_textured)
+            return _lit_and_opaque(packed, light)
     textured = np.flatnonzero(kind == TEXTURED)
     if len(textured):
         uvs = _needed(uv_planes, "uv_planes")

@@ -76,11 +76,13 @@ SETTINGS: tuple[tuple[Any, str], ...] = (
     (_frame, "SHADE_BAND_PIXELS"),
     (_raster, "FRAGMENT_CHUNK"),
     (_raster, "PIXEL_CENTER_TABLES"),
+    (_raster, "PAIRED_ATTRIBUTES"),
     (_shade, "AMBIENT"),
     (_shade, "DIFFUSE"),
     (_shade, "LIGHT_DIRECTIONS"),
     (_shade, "FAST_SHADING"),
     (_shade, "LIGHT_ALL_ABOVE"),
+    (_shade, "SAMPLE_ALL_ABOVE"),
 )
 
 

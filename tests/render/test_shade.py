@@ -1,7 +1,7 @@
 """The fast shading kernels give the bits of the plain ones (``shade.FAST_SHADING``,
-``raster.PIXEL_CENTER_TABLES``): kernel by kernel, and for whole frames of scenes that mix
-every material kind (flat, vertex colors, textures with and without tint, two textures,
-lit and unlit, Gouraud), perspective and orthographic."""
+``raster.PIXEL_CENTER_TABLES``, ``raster.PAIRED_ATTRIBUTES``): kernel by kernel, and for
+whole frames of scenes that mix every material kind (flat, vertex colors, textures with
+and without tint, two textures, lit and unlit, Gouraud), perspective and orthographic."""
 
 from __future__ import annotations
 
@@ -19,13 +19,13 @@ RNG_SEED = 15
 @pytest.fixture
 def use_fast_paths():
     """A setter of both switches (True: fast kernels, False: plain); restored afterwards."""
-    saved = shade.FAST_SHADING, raster.PIXEL_CENTER_TABLES
+    saved = shade.FAST_SHADING, raster.PIXEL_CENTER_TABLES, raster.PAIRED_ATTRIBUTES
 
     def set_fast(fast: bool) -> None:
-        shade.FAST_SHADING = raster.PIXEL_CENTER_TABLES = fast
+        shade.FAST_SHADING = raster.PIXEL_CENTER_TABLES = raster.PAIRED_ATTRIBUTES = fast
 
     yield set_fast
-    shade.FAST_SHADING, raster.PIXEL_CENTER_TABLES = saved
+    shade.FAST_SHADING, raster.PIXEL_CENTER_TABLES, raster.PAIRED_ATTRIBUTES = saved
 
 
 @pytest.mark.parametrize("uv_origin", ["bottom", "top"])
@@ -57,6 +57,30 @@ def test_in_place_light_modulation_matches_the_plain_one():
     shade.modulate_packed_inplace(packed, factor)
     np.testing.assert_array_equal(packed, expected)
     assert np.all(shade.modulate_packed(packed, np.ones(4000, np.float32)) == packed)  # W = 256
+
+
+@pytest.mark.parametrize("subtype", ["pinhole", "orthographic"])
+def test_paired_two_channel_attributes_match_the_per_channel_loop(use_fast_paths, subtype):
+    camera = Camera((37, 53), subtype=subtype)
+    rng = np.random.default_rng(RNG_SEED)
+    n_triangles = 40
+    planes = rng.normal(0.0, 2.0, (3, 3, n_triangles))
+    uvs = rng.uniform(-3.0, 3.0, (3, 2, n_triangles))  # (corners, channels, triangles)
+    pixel = np.sort(rng.choice(37 * 53, 500, replace=False)).astype(np.int64)
+    visible = VisiblePixels(
+        pixel,
+        rng.integers(0, n_triangles, len(pixel)),
+        rng.uniform(0.1, 30.0, len(pixel)).astype(np.float32),
+        camera,
+    )
+    planes_of_uvs = raster.AttributePlanes(planes, uvs, camera)
+    use_fast_paths(True)
+    paired = planes_of_uvs.evaluate(visible)
+    use_fast_paths(False)
+    plain = planes_of_uvs.evaluate(visible)
+    assert paired.shape == plain.shape == (2, len(pixel)) and paired.dtype == np.float32
+    bits = np.ascontiguousarray(paired).view(np.uint32)
+    np.testing.assert_array_equal(bits, plain.view(np.uint32))  # bit for bit
 
 
 @pytest.mark.parametrize("subtype", ["pinhole", "orthographic"])
@@ -188,3 +212,56 @@ def test_a_screen_filled_by_one_texture_takes_the_single_texture_branch(use_fast
             frames.append(render_frame(scene, camera, np.eye(4)).rgba.copy())
         assert np.all(frames[0][..., 3] == 255)  # the wall covers the screen
         np.testing.assert_array_equal(frames[1], frames[0])
+
+
+def test_a_mostly_textured_screen_samples_every_pixel_and_keeps_the_others(
+    use_fast_paths, monkeypatch
+):
+    """One texture on most pixels with flat, vertex-colored and lit boxes in front (the
+    3rd-person view of the robot on a textured floor): sampling every pixel and keeping the
+    textured ones (``SAMPLE_ALL_ABOVE``) gives the plain path's bits."""
+    import trimesh
+
+    rng = np.random.default_rng(RNG_SEED)
+    camera = Camera((64, 96), hfov=90.0)
+    wall = np.array([[-9, -9, -3], [9, -9, -3], [9, 9, -4], [-9, 9, -4]], float)
+    meshes = [
+        RenderMesh(
+            wall,
+            np.array([[0, 1, 2], [0, 2, 3]]),
+            uvs=rng.uniform(-2, 3, (4, 2)),
+            texture=rng.integers(0, 256, (24, 40, 3), np.uint8),
+            lit=True,
+        )
+    ]
+    box = trimesh.creation.box(extents=(0.4, 0.3, 0.3))
+    for i, colored in enumerate((False, True)):
+        pose = np.eye(4)
+        pose[:3, 3] = [-0.6 + 1.2 * i, 0.0, -1.5]
+        colors = rng.integers(0, 256, (len(box.vertices), 4), np.uint8) if colored else None
+        meshes.append(RenderMesh(box.vertices, box.faces, pose, vertex_colors=colors, lit=i == 0))
+    scene = RenderScene(meshes)
+    calls = []
+    monkeypatch.setattr(shade, "np", _CountingCopyto(calls))
+    frames = []
+    for fast in (False, True):
+        use_fast_paths(fast)
+        frames.append(render_frame(scene, camera, np.eye(4)).rgba.copy())
+    assert calls, "the sample-all branch ran"
+    kinds = len(np.unique(frames[0].reshape(-1, 4), axis=0))
+    assert kinds > 100  # texture, boxes and light on screen
+    np.testing.assert_array_equal(frames[1], frames[0])
+
+
+class _CountingCopyto:
+    """``numpy`` as seen by ``render.shade``, counting ``np.copyto`` calls."""
+
+    def __init__(self, calls: list) -> None:
+        self._calls = calls
+
+    def __getattr__(self, name: str):
+        return getattr(np, name)
+
+    def copyto(self, *args, **kwargs):
+        self._calls.append(1)
+        return np.copyto(*args, **kwargs)
