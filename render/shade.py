@@ -454,10 +454,11 @@ def _needed(planes: AttributePlanes | None, name: str) -> AttributePlanes:
 def _lit_and_opaque(packed: np.ndarray, light: np.ndarray | None) -> np.ndarray:
     """Apply the light factors to packed colors (in place) and set alpha 255."""
     if light is not None:
-        lit = np.flatnonzero(light < 1.0)
-        if FAST_SHADING and len(lit) >= LIGHT_ALL_ABOVE * len(light):
+        is_lit = light < 1.0
+        if FAST_SHADING and np.count_nonzero(is_lit) >= LIGHT_ALL_ABOVE * len(light):
             modulate_packed_inplace(packed, light)  # W = 256 where light == 1: unchanged
         else:
+            lit = np.flatnonzero(is_lit)
             packed[lit] = modulate_packed(packed[lit], light[lit])
     packed |= _ALPHA  # alpha 255 where drawn
     return packed
