@@ -20,8 +20,9 @@ Pieces (plain arrays only, like the rest of :mod:`render`):
   camera and its pose (``submit``). The worker renders into a block of shared memory per
   view (``multiprocessing.shared_memory``: color, depth, ids) and replies; ``collect``
   returns :class:`FrameBuffers` views of those blocks, valid until the next ``submit``.
-  A job may name ``rows`` of a full render (``render_frame``'s ``rows``): the caller then
-  shades the other rows of the same frame itself, and the two parts make the whole frame.
+  A job may name ``rows`` of a full render (``render_frame``'s ``rows``): the worker
+  rasterizes and shades only those rows, the caller renders the other rows of the same
+  frame itself, and the two parts make the whole frame.
   Nothing is shared mutably: the worker never sees the caller's objects, only copies.
 
 Bit-identical results: the worker unpickles exactly the caller's arrays (float64 poses,
