@@ -354,8 +354,11 @@ def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -
     """
     start = 0 if band is None else band.start
     keys = zkey if band is None else zkey[band]
-    pixel = np.flatnonzero(keys != EMPTY_KEY)
-    if len(pixel) < len(keys):
+    covered = keys != EMPTY_KEY
+    if np.count_nonzero(covered) == len(keys):  # every pixel drawn (the usual band indoors)
+        pixel = np.arange(len(keys))
+    else:
+        pixel = np.flatnonzero(covered)
         keys = keys[pixel]
     halves = keys.view(np.uint32).reshape(-1, 2)  # little endian: (low, high) words
     if sys.byteorder == "big":
