@@ -219,7 +219,7 @@ def test_make_video_falls_back_to_gif_when_mp4_encoding_fails(tmp_path, monkeypa
             raise RuntimeError("no ffmpeg here")
         return real_get_writer(path, *args, **kwargs)
 
-    monkeypatch.setattr(video.imageio, "get_writer", no_ffmpeg)
+    monkeypatch.setattr(imageio, "get_writer", no_ffmpeg)
     written = make_video(
         observations(4), "rgba", "color", str(tmp_path / "clip"), fps=10, open_vid=False
     )
