@@ -432,7 +432,7 @@ class AttributePlanes:
             rows = self.row_of_triangle[rows]
         xc, yc = visible.centered_coordinates()
         if PAIRED_ATTRIBUTES and self.paired is not None:
-            return self._evaluate_paired(rows, xc, yc, visible.depth)
+            return self._evaluate_paired(self.paired, rows, xc, yc, visible.depth)
         n_channels = self.coefficients.shape[0]
         out = np.empty((n_channels, len(rows)), dtype=np.float32)
         for c in range(n_channels):
@@ -446,7 +446,12 @@ class AttributePlanes:
         return out
 
     def _evaluate_paired(
-        self, rows: np.ndarray, xc: np.ndarray, yc: np.ndarray, depth: np.ndarray
+        self,
+        paired: np.ndarray,
+        rows: np.ndarray,
+        xc: np.ndarray,
+        yc: np.ndarray,
+        depth: np.ndarray,
     ) -> np.ndarray:
         """``evaluate`` of two channels at once: the same formula on ``c0 + i c1``.
 
@@ -454,7 +459,7 @@ class AttributePlanes:
         float is 0, so no rounding differs): the same bits as the per-channel loop, with
         half the gathers and passes. Returns a ``(2, n)`` float32 view (rows strided).
         """
-        a, b, k = (self.paired[j].take(rows) for j in range(3))
+        a, b, k = (paired[j].take(rows) for j in range(3))
         a *= xc
         b *= yc
         a += b
