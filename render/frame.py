@@ -36,7 +36,7 @@ import numpy as np
 from render import cull, raster
 from render.camera import Camera, invert_rigid
 from render.scene import RenderMesh, RenderScene
-from render.shade import pack_rgba, shade_pixels
+from render.shade import MaterialTable, pack_rgba, shade_pixels
 
 #: color of pixels where nothing is drawn (opaque black, like Habitat's default clear color)
 BACKGROUND_RGBA = (0, 0, 0, 255)
@@ -388,6 +388,8 @@ class _ShadingInputs:
     """
 
     tri_index: np.ndarray
+    materials: MaterialTable  # of the candidates: row k is candidate k (tri_index[k])
+    semantic: np.ndarray  # (K,) semantic id of each candidate
     uv_planes: raster.AttributePlanes | None
     color_planes: raster.AttributePlanes | None
     tri_light: np.ndarray | None
@@ -437,6 +439,8 @@ class _ShadingInputs:
                 is_smooth[used] = smooth
         return cls(
             tri_index,
+            materials.of_triangles(tri_index),
+            scene.tri_semantic[tri_index],
             interpolator(materials.uvs),
             interpolator(materials.vertex_colors),
             tri_light,
@@ -486,12 +490,12 @@ def _write_pixels(
     flat indices ``visible.pixel``)."""
     rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
     depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
-    triangle = shading.tri_index[visible.winner]  # global triangle id of each covered pixel
+    candidate = visible.winner  # the candidate triangle of each covered pixel
     light = shading.pixel_light(visible)
     packed = shade_pixels(
-        scene.materials, visible, triangle, shading.uv_planes, shading.color_planes, light
+        shading.materials, visible, candidate, shading.uv_planes, shading.color_planes, light
     )
-    ids = scene.tri_semantic[triangle]
+    ids = shading.semantic[candidate]
     where = visible.pixel if where is None else where
     rgba_packed[where], depth_flat[where], ids_flat[where] = packed, visible.depth, ids
 

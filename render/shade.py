@@ -49,6 +49,7 @@ exact float formula by one level out of 255.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -201,6 +202,19 @@ class MaterialTable:
     uvs: np.ndarray | None
     textures: list
     uv_origins: list
+
+    def of_triangles(self, triangles: np.ndarray) -> MaterialTable:
+        """The table of the triangles ``triangles`` (global ids) only: their per-triangle
+        rows, renumbered ``0 .. len(triangles) - 1`` (per-mesh and per-vertex arrays are
+        shared). A frame shades its candidates with it: pixels index it by candidate, so
+        no per-pixel lookup of global triangle ids is needed."""
+        return dataclasses.replace(
+            self,
+            tri_mesh=self.tri_mesh[triangles],
+            tri_base_packed=self.tri_base_packed[triangles],
+            tri_kind=self.tri_kind[triangles],
+            faces=self.faces[:, triangles],
+        )
 
 
 def pack_rgba(rgba: np.ndarray) -> np.ndarray:
@@ -405,7 +419,8 @@ def shade_pixels(
     ----------
     materials : the scene's ``MaterialTable``.
     visible : the resolved pixels (``visible.winner`` indexes the attribute planes).
-    triangle : (n,) int64, global triangle index of each pixel.
+    triangle : (n,) int64, each pixel's triangle: its row in ``materials`` (the scene's
+        global id, or a candidate's index in ``materials.of_triangles(candidates)``).
     uv_planes, color_planes : interpolators of uvs and vertex colors of the rasterized
         triangles, or None when no mesh is textured / vertex-colored.
     light : (n,) float32 light factor per pixel (1 = unlit), or None if nothing is lit.
