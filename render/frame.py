@@ -130,7 +130,11 @@ def render_frame(
     camera_from_world = invert_rigid(world_from_camera)
     out = _prepare_buffers(buffers, camera)
     clock = _StageClock(out.timings)
-    out.zkey.fill(raster.EMPTY_KEY)
+    # the z-buffer of the rows drawn (the others are neither written nor read)
+    zkey_drawn = out.zkey
+    if rows is not None:
+        zkey_drawn = out.zkey[rows[0] * camera.width : rows[1] * camera.width]
+    zkey_drawn.fill(raster.EMPTY_KEY)
     vertices_camera, tri_index, drawn = _rasterize_scene(
         scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=0, rows=rows
     )
@@ -140,7 +144,7 @@ def render_frame(
     else:
         used = np.flatnonzero(drawn)
         if len(used) > REFINE_USED_ABOVE:  # many small triangles: only the pixel winners
-            used = raster.winning_triangles(out.zkey, len(tri_index))
+            used = raster.winning_triangles(zkey_drawn, len(tri_index))
     shading = _ShadingInputs.build(
         scene, camera, camera_from_world, vertices_camera, tri_index, used
     )

@@ -332,3 +332,26 @@ def test_many_triangle_scenes_shade_the_same_with_or_without_the_winner_refineme
     np.testing.assert_array_equal(refined.rgba, plain.rgba)
     np.testing.assert_array_equal(refined.ids, plain.ids)
     assert np.all(refined.ids[H // 2 - 5 : H // 2 + 5, W // 2 - 5 : W // 2 + 5] == 1)
+
+
+@pytest.mark.parametrize("refine_above", [10**9, 4])
+def test_rows_of_a_frame_match_the_whole_frame_over_stale_buffers(monkeypatch, refine_above):
+    """``rows=`` rasterizes, resolves and shades only those rows, over buffers that hold
+    another frame (stale z-buffer keys outside the rows must not matter), with and without
+    the winner refinement of the shading inputs."""
+    from render import frame as frame_module
+
+    monkeypatch.setattr(frame_module, "REFINE_USED_ABOVE", refine_above)
+    monkeypatch.setattr(frame_module, "SHADE_BAND_PIXELS", 4 * W)  # bands of 4 rows
+    camera = Camera((H, W), hfov=60.0)
+    scene = RenderScene([grid_mesh(12, -3.0, 1), grid_mesh(9, -4.0, 2)])
+    pose = np.eye(4)
+    pose[:3, 3] = [0.3, -0.2, 0.0]
+    whole = render_frame(scene, camera, pose)
+    expected = {name: getattr(whole, name).copy() for name in ("rgba", "depth", "ids")}
+    buffers = render_frame(scene, camera, np.eye(4))  # another frame in the buffers
+    for first, end in ((0, 8), (8, H), (12, 20)):
+        part = render_frame(scene, camera, pose, buffers, rows=(first, end))
+        for name, value in expected.items():
+            np.testing.assert_array_equal(getattr(part, name)[first:end], value[first:end])
+        assert 0 < part.n_fragments < whole.n_fragments
