@@ -6,7 +6,8 @@ a frame first, the tutorial job's composing) and appends it to an imageio writer
 caller (simulation, rendering, composing) goes on while ffmpeg encodes in its own process.
 H.264 with yuv420p needs even sides: odd frames lose their last row or column. ffmpeg gets
 RGB, or RGBA as it is when the first frame is RGBA (ffmpeg drops alpha itself: no copy).
-The encoder's settings are ``X264_PRESET`` and ``X264_CRF`` (measured below).
+The encoder's settings are ``X264_PRESET``, ``X264_CRF`` and ``X264_THREADS`` (measured
+below).
 
 ``render.video`` (composing frames, ``make_video``) builds on this module and re-exports it.
 """
@@ -33,16 +34,23 @@ PROGRESS_BAR_MIN_FRAMES = 100
 #: a third less CPU, in files about 1.5x larger
 X264_PRESET = "superfast"
 X264_CRF = 25
+#: x264 threads: one thread needed 10 % less CPU a frame than x264's own choice (4.4 against
+#: 4.9 ms, the same file) and still encodes a frame in 3.6 ms, faster than frames come
+X264_THREADS = 1
 
 
 def mp4_options(fps: int) -> dict:
-    """imageio writer options of rigidsim's mp4 files: H.264 (libx264, ``X264_PRESET`` and
-    ``X264_CRF``), any frame size (``macro_block_size=1``: no resizing to multiples of 16)."""
+    """imageio writer options of rigidsim's mp4 files: H.264 (libx264, ``X264_PRESET``,
+    ``X264_CRF``, ``X264_THREADS``), any frame size (``macro_block_size=1``: no resizing to
+    multiples of 16)."""
     return {
         "fps": fps,
         "format": "FFMPEG",
         "macro_block_size": 1,
-        "output_params": ["-preset", X264_PRESET, "-crf", str(X264_CRF)],
+        "output_params": [
+            *("-preset", X264_PRESET, "-crf", str(X264_CRF)),
+            *("-threads", str(X264_THREADS)),
+        ],
     }
 
 

@@ -46,6 +46,7 @@ from render.encode import (  # re-exported: the encoding half of this module's A
 )
 from render.encode import X264_CRF as X264_CRF
 from render.encode import X264_PRESET as X264_PRESET
+from render.encode import X264_THREADS as X264_THREADS
 from render.encode import BackgroundVideoWriter as BackgroundVideoWriter
 from render.encode import _to_even_frame as _to_even_frame
 from render.encode import mp4_options as mp4_options
