@@ -3,7 +3,7 @@
 Inputs => outputs (``n`` bodies, ``p`` broad-phase pairs, ``q`` contact points)::
 
     Bodies (poses, AABBs, shapes), CollisionObjects (fcl objects), ManifoldStore
-        => Bodies.body_aabb_min/max (n, 3) updated, fcl objects moved,
+        => Bodies.body_aabb_min/max (n, 3) updated, fcl objects of the pairs asking fcl moved,
            ManifoldStore rows refreshed / created / deleted,
            returns the number of broad-phase pairs p (Habitat's "active overlapping pairs")
 
@@ -66,9 +66,11 @@ class CollisionObjects:
     def __init__(self) -> None:
         self.shape_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
+        self.box_only: dict[int, bool] = {}  # every shape of the body is a box
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
+        self.box_only[index] = all(s.kind == "box" for s in shapes)
         self.shape_objects[index] = [
             fcl.CollisionObject(s.geometry, fcl.Transform()) for s in shapes
         ]
@@ -82,9 +84,17 @@ class CollisionObjects:
     def remove(self, index: int) -> None:
         self.shape_objects.pop(index, None)
         self.probe_objects.pop(index, None)
+        self.box_only.pop(index, None)
 
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
+
+    def move_shapes(self, bodies: Bodies, indices: list[int], rotation: np.ndarray) -> None:
+        """Move the shape objects (not the probes) of bodies ``indices`` (stage excluded) to
+        their poses (``rotation (n, 3, 3)``: every body's matrix)."""
+        index = np.array(sorted(set(indices) - {STAGE_ID}), dtype=np.int64)
+        if len(index):
+            self.move(bodies, index, rotation[index], np.zeros(len(index), dtype=bool))
 
     def move(
         self,
@@ -144,12 +154,9 @@ def collision_stage(
     if settings.contact_cache:
         touching = timer.run("manifolds", changed_pairs, bodies, store, touching, rotation)
     # ---- 4. narrow phase + manifold update (batched or reference) -------------------------
-    if touching:
-        involved = np.unique(np.array(touching))
-        involved = involved[involved != STAGE_ID]  # the stage never moves
-        # probes (grown shapes) serve the stage pairs only
-        near_stage = np.isin(involved, [c for a, c in touching if a == STAGE_ID])
-        timer.run("fcl update", objects.move, bodies, involved, rotation[involved], near_stage)
+    #         (fcl objects move only for the pairs that ask fcl: box pairs are analytic, and
+    #         the few box pairs left to fcl move their own objects in the narrow phase)
+    timer.run("fcl update", move_fcl_users, bodies, objects, touching, rotation)
     if settings.use_vectorized:
         update_manifolds(bodies, objects, store, touching, rotation, timer)
     else:
@@ -163,6 +170,31 @@ def collision_stage(
     # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
     timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
+
+
+def move_fcl_users(
+    bodies: Bodies,
+    objects: CollisionObjects,
+    pairs: list[tuple[int, int]],
+    rotation: np.ndarray,
+) -> None:
+    """Move the fcl objects of the bodies in ``pairs`` that the narrow phase will ask fcl
+    about: both bodies of every pair except two all-box bodies (analytic contacts); the
+    probes (grown shapes) of the bodies paired with the stage. The stage never moves.
+
+    A box pair that the analytic path hands to fcl after all (coincident or deep) moves its
+    two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
+    box_only = objects.box_only
+    users, near_stage = set(), set()
+    for a, c in pairs:
+        if a == STAGE_ID:
+            near_stage.add(c)
+        elif not (box_only[a] and box_only[c]):
+            users.update((a, c))
+    if users or near_stage:
+        involved = np.array(sorted(users | near_stage), dtype=np.int64)
+        probes = np.array([index in near_stage for index in involved.tolist()], dtype=bool)
+        objects.move(bodies, involved, rotation[involved], probes)
 
 
 def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
@@ -230,13 +262,16 @@ def changed_pairs(
     unchanged = store.unchanged_rows(
         rows[known], rotation, b.body_position, radius_b, CONTACT_CACHE_DISTANCE
     )
+    known = known[unchanged]  # a moving scene stops here: every pair is asked again
+    if len(known) == 0:
+        return pairs
     # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
     # is still being pushed apart, and its contacts must follow that (asked every step)
     point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
     depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
     shallow = np.where(used, depth, -np.inf).max(axis=1) <= SLEEP_MAX_PENETRATION
-    skip = set(known[unchanged & shallow].tolist())
+    skip = set(known[shallow].tolist())
     return [pair for k, pair in enumerate(pairs) if k not in skip]
 
 

@@ -103,22 +103,22 @@ def select_fresh(
     Among near-ties the points matching cached ones win (hysteresis), so a flat face
     resting on many coplanar vertices keeps the same four points from step to step.
     """
+    too_many = fresh.valid.sum(axis=1) > max_points
+    if not too_many.any():  # every row keeps all its points, already first in their rows
+        return fresh
     rb, xb = frame_b
     depth = fresh.depth()
-    too_many = fresh.valid.sum(axis=1) > max_points
-    chosen = fresh.valid.copy()
-    if too_many.any():
-        # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
-        local_b = np.einsum("rji,rsj->rsi", rb, fresh.point_b - xb[:, None])
-        gap_sq = ((local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
-        gap_sq = np.where(cached.valid[:, None, :], gap_sq, np.inf)
-        preferred = gap_sq.min(axis=2) < feature[:, None] ** 2
-        deepest = masked_argmax(depth, fresh.valid)
-        normal = fresh.normal[np.arange(len(depth)), deepest]
-        support = select_support(
-            fresh.point_b, depth, normal, max_points, fresh.valid, preferred, support_band(feature)
-        )
-        chosen = np.where(too_many[:, None], support, fresh.valid)
+    # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
+    local_b = np.einsum("rji,rsj->rsi", rb, fresh.point_b - xb[:, None])
+    gap_sq = ((local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
+    gap_sq = np.where(cached.valid[:, None, :], gap_sq, np.inf)
+    preferred = gap_sq.min(axis=2) < feature[:, None] ** 2
+    deepest = masked_argmax(depth, fresh.valid)
+    normal = fresh.normal[np.arange(len(depth)), deepest]
+    support = select_support(
+        fresh.point_b, depth, normal, max_points, fresh.valid, preferred, support_band(feature)
+    )
+    chosen = np.where(too_many[:, None], support, fresh.valid)
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
     return fresh.take(order, per_row(chosen, order))
 

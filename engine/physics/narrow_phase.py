@@ -137,7 +137,11 @@ def narrow_phase(
                     )
     if boxes:  # analytic; coincident boxes and deep overlaps go to fcl as polyhedra
         general = _box_group([job for job, _, _ in boxes], rotation, b, contacts)
-        pending += [boxes[k] for k in np.flatnonzero(general).tolist()]
+        to_fcl = [boxes[k] for k in np.flatnonzero(general).tolist()]
+        if to_fcl:  # their fcl objects were not moved for the analytic path
+            ends = [job.body_a for job, _, _ in to_fcl] + [job.body_b for job, _, _ in to_fcl]
+            objects.move_shapes(b, ends, rotation)
+        pending += to_fcl
     for job, obj_a, obj_c in pending:
         found = fcl_raw_contacts(obj_a, obj_c)
         if found:
@@ -177,14 +181,16 @@ def _box_group(jobs, rotation, bodies, contacts: _Contacts) -> np.ndarray:
     if len(analytic) == 0:
         return general
     frames = []
-    for shape, index in (("shape_a", a), ("shape_b", c)):
+    chosen = [jobs[k] for k in analytic.tolist()]
+    shapes_a, shapes_b = [job.shape_a for job in chosen], [job.shape_b for job in chosen]
+    for shapes, index in ((shapes_a, a), (shapes_b, c)):
         r, x = rotation[index[analytic]], bodies.body_position[index[analytic]]
-        offset = np.stack([getattr(jobs[k], shape).body_from_shape for k in analytic.tolist()])
+        offset = np.array([shape.body_from_shape for shape in shapes])  # (g, 4, 4)
         center, world = box_shape_frames(r, x, offset)
-        side = [getattr(jobs[k], shape).geometry.side for k in analytic.tolist()]
-        frames += [center, world, np.array(side, dtype=np.float64) / 2.0]
+        side = np.array([shape.geometry.side for shape in shapes], dtype=np.float64)
+        frames += [center, world, side / 2.0]
     pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
-    seq = np.array([jobs[k].seq for k in analytic.tolist()], dtype=np.int64)
+    seq = np.array([job.seq for job in chosen], dtype=np.int64)
     contacts.add(seq[pair], local, point_a, point_b, normal)
     general[analytic] = deep
     return general
