@@ -249,15 +249,16 @@ def changed_pairs(
     """``pairs`` minus those with a manifold whose relative pose moved less than
     ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query and whose points overlap
     by at most ``SLEEP_MAX_PENETRATION`` (their manifold stays as it is)."""
-    rows = np.array([store.row(key) if key in store else -1 for key in pairs], dtype=np.int64)
+    row_of = store.row
+    rows = np.array([row_of(key, -1) for key in pairs], dtype=np.int64)
     known = np.flatnonzero(rows >= 0)
     if len(known) == 0:
         return pairs
     b = bodies
-    other = b.body_shape_center[store.bodies[rows[known], 1]]
+    body_b = store.bodies[rows[known], 1]
     # radius of B's body-frame box around its center of mass: |c| + |h|
-    radius_b = np.linalg.norm(other, axis=1) + np.linalg.norm(
-        b.body_shape_half[store.bodies[rows[known], 1]], axis=1
+    radius_b = np.linalg.norm(b.body_shape_center[body_b], axis=1) + np.linalg.norm(
+        b.body_shape_half[body_b], axis=1
     )
     unchanged = store.unchanged_rows(
         rows[known], rotation, b.body_position, radius_b, CONTACT_CACHE_DISTANCE
@@ -375,8 +376,11 @@ def drop_stale_manifolds(
     b, n = bodies, bodies.count
     rows = store.rows()
     a, c = store.bodies[rows, 0], store.bodies[rows, 1]
-    # a pair (a, c) as the single integer a n + c, to test membership in one call
-    listed = np.isin(a * n + c, pairs[:, 0] * n + pairs[:, 1])
+    # a pair (a, c) as the single integer a n + c; the broad phase's pairs are sorted by
+    # (a, c), so their codes are ascending and a binary search finds each manifold's pair
+    listed_codes, codes = pairs[:, 0] * n + pairs[:, 1], a * n + c
+    found = np.minimum(np.searchsorted(listed_codes, codes), max(len(listed_codes) - 1, 0))
+    listed = listed_codes[found] == codes if len(listed_codes) else np.zeros(len(rows), bool)
     moved = active[a] | active[c] | ~b.body_alive[a] | ~b.body_alive[c]
     for key in store.bodies[rows[~listed & moved]].tolist():
         del store[tuple(key)]
