@@ -165,7 +165,7 @@ def collision_stage(
         timer.run(
             "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
         )
-    queried = [row for row in map(store.row, touching) if row is not None]
+    queried = [row for row in store.rows_of(touching) if row is not None]
     store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
     # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
     timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
@@ -236,7 +236,8 @@ def touching_candidates(
     ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped.
     """
     pair_list = [(a, c) for a, c in pairs.tolist()]
-    check = [k for k, (a, c) in enumerate(pair_list) if a != STAGE_ID and (a, c) not in store]
+    known = store.rows_of(pair_list)
+    check = [k for k, (a, _) in enumerate(pair_list) if a != STAGE_ID and known[k] is None]
     if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
     apart = set(np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)].tolist())
@@ -249,8 +250,7 @@ def changed_pairs(
     """``pairs`` minus those with a manifold whose relative pose moved less than
     ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query and whose points overlap
     by at most ``SLEEP_MAX_PENETRATION`` (their manifold stays as it is)."""
-    row_of = store.row
-    rows = np.array([row_of(key, -1) for key in pairs], dtype=np.int64)
+    rows = np.array(store.rows_of(pairs, -1), dtype=np.int64)
     known = np.flatnonzero(rows >= 0)
     if len(known) == 0:
         return pairs
@@ -346,8 +346,7 @@ def _merge_into_store(
     """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
-    for k, key in enumerate(pairs):
-        row = store.row(key)
+    for k, (key, row) in enumerate(zip(pairs, store.rows_of(pairs), strict=True)):
         if row is None:
             if not has_points[k]:
                 continue

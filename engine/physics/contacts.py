@@ -184,6 +184,11 @@ class ManifoldStore(MutableMapping):
         """Row of the manifold of body pair ``key``, ``default`` when it has none."""
         return self._rows.get(key, default)
 
+    def rows_of(self, keys: list[tuple[int, int]], default: int | None = None) -> list:
+        """:meth:`row` of every key of ``keys`` (one method call for a whole pair list)."""
+        get = self._rows.get
+        return [get(key, default) for key in keys]
+
     def rows(self) -> np.ndarray:
         """Rows of all manifolds, in insertion order."""
         return np.fromiter(self._rows.values(), dtype=np.int64, count=len(self._rows))

@@ -399,9 +399,9 @@ class PhysicsWorld:
         new_poses = {}
         for index, control in self.velocity_controls.items():
             if (
-                b.body_alive[index]
+                (control.controlling_lin_vel or control.controlling_ang_vel)
+                and b.body_alive[index]
                 and b.body_motion_type[index] == KINEMATIC
-                and (control.controlling_lin_vel or control.controlling_ang_vel)
             ):
                 state = RigidState(
                     mn.Quaternion.from_xyzw(b.body_rotation[index]), b.body_position[index]
@@ -410,9 +410,9 @@ class PhysicsWorld:
         b.body_solver_velocity[:] = 0.0
         b.body_solver_angular_velocity[:] = 0.0
         for index, control in self.velocity_controls.items():
-            if not b.body_alive[index]:
-                continue
             if not (control.controlling_lin_vel or control.controlling_ang_vel):
+                continue
+            if not b.body_alive[index]:
                 continue
             motion = b.body_motion_type[index]
             linear, angular = control.world_velocities(b.body_rotation[index])
