@@ -78,6 +78,8 @@ class LocalPoints:
 
     def where(self, keep: np.ndarray) -> LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
+        if in_front(keep):  # the stable sort would be the identity: no copies
+            return LocalPoints(self.local_a, self.local_b, self.normal_local, self.impulse, keep)
         order = np.argsort(~keep, axis=1, kind="stable")
         local_a, local_b, normal_local, impulse = (
             per_row(array, order)
@@ -134,6 +136,9 @@ def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
     for k in range(points.valid.shape[1]):  # greedy, deepest first: k sees the kept j < k
         near_kept = (kept & (dist_sq[:, k] < (radius * radius)[:, None])).any(axis=1)
         kept[:, k] = points.valid[:, k] & ~near_kept
+    if in_front(kept):  # nothing dropped (or only the last points): already in order
+        points.valid = kept
+        return points
     order = np.argsort(~kept, axis=1, kind="stable")
     return points.take(order, per_row(kept, order))
 
@@ -166,10 +171,11 @@ def inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points, featur
         fresh.impulse[matched, j] = cached.impulse[matched, nearest[matched]]
         used[matched, nearest[matched]] = True
     rolling = max_points == 1
-    fresh.impulse[rolling] = np.where(
-        cached.valid[rolling, :1, None], cached.impulse[rolling, :1], 0.0
-    )
-    used[rolling] = cached.valid[rolling]
+    if rolling.any():
+        fresh.impulse[rolling] = np.where(
+            cached.valid[rolling, :1, None], cached.impulse[rolling, :1], 0.0
+        )
+        used[rolling] = cached.valid[rolling]
     return used
 
 
@@ -212,6 +218,12 @@ def reduce_points(points: LocalPoints, frame_a, frame_b, max_points, feature) ->
         point_b, depth, normal[:, 0], max_points, points.valid, band=support_band(feature)
     )
     return points.where(np.where(over[:, None], chosen, points.valid))
+
+
+def in_front(flags: np.ndarray) -> bool:
+    """True when every row of ``flags (r, k)`` holds its True values before its False ones
+    (a stable sort of ``~flags`` per row would change nothing)."""
+    return not (flags[:, 1:] & ~flags[:, :-1]).any()
 
 
 def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
