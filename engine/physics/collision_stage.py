@@ -165,8 +165,9 @@ def collision_stage(
         timer.run(
             "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
         )
-    queried = [row for row in store.rows_of(touching) if row is not None]
-    store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
+    if touching:
+        queried = [row for row in store.rows_of(touching) if row is not None]
+        store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
     # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
     timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
@@ -315,6 +316,8 @@ def update_manifolds(
     gets a manifold row when it first has contact points; pairs with a sphere keep a single
     (rolling) point.
     """
+    if not pairs:  # a resting scene: the contact cache kept every manifold
+        return
     timer = timer or StageTimer()
     pair_position, point_a, point_b, normal = timer.run(
         "narrow phase", narrow_phase, bodies, objects, store, pairs, rotation
