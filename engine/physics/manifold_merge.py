@@ -108,19 +108,21 @@ def select_fresh(
     too_many = fresh.valid.sum(axis=1) > max_points
     if not too_many.any():  # every row keeps all its points, already first in their rows
         return fresh
-    rb, xb = frame_b
-    depth = fresh.depth()
+    over = np.flatnonzero(too_many)  # only these rows choose (each row on its own)
+    rb, xb = frame_b[0][over], frame_b[1][over]
+    point_b, valid, count = fresh.point_b[over], fresh.valid[over], max_points[over]
+    depth = ((fresh.point_a[over] - point_b) * fresh.normal[over]).sum(axis=2)
     # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
-    local_b = np.einsum("rji,rsj->rsi", rb, fresh.point_b - xb[:, None])
-    gap_sq = ((local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
-    gap_sq = np.where(cached.valid[:, None, :], gap_sq, np.inf)
-    preferred = gap_sq.min(axis=2) < feature[:, None] ** 2
-    deepest = masked_argmax(depth, fresh.valid)
-    normal = fresh.normal[np.arange(len(depth)), deepest]
-    support = select_support(
-        fresh.point_b, depth, normal, max_points, fresh.valid, preferred, support_band(feature)
+    local_b = np.einsum("rji,rsj->rsi", rb, point_b - xb[:, None])
+    gap_sq = ((local_b[:, :, None] - cached.local_b[over][:, None]) ** 2).sum(axis=3)
+    gap_sq = np.where(cached.valid[over][:, None, :], gap_sq, np.inf)
+    preferred = gap_sq.min(axis=2) < feature[over, None] ** 2
+    deepest = masked_argmax(depth, valid)
+    normal = fresh.normal[over][np.arange(len(over)), deepest]
+    chosen = fresh.valid.copy()
+    chosen[over] = select_support(
+        point_b, depth, normal, count, valid, preferred, support_band(feature[over])
     )
-    chosen = np.where(too_many[:, None], support, fresh.valid)
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
     return fresh.take(order, per_row(chosen, order))
 
