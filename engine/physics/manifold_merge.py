@@ -62,6 +62,10 @@ class FreshPoints:
         return out
 
 
+#: the fields of :class:`LocalPoints`, in its constructor's order
+LOCAL_FIELDS = ("local_a", "local_b", "normal_local", "impulse", "valid")
+
+
 class LocalPoints:
     """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
 
@@ -211,15 +215,19 @@ def feature_length(thickness_a: float, thickness_b: float) -> float:
 
 def reduce_points(points: LocalPoints, frame_a, frame_b, max_points, feature) -> LocalPoints:
     """Rows holding more than ``max_points``: keep the supporting polygon's points."""
-    over = points.valid.sum(axis=1) > max_points
-    if not over.any():
+    over = np.flatnonzero(points.valid.sum(axis=1) > max_points)
+    if len(over) == 0:
         return points
-    point_a, point_b, normal = points.world(frame_a, frame_b)
+    # only the rows over their limit choose (each row on its own)
+    rows = LocalPoints(*(getattr(points, name)[over] for name in LOCAL_FIELDS))
+    frames = [(frame[0][over], frame[1][over]) for frame in (frame_a, frame_b)]
+    point_a, point_b, normal = rows.world(*frames)
     depth = ((point_a - point_b) * normal).sum(axis=2)
-    chosen = select_support(
-        point_b, depth, normal[:, 0], max_points, points.valid, band=support_band(feature)
+    chosen = points.valid.copy()
+    chosen[over] = select_support(
+        point_b, depth, normal[:, 0], max_points[over], rows.valid, band=support_band(feature[over])
     )
-    return points.where(np.where(over[:, None], chosen, points.valid))
+    return points.where(chosen)
 
 
 def in_front(flags: np.ndarray) -> bool:
