@@ -67,10 +67,24 @@ class CollisionObjects:
         self.shape_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
         self.box_only: dict[int, bool] = {}  # every shape of the body is a box
+        # bodies of one box shape: its body_from_shape (4, 4) and half extents (3,), by body
+        # index, so the box batch gathers them with one indexing call
+        self.box_offset, self.box_half = np.zeros((0, 4, 4)), np.zeros((0, 3))
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
         self.box_only[index] = all(s.kind == "box" for s in shapes)
+        if len(shapes) == 1 and shapes[0].kind == "box":
+            if len(self.box_half) <= index:
+                size = max(index + 1, 2 * len(self.box_half))
+                self.box_offset = np.concatenate(
+                    [self.box_offset, np.zeros((size - len(self.box_offset), 4, 4))]
+                )
+                self.box_half = np.concatenate(
+                    [self.box_half, np.zeros((size - len(self.box_half), 3))]
+                )
+            self.box_offset[index] = shapes[0].body_from_shape
+            self.box_half[index] = np.array(shapes[0].geometry.side, dtype=np.float64) / 2.0
         self.shape_objects[index] = [
             fcl.CollisionObject(s.geometry, fcl.Transform()) for s in shapes
         ]

@@ -142,7 +142,7 @@ def narrow_phase(
                         seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
                     )
     if boxes.seq:  # analytic; coincident boxes and deep overlaps go to fcl as polyhedra
-        general = _box_group(boxes, rotation, b, contacts)
+        general = _box_group(boxes, rotation, b, contacts, objects)
         to_fcl = [boxes.job(k, shape_objects) for k in np.flatnonzero(general).tolist()]
         if to_fcl:  # their fcl objects were not moved for the analytic path
             ends = [job.body_a for job, _, _ in to_fcl] + [job.body_b for job, _, _ in to_fcl]
@@ -184,8 +184,10 @@ class BoxPairs:
         self.shape_b: list[Any] = []
         self.body_b: list[int] = []
         self.objects: list[Any] = []
+        self.one_box_bodies = True  # every pair joins two bodies of a single box shape
 
     def add(self, seq, shape_a, body_a, shape_b, body_b, obj_a=None, obj_b=None) -> None:
+        self.one_box_bodies &= obj_a is None
         self.seq.append(seq)
         self.shape_a.append(shape_a)
         self.body_a.append(body_a)
@@ -200,7 +202,9 @@ class BoxPairs:
         return Job(self.seq[k], self.shape_a[k], a, self.shape_b[k], c, []), obj_a, obj_c
 
 
-def _box_group(jobs: BoxPairs, rotation, bodies, contacts: _Contacts) -> np.ndarray:
+def _box_group(
+    jobs: BoxPairs, rotation, bodies, contacts: _Contacts, objects: CollisionObjects
+) -> np.ndarray:
     """Analytic contacts of box pairs (:mod:`box_box`: separating axes + clipping); returns
     ``general (g,)`` bool, the pairs left to the general polyhedron path: bodies with
     (nearly) the same center (:func:`coincident`) and overlaps deeper than
@@ -217,11 +221,15 @@ def _box_group(jobs: BoxPairs, rotation, bodies, contacts: _Contacts) -> np.ndar
     frames = []
     chosen = analytic.tolist()
     for shapes, index in ((jobs.shape_a, a), (jobs.shape_b, c)):
-        r, x = rotation[index[analytic]], bodies.body_position[index[analytic]]
-        offset = np.array([shapes[k].body_from_shape for k in chosen])  # (g, 4, 4)
+        body = index[analytic]
+        r, x = rotation[body], bodies.body_position[body]
+        if jobs.one_box_bodies:  # each body's only box, kept by CollisionObjects
+            offset, half = objects.box_offset[body], objects.box_half[body]
+        else:
+            offset = np.array([shapes[k].body_from_shape for k in chosen])  # (g, 4, 4)
+            half = np.array([shapes[k].geometry.side for k in chosen], dtype=np.float64) / 2.0
         center, world = box_shape_frames(r, x, offset)
-        side = np.array([shapes[k].geometry.side for k in chosen], dtype=np.float64)
-        frames += [center, world, side / 2.0]
+        frames += [center, world, half]
     pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
     seq = np.array(jobs.seq, dtype=np.int64)[analytic]
     contacts.add(seq[pair], local, point_a, point_b, normal)

@@ -397,21 +397,16 @@ class PhysicsWorld:
 
         b = self.bodies
         new_poses = {}
-        for index, control in self.velocity_controls.items():
-            if (
-                (control.controlling_lin_vel or control.controlling_ang_vel)
-                and b.body_alive[index]
-                and b.body_motion_type[index] == KINEMATIC
-            ):
+        active = [(index, c) for index, c in self.velocity_controls.items() if c.is_active]
+        for index, control in active:
+            if b.body_alive[index] and b.body_motion_type[index] == KINEMATIC:
                 state = RigidState(
                     mn.Quaternion.from_xyzw(b.body_rotation[index]), b.body_position[index]
                 )
                 new_poses[index] = control.integrate_transform(dt, state)
         b.body_solver_velocity[:] = 0.0
         b.body_solver_angular_velocity[:] = 0.0
-        for index, control in self.velocity_controls.items():
-            if not (control.controlling_lin_vel or control.controlling_ang_vel):
-                continue
+        for index, control in active:
             if not b.body_alive[index]:
                 continue
             motion = b.body_motion_type[index]
