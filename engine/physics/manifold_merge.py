@@ -123,12 +123,17 @@ def select_fresh(
     preferred = gap_sq.min(axis=2) < feature[over, None] ** 2
     deepest = masked_argmax(depth, valid)
     normal = fresh.normal[over][np.arange(len(over)), deepest]
-    chosen = fresh.valid.copy()
-    chosen[over] = select_support(
+    chosen = select_support(
         point_b, depth, normal, count, valid, preferred, support_band(feature[over])
     )
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
-    return fresh.take(order, per_row(chosen, order))
+    # the other rows keep all their points, already in their first SLOTS slots
+    out = object.__new__(FreshPoints)
+    for name in ("point_a", "point_b", "normal", "valid"):
+        kept = getattr(fresh, name)[:, :SLOTS].copy()
+        kept[over] = per_row(chosen if name == "valid" else getattr(fresh, name)[over], order)
+        setattr(out, name, kept)
+    return out
 
 
 def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
