@@ -56,7 +56,9 @@ from .sleeping import moving_kinematic_mask
 
 
 class CollisionObjects:
-    """The fcl collision objects of every body, kept at the bodies' poses.
+    """The fcl collision objects of every body, moved to a body's pose when fcl is about to
+    be asked about it (:func:`move_fcl_users`, :meth:`move_shapes`; a box pair's contacts
+    are analytic, so its objects may lag behind the bodies).
 
     ``shape_objects[i]``: one ``fcl.CollisionObject`` per shape of body ``i``;
     ``probe_objects[i]``: the same shapes grown by ``STAGE_SPECULATIVE_DISTANCE`` (None for
