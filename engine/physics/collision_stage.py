@@ -162,7 +162,7 @@ def collision_stage(
     timer = timer or StageTimer()
     rotation = live_rotations(bodies)  # (n, 3, 3) world_from_body (identity: freed slots)
     # ---- 1. broad phase: AABB pairs with a moving, dynamic member -------------------------
-    pairs, active = timer.run("broad phase", broad_phase, bodies)
+    pairs, active = timer.run("broad phase", broad_phase, bodies, rotation)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
     touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
     # ---- 3. contact cache: pairs that barely moved relative to each other keep their
@@ -214,8 +214,11 @@ def move_fcl_users(
         objects.move(bodies, involved, rotation[involved], probes)
 
 
-def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
-    """World AABBs (written to ``body_aabb_min/max``) and the overlapping pairs.
+def broad_phase(
+    bodies: Bodies, rotation: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """World AABBs (written to ``body_aabb_min/max``) and the overlapping pairs
+    (``rotation (n, 3, 3)``: every body's matrix, if known).
 
     Returns ``pairs (p, 2)`` sorted, ``a < c``, each with a dynamic body, and ``active
     (n,)`` bool: the bodies that can move this step (awake dynamic, moving kinematic).
@@ -229,6 +232,7 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
         b.body_shape_half[live],
         b.body_position[live],
         b.body_rotation[live],
+        None if rotation is None else rotation[live],
     )
     b.body_aabb_min[live] = lo - AABB_MARGIN
     b.body_aabb_max[live] = hi + AABB_MARGIN
