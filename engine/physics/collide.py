@@ -39,13 +39,18 @@ _POLYHEDRA = ("box", "convex", "cylinder", "cone")
 
 
 def world_aabbs(
-    center_local: np.ndarray, half_local: np.ndarray, position: np.ndarray, rotation: np.ndarray
+    center_local: np.ndarray,
+    half_local: np.ndarray,
+    position: np.ndarray,
+    rotation: np.ndarray,
+    matrices: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """World AABBs ``(n, 3)`` min and max of boxes given in the body frame.
+    """World AABBs ``(n, 3)`` min and max of boxes given in the body frame (``rotation``:
+    quaternions ``(n, 4)``; ``matrices (n, 3, 3)``: their rotation matrices, if known).
 
     ``center_w = x + R c``, ``half_w = |R| h`` (Arvo's transformed-box bound).
     """
-    r = quat_to_matrix(rotation)
+    r = quat_to_matrix(rotation) if matrices is None else matrices
     center = position + np.einsum("nij,nj->ni", r, center_local)
     half = np.einsum("nij,nj->ni", np.abs(r), half_local)
     return center - half, center + half

@@ -3,7 +3,7 @@
 Inputs => outputs (``n`` bodies, ``p`` broad-phase pairs, ``q`` contact points)::
 
     Bodies (poses, AABBs, shapes), CollisionObjects (fcl objects), ManifoldStore
-        => Bodies.body_aabb_min/max (n, 3) updated, fcl objects moved,
+        => Bodies.body_aabb_min/max (n, 3) updated, fcl objects of the pairs asking fcl moved,
            ManifoldStore rows refreshed / created / deleted,
            returns the number of broad-phase pairs p (Habitat's "active overlapping pairs")
 
@@ -56,7 +56,9 @@ from .sleeping import moving_kinematic_mask
 
 
 class CollisionObjects:
-    """The fcl collision objects of every body, kept at the bodies' poses.
+    """The fcl collision objects of every body, moved to a body's pose when fcl is about to
+    be asked about it (:func:`move_fcl_users`, :meth:`move_shapes`; a box pair's contacts
+    are analytic, so its objects may lag behind the bodies).
 
     ``shape_objects[i]``: one ``fcl.CollisionObject`` per shape of body ``i``;
     ``probe_objects[i]``: the same shapes grown by ``STAGE_SPECULATIVE_DISTANCE`` (None for
@@ -66,9 +68,25 @@ class CollisionObjects:
     def __init__(self) -> None:
         self.shape_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
+        self.box_only: dict[int, bool] = {}  # every shape of the body is a box
+        # bodies of one box shape: its body_from_shape (4, 4) and half extents (3,), by body
+        # index, so the box batch gathers them with one indexing call
+        self.box_offset, self.box_half = np.zeros((0, 4, 4)), np.zeros((0, 3))
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
+        self.box_only[index] = all(s.kind == "box" for s in shapes)
+        if len(shapes) == 1 and shapes[0].kind == "box":
+            if len(self.box_half) <= index:
+                size = max(index + 1, 2 * len(self.box_half))
+                self.box_offset = np.concatenate(
+                    [self.box_offset, np.zeros((size - len(self.box_offset), 4, 4))]
+                )
+                self.box_half = np.concatenate(
+                    [self.box_half, np.zeros((size - len(self.box_half), 3))]
+                )
+            self.box_offset[index] = shapes[0].body_from_shape
+            self.box_half[index] = np.array(shapes[0].geometry.side, dtype=np.float64) / 2.0
         self.shape_objects[index] = [
             fcl.CollisionObject(s.geometry, fcl.Transform()) for s in shapes
         ]
@@ -82,9 +100,17 @@ class CollisionObjects:
     def remove(self, index: int) -> None:
         self.shape_objects.pop(index, None)
         self.probe_objects.pop(index, None)
+        self.box_only.pop(index, None)
 
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
+
+    def move_shapes(self, bodies: Bodies, indices: list[int], rotation: np.ndarray) -> None:
+        """Move the shape objects (not the probes) of bodies ``indices`` (stage excluded) to
+        their poses (``rotation (n, 3, 3)``: every body's matrix)."""
+        index = np.array(sorted(set(indices) - {STAGE_ID}), dtype=np.int64)
+        if len(index):
+            self.move(bodies, index, rotation[index], np.zeros(len(index), dtype=bool))
 
     def move(
         self,
@@ -136,7 +162,7 @@ def collision_stage(
     timer = timer or StageTimer()
     rotation = live_rotations(bodies)  # (n, 3, 3) world_from_body (identity: freed slots)
     # ---- 1. broad phase: AABB pairs with a moving, dynamic member -------------------------
-    pairs, active = timer.run("broad phase", broad_phase, bodies)
+    pairs, active = timer.run("broad phase", broad_phase, bodies, rotation)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
     touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
     # ---- 3. contact cache: pairs that barely moved relative to each other keep their
@@ -144,12 +170,9 @@ def collision_stage(
     if settings.contact_cache:
         touching = timer.run("manifolds", changed_pairs, bodies, store, touching, rotation)
     # ---- 4. narrow phase + manifold update (batched or reference) -------------------------
-    if touching:
-        involved = np.unique(np.array(touching))
-        involved = involved[involved != STAGE_ID]  # the stage never moves
-        # probes (grown shapes) serve the stage pairs only
-        near_stage = np.isin(involved, [c for a, c in touching if a == STAGE_ID])
-        timer.run("fcl update", objects.move, bodies, involved, rotation[involved], near_stage)
+    #         (fcl objects move only for the pairs that ask fcl: box pairs are analytic, and
+    #         the few box pairs left to fcl move their own objects in the narrow phase)
+    timer.run("fcl update", move_fcl_users, bodies, objects, touching, rotation)
     if settings.use_vectorized:
         update_manifolds(bodies, objects, store, touching, rotation, timer)
     else:
@@ -158,15 +181,44 @@ def collision_stage(
         timer.run(
             "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
         )
-    queried = [row for row in map(store.row, touching) if row is not None]
-    store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
+    if touching:
+        queried = [row for row in store.rows_of(touching) if row is not None]
+        store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
     # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
     timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
 
 
-def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
-    """World AABBs (written to ``body_aabb_min/max``) and the overlapping pairs.
+def move_fcl_users(
+    bodies: Bodies,
+    objects: CollisionObjects,
+    pairs: list[tuple[int, int]],
+    rotation: np.ndarray,
+) -> None:
+    """Move the fcl objects of the bodies in ``pairs`` that the narrow phase will ask fcl
+    about: both bodies of every pair except two all-box bodies (analytic contacts); the
+    probes (grown shapes) of the bodies paired with the stage. The stage never moves.
+
+    A box pair that the analytic path hands to fcl after all (coincident or deep) moves its
+    two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
+    box_only = objects.box_only
+    users, near_stage = set(), set()
+    for a, c in pairs:
+        if a == STAGE_ID:
+            near_stage.add(c)
+        elif not (box_only[a] and box_only[c]):
+            users.update((a, c))
+    if users or near_stage:
+        involved = np.array(sorted(users | near_stage), dtype=np.int64)
+        probes = np.array([index in near_stage for index in involved.tolist()], dtype=bool)
+        objects.move(bodies, involved, rotation[involved], probes)
+
+
+def broad_phase(
+    bodies: Bodies, rotation: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """World AABBs (written to ``body_aabb_min/max``) and the overlapping pairs
+    (``rotation (n, 3, 3)``: every body's matrix, if known).
 
     Returns ``pairs (p, 2)`` sorted, ``a < c``, each with a dynamic body, and ``active
     (n,)`` bool: the bodies that can move this step (awake dynamic, moving kinematic).
@@ -180,6 +232,7 @@ def broad_phase(bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
         b.body_shape_half[live],
         b.body_position[live],
         b.body_rotation[live],
+        None if rotation is None else rotation[live],
     )
     b.body_aabb_min[live] = lo - AABB_MARGIN
     b.body_aabb_max[live] = hi + AABB_MARGIN
@@ -204,7 +257,8 @@ def touching_candidates(
     ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped.
     """
     pair_list = [(a, c) for a, c in pairs.tolist()]
-    check = [k for k, (a, c) in enumerate(pair_list) if a != STAGE_ID and (a, c) not in store]
+    known = store.rows_of(pair_list)
+    check = [k for k, (a, _) in enumerate(pair_list) if a != STAGE_ID and known[k] is None]
     if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
     apart = set(np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)].tolist())
@@ -217,26 +271,29 @@ def changed_pairs(
     """``pairs`` minus those with a manifold whose relative pose moved less than
     ``CONTACT_CACHE_DISTANCE`` since their last narrow-phase query and whose points overlap
     by at most ``SLEEP_MAX_PENETRATION`` (their manifold stays as it is)."""
-    rows = np.array([store.row(key) if key in store else -1 for key in pairs], dtype=np.int64)
+    rows = np.array(store.rows_of(pairs, -1), dtype=np.int64)
     known = np.flatnonzero(rows >= 0)
     if len(known) == 0:
         return pairs
     b = bodies
-    other = b.body_shape_center[store.bodies[rows[known], 1]]
+    body_b = store.bodies[rows[known], 1]
     # radius of B's body-frame box around its center of mass: |c| + |h|
-    radius_b = np.linalg.norm(other, axis=1) + np.linalg.norm(
-        b.body_shape_half[store.bodies[rows[known], 1]], axis=1
+    radius_b = np.linalg.norm(b.body_shape_center[body_b], axis=1) + np.linalg.norm(
+        b.body_shape_half[body_b], axis=1
     )
     unchanged = store.unchanged_rows(
         rows[known], rotation, b.body_position, radius_b, CONTACT_CACHE_DISTANCE
     )
+    known = known[unchanged]  # a moving scene stops here: every pair is asked again
+    if len(known) == 0:
+        return pairs
     # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
     # is still being pushed apart, and its contacts must follow that (asked every step)
     point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
     depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
     shallow = np.where(used, depth, -np.inf).max(axis=1) <= SLEEP_MAX_PENETRATION
-    skip = set(known[unchanged & shallow].tolist())
+    skip = set(known[shallow].tolist())
     return [pair for k, pair in enumerate(pairs) if k not in skip]
 
 
@@ -279,6 +336,8 @@ def update_manifolds(
     gets a manifold row when it first has contact points; pairs with a sphere keep a single
     (rolling) point.
     """
+    if not pairs:  # a resting scene: the contact cache kept every manifold
+        return
     timer = timer or StageTimer()
     pair_position, point_a, point_b, normal = timer.run(
         "narrow phase", narrow_phase, bodies, objects, store, pairs, rotation
@@ -310,8 +369,7 @@ def _merge_into_store(
     """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
-    for k, key in enumerate(pairs):
-        row = store.row(key)
+    for k, (key, row) in enumerate(zip(pairs, store.rows_of(pairs), strict=True)):
         if row is None:
             if not has_points[k]:
                 continue
@@ -340,8 +398,11 @@ def drop_stale_manifolds(
     b, n = bodies, bodies.count
     rows = store.rows()
     a, c = store.bodies[rows, 0], store.bodies[rows, 1]
-    # a pair (a, c) as the single integer a n + c, to test membership in one call
-    listed = np.isin(a * n + c, pairs[:, 0] * n + pairs[:, 1])
+    # a pair (a, c) as the single integer a n + c; the broad phase's pairs are sorted by
+    # (a, c), so their codes are ascending and a binary search finds each manifold's pair
+    listed_codes, codes = pairs[:, 0] * n + pairs[:, 1], a * n + c
+    found = np.minimum(np.searchsorted(listed_codes, codes), max(len(listed_codes) - 1, 0))
+    listed = listed_codes[found] == codes if len(listed_codes) else np.zeros(len(rows), bool)
     moved = active[a] | active[c] | ~b.body_alive[a] | ~b.body_alive[c]
     for key in store.bodies[rows[~listed & moved]].tolist():
         del store[tuple(key)]

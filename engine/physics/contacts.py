@@ -180,8 +180,14 @@ class ManifoldStore(MutableMapping):
         self.feature[row] = feature
         return row
 
-    def row(self, key: tuple[int, int]) -> int | None:
-        return self._rows.get(key)
+    def row(self, key: tuple[int, int], default: int | None = None) -> int | None:
+        """Row of the manifold of body pair ``key``, ``default`` when it has none."""
+        return self._rows.get(key, default)
+
+    def rows_of(self, keys: list[tuple[int, int]], default: int | None = None) -> list:
+        """:meth:`row` of every key of ``keys`` (one method call for a whole pair list)."""
+        get = self._rows.get
+        return [get(key, default) for key in keys]
 
     def rows(self) -> np.ndarray:
         """Rows of all manifolds, in insertion order."""
@@ -284,8 +290,9 @@ class ManifoldStore(MutableMapping):
         used = inherit_impulses(local, cached, max_points, feature)
         merged = combine(local, cached, used)
         merged = reduce_points(merged, frame_a, frame_b, max_points, feature)
-        self._clear_rows(rows)
         width = min(SLOTS, merged.valid.shape[1])
+        if width < SLOTS:  # else every slot is written below
+            self._clear_rows(rows)
         valid = merged.valid[:, :width, None]
         self.count[rows] = merged.valid.sum(axis=1)
         for name in ("local_a", "local_b", "normal_local", "impulse"):  # empty slots stay 0

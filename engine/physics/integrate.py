@@ -94,6 +94,10 @@ def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: floa
         ("body_angular_velocity", max_angular),
     ):
         velocity = getattr(bodies, name)[index]
+        # every component finite and below limit / 2 (so |v| < 0.87 limit): the scale would
+        # be exactly 1 (NaN fails the test and takes the full path below)
+        if np.abs(velocity).max(initial=0.0) < 0.5 * limit:
+            continue
         speed = stable_norm(velocity, axis=1)  # |v| without overflow above 1e154 m/s
         scale = np.minimum(1.0, limit / np.maximum(speed, settings.TINY))
         getattr(bodies, name)[index] = velocity * scale[:, None]

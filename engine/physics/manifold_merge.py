@@ -62,6 +62,10 @@ class FreshPoints:
         return out
 
 
+#: the fields of :class:`LocalPoints`, in its constructor's order
+LOCAL_FIELDS = ("local_a", "local_b", "normal_local", "impulse", "valid")
+
+
 class LocalPoints:
     """Manifold points in the body frames, padded per row (``(r, k, 3)``, ``valid (r, k)``)."""
 
@@ -78,6 +82,8 @@ class LocalPoints:
 
     def where(self, keep: np.ndarray) -> LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
+        if in_front(keep):  # the stable sort would be the identity: no copies
+            return LocalPoints(self.local_a, self.local_b, self.normal_local, self.impulse, keep)
         order = np.argsort(~keep, axis=1, kind="stable")
         local_a, local_b, normal_local, impulse = (
             per_row(array, order)
@@ -103,24 +109,31 @@ def select_fresh(
     Among near-ties the points matching cached ones win (hysteresis), so a flat face
     resting on many coplanar vertices keeps the same four points from step to step.
     """
-    rb, xb = frame_b
-    depth = fresh.depth()
     too_many = fresh.valid.sum(axis=1) > max_points
-    chosen = fresh.valid.copy()
-    if too_many.any():
-        # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
-        local_b = np.einsum("rji,rsj->rsi", rb, fresh.point_b - xb[:, None])
-        gap_sq = ((local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
-        gap_sq = np.where(cached.valid[:, None, :], gap_sq, np.inf)
-        preferred = gap_sq.min(axis=2) < feature[:, None] ** 2
-        deepest = masked_argmax(depth, fresh.valid)
-        normal = fresh.normal[np.arange(len(depth)), deepest]
-        support = select_support(
-            fresh.point_b, depth, normal, max_points, fresh.valid, preferred, support_band(feature)
-        )
-        chosen = np.where(too_many[:, None], support, fresh.valid)
+    if not too_many.any():  # every row keeps all its points, already first in their rows
+        return fresh
+    over = np.flatnonzero(too_many)  # only these rows choose (each row on its own)
+    rb, xb = frame_b[0][over], frame_b[1][over]
+    point_b, valid, count = fresh.point_b[over], fresh.valid[over], max_points[over]
+    depth = ((fresh.point_a[over] - point_b) * fresh.normal[over]).sum(axis=2)
+    # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
+    local_b = np.einsum("rji,rsj->rsi", rb, point_b - xb[:, None])
+    gap_sq = ((local_b[:, :, None] - cached.local_b[over][:, None]) ** 2).sum(axis=3)
+    gap_sq = np.where(cached.valid[over][:, None, :], gap_sq, np.inf)
+    preferred = gap_sq.min(axis=2) < feature[over, None] ** 2
+    deepest = masked_argmax(depth, valid)
+    normal = fresh.normal[over][np.arange(len(over)), deepest]
+    chosen = select_support(
+        point_b, depth, normal, count, valid, preferred, support_band(feature[over])
+    )
     order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
-    return fresh.take(order, per_row(chosen, order))
+    # the other rows keep all their points, already in their first SLOTS slots
+    out = object.__new__(FreshPoints)
+    for name in ("point_a", "point_b", "normal", "valid"):
+        kept = getattr(fresh, name)[:, :SLOTS].copy()
+        kept[over] = per_row(chosen if name == "valid" else getattr(fresh, name)[over], order)
+        setattr(out, name, kept)
+    return out
 
 
 def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
@@ -134,6 +147,9 @@ def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
     for k in range(points.valid.shape[1]):  # greedy, deepest first: k sees the kept j < k
         near_kept = (kept & (dist_sq[:, k] < (radius * radius)[:, None])).any(axis=1)
         kept[:, k] = points.valid[:, k] & ~near_kept
+    if in_front(kept):  # nothing dropped (or only the last points): already in order
+        points.valid = kept
+        return points
     order = np.argsort(~kept, axis=1, kind="stable")
     return points.take(order, per_row(kept, order))
 
@@ -166,10 +182,11 @@ def inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points, featur
         fresh.impulse[matched, j] = cached.impulse[matched, nearest[matched]]
         used[matched, nearest[matched]] = True
     rolling = max_points == 1
-    fresh.impulse[rolling] = np.where(
-        cached.valid[rolling, :1, None], cached.impulse[rolling, :1], 0.0
-    )
-    used[rolling] = cached.valid[rolling]
+    if rolling.any():
+        fresh.impulse[rolling] = np.where(
+            cached.valid[rolling, :1, None], cached.impulse[rolling, :1], 0.0
+        )
+        used[rolling] = cached.valid[rolling]
     return used
 
 
@@ -203,15 +220,25 @@ def feature_length(thickness_a: float, thickness_b: float) -> float:
 
 def reduce_points(points: LocalPoints, frame_a, frame_b, max_points, feature) -> LocalPoints:
     """Rows holding more than ``max_points``: keep the supporting polygon's points."""
-    over = points.valid.sum(axis=1) > max_points
-    if not over.any():
+    over = np.flatnonzero(points.valid.sum(axis=1) > max_points)
+    if len(over) == 0:
         return points
-    point_a, point_b, normal = points.world(frame_a, frame_b)
+    # only the rows over their limit choose (each row on its own)
+    rows = LocalPoints(*(getattr(points, name)[over] for name in LOCAL_FIELDS))
+    frames = [(frame[0][over], frame[1][over]) for frame in (frame_a, frame_b)]
+    point_a, point_b, normal = rows.world(*frames)
     depth = ((point_a - point_b) * normal).sum(axis=2)
-    chosen = select_support(
-        point_b, depth, normal[:, 0], max_points, points.valid, band=support_band(feature)
+    chosen = points.valid.copy()
+    chosen[over] = select_support(
+        point_b, depth, normal[:, 0], max_points[over], rows.valid, band=support_band(feature[over])
     )
-    return points.where(np.where(over[:, None], chosen, points.valid))
+    return points.where(chosen)
+
+
+def in_front(flags: np.ndarray) -> bool:
+    """True when every row of ``flags (r, k)`` holds its True values before its False ones
+    (a stable sort of ``~flags`` per row would change nothing)."""
+    return not (flags[:, 1:] & ~flags[:, :-1]).any()
 
 
 def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:

@@ -111,8 +111,14 @@ def narrow_phase(
     contacts, pair_of_seq = _Contacts(), list[int]()
     # polyhedron pairs wait for fcl with their fcl objects; box pairs go to box_box first
     pending: list[tuple[Job, Any, Any]] = []
-    boxes: list[tuple[Job, Any, Any]] = []
+    boxes = BoxPairs()
+    box_only, shapes, shape_objects = objects.box_only, b.shapes, objects.shape_objects
     for position, (a, c) in enumerate(pairs):
+        if box_only[a] and box_only[c] and len(shapes[a]) == 1 == len(shapes[c]):
+            # two one-box bodies (the common case): straight to the box batch
+            boxes.add(len(pair_of_seq), shapes[a][0], a, shapes[c][0], c)
+            pair_of_seq.append(position)
+            continue
         for shape_a, obj_a in zip(b.shapes[a], objects.shape_objects[a], strict=True):
             for shape_c, obj_c, probe_c in zip(
                 b.shapes[c], objects.shape_objects[c], objects.probe_objects[c], strict=True
@@ -125,7 +131,7 @@ def narrow_phase(
                         job = Job(seq, shape_a, a, shape_c, c, found)
                         jobs["stage"][len(shape_c.hull_vertices)].append(job)
                 elif shape_a.kind == shape_c.kind == "box":
-                    boxes.append((Job(seq, shape_a, a, shape_c, c, []), obj_a, obj_c))
+                    boxes.add(seq, shape_a, a, shape_c, c, obj_a, obj_c)
                 elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
                     pending.append((Job(seq, shape_a, a, shape_c, c, []), obj_a, obj_c))
                 elif shape_a.kind == shape_c.kind == "sphere" and coincident(b, a, c):
@@ -135,9 +141,13 @@ def narrow_phase(
                     contacts.add_one(
                         seq, round_contacts(shape_a, obj_a, shape_c, pose_c, obj_c, probe_c)
                     )
-    if boxes:  # analytic; coincident boxes and deep overlaps go to fcl as polyhedra
-        general = _box_group([job for job, _, _ in boxes], rotation, b, contacts)
-        pending += [boxes[k] for k in np.flatnonzero(general).tolist()]
+    if boxes.seq:  # analytic; coincident boxes and deep overlaps go to fcl as polyhedra
+        general = _box_group(boxes, rotation, b, contacts, objects)
+        to_fcl = [boxes.job(k, shape_objects) for k in np.flatnonzero(general).tolist()]
+        if to_fcl:  # their fcl objects were not moved for the analytic path
+            ends = [job.body_a for job, _, _ in to_fcl] + [job.body_b for job, _, _ in to_fcl]
+            objects.move_shapes(b, ends, rotation)
+        pending += to_fcl
     for job, obj_a, obj_c in pending:
         found = fcl_raw_contacts(obj_a, obj_c)
         if found:
@@ -162,7 +172,39 @@ def narrow_phase(
     return contacts.sorted(np.array(pair_of_seq, dtype=np.int64))
 
 
-def _box_group(jobs, rotation, bodies, contacts: _Contacts) -> np.ndarray:
+class BoxPairs:
+    """The box shape pairs of a step, as columns (one list per field, in pair order): their
+    sequence numbers, shapes and bodies, and the fcl objects of the pairs whose bodies hold
+    several shapes (None for one-box bodies: their only object)."""
+
+    def __init__(self) -> None:
+        self.seq: list[int] = []
+        self.shape_a: list[Any] = []
+        self.body_a: list[int] = []
+        self.shape_b: list[Any] = []
+        self.body_b: list[int] = []
+        self.objects: list[Any] = []
+        self.one_box_bodies = True  # every pair joins two bodies of a single box shape
+
+    def add(self, seq, shape_a, body_a, shape_b, body_b, obj_a=None, obj_b=None) -> None:
+        self.one_box_bodies &= obj_a is None
+        self.seq.append(seq)
+        self.shape_a.append(shape_a)
+        self.body_a.append(body_a)
+        self.shape_b.append(shape_b)
+        self.body_b.append(body_b)
+        self.objects.append(None if obj_a is None else (obj_a, obj_b))
+
+    def job(self, k: int, shape_objects: dict) -> tuple[Job, Any, Any]:
+        """Pair ``k`` as a polyhedron job with its two fcl objects (for the fcl path)."""
+        a, c = self.body_a[k], self.body_b[k]
+        obj_a, obj_c = self.objects[k] or (shape_objects[a][0], shape_objects[c][0])
+        return Job(self.seq[k], self.shape_a[k], a, self.shape_b[k], c, []), obj_a, obj_c
+
+
+def _box_group(
+    jobs: BoxPairs, rotation, bodies, contacts: _Contacts, objects: CollisionObjects
+) -> np.ndarray:
     """Analytic contacts of box pairs (:mod:`box_box`: separating axes + clipping); returns
     ``general (g,)`` bool, the pairs left to the general polyhedron path: bodies with
     (nearly) the same center (:func:`coincident`) and overlaps deeper than
@@ -170,21 +212,26 @@ def _box_group(jobs, rotation, bodies, contacts: _Contacts) -> np.ndarray:
 
     Reference: :func:`reference_contacts.pair_contacts` ->
     :func:`reference_box_box.box_box_contacts_reference` (one pair)."""
-    a = np.array([job.body_a for job in jobs], dtype=np.int64)
-    c = np.array([job.body_b for job in jobs], dtype=np.int64)
+    a = np.array(jobs.body_a, dtype=np.int64)
+    c = np.array(jobs.body_b, dtype=np.int64)
     general = coincident_mask(bodies, a, c)
     analytic = np.flatnonzero(~general)
     if len(analytic) == 0:
         return general
     frames = []
-    for shape, index in (("shape_a", a), ("shape_b", c)):
-        r, x = rotation[index[analytic]], bodies.body_position[index[analytic]]
-        offset = np.stack([getattr(jobs[k], shape).body_from_shape for k in analytic.tolist()])
+    chosen = analytic.tolist()
+    for shapes, index in ((jobs.shape_a, a), (jobs.shape_b, c)):
+        body = index[analytic]
+        r, x = rotation[body], bodies.body_position[body]
+        if jobs.one_box_bodies:  # each body's only box, kept by CollisionObjects
+            offset, half = objects.box_offset[body], objects.box_half[body]
+        else:
+            offset = np.array([shapes[k].body_from_shape for k in chosen])  # (g, 4, 4)
+            half = np.array([shapes[k].geometry.side for k in chosen], dtype=np.float64) / 2.0
         center, world = box_shape_frames(r, x, offset)
-        side = [getattr(jobs[k], shape).geometry.side for k in analytic.tolist()]
-        frames += [center, world, np.array(side, dtype=np.float64) / 2.0]
+        frames += [center, world, half]
     pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
-    seq = np.array([jobs[k].seq for k in analytic.tolist()], dtype=np.int64)
+    seq = np.array(jobs.seq, dtype=np.int64)[analytic]
     contacts.add(seq[pair], local, point_a, point_b, normal)
     general[analytic] = deep
     return general
@@ -255,7 +302,7 @@ def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.nda
     """World normals ``(g, S, 3)`` (stage -> body), stage points ``(g, S, 3)`` and ``valid
     (g, S)`` of the manifolds of the stage with ``bodies`` (the stage frame is the world
     frame)."""
-    rows = [store.row((0, body)) for body in bodies]
+    rows = store.rows_of([(0, body) for body in bodies])
     known = np.array([row is not None for row in rows])
     index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
     slots = np.arange(store.normal_local.shape[1])

@@ -62,6 +62,8 @@ def pair_contacts(
             ) is not None:
                 contacts += boxed  # separating axes + clipping, no fcl (narrow_phase._box_group)
             elif shape_a.kind in _POLYHEDRA and shape_c.kind in _POLYHEDRA:
+                if shape_a.kind == shape_c.kind == "box":  # analytic path's fcl objects stay put
+                    objects.move_shapes(bodies, [a, c], rotation)
                 found = fcl_raw_contacts(obj_a, obj_c)
                 if found:
                     # bodies created at one point: fcl's normal is arbitrary, use the

@@ -43,13 +43,15 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
     time[awake & ~slow] = 0.0
     if overlapping is not None:
         time[overlapping] = 0.0
-    a, b = _touching_pairs(manifolds)
     # a dynamic body touching a moving kinematic one is being pushed: it is not resting
     pushing = moving_kinematic_mask(bodies, n)
-    time[a[dynamic[a] & pushing[b]]] = 0.0
-    time[b[dynamic[b] & pushing[a]]] = 0.0
+    if pushing.any():
+        a, b = _touching_pairs(manifolds)
+        time[a[dynamic[a] & pushing[b]]] = 0.0
+        time[b[dynamic[b] & pushing[a]]] = 0.0
     if not (awake & (time >= settings.TIME_TO_SLEEP)).any() and awake.sum() == dynamic.sum():
         return  # no body rested long enough and none sleeps: the islands change nothing
+    a, b = _touching_pairs(manifolds)
     joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
     labels = _island_labels(n, np.stack([a[joined], b[joined]], axis=1))
     island_rest = np.full(n, np.inf)

@@ -114,6 +114,13 @@ class VelocityControl:
         else:
             object.__setattr__(self, name, value)
 
+    @property
+    def is_active(self) -> bool:
+        """True when it controls the linear or the angular velocity (one look-up per step
+        and object instead of two attribute fall-backs)."""
+        flags = self._flags
+        return flags["controlling_lin_vel"] or flags["controlling_ang_vel"]
+
     def world_velocities(self, rotation_xyzw: np.ndarray) -> tuple[np.ndarray | None, ...]:
         """Controlled world-frame ``(linear, angular)`` velocities (None when not controlled)."""
         rotation = mn.quaternion_to_matrix(rotation_xyzw)

@@ -397,22 +397,17 @@ class PhysicsWorld:
 
         b = self.bodies
         new_poses = {}
-        for index, control in self.velocity_controls.items():
-            if (
-                b.body_alive[index]
-                and b.body_motion_type[index] == KINEMATIC
-                and (control.controlling_lin_vel or control.controlling_ang_vel)
-            ):
+        active = [(index, c) for index, c in self.velocity_controls.items() if c.is_active]
+        for index, control in active:
+            if b.body_alive[index] and b.body_motion_type[index] == KINEMATIC:
                 state = RigidState(
                     mn.Quaternion.from_xyzw(b.body_rotation[index]), b.body_position[index]
                 )
                 new_poses[index] = control.integrate_transform(dt, state)
         b.body_solver_velocity[:] = 0.0
         b.body_solver_angular_velocity[:] = 0.0
-        for index, control in self.velocity_controls.items():
+        for index, control in active:
             if not b.body_alive[index]:
-                continue
-            if not (control.controlling_lin_vel or control.controlling_ang_vel):
                 continue
             motion = b.body_motion_type[index]
             linear, angular = control.world_velocities(b.body_rotation[index])

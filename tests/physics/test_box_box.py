@@ -184,3 +184,32 @@ def test_gaps_within_the_speculative_distance_give_speculative_points_only():
         [0, 0, 0], eye, half, [0, 0.2 + 2 * settings.SPECULATIVE_DISTANCE, 0], eye, half
     )
     assert len(depth) == 0
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_deep_box_pair_asks_fcl_at_the_current_poses(vectorized):
+    """Box pairs do not move their fcl objects (analytic contacts); a pair left to fcl (deeper
+    than BOX_DEEP_OVERLAP) moves them first, so its contacts follow the bodies' poses even
+    when the fcl objects were last placed far away."""
+    from engine.physics.collision_stage import collision_stage
+
+    from .helpers import add, make_world, register_primitive
+
+    world, templates = make_world(floor=False, gravity=(0.0, 0.0, 0.0))
+    world.settings.use_vectorized = vectorized
+    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
+    box_a = add(world, templates, handle, [0.0, 0.0, 0.0])
+    box_b = add(world, templates, handle, [5.0, 0.0, 0.0])  # fcl objects placed here
+    b, overlap = world.bodies, 0.05
+    b.body_position[box_b.object_id] = [0.2 - overlap, 0.0, 0.0]  # no fcl update
+    assert overlap > settings.BOX_DEEP_OVERLAP
+    collision_stage(b, world.collision_objects, world.manifolds, world.settings)
+    row = world.manifolds.row((box_a.object_id, box_b.object_id))
+    assert row is not None and world.manifolds.count[row] > 0
+    point_a, point_b, normal = world.manifolds.world_points(
+        np.array([row]), quat_to_matrix(b.body_rotation[: b.count]), b.body_position[: b.count]
+    )
+    used = world.manifolds.count[row]
+    depth = ((point_a - point_b) * normal).sum(axis=2)[0, :used]
+    np.testing.assert_allclose(np.abs(normal[0, :used, 0]), 1.0, atol=1e-9)
+    np.testing.assert_allclose(depth, overlap, atol=1e-9)
