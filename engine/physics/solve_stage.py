@@ -172,7 +172,7 @@ def _solve_batched(
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
     rotation = live_rotations(b)
-    points_a, points_b, normals = store.world_points(rows, rotation, b.body_position[:n])
+    points_a, points_b, normals = world_points(store, rows, rotation, b.body_position[:n])
     empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
     normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
@@ -212,6 +212,18 @@ def _solve_batched(
     impact = batch.approach_speed < -IMPACT_SPEED
     store.impulse[rows] = np.where(impact[..., None], 0.0, batch.impulse)  # 0 in empty slots
     return pseudo, batch.depth, loads
+
+
+def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position):
+    """World anchors of A and B and world normals ``(m, S, 3)`` of the store's ``rows``
+    (``ManifoldStore.world_points``) as stacked matmuls ``p = local R^T + x``, several
+    times faster than its einsum on a thousand rows; ``rotation (n, 3, 3)``, ``position
+    (n, 3)``."""
+    a, b = store.bodies[rows, 0], store.bodies[rows, 1]
+    turn_a, turn_b = np.swapaxes(rotation[a], 1, 2), np.swapaxes(rotation[b], 1, 2)
+    point_a = store.local_a[rows] @ turn_a + position[a][:, None]
+    point_b = store.local_b[rows] @ turn_b + position[b][:, None]
+    return point_a, point_b, store.normal_local[rows] @ turn_a
 
 
 def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -> np.ndarray:

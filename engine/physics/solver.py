@@ -23,9 +23,13 @@ Jacobians and effective masses, one point at a time); tests check both agree to 
 (the sums run in a different order). Each batched function names the reference it mirrors.
 
 The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the inner loop
-is kept to few calls: each color's :class:`RowBlock` views are made once per batch, body
-velocities are gathered with one flat index, and the normal clamp is written as
-``d_lambda = max(d_lambda, -lambda)``, the same as clamping ``lambda + d_lambda >= 0``.
+is kept to few calls: each color's :class:`RowBlock` views are made once per batch, the
+effective masses are folded into the Jacobians (``-m_eff J``: one matmul gives
+``d_lambda``), body velocities are gathered with one flat index, and the normal clamp
+keeps the negated impulse ``-lambda``: ``d_lambda = max(d_lambda, -lambda)``, the same as
+clamping ``lambda + d_lambda >= 0``. About 21 calls per color and sweep, 13 us at the
+least (four stacked matmuls cost ~50 ns per manifold each): the solve's floor is colors x
+iterations, not the array sizes (README, issue 13, round 3).
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
 pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
@@ -52,7 +56,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .quaternions import cross
 from .settings import (
     DEEP_OVERLAP,
     MAX_CORRECTION_SPEED,
@@ -120,20 +123,22 @@ class RowBlock:
     ``normal_index = (manifolds, slots)`` slices the ``(m, S, ...)`` arrays,
     ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
     are views (or small copies) made once per batch, not per iteration, so the inner loop
-    only does algebra. Shapes: ``normal_jac (k, r, 12)``, ``normal_w (k, 12, r)``,
-    ``neg_normal_mass (k, r, 1)`` (``-m_eff``), ``friction (k, 1, 1)``, ``tangent_jac (k, 2r, 12)``,
-    ``tangent_w (k, 12, 2r)``, ``neg_tangent_mass (k, 2r, 1)``.
+    only does algebra. The effective masses are folded into the Jacobians: one matmul gives
+    a row's unclamped ``d_lambda = -m_eff J V``. Shapes: ``scaled_normal_jac (k, r, 12)``
+    (``-m_eff J``), ``normal_jac`` (``J``, for the one restitution pass), ``normal_w (k, 12,
+    r)``, ``neg_normal_mass (k, r, 1)`` (``-m_eff``), ``neg_friction (k, 1, 1)`` (``-mu``),
+    ``scaled_tangent_jac (k, 2r, 12)``, ``tangent_w (k, 12, 2r)``.
     """
 
     normal_index: tuple[slice, slice]
     tangent_index: tuple[slice, slice]
+    scaled_normal_jac: np.ndarray
     normal_jac: np.ndarray
     normal_w: np.ndarray
     neg_normal_mass: np.ndarray
-    friction: np.ndarray
-    tangent_jac: np.ndarray
+    neg_friction: np.ndarray
+    scaled_tangent_jac: np.ndarray
     tangent_w: np.ndarray
-    neg_tangent_mass: np.ndarray
 
 
 @dataclass
@@ -151,17 +156,25 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     axis = np.zeros_like(normal)
     axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
-    t1 = cross(normal, axis)
+    t1 = cross3(normal, axis)
     t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), TINY)
-    return t1, cross(normal, t1)
+    return t1, cross3(normal, t1)
+
+
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of ``(..., 3)`` arrays from their component slices: nine large NumPy
+    calls (on thousands of rows, several times faster than ``quaternions.cross``)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
 def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
-    """Jacobian rows ``(m, S, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, S, 3)``."""
-    ra_x_d, rb_x_d = cross(r_a, direction), cross(r_b, direction)
+    """Jacobian rows ``(m, R, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, R, 3)``."""
+    ra_x_d, rb_x_d = cross3(r_a, direction), cross3(r_b, direction)
     jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
-    # (I^-1 x)^T = x^T I^-T for the S rows of each manifold: one stacked matmul
+    # (I^-1 x)^T = x^T I^-T for the R rows of each manifold: one stacked matmul
     w = np.concatenate(
         [
             -direction * inv_mass_a[:, None, None],
@@ -216,12 +229,12 @@ def build_batch(
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
     r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
-    args = (r_a, r_b, inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a], inv_inertia[body_b])
-    normal_jac, normal_w = _rows(normals, *args)
+    args = (inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a], inv_inertia[body_b])
+    normal_jac, normal_w = _rows(normals, r_a, r_b, *args)
     t1, t2 = tangent_basis(normals)
     tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
     r2 = (np.repeat(r_a, 2, axis=1), np.repeat(r_b, 2, axis=1))
-    tangent_jac, tangent_w = _rows(tangents, *r2, *args[2:])
+    tangent_jac, tangent_w = _rows(tangents, *r2, *args)
     depth = ((points_a - points_b) * normals).sum(axis=-1)
     # n_split = touching points (gap < SPLIT_TOUCH_DISTANCE) with mass splitting, else 1
     touching = mask & (depth > -SPLIT_TOUCH_DISTANCE)
@@ -274,42 +287,45 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
 def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
     """The colors of the batch as :class:`ColorBlocks`, made once and cached on the batch.
 
-    Block Jacobi solves all slots of a color at once (one block); Gauss-Seidel over the
-    slots makes one block per used slot, solved in slot order.
+    Block Jacobi solves all slots of a color at once (one block, as many slots as the
+    color's fullest manifold: the slots after it are empty in every manifold of the color);
+    Gauss-Seidel over the slots makes one block per used slot, solved in slot order.
     """
     if block_jacobi not in batch.colors:
+        scaled = (
+            -batch.normal_mass[..., None] * batch.normal_jac,  # -m_n J_n, (m, S, 12)
+            -batch.tangent_mass[..., None] * batch.tangent_jac,  # -m_t J_t, (m, 2S, 12)
+        )
         colors = []
         for color, (start, stop) in enumerate(batch.color_slices):
-            s = slice(start, stop)
-            slots = (
-                [slice(None)]
-                if block_jacobi
-                else [slice(k, k + 1) for k in range(batch.color_points[color])]
-            )
+            s, used = slice(start, stop), batch.color_points[color]
+            slots = [slice(0, used)] if block_jacobi else [slice(k, k + 1) for k in range(used)]
             # flat index of component c of body b: 6 b + c
             gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
             colors.append(
                 ColorBlocks(
-                    gather.reshape(-1, 12, 1), [_row_block(batch, s, rows) for rows in slots]
+                    gather.reshape(-1, 12, 1),
+                    [_row_block(batch, scaled, s, rows) for rows in slots],
                 )
             )
         batch.colors[block_jacobi] = colors
     return batch.colors[block_jacobi]
 
 
-def _row_block(batch: ContactBatch, s: slice, rows: slice) -> RowBlock:
-    """Views of the manifolds ``s``, point slots ``rows`` and their tangent rows."""
-    t_rows = rows if rows == slice(None) else slice(2 * rows.start, 2 * rows.stop)
+def _row_block(batch: ContactBatch, scaled, s: slice, rows: slice) -> RowBlock:
+    """Views of the manifolds ``s``, point slots ``rows`` and their tangent rows;
+    ``scaled`` holds the batch's ``-m_eff J`` of the normal and of the tangent rows."""
+    t_rows = slice(2 * rows.start, 2 * rows.stop)
     return RowBlock(
         (s, rows),
         (s, t_rows),
+        scaled[0][s, rows],
         batch.normal_jac[s, rows],
         batch.normal_w[s, :, rows],
         -batch.normal_mass[s, rows][..., None],
-        batch.friction[s][:, :, None],
-        batch.tangent_jac[s, t_rows],
+        -batch.friction[s][:, :, None],
+        scaled[1][s, t_rows],
         batch.tangent_w[s, :, t_rows],
-        -batch.tangent_mass[s, t_rows][..., None],
     )
 
 
@@ -326,32 +342,36 @@ def _scatter(flat_velocity, color, vab):
     flat_velocity[color.gather] = vab
 
 
-def _normal_rows(block, vab, bias, lam, accumulate):
-    """One normal-impulse update of a block; updates ``vab (k, 12, 1)`` and ``lam`` in place."""
-    vn = block.normal_jac @ vab  # v_n = J V, (k, r, 1)
-    step = block.neg_normal_mass * (vn + bias)  # d_lambda = -m_eff (J V + b)
-    if accumulate:
-        step = np.maximum(step, -lam)  # clamp: the accumulated lam + d_lambda stays >= 0
-    else:
-        step = np.maximum(step, 0.0)  # clamp each increment (box2d-lite's toggle)
-    lam += step
+def _normal_rows(block, vab, neg_bias, neg_lam, accumulate):
+    """One normal-impulse update of a block; updates ``vab (k, 12, 1)`` and the negated
+    accumulated impulses ``neg_lam (k, r, 1)`` in place; ``neg_bias`` is ``-m_eff b``."""
+    step = block.scaled_normal_jac @ vab  # -m_eff J V, (k, r, 1)
+    step += neg_bias  # d_lambda = -m_eff (J V + b)
+    # clamp: the accumulated lam + d_lambda stays >= 0 (or each increment: box2d-lite)
+    np.maximum(step, neg_lam if accumulate else 0.0, out=step)
+    neg_lam -= step
     vab += block.normal_w @ step  # V += W d_lambda
 
 
-def _friction_rows(block, vab, lam_n, lam_t, accumulate):
+def _friction_rows(block, vab, neg_lam_n, lam_t, accumulate):
     """Friction update of a block; ``lam_t (k, 2r, 1)`` holds (t1, t2) of each slot.
 
     The 2-D impulse of a slot is clamped to the Coulomb circle ``|lambda_t| <= mu lambda_n``.
     """
-    step = block.neg_tangent_mass * (block.tangent_jac @ vab)  # d_lambda = -m_t J_t V
-    new = lam_t + step if accumulate else step
-    limit = block.friction * lam_n  # mu lambda_n, (k, r, 1)
-    norm = np.hypot(new[:, 0::2], new[:, 1::2])  # |lambda_t| = sqrt(t1^2 + t2^2), (k, r, 1)
-    scale = np.minimum(1.0, limit / np.maximum(norm, TINY))  # back onto the circle
-    new *= scale.repeat(2, axis=1)  # the same scale for t1 and t2
-    step = new - lam_t if accumulate else new
-    lam_t += step
-    vab += block.tangent_w @ step  # V += W_t d_lambda
+    new = block.scaled_tangent_jac @ vab  # d_lambda = -m_t J_t V
+    if accumulate:
+        new += lam_t
+    t1, t2 = new[:, 0::2], new[:, 1::2]  # (k, r, 1) views
+    scale = np.hypot(t1, t2)  # |lambda_t|
+    np.maximum(scale, TINY, out=scale)
+    np.divide(block.neg_friction * neg_lam_n, scale, out=scale)  # mu lambda_n / |lambda_t|
+    np.minimum(scale, 1.0, out=scale)  # back onto the circle: the same scale for t1 and t2
+    t1 *= scale
+    t2 *= scale
+    if accumulate:
+        new -= lam_t  # the increment
+    lam_t += new
+    vab += block.tangent_w @ new  # V += W_t d_lambda
 
 
 def solve_velocities(
@@ -363,12 +383,18 @@ def solve_velocities(
     flat = velocity.reshape(-1)  # (n * 6,), a view when velocity is contiguous
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
     bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
-    lam_n = batch.impulse[..., :1].copy()  # (m, S, 1) normal impulses
-    lam_t = batch.impulse[..., 1:].reshape(len(lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy: t1, t2
+    neg_bias = -batch.normal_mass[..., None] * bias  # -m_eff b
+    neg_lam_n = -batch.impulse[..., :1]  # (m, S, 1) negated normal impulses
+    lam_t = batch.impulse[..., 1:].reshape(len(neg_lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy
     colors = _color_blocks(batch, settings.block_jacobi)
     work = [
         [
-            (block, bias[block.normal_index], lam_n[block.normal_index], lam_t[block.tangent_index])
+            (
+                block,
+                neg_bias[block.normal_index],
+                neg_lam_n[block.normal_index],
+                lam_t[block.tangent_index],
+            )
             for block in color.blocks
         ]
         for color in colors
@@ -381,17 +407,17 @@ def solve_velocities(
                 _normal_rows(block, vab, b, ln, accumulate)
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
-    _restitution(batch, flat, colors, lam_n)
+    _restitution(batch, flat, colors, neg_lam_n)
     stage_rows_last(batch, flat, bias, settings)
-    batch.impulse[..., :1] = lam_n
+    batch.impulse[..., :1] = -neg_lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
 
 
-def _restitution(batch, flat, colors, lam_n):
+def _restitution(batch, flat, colors, neg_lam_n):
     """Bounce pass: target ``v_n = -e v_n0`` on the loaded, fast-approaching points."""
     fast = batch.approach_speed < -RESTITUTION_VELOCITY_THRESHOLD
-    bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
+    bounce = (batch.restitution > 0) & fast & (neg_lam_n[..., 0] < 0)
     if not bounce.any():
         return
     # bias b = e v_n0 where bouncing, NaN marks the other points
@@ -400,18 +426,18 @@ def _restitution(batch, flat, colors, lam_n):
         vab = _gather(flat, color)
         for block in color.blocks:
             index = block.normal_index
-            _restitution_rows(block, vab, target[index], lam_n[index])
+            _restitution_rows(block, vab, target[index], neg_lam_n[index])
         _scatter(flat, color, vab)
 
 
-def _restitution_rows(block, vab, target, lam):
+def _restitution_rows(block, vab, target, neg_lam):
     active = ~np.isnan(target)
     vn = block.normal_jac @ vab
     goal = np.where(active, target, 0.0)
     step = np.where(active, block.neg_normal_mass * (vn + goal), 0.0)
-    new = np.maximum(lam + step, 0.0)
-    step = new - lam
-    lam[...] = new
+    new = np.maximum(step - neg_lam, 0.0)  # the accumulated lam + d_lambda >= 0
+    step = new + neg_lam  # the increment new - lam
+    neg_lam[...] = -new
     vab += block.normal_w @ step
 
 
@@ -436,11 +462,12 @@ def solve_positions(
         iterations = max(iterations, settings.overlap_position_iterations)
     target = np.minimum(beta * excess / h, MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
-    lam = np.zeros_like(bias)
+    neg_bias = batch.normal_mass[..., None] * target[..., None]  # -m_eff b
+    neg_lam = np.zeros_like(bias)  # negated accumulated pseudo impulses
     colors = _color_blocks(batch, settings.block_jacobi)
     work = [
-        [(block, bias[block.normal_index], lam[block.normal_index]) for block in color.blocks]
-        for color in colors
+        [(block, neg_bias[block.normal_index], neg_lam[block.normal_index]) for block in c.blocks]
+        for c in colors
     ]
     for _ in range(iterations):
         for color, blocks in zip(colors, work, strict=True):

@@ -66,11 +66,19 @@ class LumpedRows:
     def of(cls, normal_jac, normal_w, active) -> LumpedRows:
         """``J = mean_i J_i``, ``W = mean_i W_i`` over the ``active (m, S)`` points."""
         count = np.maximum(active.sum(axis=1), 1)[:, None]
-        jac = (normal_jac * active[..., None]).sum(axis=1) / count  # (m, 12)
-        w = (normal_w * active[:, None, :]).sum(axis=2) / count  # (m, 12)
+        chosen = active[:, None, :].astype(np.float64)  # (m, 1, S), 1 for the active points
+        # the sums over the active points as stacked matmuls, then / count
+        jac = (chosen @ normal_jac)[:, 0] / count  # (m, 12)
+        w = (normal_w @ np.swapaxes(chosen, 1, 2))[..., 0] / count  # (m, 12)
+        return cls.with_mobility(jac, w, active.any(axis=1), active / count)
+
+    @classmethod
+    def with_mobility(cls, jac, w, active, weight) -> LumpedRows:
+        """Rows ``jac``, ``w (m, 12)``; ``m_eff = 1 / (J W^T)`` where ``active (m,)`` and
+        ``J W^T > 0``, else 0."""
         k = (jac * w).sum(axis=1)  # J W^T
-        neg_mass = np.where(active.any(axis=1) & (k > 0), -1.0 / np.maximum(k, TINY), 0.0)
-        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], active / count)
+        neg_mass = np.where(active & (k > 0), -1.0 / np.maximum(k, TINY), 0.0)
+        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], weight)
 
     def with_bias(self, bias: np.ndarray) -> LumpedRows:
         """The rows with the mean of their points' biases ``bias (m, S, 1)``."""
@@ -87,10 +95,15 @@ def lumped_rows(batch: ContactBatch, bias: np.ndarray) -> LumpedRows:
     rows can, and it removes a uniform approach in one sweep (mass splitting removes a
     quarter of a box's per sweep).
     """
+    return _lumped(batch).with_bias(bias)
+
+
+def _lumped(batch: ContactBatch) -> LumpedRows:
+    """The lumped rows without bias, made once per batch and cached."""
     if "lumped" not in batch.colors:
         active = batch.mask & (batch.normal_mass > 0)
         batch.colors["lumped"] = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
-    return batch.colors["lumped"].with_bias(bias)
+    return batch.colors["lumped"]
 
 
 def shock_rows(batch: ContactBatch) -> LumpedRows | None:
@@ -102,10 +115,14 @@ def shock_rows(batch: ContactBatch) -> LumpedRows | None:
         shock = None
         lower = batch.lower
         if lower is not None and bool(np.any(lower)):
-            # W' = W with the lower body's 6 rows zeroed, (m, 12, S)
-            keep = np.repeat(~lower, 6, axis=1).astype(np.float64)
-            active = batch.mask & (batch.normal_mass > 0) & np.any(lower, axis=1)[:, None]
-            shock = LumpedRows.of(batch.normal_jac, batch.normal_w * keep[:, :, None], active)
+            # mean_i (W_i with the lower body's 6 entries zeroed) = (mean_i W_i) zeroed there
+            lumped = _lumped(batch)
+            keep = np.repeat(~lower, 6, axis=1)  # (m, 12)
+            points = (batch.mask & (batch.normal_mass > 0)).any(axis=1)
+            active = np.any(lower, axis=1) & points
+            shock = LumpedRows.with_mobility(
+                lumped.jac[:, 0], lumped.w[:, :, 0] * keep, active, lumped.weight
+            )
         batch.colors["shock"] = shock
     return batch.colors["shock"]
 

@@ -176,3 +176,29 @@ def test_overlap_recovery_pushes_out_without_launching():
     assert abs(heights[-1] - 0.1) < 5e-3  # back on the floor
     assert max(heights) < 0.1 + 5e-3  # split impulses: no launch above the floor
     assert max(speeds) < 0.5  # the stored velocity never gets the correction push
+
+
+def test_cube_landing_from_a_tumbling_fall_slides_to_rest_at_mu_g():
+    # The moving 100-cube column still has one cube sliding at 0.6 m/s after 3 s (sleeping
+    # off): a cube that fell off the pile late (landing at ~2.6 s, ~5 m/s) and slides on
+    # the floor. Physical, not a solver artefact, if a landed cube decelerates at Coulomb's
+    # mu g (mu = 0.4 floor x 0.5 cube) and stops: measured here without damping.
+    world, templates = make_world()
+    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1), **NO_DAMPING)
+    box = add(world, templates, handle, [0.0, 1.2, 0.0])
+    box.rotation = mn.Quaternion.rotation(mn.Deg(35.0), [1.0, 0.0, 1.0])
+    box.linear_velocity = [1.5, -4.0, 1.0]  # lands on an edge at ~6 m/s, tumbles, slides
+
+    def horizontal_speed() -> float:
+        v = np.asarray(box.linear_velocity)
+        return float(np.hypot(v[0], v[2]))
+
+    run(world, 0.45)  # landed, flat on the floor (y = half size), still sliding fast
+    assert abs(box.translation[1] - 0.1) < 2e-3 and horizontal_speed() > 1.0
+    v0, t0 = horizontal_speed(), world.get_world_time()
+    run(world, 0.4)
+    v1, t1 = horizontal_speed(), world.get_world_time()
+    mu = 0.4 * 0.5  # pair friction = product of the two coefficients
+    np.testing.assert_allclose((v0 - v1) / (t1 - t0), mu * G, rtol=0.03)
+    run(world, v1 / (mu * G) + 0.1)  # it stops where Coulomb says, and stays stopped
+    assert horizontal_speed() < 1e-3
