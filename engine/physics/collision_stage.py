@@ -202,7 +202,8 @@ def move_fcl_users(
     A box pair that the analytic path hands to fcl after all (coincident or deep) moves its
     two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
     box_only = objects.box_only
-    users, near_stage = set(), set()
+    users: set[int] = set()
+    near_stage: set[int] = set()
     for a, c in pairs:
         if a == STAGE_ID:
             near_stage.add(c)
