@@ -288,19 +288,14 @@ class SceneRenderer:
             jobs.append((state, mode, members, camera, pose, signature))
             self.last_modes[name] = mode
         parts_of_groups = self._render_jobs(jobs)
-        sources: dict[str, list[tuple[np.ndarray, int]]] = {}  # uuid -> its buffer's parts
+        observations: dict[str, np.ndarray] = {}
         for (state, _, members, *_), parts in zip(jobs, parts_of_groups, strict=True):
             name = tuple(sensor.uuid for sensor in members)
             self.last_places[name] = "worker" if state.remote else "here"
             if len(parts) > 1:
                 self.last_places[name] = "shared"
             for sensor in members:
-                kind = _BUFFER_OF.get(sensor.spec.sensor_type, "ids")
-                sources[sensor.uuid] = [(getattr(frame, kind), first) for frame, first in parts]
-        fresh = _fresh_arrays([buffer_parts[0][0] for buffer_parts in sources.values()])
-        for buffer_parts, out in zip(sources.values(), fresh, strict=True):
-            _copy_parts(buffer_parts, out)
-        observations = dict(zip(sources, fresh, strict=True))
+                observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, parts)
         return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
 
     def _wants_worker(self, index: int, n_groups: int, resolution: tuple[int, int]) -> bool:
@@ -514,40 +509,14 @@ def _rows_there(state: _GroupState, mode: str, camera: Camera) -> tuple[int, int
     return None
 
 
-#: the FrameBuffers field each sensor type reads (other types: the semantic ids)
-_BUFFER_OF = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}
-#: offsets of the arrays in one frame's block, a multiple of this many bytes
-_ALIGN = 64
-#: a frame's observations share one block from this many bytes on (NumPy's huge pages)
-_ONE_BLOCK_FROM = 4 << 20
-
-
-def _fresh_arrays(like: list[np.ndarray]) -> list[np.ndarray]:
-    """New arrays shaped like ``like``, all views of one new block of memory.
-
-    A frame's observations are fresh arrays (callers keep them, as the tutorial's
-    observation lists do), i.e. new memory that the OS maps page by page on first write.
-    One block of a few MB gets huge pages from NumPy (it advises them from 4 MiB on) where
-    separate 1.5 MB arrays fault every 4 KiB page: writing a robot frame's three 544 x 720
-    observations took 0.7 instead of 3.7 ms. A block lives while any of its views does, so
-    smaller frames, which would gain nothing, get separate arrays.
-    """
-    offsets, total = [], 0
-    for array in like:
-        offsets.append(total)
-        total += -(-array.nbytes // _ALIGN) * _ALIGN  # rounded up to the alignment
-    if total < _ONE_BLOCK_FROM:
-        return [np.empty_like(array) for array in like]
-    block = np.empty(total, dtype=np.uint8)
-    return [
-        block[offset : offset + array.nbytes].view(array.dtype).reshape(array.shape)
-        for offset, array in zip(offsets, like, strict=True)
-    ]
-
-
-def _copy_parts(parts: list[tuple[np.ndarray, int]], out: np.ndarray) -> None:
-    """Fill ``out`` from a frame's parts ``(buffer, first row)``, each buffer giving its
-    rows up to the next part's first row."""
+def _buffer_for(sensor_type: SensorType, parts: list[tuple[FrameBuffers, int]]) -> np.ndarray:
+    """A fresh copy of the buffer a sensor type reads, from the frame's parts: ``(frame,
+    first row)``, each part up to the next one's first row."""
+    name = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}.get(sensor_type, "ids")
+    if len(parts) == 1:
+        return getattr(parts[0][0], name).copy()
+    out = np.empty_like(getattr(parts[0][0], name))
     ends = [first for _, first in parts[1:]] + [len(out)]
-    for (buffer, first), end in zip(parts, ends, strict=True):
-        out[first:end] = buffer[first:end]
+    for (frame, first), end in zip(parts, ends, strict=True):
+        out[first:end] = getattr(frame, name)[first:end]
+    return out

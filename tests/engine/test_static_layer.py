@@ -201,32 +201,3 @@ def test_full_renders_shared_between_this_process_and_the_worker_match(checked, 
         assert renderer.last_modes[("rgba_camera_3rdperson",)] == "full"
     assert checked.places["shared"] >= 6
     sim.close()
-
-
-@pytest.mark.parametrize("resolution", [(48, 64), (544, 720)])
-def test_observations_are_fresh_arrays_one_block_a_frame_at_full_size(resolution):
-    """Each observation is a new array (later frames never change it); at 544 x 720 the
-    frame's three share one block of memory (huge pages), disjoint and aligned; small
-    frames get separate arrays."""
-    sim = habitat_sim.Simulator(make_configuration(str(demo_data_path()), resolution))
-    place_agent(sim)
-    first = sim.get_sensor_observations()
-    kept = {uuid: array.copy() for uuid, array in first.items()}
-    sim.agents[0].scene_node.translate([0.2, 0.0, 0.0])  # a different frame
-    second = sim.get_sensor_observations()
-    for uuid, array in first.items():
-        assert array.tobytes() == kept[uuid].tobytes(), uuid  # untouched by frame two
-        assert array.flags.c_contiguous and array.flags.aligned
-        assert not np.shares_memory(array, second[uuid])
-    arrays = list(first.values())
-    bases = {id(array.base) if array.base is not None else id(array) for array in arrays}
-    full_size = resolution == (544, 720)
-    assert len(bases) == (1 if full_size else len(arrays))
-    if full_size:  # views at 64-byte offsets of the block
-        block = arrays[0].base
-        assert all((a.ctypes.data - block.ctypes.data) % 64 == 0 for a in arrays)
-    for i, a in enumerate(arrays):
-        assert not any(np.shares_memory(a, b) for b in arrays[i + 1 :])
-    first[next(iter(first))][...] = 0  # writing one leaves the others as they were
-    assert all(first[u].tobytes() == kept[u].tobytes() for u in list(first)[1:])
-    sim.close()
