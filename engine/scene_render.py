@@ -140,6 +140,7 @@ class _GroupState:
     last_signature: tuple | None = None
     split: int = 0  # full renders of a worker's group: rows 0 .. split - 1 render here
     tile: FrameBuffers | None = None  # ... into these buffers
+    tile_rows: int = 0  # this frame's rows rendered here (0: the worker renders all)
 
 
 class SceneRenderer:
@@ -287,15 +288,13 @@ class SceneRenderer:
             pose = np.frombuffer(pose_bytes).reshape(4, 4)
             jobs.append((state, mode, members, camera, pose, signature))
             self.last_modes[name] = mode
-        parts_of_groups = self._render_jobs(jobs)
         observations: dict[str, np.ndarray] = {}
-        for (state, _, members, *_), parts in zip(jobs, parts_of_groups, strict=True):
+        for (state, _, members, *_), arrays in zip(jobs, self._render_jobs(jobs), strict=True):
             name = tuple(sensor.uuid for sensor in members)
             self.last_places[name] = "worker" if state.remote else "here"
-            if len(parts) > 1:
+            if state.remote and state.tile_rows:
                 self.last_places[name] = "shared"
-            for sensor in members:
-                observations[sensor.uuid] = _buffer_for(sensor.spec.sensor_type, parts)
+            observations.update(arrays)
         return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
 
     def _wants_worker(self, index: int, n_groups: int, resolution: tuple[int, int]) -> bool:
@@ -309,12 +308,14 @@ class SceneRenderer:
             and height * width >= self.process_min_pixels
         )
 
-    def _render_jobs(self, jobs: list[tuple]) -> list[list[tuple[FrameBuffers, int]]]:
+    def _render_jobs(self, jobs: list[tuple]) -> list[dict[str, np.ndarray]]:
         """Render every group: the worker's first (it starts at once), then this process's
         (on the thread pool when there are several), then wait for the worker's.
 
-        Returns per group its parts ``(frame, first row)``: one part from row 0, or, for a
-        full render shared with the worker, the top rows from here and the rest from there.
+        Returns per group its members' observations (uuid -> fresh array). What this
+        process rendered is copied out before waiting for the worker, which may still be
+        rendering: the copies overlap its work. A full render shared with the worker gets
+        its top rows from here and the rest from there.
         """
         remote = [job for job in jobs if job[0].remote]
         if remote and self.processes == 0:  # switched off: render them here from now on
@@ -330,10 +331,16 @@ class SceneRenderer:
         assert worker is not None or not remote  # remote jobs exist only with a live worker
         local = [job for job in jobs if not job[0].remote]
         tiles = [job for job in remote if job[1] == "full" and job[0].split > 0]
+        tiled = {id(job[0]) for job in tiles}
+        for job in remote:
+            job[0].tile_rows = job[0].split if id(job[0]) in tiled else 0
         start = time.perf_counter()
+        outputs: dict[int, dict[str, np.ndarray]] = {}
         try:
-            rendered = self._render_all_here(local)
-            rendered_tiles = [self._render_tile(*job) for job in tiles]
+            for job, frame in zip(local, self._render_all_here(local), strict=True):
+                outputs[id(job[0])] = _copy_out(job[2], frame)
+            for job in tiles:  # the top rows now, the worker's rows when they come
+                outputs[id(job[0])] = _copy_out(job[2], self._render_tile(*job), job[0].split)
         except BaseException:
             if remote:  # keep the worker in step: take its reply before raising
                 try:
@@ -342,23 +349,26 @@ class SceneRenderer:
                     pass
             raise
         busy_here = time.perf_counter() - start
-        parts = {id(job[0]): [(frame, 0)] for job, frame in zip(local, rendered, strict=True)}
         if remote:
             try:
                 collected = worker.collect()  # type: ignore[union-attr]
             except WorkerLost as error:
                 self._lose_worker(error, remote)
-                collected, tiles = {}, []
+                collected = {}
                 for job in remote:
-                    parts[id(job[0])] = [(self._render_here(*job), 0)]
+                    job[0].tile_rows = 0
+                    outputs[id(job[0])] = _copy_out(job[2], self._render_here(*job))
             for job in remote:
-                if job[0].key in collected:
-                    parts[id(job[0])] = [(collected[job[0].key], 0)]
-                    job[0].last_signature = job[5]
-            for job, tile in zip(tiles, rendered_tiles, strict=True):
-                parts[id(job[0])] = [(tile, 0), (collected[job[0].key], job[0].split)]
+                if job[0].key not in collected:
+                    continue
+                frame, first = collected[job[0].key], job[0].tile_rows
+                if first:  # below the rows rendered here
+                    _copy_rows(job[2], frame, outputs[id(job[0])], first)
+                else:
+                    outputs[id(job[0])] = _copy_out(job[2], frame)
+                job[0].last_signature = job[5]
             self._balance(remote, collected, busy_here)
-        return [parts[id(job[0])] for job in jobs]
+        return [outputs[id(job[0])] for job in jobs]
 
     def _render_tile(
         self, state: _GroupState, mode: str, members, camera: Camera, pose: np.ndarray, *_
@@ -509,14 +519,30 @@ def _rows_there(state: _GroupState, mode: str, camera: Camera) -> tuple[int, int
     return None
 
 
-def _buffer_for(sensor_type: SensorType, parts: list[tuple[FrameBuffers, int]]) -> np.ndarray:
-    """A fresh copy of the buffer a sensor type reads, from the frame's parts: ``(frame,
-    first row)``, each part up to the next one's first row."""
-    name = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}.get(sensor_type, "ids")
-    if len(parts) == 1:
-        return getattr(parts[0][0], name).copy()
-    out = np.empty_like(getattr(parts[0][0], name))
-    ends = [first for _, first in parts[1:]] + [len(out)]
-    for (frame, first), end in zip(parts, ends, strict=True):
-        out[first:end] = getattr(frame, name)[first:end]
-    return out
+#: the FrameBuffers field each sensor type reads (other types: the semantic ids)
+_BUFFER_OF = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}
+
+
+def _copy_out(
+    members: list[CameraSensor], frame: FrameBuffers, rows: int | None = None
+) -> dict[str, np.ndarray]:
+    """Fresh arrays of the buffers the group's sensors read (uuid -> array), holding the
+    frame's first ``rows`` rows (None: all; the rest are filled by ``_copy_rows``)."""
+    arrays = {}
+    for sensor in members:
+        buffer = getattr(frame, _BUFFER_OF.get(sensor.spec.sensor_type, "ids"))
+        if rows is None:
+            arrays[sensor.uuid] = buffer.copy()
+        else:
+            arrays[sensor.uuid] = np.empty_like(buffer)
+            arrays[sensor.uuid][:rows] = buffer[:rows]
+    return arrays
+
+
+def _copy_rows(
+    members: list[CameraSensor], frame: FrameBuffers, arrays: dict[str, np.ndarray], first: int
+) -> None:
+    """Copy the frame's rows from ``first`` on into the group's arrays (``_copy_out``)."""
+    for sensor in members:
+        buffer = getattr(frame, _BUFFER_OF.get(sensor.spec.sensor_type, "ids"))
+        arrays[sensor.uuid][first:] = buffer[first:]
