@@ -227,6 +227,19 @@ def broad_phase(
     b, n = bodies, bodies.count
     # every live object has shapes; the stage without shapes is not collidable
     candidates = np.nonzero(b.body_alive[:n] & b.body_collidable[:n])[0]
+    update_world_aabbs(bodies, rotation)
+    dynamic = b.body_motion_type[:n] == DYNAMIC
+    active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
+    pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
+    pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
+    pairs = filter_pairs(b, pairs)  # collision groups and masks (collision_groups.py)
+    return pairs, active
+
+
+def update_world_aabbs(bodies: Bodies, rotation: np.ndarray | None = None) -> None:
+    """Write every live body's world AABB (all its shapes, plus ``AABB_MARGIN``; the
+    stage's also covers its speculative contact distance) to ``body_aabb_min/max``."""
+    b, n = bodies, bodies.count
     live = np.flatnonzero(b.body_alive[:n])  # freed slots cost nothing
     lo, hi = world_aabbs(
         b.body_shape_center[live],
@@ -237,15 +250,8 @@ def broad_phase(
     )
     b.body_aabb_min[live] = lo - AABB_MARGIN
     b.body_aabb_max[live] = hi + AABB_MARGIN
-    # the stage also covers the speculative distance of its contacts
     b.body_aabb_min[STAGE_ID] -= STAGE_SPECULATIVE_DISTANCE
     b.body_aabb_max[STAGE_ID] += STAGE_SPECULATIVE_DISTANCE
-    dynamic = b.body_motion_type[:n] == DYNAMIC
-    active = (dynamic & b.body_awake[:n]) | moving_kinematic_mask(b, n)
-    pairs = overlapping_pairs(b.body_aabb_min[:n], b.body_aabb_max[:n], candidates, active)
-    pairs = pairs[dynamic[pairs[:, 0]] | dynamic[pairs[:, 1]]]
-    pairs = filter_pairs(b, pairs)  # collision groups and masks (collision_groups.py)
-    return pairs, active
 
 
 def touching_candidates(

@@ -197,6 +197,10 @@ class ConstraintStore:
         self._settings: dict[int, RigidConstraintSettings] = {}
         self._next_id = 0
 
+    def __len__(self) -> int:
+        """The number of constraints."""
+        return len(self._settings)
+
     # -- API ---------------------------------------------------------------------------------
     def create(self, world: PhysicsWorld, settings: RigidConstraintSettings) -> int:
         """A new constraint's id, or -1 with a warning when its bodies are not live objects

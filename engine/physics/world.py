@@ -67,7 +67,7 @@ from engine import mn
 from . import queries
 from .bodies import DYNAMIC, KINEMATIC, STAGE_ID, STATIC, Bodies
 from .collision_groups import assign_group
-from .collision_stage import CollisionObjects, collision_stage
+from .collision_stage import CollisionObjects, collision_stage, update_world_aabbs
 from .constraints import ConstraintStore
 from .contacts import ManifoldStore
 from .integrate import (
@@ -329,6 +329,10 @@ class PhysicsWorld:
         Every stage is a function of explicit arguments; ``timed`` only adds up wall time.
         """
         bodies, store, settings, timed = self.bodies, self.manifolds, self.settings, self.timer.run
+        if self._nothing_to_simulate():
+            update_world_aabbs(bodies)  # the broad phase's only effect without dynamic bodies
+            self.n_overlapping_pairs = 0  # (its pairs need a dynamic body)
+            return
         self.constraints.wake_bodies(bodies)  # constrained bodies never sleep
         # ---- 1. forces: v += h (g + F/m), w += h I^-1 tau, damping -------------------------
         moving = awake_dynamic_bodies(bodies)  # (k,) body indices
@@ -347,6 +351,15 @@ class PhysicsWorld:
         timed("integrate", integrate_stage, bodies, moving, solved.pseudo_velocity, h)
         # ---- 5. sleep: resting islands fall asleep, disturbed ones wake --------------------
         timed("sleep", update_sleep, bodies, store, h, solved.overlapping_bodies)
+
+    def _nothing_to_simulate(self) -> bool:
+        """No live DYNAMIC body, no contact manifold and no constraint: every stage of a step
+        would find nothing to move or touch (pairs need a dynamic body; KINEMATIC and STATIC
+        bodies move only by the user or their velocity control, outside ``_step``), so the
+        step is skipped: a robot driven over the navmesh costs no collision pass."""
+        n = self.bodies.count
+        dynamic = self.bodies.body_alive[:n] & (self.bodies.body_motion_type[:n] == DYNAMIC)
+        return not dynamic.any() and len(self.manifolds) == 0 and len(self.constraints) == 0
 
     # ------------------------------------------------------------------------------------
     # queries (Habitat's world API): the functions of queries.py on the world's parts
