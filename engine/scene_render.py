@@ -72,6 +72,8 @@ from render.shade import Lights
 from render.views import LayeredView, SplitScene
 from render.worker import RenderProcess, WorkerLost
 
+#: seconds of waiting for the worker's reply beyond which the worker was the later one
+WAITED_FOR_THE_WORKER = 0.0003
 #: stages of ``render_frame`` (its ``timings``) whose cost does not depend on the rows drawn
 PER_FRAME_STAGES = ("transform", "cull", "assemble + clip", "setup", "shade setup")
 
@@ -350,11 +352,13 @@ class SceneRenderer:
             raise
         busy_here = time.perf_counter() - start
         if remote:
+            asked = time.perf_counter()
             try:
                 collected = worker.collect()  # type: ignore[union-attr]
+                waited = time.perf_counter() - asked
             except WorkerLost as error:
                 self._lose_worker(error, remote)
-                collected = {}
+                collected, waited = {}, 0.0
                 for job in remote:
                     job[0].tile_rows = 0
                     outputs[id(job[0])] = _copy_out(job[2], self._render_here(*job))
@@ -367,7 +371,7 @@ class SceneRenderer:
                 else:
                     outputs[id(job[0])] = _copy_out(job[2], frame)
                 job[0].last_signature = job[5]
-            self._balance(remote, collected, busy_here)
+            self._balance(remote, collected, busy_here, waited)
         return [outputs[id(job[0])] for job in jobs]
 
     def _render_tile(
@@ -379,11 +383,15 @@ class SceneRenderer:
         )
         return state.tile
 
-    def _balance(self, remote: list[tuple], collected: dict, busy_here: float) -> None:
+    def _balance(
+        self, remote: list[tuple], collected: dict, busy_here: float, waited: float = 0.0
+    ) -> None:
         """Move the split row of the worker's first full render so that both processes
         finish together: each band of rows moved from there to here shifts about twice
         its time (rasterizing and shading are per row; the per-frame stages, vertex
-        transform to shading setup, are paid by both)."""
+        transform to shading setup, are paid by both). When this process ``waited`` for
+        the worker, that wait is the worker's lateness (its messages and copies included);
+        otherwise the worker's stage times estimate how early it was."""
         full = [job for job in remote if job[1] == "full" and job[0].key in collected]
         if not full or not self.share_full_renders:
             return
@@ -397,6 +405,8 @@ class SceneRenderer:
         per_frame = sum(timings.get(stage, 0.0) for stage in PER_FRAME_STAGES) / 1e3
         per_row = (busy_there - per_frame) / rows_there
         surplus = busy_there - busy_here - (per_frame if state.split == 0 else 0.0)
+        if waited > WAITED_FOR_THE_WORKER:
+            surplus = waited
         if per_row <= 0.0:
             return
         move = 0.5 * surplus / (2.0 * per_row)  # damped: times are noisy
