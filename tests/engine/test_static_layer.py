@@ -184,7 +184,7 @@ def test_full_renders_shared_between_this_process_and_the_worker_match(checked, 
     monkeypatch.setattr(render.frame, "SHADE_BAND_PIXELS", 64 * 8)  # bands of 8 rows
     splits = iter([8, 16, 40, 0, 24, 8, 32, 16])
 
-    def next_split(self, remote, collected, busy_here):  # any split gives the same frame
+    def next_split(self, remote, collected, busy_here, waited=0.0):  # any split: same frame
         for job in remote:
             job[0].split = next(splits, 8)
 
