@@ -143,6 +143,7 @@ class _GroupState:
     split: int = 0  # full renders of a worker's group: rows 0 .. split - 1 render here
     tile: FrameBuffers | None = None  # ... into these buffers
     tile_rows: int = 0  # this frame's rows rendered here (0: the worker renders all)
+    ids: bool = True  # a sensor of the group reads the semantic ids
 
 
 class SceneRenderer:
@@ -283,7 +284,8 @@ class SceneRenderer:
             state = self._groups.get(tuple(map(id, members)))
             if state is None:
                 state = self._groups[tuple(map(id, members))] = _GroupState(
-                    remote=self._wants_worker(index, len(groups), camera_key[0])
+                    remote=self._wants_worker(index, len(groups), camera_key[0]),
+                    ids=any(_buffer_name(sensor) == "ids" for sensor in members),
                 )
             mode = self._choose_mode(state, signature)
             camera = self._camera(members[0])
@@ -379,7 +381,7 @@ class SceneRenderer:
     ) -> FrameBuffers:
         """The top ``state.split`` rows of a full render the worker shares."""
         state.tile = render_frame(
-            self._scene.full(), camera, pose, state.tile, True, rows=(0, state.split)
+            self._scene.full(), camera, pose, state.tile, True, (0, state.split), state.ids
         )
         return state.tile
 
@@ -440,7 +442,7 @@ class SceneRenderer:
             self._scene.static.world_from_mesh,
             self._scene.moving.world_from_mesh,
             [
-                (state.key, mode, camera, pose, _rows_there(state, mode, camera))
+                (state.key, mode, camera, pose, _rows_there(state, mode, camera), state.ids)
                 for state, mode, _, camera, pose, _ in remote
             ],
         )
@@ -504,7 +506,7 @@ class SceneRenderer:
             mode = "full"
         if mode == "full":
             self._scene.full()
-        frame = state.view.render(mode, self._scene, camera, pose)
+        frame = state.view.render(mode, self._scene, camera, pose, ids=state.ids)
         state.has_layer = state.view.layer is not None
         state.last_signature = signature
         return frame
@@ -533,6 +535,11 @@ def _rows_there(state: _GroupState, mode: str, camera: Camera) -> tuple[int, int
 _BUFFER_OF = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}
 
 
+def _buffer_name(sensor: CameraSensor) -> str:
+    """The FrameBuffers field the sensor reads: rgba, depth or ids."""
+    return _BUFFER_OF.get(sensor.spec.sensor_type, "ids")
+
+
 def _copy_out(
     members: list[CameraSensor], frame: FrameBuffers, rows: int | None = None
 ) -> dict[str, np.ndarray]:
@@ -540,7 +547,7 @@ def _copy_out(
     frame's first ``rows`` rows (None: all; the rest are filled by ``_copy_rows``)."""
     arrays = {}
     for sensor in members:
-        buffer = getattr(frame, _BUFFER_OF.get(sensor.spec.sensor_type, "ids"))
+        buffer = getattr(frame, _buffer_name(sensor))
         if rows is None:
             arrays[sensor.uuid] = buffer.copy()
         else:
@@ -554,5 +561,5 @@ def _copy_rows(
 ) -> None:
     """Copy the frame's rows from ``first`` on into the group's arrays (``_copy_out``)."""
     for sensor in members:
-        buffer = getattr(frame, _BUFFER_OF.get(sensor.spec.sensor_type, "ids"))
+        buffer = getattr(frame, _buffer_name(sensor))
         arrays[sensor.uuid][first:] = buffer[first:]

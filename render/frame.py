@@ -102,6 +102,7 @@ def render_frame(
     buffers: FrameBuffers | None = None,
     cull_back_faces: bool = False,
     rows: tuple[int, int] | None = None,
+    ids: bool = True,
 ) -> FrameBuffers:
     """Render color, depth and semantic ids of ``meshes`` seen by ``camera``.
 
@@ -117,6 +118,8 @@ def render_frame(
         of the buffers untouched. Every row is rasterized on its own (its spans and depth
         tests depend on no other row), so these rows get exactly the pixels of a whole
         frame: two processes can each render a part of one frame.
+    ids : also write the semantic ids (False: ``ids`` keeps what it held; for cameras
+        without a semantic sensor, one gather and one write a pixel fewer).
 
     Returns
     -------
@@ -146,7 +149,7 @@ def render_frame(
         if len(used) > REFINE_USED_ABOVE:  # many small triangles: only the pixel winners
             used = raster.winning_triangles(zkey_drawn, len(tri_index))
     shading = _ShadingInputs.build(
-        scene, camera, camera_from_world, vertices_camera, tri_index, used
+        scene, camera, camera_from_world, vertices_camera, tri_index, used, ids
     )
     clock.lap("shade setup")
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
@@ -393,7 +396,7 @@ class _ShadingInputs:
 
     tri_index: np.ndarray
     materials: MaterialTable  # of the candidates: row k is candidate k (tri_index[k])
-    semantic: np.ndarray  # (K,) semantic id of each candidate
+    semantic: np.ndarray | None  # (K,) semantic id of each candidate (None: no ids written)
     uv_planes: raster.AttributePlanes | None
     color_planes: raster.AttributePlanes | None
     tri_light: np.ndarray | None
@@ -401,7 +404,7 @@ class _ShadingInputs:
     is_smooth: np.ndarray | None
 
     @classmethod
-    def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used):
+    def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used, ids=True):
         """For the candidates ``used`` (indices into the K candidates ``tri_index``; all of
         them, or those that can own pixels): attribute planes and light factors."""
         materials = scene.materials
@@ -444,7 +447,7 @@ class _ShadingInputs:
         return cls(
             tri_index,
             materials.of_triangles(tri_index),
-            scene.tri_semantic[tri_index],
+            scene.tri_semantic[tri_index] if ids else None,
             interpolator(materials.uvs),
             interpolator(materials.vertex_colors),
             tri_light,
@@ -476,7 +479,9 @@ def _write_band(
     depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
     n_covered = len(visible.pixel)
     if n_covered < band.stop - band.start:  # background first where nothing is drawn
-        rgba_packed[band], depth_flat[band], ids_flat[band] = _BACKGROUND_PACKED, 0.0, 0
+        rgba_packed[band], depth_flat[band] = _BACKGROUND_PACKED, 0.0
+        if shading.semantic is not None:
+            ids_flat[band] = 0
         if n_covered == 0:
             return
     where = band if n_covered == band.stop - band.start else visible.pixel  # slice: no scatter
@@ -499,9 +504,10 @@ def _write_pixels(
     packed = shade_pixels(
         shading.materials, visible, candidate, shading.uv_planes, shading.color_planes, light
     )
-    ids = shading.semantic[candidate]
     where = visible.pixel if where is None else where
-    rgba_packed[where], depth_flat[where], ids_flat[where] = packed, visible.depth, ids
+    rgba_packed[where], depth_flat[where] = packed, visible.depth
+    if shading.semantic is not None:
+        ids_flat[where] = shading.semantic[candidate]
 
 
 class _StageClock:

@@ -95,9 +95,11 @@ class LayeredView:
         camera: Camera,
         world_from_camera: np.ndarray,
         rows: tuple[int, int] | None = None,
+        ids: bool = True,
     ) -> FrameBuffers:
         """Render the view as ``mode`` says; returns its (reused) buffers. ``rows``: only
-        these image rows of a full render (``render_frame``'s ``rows``)."""
+        these image rows of a full render (``render_frame``'s ``rows``); ``ids``: False
+        when no sensor reads the semantic ids (full renders then skip them)."""
         if mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
         if mode == "layer" and self.layer is None:
@@ -108,7 +110,13 @@ class LayeredView:
         if mode == "full":
             self.layer = None  # stale: free its memory
             frame = render_frame(
-                scene.full(), camera, world_from_camera, buffers, cull_back_faces=True, rows=rows
+                scene.full(),
+                camera,
+                world_from_camera,
+                buffers,
+                cull_back_faces=True,
+                rows=rows,
+                ids=ids,
             )
         else:
             if mode == "new layer":

@@ -192,6 +192,7 @@ class _Worker:
         camera: Camera,
         pose: np.ndarray,
         rows: tuple[int, int] | None,
+        ids: bool = True,
     ) -> tuple[int, dict, int]:
         view = self.views.get(key)
         if view is None or self.blocks[key].name != block_name:
@@ -201,7 +202,7 @@ class _Worker:
             view = self.views[key] = LayeredView()
             view.out = _frame_on_block(block.buf, camera.resolution)
             view.out.zkey = np.empty(camera.height * camera.width, np.uint64)
-        frame = view.render(mode, self.scene, camera, pose, rows)
+        frame = view.render(mode, self.scene, camera, pose, rows, ids)
         return key, frame.timings, frame.n_fragments
 
 
@@ -375,8 +376,8 @@ class RenderProcess:
     ) -> None:
         """Start rendering ``jobs``: ``(view key, mode, camera, world_from_camera)`` each,
         optionally with a fifth item ``rows`` (a full render's rows to shade, as
-        ``render_frame``'s), with the meshes at these poses. ``collect`` waits for the
-        frames."""
+        ``render_frame``'s) and a sixth ``ids`` (False: no sensor reads the semantic ids),
+        with the meshes at these poses. ``collect`` waits for the frames."""
         if self._pending is not None:
             raise RuntimeError("collect the previous frames before submitting new ones")
         settings = current_settings()
@@ -384,10 +385,12 @@ class RenderProcess:
             self._send(("settings", _settings_payload()))
             self._settings = settings
         message = []
-        for key, mode, camera, pose, *rows in jobs:
+        for key, mode, camera, pose, *options in jobs:
             block = self._block(key, camera.resolution)
             pose = np.asarray(pose, np.float64)
-            message.append((key, block.name, mode, camera, pose, rows[0] if rows else None))
+            rows = options[0] if options else None
+            ids = options[1] if len(options) > 1 else True
+            message.append((key, block.name, mode, camera, pose, rows, ids))
         self._send(("frame", static_poses, moving_poses, message))
         self._pending = [job[0] for job in jobs]
 

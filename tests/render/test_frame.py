@@ -355,3 +355,18 @@ def test_rows_of_a_frame_match_the_whole_frame_over_stale_buffers(monkeypatch, r
         for name, value in expected.items():
             np.testing.assert_array_equal(getattr(part, name)[first:end], value[first:end])
         assert 0 < part.n_fragments < whole.n_fragments
+
+
+def test_ids_false_skips_the_semantic_ids_and_changes_nothing_else():
+    camera = Camera((H, W), hfov=60.0)
+    scene = RenderScene([grid_mesh(6, -3.0, 7), grid_mesh(5, -4.0, 9)])
+    pose = np.eye(4)
+    pose[:3, 3] = [0.5, 0.4, 0.0]  # part of the view is background
+    with_ids = render_frame(scene, camera, pose)
+    buffers = render_frame(scene, camera, pose)
+    buffers.ids[...] = 12345  # anything: it must stay as it is
+    without = render_frame(scene, camera, pose, buffers, ids=False)
+    np.testing.assert_array_equal(without.rgba, with_ids.rgba)
+    np.testing.assert_array_equal(without.depth, with_ids.depth)
+    assert np.all(without.ids == 12345)
+    assert set(np.unique(with_ids.ids).tolist()) == {0, 7}  # the grid in front, background
