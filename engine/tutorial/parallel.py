@@ -38,21 +38,13 @@ from engine.tutorial.context import SectionResult
 # Sections recorded together by one worker. A group replays (physics only) every section
 # before its first one, so groups that start late pay for it: the navmesh pair replays the
 # whole tutorial before it, and the first eight sections are cheapest in one group that
-# replays nothing. The two groups cost about the same (about 41 and 43 CPU s at 544 x 720
-# on this project's machine; as four groups the second half cost 2 s more in replays), and
-# the navmesh pair alone is the longest any split can make the job.
+# replays nothing. The two groups cost about the same (38 and 36 CPU s at 544 x 720 on this
+# project's idle machine; as four groups the second half paid about 2 s more in replays),
+# and no split of the sections can end before the navmesh pair, which replays everything.
+NAVMESH_PAIR = ("embodied_agent_navmesh_sliding", "embodied_agent_navmesh_no_sliding")
 GROUPS: tuple[tuple[str, ...], ...] = (
-    ("embodied_agent_navmesh_sliding", "embodied_agent_navmesh_no_sliding"),
-    (
-        "basics",
-        "object_user_configurations",
-        "dynamic_control",
-        "kinematic_interactions",
-        "kinematic_update",
-        "velocity_control",
-        "local_velocity_control",
-        "embodied_agent",
-    ),
+    NAVMESH_PAIR,
+    tuple(name for name in SECTION_NAMES if name not in NAVMESH_PAIR),
 )
 # Wall seconds of each section at 544 x 720 in one process, (recorded, replayed without
 # rendering = its physics seconds): a --jobs 1 run on this project's 2-core machine (97 s).
