@@ -255,7 +255,7 @@ def _is_opaque_rgba(pixels: np.ndarray) -> bool:
 def _primary_array(observation: np.ndarray, kind: str, clip: float) -> np.ndarray | None:
     """A fresh array of ``observation_to_image(observation, kind)``'s pixels, or None."""
     if kind == "color":
-        return np.array(np.uint8(observation))
+        return np.array(observation, dtype=np.uint8)  # one copy (np.uint8(...) made two)
     if kind == "depth":
         return depth_to_rgb(observation, clip_max=clip)
     if kind == "semantic":
