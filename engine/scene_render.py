@@ -62,20 +62,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from engine.frame_sharing import buffer_name, copy_out, copy_rows, next_split, rows_there
 from engine.scene_node import Drawable, SceneNode
-from engine.sensors import CameraSensor, SensorSubType, SensorType
+from engine.sensors import CameraSensor, SensorSubType
 from render import shade
 from render.camera import Camera
-from render.frame import FrameBuffers, band_rows, render_frame
+from render.frame import FrameBuffers, render_frame
 from render.scene import RenderMesh
 from render.shade import Lights
 from render.views import LayeredView, SplitScene
 from render.worker import RenderProcess, WorkerLost
-
-#: seconds of waiting for the worker's reply beyond which the worker was the later one
-WAITED_FOR_THE_WORKER = 0.0003
-#: stages of ``render_frame`` (its ``timings``) whose cost does not depend on the rows drawn
-PER_FRAME_STAGES = ("transform", "cull", "assemble + clip", "setup", "shade setup")
 
 __all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]
 
@@ -285,7 +281,7 @@ class SceneRenderer:
             if state is None:
                 state = self._groups[tuple(map(id, members))] = _GroupState(
                     remote=self._wants_worker(index, len(groups), camera_key[0]),
-                    ids=any(_buffer_name(sensor) == "ids" for sensor in members),
+                    ids=any(buffer_name(sensor) == "ids" for sensor in members),
                 )
             mode = self._choose_mode(state, signature)
             camera = self._camera(members[0])
@@ -342,9 +338,9 @@ class SceneRenderer:
         outputs: dict[int, dict[str, np.ndarray]] = {}
         try:
             for job, frame in zip(local, self._render_all_here(local), strict=True):
-                outputs[id(job[0])] = _copy_out(job[2], frame)
+                outputs[id(job[0])] = copy_out(job[2], frame)
             for job in tiles:  # the top rows now, the worker's rows when they come
-                outputs[id(job[0])] = _copy_out(job[2], self._render_tile(*job), job[0].split)
+                outputs[id(job[0])] = copy_out(job[2], self._render_tile(*job), job[0].split)
         except BaseException:
             if remote:  # keep the worker in step: take its reply before raising
                 try:
@@ -363,15 +359,15 @@ class SceneRenderer:
                 collected, waited = {}, 0.0
                 for job in remote:
                     job[0].tile_rows = 0
-                    outputs[id(job[0])] = _copy_out(job[2], self._render_here(*job))
+                    outputs[id(job[0])] = copy_out(job[2], self._render_here(*job))
             for job in remote:
                 if job[0].key not in collected:
                     continue
                 frame, first = collected[job[0].key], job[0].tile_rows
                 if first:  # below the rows rendered here
-                    _copy_rows(job[2], frame, outputs[id(job[0])], first)
+                    copy_rows(job[2], frame, outputs[id(job[0])], first)
                 else:
-                    outputs[id(job[0])] = _copy_out(job[2], frame)
+                    outputs[id(job[0])] = copy_out(job[2], frame)
                 job[0].last_signature = job[5]
             self._balance(remote, collected, busy_here, waited)
         return [outputs[id(job[0])] for job in jobs]
@@ -389,31 +385,13 @@ class SceneRenderer:
         self, remote: list[tuple], collected: dict, busy_here: float, waited: float = 0.0
     ) -> None:
         """Move the split row of the worker's first full render so that both processes
-        finish together: each band of rows moved from there to here shifts about twice
-        its time (rasterizing and shading are per row; the per-frame stages, vertex
-        transform to shading setup, are paid by both). When this process ``waited`` for
-        the worker, that wait is the worker's lateness (its messages and copies included);
-        otherwise the worker's stage times estimate how early it was."""
+        finish together (:func:`engine.frame_sharing.next_split`)."""
         full = [job for job in remote if job[1] == "full" and job[0].key in collected]
         if not full or not self.share_full_renders:
             return
         state, camera = full[0][0], full[0][3]
         timings = collected[state.key].timings
-        busy_there = sum(timings.values()) / 1e3
-        step = band_rows(camera)
-        rows_there = camera.height - state.split
-        if rows_there <= 0:
-            return
-        per_frame = sum(timings.get(stage, 0.0) for stage in PER_FRAME_STAGES) / 1e3
-        per_row = (busy_there - per_frame) / rows_there
-        surplus = busy_there - busy_here - (per_frame if state.split == 0 else 0.0)
-        if waited > WAITED_FOR_THE_WORKER:
-            surplus = waited
-        if per_row <= 0.0:
-            return
-        move = 0.5 * surplus / (2.0 * per_row)  # damped: times are noisy
-        split = int(round((state.split + move) / step)) * step
-        state.split = min(max(split, 0), max(0, (camera.height // step - 1) * step))
+        state.split = next_split(state.split, camera, timings, busy_here, waited)
 
     def _render_all_here(self, local: list[tuple]) -> list[FrameBuffers]:
         """Render groups in this process, on the thread pool when there are several."""
@@ -442,7 +420,7 @@ class SceneRenderer:
             self._scene.static.world_from_mesh,
             self._scene.moving.world_from_mesh,
             [
-                (state.key, mode, camera, pose, _rows_there(state, mode, camera), state.ids)
+                (state.key, mode, camera, pose, rows_there(state.split, mode, camera), state.ids)
                 for state, mode, _, camera, pose, _ in remote
             ],
         )
@@ -522,44 +500,3 @@ class SceneRenderer:
                 state.has_layer, state.layer_signature = False, None
             self._worker.close()
             self._worker = None
-
-
-def _rows_there(state: _GroupState, mode: str, camera: Camera) -> tuple[int, int] | None:
-    """The rows the worker shades of a group's render: all, or below the split."""
-    if mode == "full" and state.split > 0:
-        return (state.split, camera.height)
-    return None
-
-
-#: the FrameBuffers field each sensor type reads (other types: the semantic ids)
-_BUFFER_OF = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}
-
-
-def _buffer_name(sensor: CameraSensor) -> str:
-    """The FrameBuffers field the sensor reads: rgba, depth or ids."""
-    return _BUFFER_OF.get(sensor.spec.sensor_type, "ids")
-
-
-def _copy_out(
-    members: list[CameraSensor], frame: FrameBuffers, rows: int | None = None
-) -> dict[str, np.ndarray]:
-    """Fresh arrays of the buffers the group's sensors read (uuid -> array), holding the
-    frame's first ``rows`` rows (None: all; the rest are filled by ``_copy_rows``)."""
-    arrays = {}
-    for sensor in members:
-        buffer = getattr(frame, _buffer_name(sensor))
-        if rows is None:
-            arrays[sensor.uuid] = buffer.copy()
-        else:
-            arrays[sensor.uuid] = np.empty_like(buffer)
-            arrays[sensor.uuid][:rows] = buffer[:rows]
-    return arrays
-
-
-def _copy_rows(
-    members: list[CameraSensor], frame: FrameBuffers, arrays: dict[str, np.ndarray], first: int
-) -> None:
-    """Copy the frame's rows from ``first`` on into the group's arrays (``_copy_out``)."""
-    for sensor in members:
-        buffer = getattr(frame, _buffer_name(sensor))
-        arrays[sensor.uuid][first:] = buffer[first:]
