@@ -155,7 +155,7 @@ def render_frame(
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
     for band in bands:
         visible = raster.resolve_depth(out.zkey, camera, band)
-        _write_band(out, scene, shading, visible, band)
+        _write_band(out, shading, visible, band)
     clock.lap("shade")
     return out
 
@@ -250,7 +250,7 @@ def render_over_layer(
     for start in range(0, len(changed), SHADE_BAND_PIXELS):
         pixel = changed[start : start + SHADE_BAND_PIXELS]
         visible = raster.visible_from_keys(out.zkey[pixel], pixel, camera, id_offset=1)
-        _write_pixels(out, scene, shading, visible)
+        _write_pixels(out, shading, visible)
     clock.lap("shade")
     return out
 
@@ -387,14 +387,14 @@ def _row_bands(camera: Camera) -> list[slice]:
 
 @dataclass
 class _ShadingInputs:
-    """Per candidate triangle (K of them): global ids, attribute planes and light factors.
+    """Per candidate triangle (K of them, global ids ``tri_index``): materials, semantic
+    ids, attribute planes and light factors, all indexed by candidate.
 
     ``tri_light`` (K,) is the flat light factor (1 for unlit and Gouraud triangles);
     ``light_planes`` interpolates per-vertex light over the Gouraud triangles
     (``is_smooth`` (K,) marks them).
     """
 
-    tri_index: np.ndarray
     materials: MaterialTable  # of the candidates: row k is candidate k (tri_index[k])
     semantic: np.ndarray | None  # (K,) semantic id of each candidate (None: no ids written)
     uv_planes: raster.AttributePlanes | None
@@ -445,7 +445,6 @@ class _ShadingInputs:
                 is_smooth = np.zeros(len(tri_index), dtype=bool)
                 is_smooth[used] = smooth
         return cls(
-            tri_index,
             materials.of_triangles(tri_index),
             scene.tri_semantic[tri_index] if ids else None,
             interpolator(materials.uvs),
@@ -469,7 +468,6 @@ class _ShadingInputs:
 
 def _write_band(
     out: FrameBuffers,
-    scene: RenderScene,
     shading: _ShadingInputs,
     visible: raster.VisiblePixels,
     band: slice,
@@ -485,12 +483,11 @@ def _write_band(
         if n_covered == 0:
             return
     where = band if n_covered == band.stop - band.start else visible.pixel  # slice: no scatter
-    _write_pixels(out, scene, shading, visible, where)
+    _write_pixels(out, shading, visible, where)
 
 
 def _write_pixels(
     out: FrameBuffers,
-    scene: RenderScene,
     shading: _ShadingInputs,
     visible: raster.VisiblePixels,
     where: slice | np.ndarray | None = None,
