@@ -438,8 +438,8 @@ def shade_pixels(
         colors = _needed(color_planes, "color_planes")
         color = colors.evaluate(visible.subset(blended)).T * np.float32(255.0)
         packed[blended] = pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
+    is_textured = kind == TEXTURED
     if FAST_SHADING and len(textured_meshes) == 1:
-        is_textured = kind == TEXTURED
         if np.count_nonzero(is_textured) >= SAMPLE_ALL_ABOVE * len(kind):
             # mostly one texture: sample it at every pixel (no subset gathers, no scatter)
             # and keep the samples of the textured pixels only
@@ -447,7 +447,7 @@ def shade_pixels(
             texel = _textured_colors(materials, textured_meshes[0], visible, uvs, color_planes)
             np.copyto(packed, texel, where=is_textured)
             return _lit_and_opaque(packed, light)
-    textured = np.flatnonzero(kind == TEXTURED)
+    textured = np.flatnonzero(is_textured)
     if len(textured):
         uvs = _needed(uv_planes, "uv_planes")
         mesh_of_pixel = materials.tri_mesh[triangle[textured]] if len(textured_meshes) > 1 else None
