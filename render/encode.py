@@ -59,7 +59,8 @@ class BackgroundVideoWriter:
 
     ``append(item)`` queues ``item`` (at most ``max_queue`` wait; then ``append`` blocks)
     and returns; the thread turns it into a frame with ``prepare(item)`` (default: the
-    item itself) and appends it to the file as ``save_video`` does (RGB, even sides). An
+    item itself) and appends it to the file as ``save_video`` does (RGB, or RGBA when the
+    first frame is, with even sides: ``_to_even_frame``). An
     error on the thread is raised by the next ``append`` or by ``close``.
 
     Attributes: ``busy_seconds`` (time the thread spent preparing and encoding) and

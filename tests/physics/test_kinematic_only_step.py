@@ -6,6 +6,7 @@ must move exactly as in a world that never skipped."""
 from __future__ import annotations
 
 import pytest
+from helpers import add, make_world, register_primitive
 
 import engine as habitat_sim
 from engine.physics.world import PhysicsWorld
@@ -14,41 +15,34 @@ MotionType = habitat_sim.physics.MotionType
 
 
 def slab_and_robot():
-    """A static slab and a kinematic cube driven over it by velocity control."""
-    sim = habitat_sim.Simulator(habitat_sim.Configuration())
-    templates, objects = sim.get_object_template_manager(), sim.get_rigid_object_manager()
-    cube = templates.get_template_handles("cubeSolid")[0]
-    slab_template = templates.get_template_by_handle(cube).copy()
-    slab_template.scale = [6.0, 0.1, 6.0]
-    slab = objects.add_object_by_template_id(templates.register_template(slab_template, "slab"))
-    slab.motion_type = MotionType.STATIC
-    slab.translation = [0.0, -0.1, 0.0]
-    robot = objects.add_object_by_template_handle(cube)
-    robot.motion_type = MotionType.KINEMATIC
-    robot.translation = [0.0, 0.6, 0.0]
+    """A static slab (top at y = 0) and a kinematic cube driven over it by velocity control;
+    returns (world, templates, the cube's template handle)."""
+    world, templates = make_world(floor=False)
+    slab = register_primitive(templates, half=(6.0, 0.1, 6.0), handle="slab")
+    add(world, templates, slab, [0.0, -0.1, 0.0], motion_type=MotionType.STATIC)
+    cube = register_primitive(templates, half=(0.1, 0.1, 0.1), handle="cube")
+    robot = add(world, templates, cube, [0.0, 0.6, 0.0], motion_type=MotionType.KINEMATIC)
     control = robot.velocity_control
     control.controlling_lin_vel = control.controlling_ang_vel = True
     control.linear_velocity, control.angular_velocity = [0.5, -0.5, 0.0], [0.0, 1.0, 0.0]
-    return sim, objects, cube
+    return world, templates, cube
 
 
-def history(sim, objects, cube) -> list[tuple[str, int, int]]:
+def history(world, templates, cube) -> list[tuple[str, int, int]]:
     """World hash, broad-phase pairs and contact points after each of 100 steps: 40 with
     the robot alone, then with a box dropped onto the slab."""
     rows = []
     for step in range(100):
         if step == 40:
-            box = objects.add_object_by_template_handle(cube)
-            box.translation = [1.5, 0.5, 0.0]
-        sim.step_physics(1.0 / 60.0)
+            add(world, templates, cube, [1.5, 0.5, 0.0])
+        world.step_physics(1.0 / 60.0)
         rows.append(
             (
-                sim._world.state_hash(),
-                sim.get_physics_num_active_overlapping_pairs(),
-                len(sim.get_physics_contact_points()),
+                world.state_hash(),
+                world.get_physics_num_active_overlapping_pairs(),
+                len(world.get_physics_contact_points()),
             )
         )
-    sim.close()
     return rows
 
 
@@ -74,25 +68,22 @@ def test_a_world_without_dynamic_bodies_skips_its_steps_bit_for_bit(monkeypatch)
 
 @pytest.mark.parametrize("what", ["dynamic body", "manifold", "constraint"])
 def test_a_step_is_skipped_only_without_dynamic_bodies_manifolds_and_constraints(what):
-    sim, objects, cube = slab_and_robot()
-    world = sim._world
+    world, templates, cube = slab_and_robot()
     assert world._nothing_to_simulate()
-    box = objects.add_object_by_template_handle(cube)
-    box.translation = [1.5, 0.12, 0.0]
+    box = add(world, templates, cube, [1.5, 0.12, 0.0])
     assert not world._nothing_to_simulate()  # a dynamic body
     if what == "manifold":
         for _ in range(10):
-            sim.step_physics(1.0 / 60.0)  # lands on the slab: a manifold
+            world.step_physics(1.0 / 60.0)  # lands on the slab: a manifold
         box.motion_type = MotionType.KINEMATIC  # no dynamic body left, the manifold stays
         assert len(world.manifolds) > 0
         assert not world._nothing_to_simulate()
     elif what == "constraint":
         settings = habitat_sim.physics.RigidConstraintSettings()
         settings.object_id_a = box.object_id
-        sim.create_rigid_constraint(settings)
+        world.constraints.create(world, settings)
         box.motion_type = MotionType.KINEMATIC
         assert not world._nothing_to_simulate()
     else:
         box.motion_type = MotionType.KINEMATIC
         assert world._nothing_to_simulate()
-    sim.close()
