@@ -14,10 +14,11 @@ from engine.physics.world import PhysicsWorld
 MotionType = habitat_sim.physics.MotionType
 
 
-def slab_and_robot():
-    """A static slab (top at y = 0) and a kinematic cube driven over it by velocity control;
-    returns (world, templates, the cube's template handle)."""
+def slab_and_robot(vectorized: bool = True):
+    """A static slab (top at y = 0) and a kinematic cube driven over it by velocity control,
+    on the batched or the reference path; returns (world, templates, the cube's handle)."""
     world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
     slab = register_primitive(templates, half=(6.0, 0.1, 6.0), handle="slab")
     add(world, templates, slab, [0.0, -0.1, 0.0], motion_type=MotionType.STATIC)
     cube = register_primitive(templates, half=(0.1, 0.1, 0.1), handle="cube")
@@ -46,7 +47,8 @@ def history(world, templates, cube) -> list[tuple[str, int, int]]:
     return rows
 
 
-def test_a_world_without_dynamic_bodies_skips_its_steps_bit_for_bit(monkeypatch):
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_a_world_without_dynamic_bodies_skips_its_steps_bit_for_bit(monkeypatch, vectorized):
     skipped_steps = []
     original = PhysicsWorld._nothing_to_simulate
 
@@ -56,11 +58,11 @@ def test_a_world_without_dynamic_bodies_skips_its_steps_bit_for_bit(monkeypatch)
         return skip
 
     monkeypatch.setattr(PhysicsWorld, "_nothing_to_simulate", counting)
-    skipped = history(*slab_and_robot())
+    skipped = history(*slab_and_robot(vectorized))
     assert skipped_steps.count(True) >= 80  # the robot's 40 frames, two fixed steps each
     assert skipped_steps.count(False) >= 100  # with the box
     monkeypatch.setattr(PhysicsWorld, "_nothing_to_simulate", lambda self: False)
-    full = history(*slab_and_robot())
+    full = history(*slab_and_robot(vectorized))
     assert skipped == full
     assert all(pairs == 0 and points == 0 for _, pairs, points in skipped[:40])
     assert all(points > 0 for _, _, points in skipped[-10:])  # the box rests on the slab
