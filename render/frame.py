@@ -6,8 +6,9 @@ clipping, (4) triangle setup (perspective-correct plane functions) and projectio
 (5) scanline spans, (6) fragments and depth test into a 64-bit z-buffer; finally
 (7) shading setup (attribute planes, light factors) for the triangles that drew fragments
 and (8) per band of rows: resolve (winning triangle and depth per pixel), deferred shading,
-semantic ids. See ``render.cull``, ``render.raster`` and ``render.shade`` for the equations;
-``FrameBuffers.timings`` reports the wall time of each stage.
+semantic ids (stages 7-8 live in ``render.deferred``). See ``render.cull``, ``render.raster``
+and ``render.shade`` for the equations; ``FrameBuffers.timings`` reports the wall time of
+each stage.
 
 Outputs follow Habitat's sensors: ``rgba (H, W, 4) uint8`` (alpha 255 where drawn, the
 background ``BACKGROUND_RGBA`` = opaque black elsewhere), ``depth (H, W) float32`` z-depth
@@ -35,12 +36,15 @@ import numpy as np
 
 from render import cull, raster
 from render.camera import Camera, invert_rigid
+from render.deferred import (
+    BACKGROUND_RGBA,
+    ShadingInputs,
+    triangle_corners,
+    write_band,
+    write_pixels,
+)
 from render.scene import RenderMesh, RenderScene
-from render.shade import MaterialTable, pack_rgba, shade_pixels
 
-#: color of pixels where nothing is drawn (opaque black, like Habitat's default clear color)
-BACKGROUND_RGBA = (0, 0, 0, 255)
-_BACKGROUND_PACKED = pack_rgba(np.array(BACKGROUND_RGBA, np.uint8))
 _HIGH32 = np.uint64(0xFFFFFFFF00000000)
 #: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
 TRIANGLE_BATCH = 8_192
@@ -148,14 +152,14 @@ def render_frame(
         used = np.flatnonzero(drawn)
         if len(used) > REFINE_USED_ABOVE:  # many small triangles: only the pixel winners
             used = raster.winning_triangles(zkey_drawn, len(tri_index))
-    shading = _ShadingInputs.build(
+    shading = ShadingInputs.build(
         scene, camera, camera_from_world, vertices_camera, tri_index, used, ids
     )
     clock.lap("shade setup")
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
     for band in bands:
         visible = raster.resolve_depth(out.zkey, camera, band)
-        _write_band(out, shading, visible, band)
+        write_band(out, shading, visible, band)
     clock.lap("shade")
     return out
 
@@ -242,7 +246,7 @@ def render_over_layer(
     used = np.arange(len(tri_index)) if len(tri_index) <= REFINE_USED_ABOVE else None
     if used is None:
         used = np.flatnonzero(drawn)
-    shading = _ShadingInputs.build(
+    shading = ShadingInputs.build(
         scene, camera, camera_from_world, vertices_camera, tri_index, used
     )
     clock.lap("shade setup")
@@ -250,7 +254,7 @@ def render_over_layer(
     for start in range(0, len(changed), SHADE_BAND_PIXELS):
         pixel = changed[start : start + SHADE_BAND_PIXELS]
         visible = raster.visible_from_keys(out.zkey[pixel], pixel, camera, id_offset=1)
-        _write_pixels(out, shading, visible)
+        write_pixels(out, shading, visible)
     clock.lap("shade")
     return out
 
@@ -287,16 +291,11 @@ def _rasterize_scene(
     drawn = np.zeros(len(tri_index), dtype=bool)  # candidates that produced fragments
     for start in range(0, len(tri_index), TRIANGLE_BATCH):
         source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
-        tri = _corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
+        tri = triangle_corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
         out.n_fragments += _rasterize(
             tri, source, camera, cull_back_faces, out, drawn, clock, key_offset, rows
         )
     return vertices_camera, tri_index, drawn
-
-
-def _corners(vertices_camera: np.ndarray, scene: RenderScene, triangles: np.ndarray) -> np.ndarray:
-    """Camera-frame corners of global triangles ``triangles``: ``(3 corners, 3 coords, n)``."""
-    return vertices_camera[:, scene.materials.faces[:, triangles]].transpose(1, 0, 2)
 
 
 def _rasterize(
@@ -383,128 +382,6 @@ def _row_bands(camera: Camera) -> list[slice]:
     n_pixels = camera.height * camera.width
     step = rows_per_band * camera.width
     return [slice(start, min(start + step, n_pixels)) for start in range(0, n_pixels, step)]
-
-
-@dataclass
-class _ShadingInputs:
-    """Per candidate triangle (K of them, global ids ``tri_index``): materials, semantic
-    ids, attribute planes and light factors, all indexed by candidate.
-
-    ``tri_light`` (K,) is the flat light factor (1 for unlit and Gouraud triangles);
-    ``light_planes`` interpolates per-vertex light over the Gouraud triangles
-    (``is_smooth`` (K,) marks them).
-    """
-
-    materials: MaterialTable  # of the candidates: row k is candidate k (tri_index[k])
-    semantic: np.ndarray | None  # (K,) semantic id of each candidate (None: no ids written)
-    uv_planes: raster.AttributePlanes | None
-    color_planes: raster.AttributePlanes | None
-    tri_light: np.ndarray | None
-    light_planes: raster.AttributePlanes | None
-    is_smooth: np.ndarray | None
-
-    @classmethod
-    def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used, ids=True):
-        """For the candidates ``used`` (indices into the K candidates ``tri_index``; all of
-        them, or those that can own pixels): attribute planes and light factors."""
-        materials = scene.materials
-        row_of = None  # candidate id -> row among the used triangles (None: identity)
-        if len(used) < len(tri_index):
-            row_of = np.zeros(len(tri_index), dtype=np.int64)
-            row_of[used] = np.arange(len(used))
-        tri = _corners(vertices_camera, scene, tri_index[used])  # (3, 3, k)
-        planes, _ = raster.plane_coefficients(tri, camera)
-        corners = materials.faces[:, tri_index[used]]  # (3, k) global vertex ids
-
-        def interpolator(values: np.ndarray | None) -> raster.AttributePlanes | None:
-            if values is None:  # values: (C, V) per-vertex attribute
-                return None
-            corner_values = values[:, corners].transpose(1, 0, 2)  # (3 corners, C, k)
-            return raster.AttributePlanes(planes, corner_values, camera, row_of)
-
-        tri_light = light_planes = is_smooth = None
-        lit = scene.tri_lit[tri_index[used]]
-        if lit.any():
-            smooth = scene.tri_smooth[tri_index[used]]
-            # flat: face normals, camera frame -> world frame: n_w = R_cw^T n_c
-            normal_camera = np.array(cull.cross(tri[1] - tri[0], tri[2] - tri[0]))
-            normal_world = (camera_from_world[:3, :3].T @ normal_camera).T  # (k, 3)
-            # face centroids in the world (point lights): p_w = R_cw^T (p_c - t_cw)
-            centroid_camera = (tri[0] + tri[1] + tri[2]) / 3.0  # (3, k)
-            world_from_camera = np.linalg.inv(camera_from_world)
-            centroid_world = (world_from_camera[:3, :3] @ centroid_camera).T + world_from_camera[
-                :3, 3
-            ]
-            factors = scene.face_light_factors(
-                tri_index[used], normal_world, centroid_world, world_from_camera
-            )
-            tri_light = np.ones(len(tri_index), dtype=np.float32)
-            tri_light[used] = np.where(lit & ~smooth, factors, 1.0)
-            if smooth.any():  # Gouraud: light per vertex, interpolated
-                light_planes = interpolator(scene.vertex_light_factors(world_from_camera))
-                is_smooth = np.zeros(len(tri_index), dtype=bool)
-                is_smooth[used] = smooth
-        return cls(
-            materials.of_triangles(tri_index),
-            scene.tri_semantic[tri_index] if ids else None,
-            interpolator(materials.uvs),
-            interpolator(materials.vertex_colors),
-            tri_light,
-            light_planes,
-            is_smooth,
-        )
-
-    def pixel_light(self, visible: raster.VisiblePixels) -> np.ndarray | None:
-        """Light factor of each visible pixel ``(n,)`` float32, or None if nothing is lit."""
-        if self.tri_light is None:
-            return None
-        light = self.tri_light[visible.winner]
-        if self.light_planes is not None and self.is_smooth is not None:  # set together
-            sel = np.flatnonzero(self.is_smooth[visible.winner])
-            gouraud = self.light_planes.evaluate(visible.subset(sel))[0]
-            light[sel] = np.clip(gouraud, 0.0, 1.0)
-        return light
-
-
-def _write_band(
-    out: FrameBuffers,
-    shading: _ShadingInputs,
-    visible: raster.VisiblePixels,
-    band: slice,
-) -> None:
-    """Shade the visible pixels of one band and write rgba, depth and ids there."""
-    rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
-    depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
-    n_covered = len(visible.pixel)
-    if n_covered < band.stop - band.start:  # background first where nothing is drawn
-        rgba_packed[band], depth_flat[band] = _BACKGROUND_PACKED, 0.0
-        if shading.semantic is not None:
-            ids_flat[band] = 0
-        if n_covered == 0:
-            return
-    where = band if n_covered == band.stop - band.start else visible.pixel  # slice: no scatter
-    _write_pixels(out, shading, visible, where)
-
-
-def _write_pixels(
-    out: FrameBuffers,
-    shading: _ShadingInputs,
-    visible: raster.VisiblePixels,
-    where: slice | np.ndarray | None = None,
-) -> None:
-    """Shade ``visible`` pixels and write rgba, depth and ids at ``where`` (default: their
-    flat indices ``visible.pixel``)."""
-    rgba_packed = out.rgba.reshape(-1, 4).view("<u4")[:, 0]  # one packed RGBA per pixel
-    depth_flat, ids_flat = out.depth.reshape(-1), out.ids.reshape(-1)
-    candidate = visible.winner  # the candidate triangle of each covered pixel
-    light = shading.pixel_light(visible)
-    packed = shade_pixels(
-        shading.materials, visible, candidate, shading.uv_planes, shading.color_planes, light
-    )
-    where = visible.pixel if where is None else where
-    rgba_packed[where], depth_flat[where] = packed, visible.depth
-    if shading.semantic is not None:
-        ids_flat[where] = shading.semantic[candidate]
 
 
 class _StageClock:
