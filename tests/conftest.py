@@ -1,15 +1,20 @@
 """Shared pytest fixtures: where the real Habitat test assets live.
 
-The assets sit in ``../shared/assets/habitat/data`` beside the repository root (see
-DEVELOPERS.md); ``RIGIDSIM_HABITAT_DATA`` overrides the location.
+The assets sit in ``../shared/assets/habitat/data`` beside the repository
+root; ``RIGIDSIM_HABITAT_DATA`` overrides the location.
 """
 
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from browser_support import browser, page  # noqa: E402,F401 - fixtures for the page tests
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 
