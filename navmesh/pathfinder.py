@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from navmesh.build import build_navmesh
+from navmesh.geodesic_field import GeodesicField
 from navmesh.navmesh_data import NavMeshData
 from navmesh.proximity import (
     closest_boundary_point,
@@ -347,9 +348,7 @@ class PathFinder:
                 goals.append((k, node, pt))
         if not goals:
             return -1, []
-        if self._graph is None:
-            self._graph = GridGraph(grid)
-        graph = self._graph
+        graph = self._grid_graph()
         # Habitat's multi-goal pruning: visit ends by straight-line distance (a lower bound of
         # the geodesic) and skip those that cannot beat the best path found so far.
         goals.sort(key=lambda goal: (float(np.linalg.norm(goal[2] - start_pt)), goal[0]))
@@ -382,6 +381,20 @@ class PathFinder:
         _, pred = graph.tree_from(start_node, [end_node], limit)
         nodes = graph.node_path(pred, start_node, end_node)
         return pull_string(grid, nodes, start_pt, end_pt)
+
+    def _grid_graph(self) -> GridGraph:
+        """The graph of navigable squares for Dijkstra, built on first use."""
+        if self._graph is None:
+            self._graph = GridGraph(self._require_grid())
+        return self._graph
+
+    def geodesic_field(self, goal: ArrayLike) -> GeodesicField:
+        """Geodesic distances to ``goal`` from everywhere, from one Dijkstra search.
+
+        ``field.distance(point)`` then answers in microseconds (see ``navmesh.geodesic_field``
+        for the rule and its accuracy); a greedy follower asks it once per candidate action.
+        """
+        return GeodesicField(self._require_grid(), self._grid_graph(), as_point(goal, "goal"))
 
     # -- stepping ----------------------------------------------------------------------------
     def try_step(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:
