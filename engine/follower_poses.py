@@ -1,9 +1,10 @@
-"""Scratch poses for the greedy follower: the agent's controls on a node, or their formulas on arrays.
+"""Scratch poses for the greedy follower: the agent's controls on a node, or their arithmetic.
 
 The greedy geodesic follower (``engine.nav``) tries many short primitives ``[turn] * n +
 [forward]`` from the agent's pose without moving the agent. Habitat runs each primitive through
 the agent's own controls on a scratch scene node; rigidsim keeps that as the reference path and
-adds a fast twin for the default controls, selected by ``GreedyGeodesicFollower.use_reference_poses``:
+adds a fast twin for the default controls (``GreedyGeodesicFollower.use_reference_poses``
+selects the reference):
 
 * :class:`NodePose` (reference): a scratch ``SceneNode`` moved by ``agent.controls`` -- any
   registered control, any actuation, the agent's move filter.
@@ -11,9 +12,11 @@ adds a fast twin for the default controls, selected by ``GreedyGeodesicFollower.
   ``turn_left`` / ``turn_right`` controls and ``ObjectControls.action``, on a position array and
   an ``[x, y, z, w]`` quaternion, skipping the scene-node and Magnum wrappers:
 
-      turn by theta about local +Y:   q <- normalize(normalize(q * (0, sin(theta/2), 0, cos(theta/2))))
-      forward by a:                    e  = p + R(q) (0, 0, -a);   f = move_filter(p, e)
-                                       p <- e + (f - e);           collided = |f - p|^2 + eps < |e - p|^2
+      turn by theta about local +Y:  r = (0, sin(theta/2), 0, cos(theta/2))
+                                     q <- normalize(normalize(q * r))
+      forward by a:                  e = p + R(q) (0, 0, -a);   f = move_filter(p, e)
+                                     p <- e + (f - e)
+                                     collided = |f - p|^2 + eps < |e - p|^2
 
   It applies only when the agent's three actions are the default controls without a look
   constraint (:func:`default_controls_used`); the follower falls back to :class:`NodePose`
@@ -57,7 +60,9 @@ class ScratchPose(Protocol):
 class NodePose:
     """Reference: a scratch scene node moved by the agent's own controls."""
 
-    def __init__(self, controls: Any, specs: dict[str, ActuationSpec], position: Any, rotation: Any):
+    def __init__(
+        self, controls: Any, specs: dict[str, ActuationSpec], position: Any, rotation: Any
+    ) -> None:
         self.controls, self.specs = controls, specs
         self.node = SceneNode(name="greedy follower scratch")
         self.node.translation = position

@@ -154,7 +154,11 @@ class GreedyGeodesicFollower:
 
     def _geodesic(self, start: np.ndarray, goal: np.ndarray) -> float:
         """Geodesic distance from ``start`` to ``goal``, from the goal's distance field."""
-        if self._field is None or not np.array_equal(self._field_goal, goal):
+        if (
+            self._field is None
+            or self._field_goal is None
+            or not np.array_equal(self._field_goal, goal)
+        ):
             self._field, self._field_goal = self.pathfinder.geodesic_field(goal), goal.copy()
         return self._field.distance(start)
 
@@ -259,4 +263,3 @@ class GreedyGeodesicFollower:
         self._actions.clear()
         self._thrashing_actions.clear()
         self.last_goal = None
-
