@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 from navmesh.build import build_navmesh
 from navmesh.geodesic_field import GeodesicField
 from navmesh.navmesh_data import NavMeshData
+from navmesh.polygons import navmesh_polygons
 from navmesh.proximity import (
     closest_boundary_point,
     island_radii,
@@ -437,41 +438,20 @@ class PathFinder:
     def build_navmesh_vertices(self, island_index: int = -1) -> list[np.ndarray]:
         """Vertices of the navmesh surface as a triangle mesh (Habitat's name), meters.
 
-        The grid navmesh has no polygons: every navigable cell is a square at its floor
-        height, 4 corner vertices per cell in the order (x0, z0), (x1, z0), (x1, z1),
-        (x0, z1); ``island_index`` -1 gives every island. Use with
-        :meth:`build_navmesh_vertex_indices` (2 triangles per cell).
+        The navigable squares of the island (``island_index`` -1: every island) merged into
+        rectangles of equal height, 4 corners each (``navmesh.polygons``); use with
+        :meth:`build_navmesh_vertex_indices` (2 triangles per rectangle, +Y normals).
         """
-        return list(self._cell_squares(island_index))
+        return list(self._polygons(island_index)[0])
 
     def build_navmesh_vertex_indices(self, island_index: int = -1) -> list[int]:
-        """Triangle indices into :meth:`build_navmesh_vertices`: 6 per cell, counter-clockwise
-        seen from above (+Y normals)."""
-        n_cells = len(self._cell_squares(island_index)) // 4
-        quad = np.array([0, 2, 1, 0, 3, 2])  # two triangles of one square, +Y facing
-        return (np.arange(n_cells)[:, None] * 4 + quad).reshape(-1).tolist()
+        """Triangle indices into :meth:`build_navmesh_vertices`, counter-clockwise seen from
+        above (+Y normals)."""
+        return self._polygons(island_index)[1].tolist()
 
-    def _cell_squares(self, island_index: int) -> np.ndarray:
-        """``(4 * cells, 3)`` corners of the navigable cells of one island (or all for -1)."""
-        grid = self._require_grid()
+    def _polygons(self, island_index: int) -> tuple[np.ndarray, np.ndarray]:
         self._check_island(island_index)
-        mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
-        nodes = np.flatnonzero(mask)
-        iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)  # node -> (row z, column x)
-        x0 = grid.x0 + ix * grid.cell_size
-        z0 = grid.z0 + iz * grid.cell_size
-        x1, z1 = x0 + grid.cell_size, z0 + grid.cell_size
-        y = grid.floor[nodes]
-        corners = np.stack(
-            [
-                np.stack([x0, y, z0], 1),
-                np.stack([x1, y, z0], 1),
-                np.stack([x1, y, z1], 1),
-                np.stack([x0, y, z1], 1),
-            ],
-            axis=1,
-        )
-        return corners.reshape(-1, 3)
+        return navmesh_polygons(self._require_grid(), island_index)
 
     # -- maps --------------------------------------------------------------------------------
     def get_topdown_view(
