@@ -168,12 +168,13 @@ class GreedyGeodesicFollower:
         collided = probe.act("move_forward")
         after = probe.position
         gained = (distance - self._geodesic(after, goal)) / float(self.forward_spec.amount)
-        to_obstacle = self.pathfinder.distance_to_closest_obstacle(after, 1.1 * CLOSE_TO_OBSTACLE_M)
+        # Habitat: distance_to_closest_obstacle(after, 1.1 * 0.2) < 0.2, the same answer
+        near_wall = self.pathfinder.is_near_obstacle(after, CLOSE_TO_OBSTACLE_M)
         return (
             gained
             - TURN_COST * turns
             - (COLLISION_COST if collided else 0.0)
-            - (0.05 if to_obstacle < CLOSE_TO_OBSTACLE_M else 0.0)
+            - (0.05 if near_wall else 0.0)
         )
 
     def _best_primitive(self, pose: ScratchPose, goal: np.ndarray) -> list[GreedyFollowerCodes]:

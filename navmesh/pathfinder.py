@@ -28,6 +28,7 @@ from navmesh.navmesh_data import NavMeshData
 from navmesh.polygons import navmesh_polygons
 from navmesh.proximity import (
     closest_boundary_point,
+    has_wall_within,
     island_radii,
     nodes_in_disk,
     topdown_islands,
@@ -412,6 +413,20 @@ class PathFinder:
     def distance_to_closest_obstacle(self, pt: ArrayLike, max_search_radius: float = 2.0) -> float:
         """Distance from the snapped ``pt`` to the navmesh boundary, capped at the radius."""
         return self.closest_obstacle_surface_point(pt, max_search_radius).hit_dist
+
+    def is_near_obstacle(self, pt: ArrayLike, distance: float) -> bool:
+        """Whether the navmesh boundary lies closer than ``distance`` to the snapped ``pt``
+        (rigidsim addition: ``distance_to_closest_obstacle(pt, r) < distance`` for any
+        ``r >= distance``, stopping at the first wall found). Off the mesh: False, as that
+        distance is inf there."""
+        p = as_point(pt, "pt")
+        if not (isinstance(distance, (int, float)) and distance > 0):
+            raise ValueError(f"distance must be > 0, got {distance!r}")
+        grid = self._require_grid()
+        node, snapped = grid.nearest_node(p)
+        if snapped is None:  # off the mesh
+            return False
+        return has_wall_within(grid, node, snapped, float(distance))
 
     def closest_obstacle_surface_point(
         self, pt: ArrayLike, max_search_radius: float = 2.0

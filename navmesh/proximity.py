@@ -52,6 +52,27 @@ def nearest_wall_best_first(grid: NavGrid, node: int, px: float, pz: float, max_
     return None if best_hit is None else (best_hit, best_dist)
 
 
+def has_wall_within(grid: NavGrid, node: int, point: np.ndarray, radius: float) -> bool:
+    """Whether a boundary side lies closer than ``radius`` to ``point`` (on ``node``).
+
+    The same squares as :func:`closest_boundary_point`, visited in the same best-first order,
+    but the search stops at the first wall closer than ``radius``: the answer equals
+    ``closest_boundary_point(...)[2] < radius`` (None counting as no), at a fraction of the
+    cost next to walls.
+    """
+    px, pz = float(point[0]), float(point[2])
+    centre_gap = math.hypot(*(grid.node_center(node)[[0, 2]] - point[[0, 2]]))
+    if grid.clearance[node] - centre_gap >= radius:
+        return False
+    for near, square_dist in grid.expand_best_first(node, (px, pz), radius):
+        if square_dist >= radius:
+            return False
+        for side in grid.boundary_sides(near):
+            if _point_segment(px, pz, *side)[0] < radius:
+                return True
+    return False
+
+
 def _point_segment(px, pz, ax, az, bx, bz):
     """Distance from (px, pz) to segment a-b and the closest point (XZ plane)."""
     ex, ez = bx - ax, bz - az

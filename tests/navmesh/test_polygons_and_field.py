@@ -148,3 +148,16 @@ def test_skipped_wall_searches_agree_with_the_search(simple_room):
         else:
             assert record.hit_dist == found[1]
     assert skipped > 0
+
+
+def test_is_near_obstacle_answers_as_the_distance_query(simple_room):
+    simple_room.seed(9)
+    near = 0
+    for _ in range(300):
+        point = simple_room.get_random_navigable_point()
+        expected = simple_room.distance_to_closest_obstacle(point, 0.22) < 0.2
+        assert simple_room.is_near_obstacle(point, 0.2) == expected
+        near += expected
+    assert 0 < near < 300
+    with pytest.raises(ValueError, match="distance"):
+        simple_room.is_near_obstacle([0.0, 0.0, 0.0], 0.0)
