@@ -15,13 +15,22 @@ call, which also builds the Dijkstra graph, is timed apart); ``try_step`` and
 ``try_step_no_sliding`` calls per second for 0.25 m steps in random directions (the engine
 calls one of them per agent step at up to 60 Hz). Compare ratios, not absolute times across
 runs: the machine is shared.
+
+The greedy follower (``--follower``): ``GreedyGeodesicFollower.find_path`` on the demo apartment
+(30 degree turns, 0.25 m steps, goals over 2 m away, as Habitat's follower test), CPU time per
+action and per 50-action path against the target of 50 ms. ``--baseline DIR`` runs the same
+episodes with the code of another checkout (e.g. ``git worktree add /tmp/base <commit>``) in a
+subprocess right after, and prints the speed-up.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -32,6 +41,8 @@ from navmesh import NavMeshSettings, PathFinder, ShortestPath
 
 HABITAT_SCENES = Path(__file__).resolve().parents[1].parent / "shared/assets/habitat/data"
 STEP_LENGTH = 0.25  # meters, the tutorial's forward step
+FOLLOWER_TARGET_MS = 50.0  # a 50-action path, planned by find_path, CPU milliseconds
+FOLLOWER_EPISODES = 12
 
 
 def stage_triangles(glb: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -115,10 +126,81 @@ def scenes() -> list[tuple[str, Path]]:
     return found
 
 
+def bench_follower(episodes: int) -> dict:
+    """CPU seconds of ``find_path`` over ``episodes`` seeded episodes, and their actions."""
+    import engine as habitat_sim
+    from engine.demo import demo_data_path
+
+    cfg = habitat_sim.SimulatorConfiguration()
+    cfg.scene_id = str(demo_data_path() / "scene_datasets/demo/apartment.glb")
+    agent_cfg = habitat_sim.agent.AgentConfiguration()
+    for turn in ("turn_left", "turn_right"):
+        agent_cfg.action_space[turn].actuation.amount = 30.0
+    with habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent_cfg])) as sim:
+        pathfinder, agent = sim.pathfinder, sim.get_agent(0)
+        pathfinder.seed(0)
+        follower = habitat_sim.GreedyGeodesicFollower(
+            pathfinder, agent, forward_key="move_forward", left_key="turn_left",
+            right_key="turn_right",
+        )  # fmt: skip
+        pairs = []
+        while len(pairs) < episodes:
+            start, goal = (
+                pathfinder.get_random_navigable_point(),
+                pathfinder.get_random_navigable_point(),
+            )
+            path = ShortestPath(requested_start=start, requested_end=goal)
+            if pathfinder.find_path(path) and path.geodesic_distance > 2.0:
+                pairs.append((start, goal))
+        actions, cpu = 0, 0.0
+        for start, goal in pairs:
+            agent.state = habitat_sim.AgentState(start)
+            begin = time.process_time()
+            actions += len(follower.find_path(goal))
+            cpu += time.process_time() - begin
+    return {"cpu_s": cpu, "actions": actions}
+
+
+def print_follower(result: dict, baseline: dict | None) -> None:
+    per_action_ms = 1000.0 * result["cpu_s"] / result["actions"]
+    per_path = 50.0 * per_action_ms
+    met = "met" if per_path < FOLLOWER_TARGET_MS else "MISSED"
+    print(
+        f"greedy follower find_path: {result['actions']} actions, {per_action_ms:.2f} ms CPU per "
+        f"action, {per_path:.1f} ms per 50-action path "
+        f"(target < {FOLLOWER_TARGET_MS:.0f} ms: {met})"
+    )
+    if baseline is not None:
+        base_ms = 1000.0 * baseline["cpu_s"] / baseline["actions"]
+        print(
+            f"  baseline: {base_ms:.2f} ms CPU per action; speed-up {base_ms / per_action_ms:.1f}x"
+        )
+
+
+def run_baseline(directory: Path, episodes: int) -> dict:
+    """The follower measurement with another checkout's code, in a subprocess."""
+    env = dict(os.environ, PYTHONPATH=str(directory))
+    command = [sys.executable, __file__, "--follower-json", "--episodes", str(episodes)]
+    done = subprocess.run(command, env=env, capture_output=True, text=True, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats")
+    parser.add_argument("--follower", action="store_true", help="only the greedy follower")
+    parser.add_argument("--baseline", type=Path, help="checkout to compare the follower with")
+    parser.add_argument("--episodes", type=int, default=FOLLOWER_EPISODES)
+    parser.add_argument("--follower-json", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.follower_json:
+        print(json.dumps(bench_follower(args.episodes)))
+        return
+    follower = bench_follower(args.episodes)
+    baseline = run_baseline(args.baseline, args.episodes) if args.baseline else None
+    print_follower(follower, baseline)
+    if args.follower:
+        return
     build_repeats, n_paths, n_steps = (1, 10, 300) if args.quick else (3, 50, 2000)
     print(
         f"{'scene':32s} {'tris':>7s} {'build s':>8s} {'grid LxZxX':>14s} {'isl':>4s} "

@@ -37,6 +37,7 @@ _LAZY = {
     "SixDOFPose": "engine.agent",
     "SceneNodeControl": "engine.agent",
     "ObjectControls": "engine.agent",
+    "PyRobotNoisyActuationSpec": "engine.agent",
     "SceneGraph": "engine.scene_node",
     "GreedyGeodesicFollower": "engine.nav",
     "GreedyFollowerCodes": "engine.nav",

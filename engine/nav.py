@@ -33,11 +33,13 @@ from typing import Any
 
 import numpy as np
 
+from engine import mn
 from engine.agent import Agent
 from engine.agent.controls import ActuationSpec
 from engine.errors import GreedyFollowerError
-from engine.scene_node import SceneNode
+from engine.follower_poses import ArrayPose, NodePose, ScratchPose, default_controls_used
 from navmesh import HitRecord, MultiGoalShortestPath, NavMeshSettings, PathFinder, ShortestPath
+from navmesh.geodesic_field import GeodesicField
 
 __all__ = [
     "GreedyFollowerCodes",
@@ -64,6 +66,14 @@ class GreedyFollowerCodes(Enum):
     FORWARD = 0
     LEFT = 1
     RIGHT = 2
+
+
+LEFT, RIGHT = GreedyFollowerCodes.LEFT, GreedyFollowerCodes.RIGHT
+CONTROL_NAMES = {
+    GreedyFollowerCodes.FORWARD: "move_forward",
+    LEFT: "turn_left",
+    RIGHT: "turn_right",
+}
 
 
 class GreedyGeodesicFollower:
@@ -103,6 +113,17 @@ class GreedyGeodesicFollower:
             raise ValueError(f"turn_left must turn by > 0 degrees, got {self.left_spec.amount}")
         self._actions: list[GreedyFollowerCodes] = []
         self._thrashing_actions: list[GreedyFollowerCodes] = []
+        # one geodesic distance field per goal (a Dijkstra from the goal), reused by every query
+        self._field: GeodesicField | None = None
+        self._field_goal: np.ndarray | None = None
+        self._specs = {
+            "move_forward": self.forward_spec,
+            "turn_left": self.left_spec,
+            "turn_right": self.right_spec,
+        }
+        #: try primitives through the agent's controls on scene nodes (Habitat's way) instead of
+        #: the fast array twin of the default controls (same actions; see follower_poses)
+        self.use_reference_poses = False
 
     def _find_action(self, name: str) -> tuple[Any, ActuationSpec]:
         """The (key, actuation) of the one action of the agent's space that runs ``name``."""
@@ -121,60 +142,62 @@ class GreedyGeodesicFollower:
             raise ValueError(f"the action spec of {name!r} has no actuation (no amount)")
         return key, actuation
 
-    # -- primitives on scratch nodes -----------------------------------------------------------
-    def _run(self, node: SceneNode, code: GreedyFollowerCodes) -> bool:
-        """Apply one perfect action to a scratch node through the agent's controls."""
-        name, spec = {
-            GreedyFollowerCodes.FORWARD: ("move_forward", self.forward_spec),
-            GreedyFollowerCodes.LEFT: ("turn_left", self.left_spec),
-            GreedyFollowerCodes.RIGHT: ("turn_right", self.right_spec),
-        }[code]
-        return self.agent.controls(node, name, spec, True)
+    # -- primitives on scratch poses ----------------------------------------------------------
+    def _scratch_pose(self, position: Any, rotation: Any) -> ScratchPose:
+        """A pose to try actions on: the fast array twin for the default controls, else a
+        scratch node moved by the agent's controls (``engine.follower_poses``)."""
+        if not self.use_reference_poses and default_controls_used(self._specs):
+            xyzw = mn.to_quaternion(rotation).xyzw
+            filter_fn = self.agent.controls.move_filter_fn
+            return ArrayPose(filter_fn, self._specs, np.asarray(position, np.float64), xyzw)
+        return NodePose(self.agent.controls, self._specs, position, rotation)
 
-    def _geodesic(self, start: np.ndarray, end: np.ndarray) -> float:
-        path = ShortestPath()
-        path.requested_start, path.requested_end = start, end
-        self.pathfinder.find_path(path)
-        return float(path.geodesic_distance)
+    def _geodesic(self, start: np.ndarray, goal: np.ndarray) -> float:
+        """Geodesic distance from ``start`` to ``goal``, from the goal's distance field."""
+        if (
+            self._field is None
+            or self._field_goal is None
+            or not np.array_equal(self._field_goal, goal)
+        ):
+            self._field, self._field_goal = self.pathfinder.geodesic_field(goal), goal.copy()
+        return self._field.distance(start)
 
-    def _reward(self, node: SceneNode, goal: np.ndarray, distance: float, turns: int) -> float:
-        """Score the primitive ``turns`` turns (already applied to ``node``) + one step."""
-        probe = _scratch_node(node.translation, node.rotation)
-        collided = self._run(probe, GreedyFollowerCodes.FORWARD)
-        after = np.asarray(probe.translation, dtype=np.float64)
+    def _reward(self, pose: ScratchPose, goal: np.ndarray, distance: float, turns: int) -> float:
+        """Score the primitive ``turns`` turns (already applied to ``pose``) + one step."""
+        probe = pose.copy()
+        collided = probe.act("move_forward")
+        after = probe.position
         gained = (distance - self._geodesic(after, goal)) / float(self.forward_spec.amount)
-        to_obstacle = self.pathfinder.distance_to_closest_obstacle(after, 1.1 * CLOSE_TO_OBSTACLE_M)
+        # Habitat: distance_to_closest_obstacle(after, 1.1 * 0.2) < 0.2, the same answer
+        near_wall = self.pathfinder.is_near_obstacle(after, CLOSE_TO_OBSTACLE_M)
         return (
             gained
             - TURN_COST * turns
             - (COLLISION_COST if collided else 0.0)
-            - (0.05 if to_obstacle < CLOSE_TO_OBSTACLE_M else 0.0)
+            - (0.05 if near_wall else 0.0)
         )
 
-    def _best_primitive(
-        self, position: np.ndarray, rotation: Any, goal: np.ndarray
-    ) -> list[GreedyFollowerCodes]:
+    def _best_primitive(self, pose: ScratchPose, goal: np.ndarray) -> list[GreedyFollowerCodes]:
         """The best ``[turn] * n + [FORWARD]`` from this pose, [STOP], or [ERROR]."""
-        distance = self._geodesic(position, goal)
+        distance = self._geodesic(pose.position, goal)
         if math.isinf(distance):
             return [GreedyFollowerCodes.ERROR]
         if distance < self.goal_radius:
             return [GreedyFollowerCodes.STOP]
         best_reward, best = -COLLISION_COST, []
-        left, right = _scratch_node(position, rotation), _scratch_node(position, rotation)
+        left, right = pose.copy(), pose.copy()
         turns, angle = 0, 0.0
         while angle < math.pi:
-            for node, code in (
-                (left, GreedyFollowerCodes.LEFT),
-                (right, GreedyFollowerCodes.RIGHT),
-            ):
-                reward = self._reward(node, goal, distance, turns)
+            # with no turn, left and right are the same primitive: score it once
+            sides = ((left, LEFT),) if turns == 0 else ((left, LEFT), (right, RIGHT))
+            for side, code in sides:
+                reward = self._reward(side, goal, distance, turns)
                 if reward > best_reward:
                     best_reward, best = reward, [code] * turns + [GreedyFollowerCodes.FORWARD]
             if best_reward > GOOD_ENOUGH_REWARD:
                 break
-            self._run(left, GreedyFollowerCodes.LEFT)
-            self._run(right, GreedyFollowerCodes.RIGHT)
+            left.act("turn_left")
+            right.act("turn_right")
             turns, angle = turns + 1, angle + self._turn_radians
         return best
 
@@ -201,7 +224,8 @@ class GreedyGeodesicFollower:
         if self.fix_thrashing and self._thrashing_actions:
             code = self._thrashing_actions.pop()
         else:
-            primitive = self._best_primitive(state.position, state.rotation, goal)
+            pose = self._scratch_pose(state.position, state.rotation)
+            primitive = self._best_primitive(pose, goal)
             if not primitive:
                 code = GreedyFollowerCodes.ERROR
             elif self.fix_thrashing and self._is_thrashing():
@@ -219,17 +243,17 @@ class GreedyGeodesicFollower:
         self.reset()
         goal = np.asarray(goal_pos, dtype=np.float64)
         state = self.agent.state
-        node = _scratch_node(state.position, state.rotation)
+        pose = self._scratch_pose(state.position, state.rotation)
         actions: list[GreedyFollowerCodes] = []
         while len(actions) < MAX_ACTIONS:
-            primitive = self._best_primitive(np.asarray(node.translation), node.rotation, goal)
+            primitive = self._best_primitive(pose, goal)
             if not primitive or primitive[-1] is GreedyFollowerCodes.ERROR:
                 raise GreedyFollowerError(
                     f"no path from {state.position.tolist()} to {goal.tolist()}"
                 )
             for code in primitive:
                 if code is not GreedyFollowerCodes.STOP:
-                    self._run(node, code)
+                    pose.act(CONTROL_NAMES[code])
                 actions.append(code)
             if actions[-1] is GreedyFollowerCodes.STOP:
                 return [self.action_mapping[code] for code in actions]
@@ -240,10 +264,3 @@ class GreedyGeodesicFollower:
         self._actions.clear()
         self._thrashing_actions.clear()
         self.last_goal = None
-
-
-def _scratch_node(position: Any, rotation: Any) -> SceneNode:
-    node = SceneNode(name="greedy follower scratch")
-    node.translation = position
-    node.rotation = rotation
-    return node

@@ -35,6 +35,7 @@ import numpy as np
 
 from engine import mn
 from engine.agent import Agent, AgentState
+from engine.agent.controls.pyrobot_noisy_controls import seed_noise
 from engine.attributes_managers import (
     AssetAttributesManager,
     ObjectAttributesManager,
@@ -115,6 +116,7 @@ class Simulator:
         else:  # as Habitat: a scene without triangles warns and has no navmesh
             load_navmesh_beside_stage(self.pathfinder, stage_attributes)
         self.pathfinder.seed(sim_cfg.random_seed)
+        seed_noise(int(sim_cfg.random_seed))
         if not config.agents:
             raise ValueError("Config has no agents specified; give at least 1 agent")
         self._default_agent_id = int(sim_cfg.default_agent_id)
@@ -237,11 +239,13 @@ class Simulator:
     # agents and sensors
     # ------------------------------------------------------------------------------------------
     def seed(self, new_seed: int) -> None:
-        """Seed the simulator's random source and the pathfinder's point sampler."""
+        """Seed the simulator's random source, the pathfinder's point sampler and the noise of
+        the noisy PyRobot controls."""
         if isinstance(new_seed, bool) or not isinstance(new_seed, int | np.integer):
             raise TypeError(f"seed must be an int, got {new_seed!r}")
         self.random.seed(new_seed)
         self.pathfinder.seed(new_seed)
+        seed_noise(int(new_seed))  # the noisy PyRobot controls' samples
 
     def initialize_agent(self, agent_id: int, initial_state: AgentState | None = None) -> Agent:
         """Put agent ``agent_id`` in ``initial_state`` (kept for ``reset``) and return it.

@@ -23,9 +23,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from navmesh.build import build_navmesh
+from navmesh.geodesic_field import GeodesicField
 from navmesh.navmesh_data import NavMeshData
+from navmesh.polygons import navmesh_polygons
 from navmesh.proximity import (
     closest_boundary_point,
+    has_wall_within,
     island_radii,
     nodes_in_disk,
     topdown_islands,
@@ -347,9 +350,7 @@ class PathFinder:
                 goals.append((k, node, pt))
         if not goals:
             return -1, []
-        if self._graph is None:
-            self._graph = GridGraph(grid)
-        graph = self._graph
+        graph = self._grid_graph()
         # Habitat's multi-goal pruning: visit ends by straight-line distance (a lower bound of
         # the geodesic) and skip those that cannot beat the best path found so far.
         goals.sort(key=lambda goal: (float(np.linalg.norm(goal[2] - start_pt)), goal[0]))
@@ -383,6 +384,20 @@ class PathFinder:
         nodes = graph.node_path(pred, start_node, end_node)
         return pull_string(grid, nodes, start_pt, end_pt)
 
+    def _grid_graph(self) -> GridGraph:
+        """The graph of navigable squares for Dijkstra, built on first use."""
+        if self._graph is None:
+            self._graph = GridGraph(self._require_grid())
+        return self._graph
+
+    def geodesic_field(self, goal: ArrayLike) -> GeodesicField:
+        """Geodesic distances to ``goal`` from everywhere, from one Dijkstra search.
+
+        ``field.distance(point)`` then answers in microseconds (see ``navmesh.geodesic_field``
+        for the rule and its accuracy); a greedy follower asks it once per candidate action.
+        """
+        return GeodesicField(self._require_grid(), self._grid_graph(), as_point(goal, "goal"))
+
     # -- stepping ----------------------------------------------------------------------------
     def try_step(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:
         """Move from ``start`` toward ``end``, sliding along walls (see ``step_filter``)."""
@@ -398,6 +413,20 @@ class PathFinder:
     def distance_to_closest_obstacle(self, pt: ArrayLike, max_search_radius: float = 2.0) -> float:
         """Distance from the snapped ``pt`` to the navmesh boundary, capped at the radius."""
         return self.closest_obstacle_surface_point(pt, max_search_radius).hit_dist
+
+    def is_near_obstacle(self, pt: ArrayLike, distance: float) -> bool:
+        """Whether the navmesh boundary lies closer than ``distance`` to the snapped ``pt``
+        (rigidsim addition: ``distance_to_closest_obstacle(pt, r) < distance`` for any
+        ``r >= distance``, stopping at the first wall found). Off the mesh: False, as that
+        distance is inf there."""
+        p = as_point(pt, "pt")
+        if not (isinstance(distance, (int, float)) and distance > 0):
+            raise ValueError(f"distance must be > 0, got {distance!r}")
+        grid = self._require_grid()
+        node, snapped = grid.nearest_node(p)
+        if snapped is None:  # off the mesh
+            return False
+        return has_wall_within(grid, node, snapped, float(distance))
 
     def closest_obstacle_surface_point(
         self, pt: ArrayLike, max_search_radius: float = 2.0
@@ -424,41 +453,20 @@ class PathFinder:
     def build_navmesh_vertices(self, island_index: int = -1) -> list[np.ndarray]:
         """Vertices of the navmesh surface as a triangle mesh (Habitat's name), meters.
 
-        The grid navmesh has no polygons: every navigable cell is a square at its floor
-        height, 4 corner vertices per cell in the order (x0, z0), (x1, z0), (x1, z1),
-        (x0, z1); ``island_index`` -1 gives every island. Use with
-        :meth:`build_navmesh_vertex_indices` (2 triangles per cell).
+        The navigable squares of the island (``island_index`` -1: every island) merged into
+        rectangles of equal height, 4 corners each (``navmesh.polygons``); use with
+        :meth:`build_navmesh_vertex_indices` (2 triangles per rectangle, +Y normals).
         """
-        return list(self._cell_squares(island_index))
+        return list(self._polygons(island_index)[0])
 
     def build_navmesh_vertex_indices(self, island_index: int = -1) -> list[int]:
-        """Triangle indices into :meth:`build_navmesh_vertices`: 6 per cell, counter-clockwise
-        seen from above (+Y normals)."""
-        n_cells = len(self._cell_squares(island_index)) // 4
-        quad = np.array([0, 2, 1, 0, 3, 2])  # two triangles of one square, +Y facing
-        return (np.arange(n_cells)[:, None] * 4 + quad).reshape(-1).tolist()
+        """Triangle indices into :meth:`build_navmesh_vertices`, counter-clockwise seen from
+        above (+Y normals)."""
+        return self._polygons(island_index)[1].tolist()
 
-    def _cell_squares(self, island_index: int) -> np.ndarray:
-        """``(4 * cells, 3)`` corners of the navigable cells of one island (or all for -1)."""
-        grid = self._require_grid()
+    def _polygons(self, island_index: int) -> tuple[np.ndarray, np.ndarray]:
         self._check_island(island_index)
-        mask = grid.island >= 0 if island_index < 0 else grid.island == island_index
-        nodes = np.flatnonzero(mask)
-        iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)  # node -> (row z, column x)
-        x0 = grid.x0 + ix * grid.cell_size
-        z0 = grid.z0 + iz * grid.cell_size
-        x1, z1 = x0 + grid.cell_size, z0 + grid.cell_size
-        y = grid.floor[nodes]
-        corners = np.stack(
-            [
-                np.stack([x0, y, z0], 1),
-                np.stack([x1, y, z0], 1),
-                np.stack([x1, y, z1], 1),
-                np.stack([x0, y, z1], 1),
-            ],
-            axis=1,
-        )
-        return corners.reshape(-1, 3)
+        return navmesh_polygons(self._require_grid(), island_index)
 
     # -- maps --------------------------------------------------------------------------------
     def get_topdown_view(

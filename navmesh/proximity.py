@@ -17,26 +17,60 @@ from navmesh.query import NavGrid
 def closest_boundary_point(grid: NavGrid, node: int, point: np.ndarray, max_radius: float):
     """Closest navmesh boundary point to ``point`` (on ``node``) within ``max_radius``.
 
-    Detour's ``findDistanceToWall`` on squares: squares connected to ``node`` are visited
-    best-first by their distance to the point and the search stops once the next square is
-    farther than the best wall found. Returns ``(hit_pos (3,), hit_normal (3,), distance)``
-    with the normal the unit XZ vector from the wall to the point, or None when no boundary
-    lies within ``max_radius``.
+    Detour's ``findDistanceToWall`` on squares: the squares connected to ``node`` (through side
+    links) that meet the disk of radius ``max_radius`` around the point are searched for the
+    boundary side nearest to it. Returns ``(hit_pos (3,), hit_normal (3,), distance)`` with the
+    normal the unit XZ vector from the wall to the point, or None when no boundary lies within
+    ``max_radius``. The search (:func:`nearest_wall_best_first`) is skipped where the square's
+    clearance bound already rules out a wall within the radius (``NavGrid.clearance``): the
+    answer is the same, None, without visiting a square.
     """
-    best_dist, best_hit = max_radius, None
-    for near, square_dist in grid.expand_best_first(node, (point[0], point[2]), best_dist):
-        if square_dist >= best_dist:
-            break
-        for side in grid.boundary_sides(near):
-            dist, hx, hz = _point_segment(point[0], point[2], *side)
-            if dist < best_dist:
-                best_dist, best_hit = dist, (hx, grid.floor[near], hz)
-    if best_hit is None:
+    centre_gap = math.hypot(*(grid.node_center(node)[[0, 2]] - point[[0, 2]]))
+    if grid.clearance[node] - centre_gap >= max_radius:
+        return None  # no boundary side can lie within the radius (see clearance_lower_bounds)
+    found = nearest_wall_best_first(grid, node, float(point[0]), float(point[2]), max_radius)
+    if found is None:
         return None
-    hit = np.array(best_hit)
+    (hx, hy, hz), best_dist = found
+    hit = np.array([hx, hy, hz])
     normal = np.array([point[0] - hit[0], 0.0, point[2] - hit[2]])
     norm = np.linalg.norm(normal)
     return hit, (normal / norm if norm > 0 else normal), best_dist
+
+
+def nearest_wall_best_first(grid: NavGrid, node: int, px: float, pz: float, max_radius: float):
+    """Visit squares best-first by distance, stop once the next one is farther than the best
+    wall; return ``((x, y, z) of the hit, distance)`` or None."""
+    best_dist, best_hit = max_radius, None
+    for near, square_dist in grid.expand_best_first(node, (px, pz), best_dist):
+        if square_dist >= best_dist:
+            break
+        for side in grid.boundary_sides(near):
+            dist, hx, hz = _point_segment(px, pz, *side)
+            if dist < best_dist:
+                best_dist, best_hit = dist, (hx, grid.floor[near], hz)
+    return None if best_hit is None else (best_hit, best_dist)
+
+
+def has_wall_within(grid: NavGrid, node: int, point: np.ndarray, radius: float) -> bool:
+    """Whether a boundary side lies closer than ``radius`` to ``point`` (on ``node``).
+
+    The same squares as :func:`closest_boundary_point`, visited in the same best-first order,
+    but the search stops at the first wall closer than ``radius``: the answer equals
+    ``closest_boundary_point(...)[2] < radius`` (None counting as no), at a fraction of the
+    cost next to walls.
+    """
+    px, pz = float(point[0]), float(point[2])
+    centre_gap = math.hypot(*(grid.node_center(node)[[0, 2]] - point[[0, 2]]))
+    if grid.clearance[node] - centre_gap >= radius:
+        return False
+    for near, square_dist in grid.expand_best_first(node, (px, pz), radius):
+        if square_dist >= radius:
+            return False
+        for side in grid.boundary_sides(near):
+            if _point_segment(px, pz, *side)[0] < radius:
+                return True
+    return False
 
 
 def _point_segment(px, pz, ax, az, bx, bz):

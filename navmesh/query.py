@@ -12,6 +12,7 @@ square contains the point scores ``max(|dy| - max_climb, 0)^2``, any other node 
 
 from __future__ import annotations
 
+import functools
 import heapq
 import math
 
@@ -51,6 +52,12 @@ class NavGrid:
         self._window = _window_offsets(
             math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size), self.nx, self.nz
         )
+
+    @functools.cached_property
+    def clearance(self) -> np.ndarray:
+        """(N,) lower bounds of the square centres' distances to the boundary (computed on
+        first use; see :func:`clearance_lower_bounds`)."""
+        return clearance_lower_bounds(self)
 
     # -- cells and nodes ---------------------------------------------------------------------
     def cell_of(self, x: float, z: float) -> tuple[int, int]:
@@ -216,7 +223,7 @@ class NavGrid:
         return [node for node, _ in self.expand_best_first(start, center, radius)]
 
     def _square_distance(self, node: int, cx: float, cz: float) -> float:
-        ix, iz = self.node_cell(node)
+        iz, ix = divmod(node % self.n_cells, self.nx)
         lo_x, lo_z = self.x0 + ix * self.cell_size, self.z0 + iz * self.cell_size
         ddx = max(lo_x - cx, 0.0, cx - lo_x - self.cell_size)
         ddz = max(lo_z - cz, 0.0, cz - lo_z - self.cell_size)
@@ -227,11 +234,12 @@ class NavGrid:
         cx, cz = float(center[0]), float(center[-1])
         heap = [(self._square_distance(start, cx, cz), start)]
         seen = {start}
+        link = self.neighbours.item  # plain-int reads: this loop runs per query
         while heap:
             dist, node = heapq.heappop(heap)
             yield node, dist
             for row in range(4):
-                nxt = int(self.neighbours[row, node])
+                nxt = link(row, node)
                 if nxt < 0 or nxt in seen:
                     continue
                 seen.add(nxt)
@@ -251,9 +259,34 @@ class NavGrid:
             (lo_x, hi_z, hi_x, hi_z),
             (lo_x, lo_z, hi_x, lo_z),
         )  # +X, -X, +Z, -Z
+        link = self.neighbours.item
         for row in range(4):
-            if self.neighbours[row, node] < 0:
+            if link(row, node) < 0:
                 yield sides[row]
+
+
+def clearance_lower_bounds(grid: NavGrid, max_levels: int = 64) -> np.ndarray:
+    """(N,) a lower bound of each square centre's distance to the navmesh boundary, meters.
+
+    A square is *interior* at level 0 when its four sides are linked, and at level k when it
+    and its 8 linked neighbours are interior at level k - 1. Every side of the
+    ``(2k + 1) x (2k + 1)`` block around a level-k square is then linked, so the nearest
+    boundary side is at least ``(k + 1/2) cell_size`` from its centre (0 for squares with a
+    boundary side of their own). ``closest_boundary_point`` uses it to answer "no wall within
+    the radius" without a search: a point ``p`` on square ``n`` is at least
+    ``bound[n] - |p - c_n|`` from every wall.
+    """
+    links = grid.neighbours
+    interior = grid.navigable & np.all(links[:4] >= 0, axis=0)
+    bound = np.where(interior, 0.5 * grid.cell_size, 0.0)
+    for level in range(1, max_levels):
+        # a missing neighbour (-1) reads the sentinel slot, which is never interior
+        padded = np.append(interior, False)
+        interior = interior & np.all(padded[links], axis=0)
+        if not interior.any():
+            break
+        bound[interior] = (level + 0.5) * grid.cell_size
+    return bound
 
 
 def _window_offsets(half_cells: int, nx: int, nz: int) -> tuple[np.ndarray, np.ndarray]:

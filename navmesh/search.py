@@ -31,7 +31,7 @@ class GridGraph:
         self.nodes = np.flatnonzero(grid.navigable)  # (M,) compact -> node id
         self.compact = np.full(grid.navigable.size, -1, dtype=np.int64)
         self.compact[self.nodes] = np.arange(self.nodes.size)
-        centers = self._centers(self.nodes)
+        centers = self.centers_of(self.nodes)
         rows, cols, weights = [], [], []
         for row in grid.neighbours:
             target = row[self.nodes]
@@ -46,7 +46,8 @@ class GridGraph:
             (np.concatenate(weights), (np.concatenate(rows), np.concatenate(cols))), shape=(m, m)
         )
 
-    def _centers(self, nodes: np.ndarray) -> np.ndarray:
+    def centers_of(self, nodes: np.ndarray) -> np.ndarray:
+        """(k, 3) world centres of the squares of ``nodes`` at their surface heights."""
         g = self.grid
         iz, ix = np.divmod(nodes % g.n_cells, g.nx)
         return np.stack(

@@ -2,13 +2,14 @@
 
 ``engine.agent.AgentConfiguration``, ``AgentState``, ``Agent``, ``ActionSpec``,
 ``SixDOFPose`` and, from :mod:`engine.agent.controls`, ``ActuationSpec``,
-``SceneNodeControl``, ``ObjectControls``.
+``SceneNodeControl``, ``ObjectControls``, ``PyRobotNoisyActuationSpec``.
 """
 
 from engine.agent.agent import ActionSpec, Agent, AgentConfiguration, AgentState, SixDOFPose
 from engine.agent.controls import (
     ActuationSpec,
     ObjectControls,
+    PyRobotNoisyActuationSpec,
     SceneNodeControl,
     UnknownActionError,
 )
@@ -20,6 +21,7 @@ __all__ = [
     "AgentConfiguration",
     "AgentState",
     "ObjectControls",
+    "PyRobotNoisyActuationSpec",
     "SceneNodeControl",
     "SixDOFPose",
     "UnknownActionError",

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import engine as habitat_sim
+from engine.registry import registry
 
 TURN_DEGREES = 30.0
 EPISODES = 12
@@ -121,3 +122,46 @@ def test_thrashing_is_detected_after_alternating_turns(demo_data):
         assert not follower._is_thrashing()
         follower._actions = [codes.RIGHT, codes.LEFT, codes.RIGHT]
         assert not follower._is_thrashing()  # fewer than the threshold
+
+
+def test_the_fast_poses_choose_the_actions_of_the_agents_own_controls(demo_data):
+    """Two paths, one behaviour: the array twin of the default controls (the default) and the
+    agent's controls on scratch scene nodes (Habitat's way) plan the same actions."""
+    with make_sim(demo_data, False) as sim:
+        sim.pathfinder.seed(11)
+        agent = sim.get_agent(0)
+        follower = sim.make_greedy_follower()
+        for _ in range(4):
+            start, goal, _ = random_episode(sim.pathfinder)
+            agent.state = habitat_sim.AgentState(start)
+            follower.use_reference_poses = False
+            fast = follower.find_path(goal)
+            follower.use_reference_poses = True
+            reference = follower.find_path(goal)
+            assert fast == reference
+
+
+def test_a_custom_forward_control_is_planned_through_the_agents_controls(demo_data):
+    """With a move_forward that is not the default control, the follower must not use the
+    array twin: it plans with the registered control (here, steps of half the amount)."""
+
+    @habitat_sim.registry.register_move_fn(name="half_forward_for_test", body_action=True)
+    class HalfForward(habitat_sim.agent.SceneNodeControl):
+        def __call__(self, scene_node, actuation_spec):
+            scene_node.translate_local([0.0, 0.0, -0.5 * actuation_spec.amount])
+
+    with make_sim(demo_data, True) as sim:
+        sim.pathfinder.seed(2)
+        agent = sim.get_agent(0)
+        follower = sim.make_greedy_follower()
+        start, goal, _ = random_episode(sim.pathfinder)
+        agent.state = habitat_sim.AgentState(start)
+        default_count = len(follower.find_path(goal))
+        original = registry.get_move_fn("move_forward")
+        registry._move_fns["move_forward"] = registry.get_move_fn("half_forward_for_test")
+        try:
+            agent.state = habitat_sim.AgentState(start)
+            half_count = len(follower.find_path(goal))
+        finally:
+            registry._move_fns["move_forward"] = original
+        assert half_count > 1.5 * default_count  # half steps: about twice the forward actions

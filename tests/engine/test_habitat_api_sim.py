@@ -288,8 +288,10 @@ def test_pathfinder_helpers(apartment_settings):
         normals = np.cross(b - a, c - a)
         assert np.all(normals[:, 1] > 0)
         assert 0.5 * normals[:, 1].sum() == pytest.approx(pf.navigable_area, rel=1e-9)
-        small = np.asarray(pf.build_navmesh_vertex_indices(1)).size // 6
-        assert small * pf.nav_mesh_settings.cell_size**2 == pytest.approx(pf.island_area(1))
+        small_vertices = np.asarray(pf.build_navmesh_vertices(1))
+        small = small_vertices[np.asarray(pf.build_navmesh_vertex_indices(1)).reshape(-1, 3)]
+        small_normals = np.cross(small[:, 1] - small[:, 0], small[:, 2] - small[:, 0])
+        assert 0.5 * small_normals[:, 1].sum() == pytest.approx(pf.island_area(1), rel=1e-9)
         point = pf.get_random_navigable_point(island_index=0)
         assert pf.island_radius(point) > pf.island_radius(
             pf.get_random_navigable_point(island_index=1)

@@ -1,0 +1,163 @@
+"""The navmesh as merged rectangles, the geodesic distance field, and the wall-search skip.
+
+* ``build_navmesh_vertices`` merges equal squares into rectangles: an L-shaped floor is two
+  rectangles (8 vertices); the triangles cover exactly the navigable area, +Y up.
+* ``PathFinder.geodesic_field(goal).distance(p)`` is exact in line of sight and otherwise within
+  the 8-connected grid metric's bound (+8.3 %) of ``find_path``'s geodesic; unreachable is inf.
+* ``NavGrid.clearance`` never exceeds a square centre's true distance to the boundary, so the
+  wall search it skips would have found nothing.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from navmesh import ShortestPath
+from navmesh.proximity import nearest_wall_best_first
+
+
+def triangle_area_and_normals(pathfinder, island: int = -1):
+    vertices = np.asarray(pathfinder.build_navmesh_vertices(island))
+    triangles = vertices[np.asarray(pathfinder.build_navmesh_vertex_indices(island)).reshape(-1, 3)]
+    normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    return 0.5 * normals[:, 1].sum(), normals, vertices
+
+
+def test_a_rectangular_floor_is_one_rectangle(geometry):
+    pathfinder = geometry.build(geometry.box([0, -0.1, 0], [3, 0, 2]))
+    area, normals, vertices = triangle_area_and_normals(pathfinder)
+    assert len(vertices) == 4 and len(normals) == 2  # one rectangle, two triangles
+    assert np.all(normals[:, 1] > 0)
+    assert area == pytest.approx(pathfinder.navigable_area, rel=1e-12)
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    assert (hi[0] - lo[0]) * (hi[2] - lo[2]) == pytest.approx(area, rel=1e-12)
+
+
+def test_an_l_shaped_floor_is_a_few_rectangles(geometry):
+    pathfinder = geometry.build(
+        geometry.box([0, -0.1, 0], [2, 0, 1]), geometry.box([0, -0.1, 1], [1, 0, 2])
+    )
+    area, normals, vertices = triangle_area_and_normals(pathfinder)
+    assert len(vertices) <= 16  # the L and the rounded inner corner of the eroded floor
+    assert np.all(normals[:, 1] > 0)
+    assert area == pytest.approx(pathfinder.navigable_area, rel=1e-12)
+    np.testing.assert_allclose(vertices[:, 1], 0.0, atol=1e-9)
+
+
+def test_floors_of_two_heights_never_share_a_rectangle(geometry):
+    pathfinder = geometry.build(
+        geometry.box([0, -0.1, 0], [1, 0, 2]), geometry.box([1, -0.1, 0], [2, 0.1, 2])
+    )
+    area, _, vertices = triangle_area_and_normals(pathfinder)
+    assert area == pytest.approx(pathfinder.navigable_area, rel=1e-12)
+    heights = np.unique(vertices[:, 1].round(6))
+    assert len(heights) == 2  # each rectangle is flat: one per floor (the step splits them)
+    for rectangle in vertices.reshape(-1, 4, 3):
+        assert np.ptp(rectangle[:, 1]) == 0.0
+
+
+def test_the_demo_apartment_has_hundreds_of_navmesh_vertices(demo_data):
+    import engine as habitat_sim
+
+    cfg = habitat_sim.SimulatorConfiguration()
+    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
+    agents = [habitat_sim.agent.AgentConfiguration()]
+    with habitat_sim.Simulator(habitat_sim.Configuration(cfg, agents)) as sim:
+        pathfinder = sim.pathfinder
+        area, normals, vertices = triangle_area_and_normals(pathfinder)
+        assert 100 <= len(vertices) <= 1000  # Habitat's order; one square each would be 55,000
+        assert area == pytest.approx(pathfinder.navigable_area, rel=1e-9)
+        for island in range(pathfinder.num_islands):
+            island_area, _, _ = triangle_area_and_normals(pathfinder, island)
+            assert island_area == pytest.approx(pathfinder.island_area(island), rel=1e-9)
+
+
+def geodesic(pathfinder, start, end) -> float:
+    path = ShortestPath()
+    path.requested_start, path.requested_end = start, end
+    pathfinder.find_path(path)
+    return path.geodesic_distance
+
+
+def test_the_field_is_exact_in_sight_and_within_the_grid_bound_elsewhere(geometry):
+    # a 6 x 6 m floor with a 4 m wall across its middle: half of the pairs see each other
+    pathfinder = geometry.build(
+        geometry.box([0, -0.1, 0], [6, 0, 6]), geometry.box([0, 0, 2.9], [4, 1.5, 3.1])
+    )
+    pathfinder.seed(3)
+    goal = pathfinder.get_random_navigable_point()
+    field = pathfinder.geodesic_field(goal)
+    checked_in_sight = checked_around = 0
+    for _ in range(60):
+        start = pathfinder.get_random_navigable_point()
+        truth = geodesic(pathfinder, start, goal)
+        if not math.isfinite(truth):
+            assert field.distance(start) == math.inf
+            continue
+        estimate = field.distance(start)
+        grid = pathfinder._require_grid()
+        node, snapped = grid.nearest_node(start)
+        goal_node, goal_snapped = grid.nearest_node(goal)
+        if grid.line_of_sight(node, snapped[[0, 2]], goal_snapped[[0, 2]], goal_node):
+            assert estimate == pytest.approx(truth, rel=1e-9)
+            checked_in_sight += 1
+        else:
+            # the string-pulled geodesic is within 1 % of the shortest; the grid metric over it
+            # by at most sqrt(4 - 2 sqrt 2) - 1 = 8.2 %, plus a square's half diagonal
+            assert 0.99 * truth <= estimate <= 1.083 * truth + 0.05
+            checked_around += 1
+    assert checked_in_sight > 0 and checked_around > 0
+
+
+def test_an_unreachable_goal_is_infinitely_far(geometry):
+    pathfinder = geometry.build(
+        geometry.box([0, -0.1, 0], [3, 0, 3]), geometry.box([5, -0.1, 0], [8, 0, 3])
+    )
+    field = pathfinder.geodesic_field([6.5, 0.0, 1.5])
+    assert field.distance([1.5, 0.0, 1.5]) == math.inf
+    assert field.distance([6.2, 0.0, 1.5]) == pytest.approx(0.3, abs=1e-9)
+
+
+def test_clearance_bounds_never_exceed_the_distance_to_a_wall(simple_room):
+    grid = simple_room._require_grid()
+    nodes = np.flatnonzero(grid.navigable)
+    rng = np.random.default_rng(0)
+    for node in rng.choice(nodes, size=200, replace=False):
+        centre = grid.node_center(int(node))
+        found = nearest_wall_best_first(grid, int(node), centre[0], centre[2], 50.0)
+        wall = found[1] if found is not None else math.inf
+        assert grid.clearance[node] <= wall + 1e-12
+    assert grid.clearance.max() > 5 * grid.cell_size  # the bound is not trivially zero
+
+
+def test_skipped_wall_searches_agree_with_the_search(simple_room):
+    grid = simple_room._require_grid()
+    simple_room.seed(5)
+    skipped = 0
+    for _ in range(200):
+        point = simple_room.get_random_navigable_point()
+        node, snapped = grid.nearest_node(point)
+        record = simple_room.closest_obstacle_surface_point(point, 0.3)
+        found = nearest_wall_best_first(grid, node, snapped[0], snapped[2], 0.3)
+        if found is None:
+            assert record.hit_dist == 0.3 and np.all(np.isnan(record.hit_pos))
+            skipped += grid.clearance[node] - 0.05 >= 0.3
+        else:
+            assert record.hit_dist == found[1]
+    assert skipped > 0
+
+
+def test_is_near_obstacle_answers_as_the_distance_query(simple_room):
+    simple_room.seed(9)
+    near = 0
+    for _ in range(300):
+        point = simple_room.get_random_navigable_point()
+        expected = simple_room.distance_to_closest_obstacle(point, 0.22) < 0.2
+        assert simple_room.is_near_obstacle(point, 0.2) == expected
+        near += expected
+    assert 0 < near < 300
+    with pytest.raises(ValueError, match="distance"):
+        simple_room.is_near_obstacle([0.0, 0.0, 0.0], 0.0)
