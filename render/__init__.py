@@ -11,7 +11,7 @@ Pipeline of ``render_frame`` (``render/frame.py``), stage by stage:
    (inverse of ``world_from_camera``); ``RenderScene`` caches the static arrays.
 2. Frustum culling with vertex outcodes (``cull.vertex_outcodes``,
    ``cull.triangles_in_frustum``); hidden meshes dropped. The surviving triangles are then
-   processed in batches of ``frame.TRIANGLE_BATCH`` through stages 3-6.
+   processed in batches of ``RenderSettings.triangle_batch`` through stages 3-6.
 3. Optional back-face culling (``cull.front_facing``) and near clipping against z = -near:
    1 or 2 pieces per crossing triangle (``cull.clip_near``).
 4. Triangle setup: per triangle, the affine screen functions b_k / z and 1 / z that make
@@ -50,6 +50,7 @@ from render.frame import (
     render_over_layer,
 )
 from render.scene import RenderMesh, RenderScene
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.shade import (
     AMBIENT,
     DEFAULT_LIGHTS,
@@ -86,6 +87,8 @@ __all__ = [
     "PINHOLE",
     "RenderMesh",
     "RenderScene",
+    "RenderSettings",
+    "DEFAULT_SETTINGS",
     "border_frames_from_overlay",
     "depth_to_rgb",
     "display_video",

@@ -55,7 +55,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from render.raster import AttributePlanes, VisiblePixels
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 
+#: rigidsim's default light setup (constants: a different setup is a :class:`Lights`)
 AMBIENT = 0.4
 DIFFUSE = 0.5
 #: world-frame directions the 4 default lights travel along (unit vectors)
@@ -155,17 +157,6 @@ _U8 = np.uint32(8)
 
 #: how a triangle is shaded (``MaterialTable.tri_kind``)
 FLAT, VERTEX_COLOR, TEXTURED = 0, 1, 2
-
-#: True: ``shade_pixels`` uses the in-place kernels (``sample_bilinear_fast``, lighting of
-#: every pixel without gathers); False: the plain readable ones (``sample_bilinear``, lighting
-#: of the pixels with ``light < 1`` only). Both give the same bits (tests/render/test_shade.py).
-FAST_SHADING = True
-#: with FAST_SHADING, light every pixel in place (``light == 1`` leaves a color unchanged)
-#: when at least this fraction of them is lit; below, gather and scatter the lit ones
-LIGHT_ALL_ABOVE = 0.25
-#: with FAST_SHADING and one texture, sample it at every pixel (then keep the textured
-#: ones) when at least this fraction of the pixels is textured; below, sample the subset
-SAMPLE_ALL_ABOVE = 0.5
 
 
 @dataclass
@@ -412,6 +403,7 @@ def shade_pixels(
     uv_planes: AttributePlanes | None,
     color_planes: AttributePlanes | None,
     light: np.ndarray | None,
+    settings: RenderSettings = DEFAULT_SETTINGS,
 ) -> np.ndarray:
     """Deferred shading of visible pixels, returning packed RGBA ``(n,)`` uint32, alpha 255.
 
@@ -424,14 +416,17 @@ def shade_pixels(
     uv_planes, color_planes : interpolators of uvs and vertex colors of the rasterized
         triangles, or None when no mesh is textured / vertex-colored.
     light : (n,) float32 light factor per pixel (1 = unlit), or None if nothing is lit.
+    settings : ``fast_shading`` selects the kernels (same bits), ``light_all_above`` and
+        ``sample_all_above`` when the fast ones work on every pixel.
     """
+    fast = settings.fast_shading
     kind = materials.tri_kind[triangle]
     textured_meshes = [i for i, t in enumerate(materials.textures) if t is not None]
-    if FAST_SHADING and len(textured_meshes) == 1 and len(kind) and kind.min() == TEXTURED:
+    if fast and len(textured_meshes) == 1 and len(kind) and kind.min() == TEXTURED:
         # every pixel samples the one texture (TEXTURED is the largest kind): no selections
         uvs = _needed(uv_planes, "uv_planes")
-        packed = _textured_colors(materials, textured_meshes[0], visible, uvs, color_planes)
-        return _lit_and_opaque(packed, light)
+        packed = _textured_colors(materials, textured_meshes[0], visible, uvs, color_planes, fast)
+        return _lit_and_opaque(packed, light, settings)
     packed = materials.tri_base_packed[triangle]  # flat triangles: one gather
     blended = np.flatnonzero(kind == VERTEX_COLOR)
     if len(blended):  # premultiplied base * sum_k b_k c_k
@@ -439,14 +434,15 @@ def shade_pixels(
         color = colors.evaluate(visible.subset(blended)).T * np.float32(255.0)
         packed[blended] = pack_rgba(np.clip(np.rint(color), 0, 255).astype(np.uint8))
     is_textured = kind == TEXTURED
-    if FAST_SHADING and len(textured_meshes) == 1:
-        if np.count_nonzero(is_textured) >= SAMPLE_ALL_ABOVE * len(kind):
+    if fast and len(textured_meshes) == 1:
+        if np.count_nonzero(is_textured) >= settings.sample_all_above * len(kind):
             # mostly one texture: sample it at every pixel (no subset gathers, no scatter)
             # and keep the samples of the textured pixels only
             uvs = _needed(uv_planes, "uv_planes")
-            texel = _textured_colors(materials, textured_meshes[0], visible, uvs, color_planes)
+            mesh = textured_meshes[0]
+            texel = _textured_colors(materials, mesh, visible, uvs, color_planes, fast)
             np.copyto(packed, texel, where=is_textured)
-            return _lit_and_opaque(packed, light)
+            return _lit_and_opaque(packed, light, settings)
     textured = np.flatnonzero(is_textured)
     if len(textured):
         uvs = _needed(uv_planes, "uv_planes")
@@ -455,8 +451,8 @@ def shade_pixels(
             sel = textured if mesh_of_pixel is None else textured[mesh_of_pixel == mesh]
             if len(sel):
                 subset = visible if len(sel) == len(triangle) else visible.subset(sel)
-                packed[sel] = _textured_colors(materials, mesh, subset, uvs, color_planes)
-    return _lit_and_opaque(packed, light)
+                packed[sel] = _textured_colors(materials, mesh, subset, uvs, color_planes, fast)
+    return _lit_and_opaque(packed, light, settings)
 
 
 def _needed(planes: AttributePlanes | None, name: str) -> AttributePlanes:
@@ -466,11 +462,14 @@ def _needed(planes: AttributePlanes | None, name: str) -> AttributePlanes:
     return planes
 
 
-def _lit_and_opaque(packed: np.ndarray, light: np.ndarray | None) -> np.ndarray:
+def _lit_and_opaque(
+    packed: np.ndarray, light: np.ndarray | None, settings: RenderSettings
+) -> np.ndarray:
     """Apply the light factors to packed colors (in place) and set alpha 255."""
     if light is not None:
         is_lit = light < 1.0
-        if FAST_SHADING and np.count_nonzero(is_lit) >= LIGHT_ALL_ABOVE * len(light):
+        n_lit = np.count_nonzero(is_lit)
+        if settings.fast_shading and n_lit >= settings.light_all_above * len(light):
             modulate_packed_inplace(packed, light)  # W = 256 where light == 1: unchanged
         else:
             lit = np.flatnonzero(is_lit)
@@ -485,10 +484,11 @@ def _textured_colors(
     visible: VisiblePixels,
     uv_planes: AttributePlanes,
     color_planes: AttributePlanes | None,
+    fast: bool,
 ) -> np.ndarray:
     """Packed colors of the pixels of one textured mesh: texture * base (* vertex color)."""
     u, v = uv_planes.evaluate(visible)
-    sample = sample_bilinear_fast if FAST_SHADING else sample_bilinear
+    sample = sample_bilinear_fast if fast else sample_bilinear
     texel = sample(materials.textures[mesh], u, v, materials.uv_origins[mesh])
     if materials.has_vertex_colors[mesh]:
         factor = (
