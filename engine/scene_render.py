@@ -57,9 +57,9 @@ from engine.render_scheduler import GroupState, RenderJob, RenderScheduler
 from engine.scene_node import Drawable, SceneNode
 from engine.sensors import CameraSensor, SensorSubType
 from render.camera import Camera
+from render.lights import Lights
 from render.scene import RenderMesh
 from render.settings import DEFAULT_SETTINGS, RenderSettings
-from render.shade import Lights
 from render.views import SplitScene
 
 __all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]

@@ -51,7 +51,7 @@ from render.frame import (
 )
 from render.scene import RenderMesh, RenderScene
 from render.settings import DEFAULT_SETTINGS, RenderSettings
-from render.shade import (
+from render.lights import (
     AMBIENT,
     DEFAULT_LIGHTS,
     DIFFUSE,

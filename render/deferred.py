@@ -18,9 +18,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from render import cull, raster
+from render.packed_rgba import pack_rgba
 from render.scene import RenderScene
 from render.settings import DEFAULT_SETTINGS, RenderSettings
-from render.shade import MaterialTable, pack_rgba, shade_pixels
+from render.shade import MaterialTable, shade_pixels
 
 if TYPE_CHECKING:
     from render.frame import FrameBuffers

@@ -54,7 +54,7 @@ from typing import Any
 
 import numpy as np
 
-from render import shade as _shade
+from render import lights as _lights
 from render.camera import Camera
 from render.frame import FrameBuffers
 from render.scene import RenderMesh
@@ -136,7 +136,7 @@ class _Worker:
 
     def __init__(self) -> None:
         self.scene = SplitScene()
-        self.lights: dict[int, _shade.Lights] = {}
+        self.lights: dict[int, _lights.Lights] = {}
         self.views: dict[int, LayeredView] = {}
         self.blocks: dict[int, shared_memory.SharedMemory] = {}
 
@@ -150,8 +150,8 @@ class _Worker:
             meshes.append(RenderMesh(**fields))
         return meshes
 
-    def _light(self, token: int) -> _shade.Lights:
-        return _shade.DEFAULT_LIGHTS if token == 0 else self.lights[token]
+    def _light(self, token: int) -> _lights.Lights:
+        return _lights.DEFAULT_LIGHTS if token == 0 else self.lights[token]
 
     def handle(self, message: tuple) -> tuple | None:
         kind = message[0]
@@ -293,7 +293,7 @@ class RenderProcess:
             child.close()
         self._blocks: dict[int, shared_memory.SharedMemory] = {}
         self._resolutions: dict[int, tuple[int, int]] = {}
-        self._lights: dict[int, _shade.Lights] = {}  # token -> Lights (kept alive)
+        self._lights: dict[int, _lights.Lights] = {}  # token -> Lights (kept alive)
         self._tokens: dict[int, int] = {}  # id(Lights) -> token
         self._pending: list[int] | None = None
         self._finalizer = weakref.finalize(
@@ -340,7 +340,7 @@ class RenderProcess:
             lights = fields.pop("lights")
             if lights is None:
                 token = None
-            elif lights is _shade.DEFAULT_LIGHTS:
+            elif lights is _lights.DEFAULT_LIGHTS:
                 token = 0
             else:
                 token = self._tokens.get(id(lights))

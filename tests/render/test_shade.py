@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from render import raster, shade
+from render import packed_rgba, raster, shade
 from render.camera import Camera
 from render.frame import RenderMesh, RenderScene, render_frame
 from render.raster import VisiblePixels
@@ -27,7 +27,7 @@ def settings_for(fast: bool) -> RenderSettings:
 def test_fast_bilinear_sampler_matches_the_plain_one(uv_origin, size):
     rng = np.random.default_rng(RNG_SEED)
     texels = rng.integers(0, 2**32, size=size, dtype=np.uint64).astype(np.uint32)
-    padded = shade.pad_texture_wrap(texels)
+    padded = packed_rgba.pad_texture_wrap(texels)
     # wrapped, negative and texel-center coordinates, and the exact edges 0 and 1
     u = np.concatenate(
         [rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1], [0.0, 1.0, -1.0, 2.5]]
@@ -36,8 +36,8 @@ def test_fast_bilinear_sampler_matches_the_plain_one(uv_origin, size):
         [rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1], [1.0, 0.0, -0.0, 3.0]]
     ).astype(np.float32)
     u_before, v_before = u.copy(), v.copy()
-    plain = shade.sample_bilinear(padded, u, v, uv_origin)
-    fast = shade.sample_bilinear_fast(padded, u, v, uv_origin)
+    plain = packed_rgba.sample_bilinear(padded, u, v, uv_origin)
+    fast = packed_rgba.sample_bilinear_fast(padded, u, v, uv_origin)
     np.testing.assert_array_equal(fast, plain)
     np.testing.assert_array_equal(u, u_before)  # inputs untouched
     np.testing.assert_array_equal(v, v_before)
@@ -47,10 +47,12 @@ def test_in_place_light_modulation_matches_the_plain_one():
     rng = np.random.default_rng(RNG_SEED)
     packed = rng.integers(0, 2**32, size=4000, dtype=np.uint64).astype(np.uint32)
     factor = np.concatenate([rng.uniform(0, 1, 3996), [0.0, 1.0, 0.5, 0.998]]).astype(np.float32)
-    expected = shade.modulate_packed(packed, factor)
-    shade.modulate_packed_inplace(packed, factor)
+    expected = packed_rgba.modulate_packed(packed, factor)
+    packed_rgba.modulate_packed_inplace(packed, factor)
     np.testing.assert_array_equal(packed, expected)
-    assert np.all(shade.modulate_packed(packed, np.ones(4000, np.float32)) == packed)  # W = 256
+    assert np.all(
+        packed_rgba.modulate_packed(packed, np.ones(4000, np.float32)) == packed
+    )  # W = 256
 
 
 @pytest.mark.parametrize("subtype", ["pinhole", "orthographic"])
