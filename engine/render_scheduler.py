@@ -4,23 +4,23 @@ and the render worker process.
 :class:`engine.scene_render.SceneRenderer` turns the scene graph into render jobs, one
 :class:`RenderJob` per group of sensors that share a camera and pose. Rendered one after
 the other in this process they give the observation; :class:`RenderScheduler` gives the
-same bits faster on two cores:
+same bits faster on two cores, in five steps (inside stage 4 of the bridge):
 
-1. **Place**: a new group renders in this process, or, when a worker process is allowed
-   (``processes = 1``), the frame has several groups and this one is not the first and at
-   least ``process_min_pixels`` large, in the worker (:class:`render.worker.RenderProcess`,
-   started at the first such frame). A group keeps its place while it exists.
-2. **Submit**: the worker gets the meshes when they changed (versions of the static and
-   moving parts), then this frame's poses and one :class:`render.worker.WorkerJob` per
-   group, the :class:`render.settings.RenderSettings` inside. It starts at once.
-3. **Render here**: the groups of this process, on a thread pool when there are several
-   (``threads``), and the top ``split`` rows of each full render the worker shares
-   (``share_full_renders``): both processes rasterize and shade only their rows. Each
-   frame is copied out while the worker may still be rendering.
-4. **Collect**: wait for the worker's frames, copy them out (below the split rows of a
-   shared render).
-5. **Balance**: move the split row so that both processes finish together
-   (:func:`engine.frame_sharing.next_split`).
+* **Place**: a new group renders in this process, or, when a worker process is allowed
+  (``processes = 1``), the frame has several groups and this one is not the first and at
+  least ``process_min_pixels`` large, in the worker (:class:`render.worker.RenderProcess`,
+  started at the first such frame). A group keeps its place while it exists.
+* **Submit**: the worker gets the meshes when they changed (versions of the static and
+  moving parts), then this frame's poses and one :class:`render.worker.WorkerJob` per
+  group, the :class:`render.settings.RenderSettings` inside. It starts at once.
+* **Render here**: the groups of this process, on a thread pool when there are several
+  (``threads``), and the top ``split`` rows of each full render the worker shares
+  (``share_full_renders``): both processes rasterize and shade only their rows. Each
+  frame is copied out while the worker may still be rendering.
+* **Collect**: wait for the worker's frames, copy them out (below the split rows of a
+  shared render).
+* **Balance**: move the split row so that both processes finish together
+  (:func:`engine.frame_sharing.next_split`).
 
 A worker that dies (or an error in the pipe) is a :class:`render.worker.WorkerLost`: its
 groups are rendered here from then on, with a warning (**crash fallback**). Threads alone
@@ -152,7 +152,7 @@ class RenderScheduler:
     def new_group(
         self, index: int, n_groups: int, resolution: tuple[int, int], ids: bool
     ) -> GroupState:
-        """Step 1: the state of a new group, placed here or in the worker process
+        """Place: the state of a new group, placed here or in the worker process
         (``index`` of ``n_groups`` of this frame; ``ids``: a sensor reads the ids)."""
         height, width = resolution
         remote = (
@@ -169,7 +169,8 @@ class RenderScheduler:
     def render(
         self, jobs: list[RenderJob], versions: tuple[int, int]
     ) -> list[dict[str, np.ndarray]]:
-        """Steps 2-5: every job's observations (uuid -> fresh array), in order.
+        """Submit, render here, collect, balance: every job's observations (uuid -> fresh
+        array), in the order of ``jobs``.
 
         ``versions``: the (static, moving) mesh versions of ``scene``; the worker gets the
         meshes of a part again when its version changed.
@@ -202,7 +203,7 @@ class RenderScheduler:
     def _render_local_part(
         self, local: list[RenderJob], remote: list[RenderJob]
     ) -> dict[int, dict[str, np.ndarray]]:
-        """Step 3: this process's groups and the top rows of shared renders, copied out
+        """Render here: this process's groups and the top rows of shared renders, copied out
         (by ``id`` of the group state). On an error the worker's reply is taken first."""
         outputs: dict[int, dict[str, np.ndarray]] = {}
         try:
@@ -224,7 +225,7 @@ class RenderScheduler:
     def _collect(
         self, remote: list[RenderJob], outputs: dict[int, dict[str, np.ndarray]], busy_here: float
     ) -> None:
-        """Steps 4-5: the worker's frames into ``outputs``, then the balance; a lost
+        """Collect and balance: the worker's frames into ``outputs``, then the balance; a lost
         worker's groups are rendered here."""
         worker = self._worker
         assert worker is not None  # remote jobs exist only with a live worker
@@ -268,7 +269,7 @@ class RenderScheduler:
     def _balance(
         self, remote: list[RenderJob], collected: dict, busy_here: float, waited: float = 0.0
     ) -> None:
-        """Step 5: move the split row of the worker's first full render so that both
+        """Balance: move the split row of the worker's first full render so that both
         processes finish together (:func:`engine.frame_sharing.next_split`)."""
         full = [job for job in remote if job.mode == "full" and job.state.key in collected]
         if not full or not self.share_full_renders:
@@ -288,7 +289,7 @@ class RenderScheduler:
         return [job.render_here(self.scene) for job in local]
 
     def _submit(self, remote: list[RenderJob], versions: tuple[int, int]) -> None:
-        """Step 2: send the worker what changed (meshes) and its jobs of this frame."""
+        """Submit: send the worker what changed (meshes) and its jobs of this frame."""
         if self._worker is None:
             self._worker = RenderProcess()
             self._worker_versions = (-1, -1)

@@ -1,11 +1,12 @@
 """Triangle rasterization with a z-buffer: setup, scanline spans, depth test, resolve.
 
-Stages (each a function below, called in this order by ``render.frame.render_frame``,
-after culling and near clipping in ``render.cull``; triangle batches use the corner-major
-``(3, 3, T)`` layout described there)
+Stages (numbered as in ``render_frame``, ``render/__init__.py``: each a function below,
+after culling and near clipping, stages 2-3 in ``render.cull``; triangle batches use the
+corner-major ``(3, 3, T)`` layout described there)
 ---------------------------------------------------------------------------------------
-1. ``plane_coefficients``: per source triangle, three functions that are *affine in pixel
-   coordinates* (the key fact of perspective-correct interpolation)::
+4. ``plane_coefficients`` (triangle setup, beside ``project_triangles``): per source
+   triangle, three functions that are *affine in pixel coordinates* (the key fact of
+   perspective-correct interpolation)::
 
        pinhole: q_k = b_k / z  (k = 0, 1),   w = 1 / z = q_0 + q_1 + q_2
        ortho:   q_k = b_k,                   w = z = sum_k b_k z_k
@@ -18,15 +19,15 @@ after culling and near clipping in ``render.cull``; triangle batches use the cor
    ``(P1 x P2, P2 x P0, P0 x P1) / det M``: signed volumes of tetrahedra with the eye.
    These functions are computed from the *unclipped* triangle, so clipping never distorts
    attributes. Coordinates are centered on the principal point for float32 accuracy.
-2. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
-3. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
+5. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
+6. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
    fragment's depth and keep, per pixel, the smallest key ``(depth bits << 32) | triangle``
    with ``np.minimum.at`` (depth test and tie break in one pass: the bit patterns of
    positive float32 numbers sort like the numbers, and equal depths keep the lower
    triangle index, so the result is deterministic).
-4. ``resolve_depth`` and ``AttributePlanes``: the winning triangle and depth per pixel,
-   then perspective-correct vertex attributes (uvs, colors) for deferred shading (each
-   visible pixel is shaded exactly once).
+7-8. ``AttributePlanes`` (built in stage 7 per triangle) and ``resolve_depth`` (stage 8):
+   the winning triangle and depth per pixel, then perspective-correct vertex attributes
+   (uvs, colors) for deferred shading (each visible pixel is shaded exactly once).
 
 Fill rule (top-left, at pixel centers)
 --------------------------------------

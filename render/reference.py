@@ -21,7 +21,9 @@ stages (``render/__init__.py``):
 6. screen-space barycentrics ``l_i = e_i / area``, the perspective-correct depth
    ``1 / z = sum_i l_i / z_i`` (orthographic: ``z = sum_i l_i z_i``) and z-test: the pixel
    keeps the smaller depth; on equal depths the earlier triangle stays;
-7-8. the fragment shader (:func:`fragment_color`) of the pixel that passed, with the
+7. per face its flat light factor (:func:`face_light`), per vertex of a Gouraud-shaded mesh
+   its own (:func:`vertex_light`);
+8. the fragment shader (:func:`fragment_color`) of the pixel that passed, with the
    perspective-correct barycentrics ``b = z sum_i l_i beta_i / z_i`` (orthographic:
    ``b = sum_i l_i beta_i``)::
 
