@@ -1,0 +1,243 @@
+"""The live viewer: a simulator's world in 3D in the browser, with teaching overlays.
+
+One line in a notebook opens it::
+
+    viewer = Viewer(sim)          # reads the scene graph once
+    viewer.show()                 # the k3d widget, in Jupyter (or viewer.serve() for a page)
+    sim.step_physics(1 / 60)      # ...
+    viewer.update()               # redraw: poses, contacts, islands, ...
+
+``Viewer(sim, follow=True)`` (or :meth:`Viewer.follow`) redraws after every
+``sim.step_physics`` call instead: it wraps that method **on this simulator instance only**
+(an attribute in the instance's ``__dict__`` that shadows the class's method), and
+:meth:`Viewer.unfollow` / :meth:`Viewer.close` deletes the attribute again. A simulator that
+no viewer follows runs the class's method untouched, so a step that nobody watches costs
+exactly what it cost before (the tests check that no overlay query runs then).
+
+Overlays are switches (:class:`~engine.viewer.overlays.OverlaySwitches`), given as keyword
+arguments (``Viewer(sim, aabbs=True, navmesh=True, path_goal=[x, y, z])``) or changed later
+with :meth:`Viewer.set_overlays`. Every overlay reads public queries only (see
+:mod:`engine.viewer.overlays`).
+
+:meth:`Viewer.start_recording` keeps every drawn frame; :meth:`Viewer.replay` returns them
+as a :class:`~engine.viewer.replay.Replay` (time slider, self-contained HTML).
+
+Where the page is shown: :meth:`Viewer.show` returns k3d's Jupyter widget (live in
+JupyterLab and Notebook 7); :meth:`Viewer.serve` starts :class:`~engine.viewer.server.
+LiveServer` on 127.0.0.1 for a browser tab (or a notebook whose frontend cannot run widgets),
+and :meth:`Viewer.close` stops it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields
+from typing import Any
+
+import numpy as np
+
+from engine.viewer.drawing import SceneDrawing
+from engine.viewer.overlays import Frame, OverlaySwitches, capture_frame, navmesh_mesh
+from engine.viewer.replay import Replay
+from engine.viewer.server import LiveServer
+from engine.viewer.settings import DEFAULT_HOST
+from engine.viewer.world_view import collect_parts
+
+__all__ = ["Viewer", "default_camera"]
+
+_SWITCH_NAMES = tuple(f.name for f in fields(OverlaySwitches))
+
+
+def default_camera(sim: Any) -> list[float] | None:
+    """A k3d camera ``[eye, target, up]`` looking at the objects from above and aside.
+
+    The target is the centre of the objects' translations, the eye 1.6 m back along +Z and
+    1.2 m up (plus the objects' spread); None (fit the whole scene) when there are no objects.
+    """
+    objects = sim.get_rigid_object_manager().get_objects_by_handle_substring("").values()
+    centers = np.array([np.asarray(o.translation, dtype=np.float64) for o in objects])
+    if len(centers) == 0:
+        return None
+    target = centers.mean(axis=0)
+    spread = float(np.ptp(centers, axis=0).max()) if len(centers) > 1 else 0.0
+    eye = target + np.array([0.9, 1.2, 1.6]) * (1.0 + spread)
+    return [*eye.tolist(), *target.tolist(), 0.0, 1.0, 0.0]
+
+
+class Viewer:
+    """A 3D view of a :class:`~engine.simulator.Simulator` with switchable overlays.
+
+    Parameters
+    ----------
+    sim : Simulator
+        The simulator to show; its scene graph is read now (objects added later need
+        :meth:`rebuild`).
+    follow : bool
+        Redraw after every ``sim.step_physics`` call (see the module docstring).
+    camera : (9,) float or None
+        ``[eye xyz, target xyz, up xyz]`` in world coordinates; None picks
+        :func:`default_camera`.
+    height : int
+        Widget height in pixels in a notebook.
+    **overlays
+        Switches of :class:`~engine.viewer.overlays.OverlaySwitches` (``contacts``,
+        ``aabbs``, ``sleeping``, ``navmesh``, ``path``, ``velocity``, ``agents``,
+        ``path_goal``).
+    """
+
+    def __init__(
+        self,
+        sim: Any,
+        follow: bool = False,
+        camera: Any = None,
+        height: int = 480,
+        **overlays: Any,
+    ) -> None:
+        if not hasattr(sim, "get_active_scene_graph") or not hasattr(sim, "step_physics"):
+            raise TypeError(f"Viewer needs a Simulator, got {type(sim).__name__}")
+        unknown = sorted(set(overlays) - set(_SWITCH_NAMES))
+        if unknown:
+            raise TypeError(f"unknown overlay switch(es) {unknown}; known: {list(_SWITCH_NAMES)}")
+        self.sim = sim
+        self.switches = OverlaySwitches(**overlays)
+        self.height = int(height)
+        self._camera = self._check_camera(camera)
+        self._recording: list[Frame] | None = None
+        self._server: LiveServer | None = None
+        self._followed_sim: Any = None
+        self.frame: Frame | None = None
+        self.rebuild()
+        if follow:
+            self.follow()
+
+    # ------------------------------------------------------------------------------------------
+    # building and drawing
+    # ------------------------------------------------------------------------------------------
+    @staticmethod
+    def _check_camera(camera: Any) -> list[float] | None:
+        if camera is None:
+            return None
+        values = np.asarray(camera, dtype=np.float64).reshape(-1)
+        if values.shape != (9,) or not np.all(np.isfinite(values)):
+            raise ValueError(f"camera must be 9 finite numbers (eye, target, up), got {camera!r}")
+        return values.tolist()
+
+    def rebuild(self) -> None:
+        """Read the scene graph again (after adding or removing objects) and redraw.
+
+        A recording in progress starts over: its frames would not match the new parts.
+        """
+        if self._recording is not None:
+            self._recording = []
+        self.parts = collect_parts(self.sim)
+        objects = self.sim.get_rigid_object_manager().get_objects_by_handle_substring("")
+        self.names = {obj.object_id: handle for handle, obj in objects.items()}
+        self.navmesh = navmesh_mesh(self.sim.pathfinder) if self.switches.navmesh else None
+        old_plot = getattr(self, "drawing", None)
+        self.drawing = SceneDrawing(self.parts, self.names, self.navmesh, height=self.height)
+        camera = self._camera if self._camera is not None else default_camera(self.sim)
+        if camera is not None:
+            self.drawing.plot.camera_auto_fit = False
+            self.drawing.plot.camera = camera
+        if old_plot is not None and self._server is not None:
+            self._server.set_plot(self.drawing.plot)
+        self.update()
+
+    @property
+    def plot(self) -> Any:
+        """The k3d plot (a Jupyter widget)."""
+        return self.drawing.plot
+
+    def update(self) -> Frame:
+        """Read the simulator now and redraw; returns the :class:`Frame` drawn."""
+        self.frame = capture_frame(self.sim, self.parts, self.switches)
+        self.drawing.draw(self.frame)
+        if self._recording is not None:
+            self._recording.append(self.frame)
+        if self._server is not None:
+            self._server.publish()
+        return self.frame
+
+    def set_overlays(self, **switches: Any) -> None:
+        """Turn overlays on or off, e.g. ``set_overlays(aabbs=True, contacts=False)``."""
+        unknown = sorted(set(switches) - set(_SWITCH_NAMES))
+        if unknown:
+            raise TypeError(f"unknown overlay switch(es) {unknown}; known: {list(_SWITCH_NAMES)}")
+        values = {name: getattr(self.switches, name) for name in _SWITCH_NAMES}
+        values.update(switches)
+        navmesh_was_on = self.switches.navmesh
+        self.switches = OverlaySwitches(**values)
+        if self.switches.navmesh != navmesh_was_on:
+            self.rebuild()
+        else:
+            self.update()
+
+    # ------------------------------------------------------------------------------------------
+    # following step_physics
+    # ------------------------------------------------------------------------------------------
+    def follow(self) -> None:
+        """Redraw after every ``step_physics`` of this simulator (instance attribute wrap)."""
+        if self._followed_sim is not None:
+            return
+        sim = self.sim
+        if "step_physics" in vars(sim):
+            raise RuntimeError("another viewer already follows this simulator's step_physics")
+        step_physics = type(sim).step_physics
+
+        def step_and_draw(dt: float = 1.0 / 60.0) -> None:
+            step_physics(sim, dt)
+            self.update()
+
+        sim.step_physics = step_and_draw
+        self._followed_sim = sim
+
+    def unfollow(self) -> None:
+        """Stop redrawing on ``step_physics``: the simulator's own method is back."""
+        if self._followed_sim is not None:
+            vars(self._followed_sim).pop("step_physics", None)
+            self._followed_sim = None
+
+    # ------------------------------------------------------------------------------------------
+    # display, recording, closing
+    # ------------------------------------------------------------------------------------------
+    def show(self) -> Any:
+        """Display the live k3d widget in Jupyter (and return it)."""
+        try:
+            from IPython.display import display
+        except ImportError as error:  # pragma: no cover - IPython comes with the extra
+            raise RuntimeError("Viewer.show needs IPython (a notebook); use serve()") from error
+        display(self.drawing.plot)
+        return self.drawing.plot
+
+    def serve(self, host: str = DEFAULT_HOST, port: int = 0) -> str:
+        """Serve the live page on ``host:port`` (127.0.0.1, a free port) and return its URL."""
+        if self._server is None:
+            self._server = LiveServer(self.drawing.plot, host=host, port=port)
+            self._server.publish()
+        return self._server.url
+
+    def start_recording(self) -> None:
+        """Keep every frame drawn from now on (the current one first)."""
+        self._recording = [] if self.frame is None else [self.frame]
+
+    def replay(self) -> Replay:
+        """The frames recorded since :meth:`start_recording` as a :class:`Replay`."""
+        if self._recording is None:
+            raise RuntimeError("nothing recorded: call start_recording() before stepping")
+        camera = self._camera if self._camera is not None else default_camera(self.sim)
+        return Replay(self.parts, dict(self.names), list(self._recording), self.navmesh, camera)
+
+    def close(self) -> None:
+        """Stop following the simulator and stop the live server (if any)."""
+        self.unfollow()
+        if self._server is not None:
+            self._server.close()
+            self._server = None
+
+    def __enter__(self) -> Viewer:
+        return self
+
+    def __exit__(self, *exc_info: Any) -> None:
+        self.close()
+
+    def _ipython_display_(self) -> None:  # pragma: no cover - exercised inside Jupyter
+        self.show()
