@@ -9,9 +9,9 @@ from __future__ import annotations
 STAGE_OBJECT_ID = 0
 
 # -- contact overlay ----------------------------------------------------------------------------
-#: m per N s: drawn normal length per unit of normal impulse (force x fixed step). A 0.3 kg can
-#: resting on 4 points pushes about 0.006 N s per point and step: a 0.12 m arrow.
-CONTACT_LENGTH_PER_IMPULSE = 20.0
+#: m per N s: drawn normal length per unit of normal impulse (force x fixed step). A 1 kg box
+#: resting on 4 points gets 9.8 * 0.008 / 4 = 0.02 N s per point and step: a 0.1 m arrow.
+CONTACT_LENGTH_PER_IMPULSE = 5.0
 #: m, shortest drawn normal, so that a contact with no impulse yet (just created) still shows
 CONTACT_MIN_LENGTH = 0.03
 #: m, longest drawn normal, so that a landing impact does not draw across the room
