@@ -109,6 +109,7 @@ class SceneDrawing:
             camera_up_axis="y",
             background_color=0xFFFFFF,
             time_interpolation=False,
+            antialias=1,
             name="rigidsim viewer",
         )
         self.meshes: dict[str, Any] = {}

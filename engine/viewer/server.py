@@ -4,8 +4,8 @@ For a browser tab next to a script, or a notebook whose frontend cannot run Jupy
 The server (the standard library's ``ThreadingHTTPServer`` on a daemon thread) answers:
 
 =====================  ==========================================================
-``GET /``              the page: k3d's JavaScript (``/require.js``, ``/k3d.js``, served
-                       from the ``k3d`` pip package's ``static`` folder; no CDN) and a
+``GET /``              the page: k3d's JavaScript (``/require.js``, ``/standalone.js``,
+                       served from the ``k3d`` pip package's ``static`` folder; no CDN), a
                        loop that asks for changes every ``POLL_INTERVAL_MS``
 ``GET /changes?since`` msgpack ``{"version", "objects", "removed", "plot"}``: every
                        drawable property that changed after version ``since``
@@ -57,7 +57,7 @@ _PAGE = """<!doctype html>
 <html><head><meta charset="utf-8"><title>rigidsim live viewer</title>
 <style>html,body{margin:0;padding:0;overflow:hidden;background:#f4f4f4}
 #canvasTarget{width:100%;height:100%;position:absolute}</style>
-<script src="/require.js"></script><script src="/k3d.js"></script></head>
+<script src="/require.js"></script><script src="/standalone.js"></script></head>
 <body><div id="canvasTarget"></div>
 <script>
 var SETTERS = SETTERS_JSON;
@@ -82,6 +82,7 @@ require(['k3d'], function (lib) {
         if (SETTERS[key]) { k3d[SETTERS[key]](message.plot[key]); }
       });
       window.rigidsimVersion = message.version;
+      window.rigidsimLoaded = window.rigidsimLoaded || performance.now();
     });
   }
   function poll() {
@@ -227,9 +228,12 @@ class LiveServer:
                 url = urlparse(self.path)
                 if url.path == "/":
                     self._send(page.encode(), "text/html; charset=utf-8")
-                elif url.path in ("/require.js", "/k3d.js"):
-                    name = "require.js" if url.path == "/require.js" else "standalone.js"
-                    self._send((static / name).read_bytes(), "text/javascript")
+                elif url.path in ("/require.js", "/standalone.js"):
+                    # cacheable: k3d's bundle asks for its own file again (for its workers)
+                    body = (static / url.path[1:]).read_bytes()
+                    self._send(body, "text/javascript", cache="max-age=3600")
+                elif url.path == "/favicon.ico":
+                    self._send(b"", "image/x-icon")
                 elif url.path == "/changes":
                     seen = parse_qs(url.query).get("since", ["0"])[0]
                     if not seen.isdigit():
@@ -244,11 +248,11 @@ class LiveServer:
                 else:
                     self.send_error(404, f"no such page: {url.path}")
 
-            def _send(self, body: bytes, content_type: str) -> None:
+            def _send(self, body: bytes, content_type: str, cache: str = "no-store") -> None:
                 self.send_response(200)
                 self.send_header("Content-Type", content_type)
                 self.send_header("Content-Length", str(len(body)))
-                self.send_header("Cache-Control", "no-store")
+                self.send_header("Cache-Control", cache)
                 self.end_headers()
                 self.wfile.write(body)
 

@@ -199,14 +199,13 @@ class Viewer:
     # ------------------------------------------------------------------------------------------
     # display, recording, closing
     # ------------------------------------------------------------------------------------------
-    def show(self) -> Any:
-        """Display the live k3d widget in Jupyter (and return it)."""
+    def show(self) -> None:
+        """Display the live k3d widget in Jupyter (the widget itself is :attr:`plot`)."""
         try:
             from IPython.display import display
         except ImportError as error:  # pragma: no cover - IPython comes with the extra
             raise RuntimeError("Viewer.show needs IPython (a notebook); use serve()") from error
         display(self.drawing.plot)
-        return self.drawing.plot
 
     def serve(self, host: str = DEFAULT_HOST, port: int = 0) -> str:
         """Serve the live page on ``host:port`` (127.0.0.1, a free port) and return its URL."""
