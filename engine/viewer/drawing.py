@@ -157,6 +157,7 @@ class SceneDrawing:
         for drawable in [*self.lines.values(), *self.points.values()]:
             self.plot += drawable
         self._tinted: dict[str, int | None] = {key: None for key in self.meshes}
+        self._drawn_poses: dict[str, np.ndarray] = {}
 
     # ------------------------------------------------------------------------------------------
     # live: current values
@@ -165,7 +166,11 @@ class SceneDrawing:
         """Show ``frame``: poses, sleeping tints and overlays as the current values."""
         for part in self.parts:
             mesh = self.meshes[part.key]
-            mesh.model_matrix = frame.poses[part.key]
+            pose = frame.poses[part.key]
+            drawn = self._drawn_poses.get(part.key)
+            if drawn is None or not np.array_equal(pose, drawn):  # moved: send the new pose
+                mesh.model_matrix = pose
+                self._drawn_poses[part.key] = pose
             tint = frame.tints.get(part.object_id)
             if tint != self._tinted[part.key]:  # only a change is sent to the browser
                 mesh.colors = part.colors if tint is None else np.full_like(part.colors, tint)

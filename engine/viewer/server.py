@@ -120,6 +120,10 @@ class _ChangeLog:
         self.version = 0
         # object id -> property -> (version changed, fingerprint, serialized value)
         self.objects: dict[int, dict[str, tuple[int, bytes, Any]]] = {}
+        # (object id, property) -> the Python value last serialized: a trait that still holds
+        # the very same object was not set again, so it is not serialized again (the viewer
+        # always sets new arrays, never edits one in place)
+        self.last_values: dict[tuple[int, str], Any] = {}
         self.removed: dict[int, int] = {}  # object id -> version removed
         self.plot: dict[str, tuple[int, bytes, Any]] = {}
 
@@ -133,7 +137,11 @@ class _ChangeLog:
             self.removed.pop(obj.id, None)
             known = self.objects.setdefault(obj.id, {})
             for prop in obj._synced_props:  # k3d's list of the properties its widget syncs
-                value = to_json(prop, obj[prop], obj)
+                current = obj[prop]
+                if prop in known and self.last_values.get((obj.id, prop)) is current:
+                    continue
+                self.last_values[(obj.id, prop)] = current
+                value = to_json(prop, current, obj)
                 digest = _fingerprint(value)
                 if prop not in known or known[prop][1] != digest:
                     known[prop] = (v, digest, value)
@@ -141,6 +149,8 @@ class _ChangeLog:
             if object_id not in alive:
                 del self.objects[object_id]
                 self.removed[object_id] = v
+                for stale in [k for k in self.last_values if k[0] == object_id]:
+                    del self.last_values[stale]
         params = plot.get_plot_params()
         for key in _PLOT_SETTERS:
             digest = _fingerprint(params[key])
