@@ -93,6 +93,8 @@ class SceneDrawing:
         The navmesh overlay's mesh (:func:`~engine.viewer.overlays.navmesh_mesh`).
     height : int
         Plot height in pixels inside a notebook.
+    plot : k3d Plot or None
+        Draw into this plot (its drawables are replaced) instead of a new one.
     """
 
     def __init__(
@@ -101,17 +103,23 @@ class SceneDrawing:
         names: dict[int, str],
         navmesh: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
         height: int = 480,
+        plot: Any = None,
     ) -> None:
         self.parts = parts
-        self.plot = k3d.plot(
-            height=height,
-            grid_visible=False,
-            camera_up_axis="y",
-            background_color=0xFFFFFF,
-            time_interpolation=False,
-            antialias=1,
-            name="rigidsim viewer",
-        )
+        if plot is None:
+            plot = k3d.plot(
+                height=height,
+                grid_visible=False,
+                camera_up_axis="y",
+                background_color=0xFFFFFF,
+                time_interpolation=False,
+                antialias=1,
+                name="rigidsim viewer",
+            )
+        else:  # redraw into a plot already on screen: its widget stays live
+            for drawable in list(plot.objects):
+                plot -= drawable
+        self.plot = plot
         self.meshes: dict[str, Any] = {}
         for part in parts:
             name = names.get(part.object_id, "stage" if part.object_id == 0 else part.key)

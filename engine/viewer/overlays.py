@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from engine.physics import MotionType
 from engine.viewer.settings import (
     CONTACT_LENGTH_PER_IMPULSE,
     CONTACT_MAX_LENGTH,
@@ -52,6 +53,7 @@ from engine.viewer.settings import (
     VELOCITY_HORIZON,
 )
 from engine.viewer.world_view import Part, agent_segments, part_poses
+from navmesh import ShortestPath
 
 __all__ = [
     "POINT_OVERLAYS",
@@ -235,8 +237,6 @@ def sleeping_tints(objects: list, contacts: list) -> dict[int, int]:
     point" (union-find); islands are numbered in order of their smallest object id and take
     :data:`ISLAND_COLORS` in turn.
     """
-    from engine.physics import MotionType
-
     dynamic = {o.object_id for o in objects if o.motion_type == MotionType.DYNAMIC}
     parent = {i: i for i in dynamic}
     for c in contacts:
@@ -282,8 +282,6 @@ def navmesh_mesh(pathfinder: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def path_segments(pathfinder: Any, start: np.ndarray, goal: np.ndarray) -> np.ndarray:
     """``find_path`` from ``start`` to ``goal`` as ``(p, 2, 3)`` segments lifted by
     :data:`PATH_LIFT`; empty when no navmesh is loaded or no path exists."""
-    from navmesh import ShortestPath
-
     if not pathfinder.is_loaded:
         return _EMPTY_SEGMENTS
     query = ShortestPath()

@@ -200,12 +200,6 @@ class LiveServer:
         host, port = self._httpd.server_address[:2]
         return f"http://{host!s}:{port}/"
 
-    def set_plot(self, plot: Any) -> None:
-        """Serve another plot from now on (objects of the old one are removed from the page)."""
-        with self._lock:
-            self._plot = plot
-        self.publish()
-
     def publish(self) -> int:
         """Record the plot's changes for the page; returns the new version."""
         with self._lock:

@@ -69,8 +69,8 @@ class Viewer:
     Parameters
     ----------
     sim : Simulator
-        The simulator to show; its scene graph is read now (objects added later need
-        :meth:`rebuild`).
+        The simulator to show; its scene graph is read now and again whenever the set of
+        objects changes.
     follow : bool
         Redraw after every ``sim.step_physics`` call (see the module docstring).
     camera : (9,) float or None
@@ -105,6 +105,7 @@ class Viewer:
         self._server: LiveServer | None = None
         self._followed_sim: Any = None
         self.frame: Frame | None = None
+        self._drawing: SceneDrawing | None = None
         self.rebuild()
         if follow:
             self.follow()
@@ -122,7 +123,8 @@ class Viewer:
         return values.tolist()
 
     def rebuild(self) -> None:
-        """Read the scene graph again (after adding or removing objects) and redraw.
+        """Read the scene graph again and redraw (:meth:`update` calls it when objects were
+        added or removed). The plot on screen is kept, its drawables replaced.
 
         A recording in progress starts over: its frames would not match the new parts.
         """
@@ -132,15 +134,25 @@ class Viewer:
         objects = self.sim.get_rigid_object_manager().get_objects_by_handle_substring("")
         self.names = {obj.object_id: handle for handle, obj in objects.items()}
         self.navmesh = navmesh_mesh(self.sim.pathfinder) if self.switches.navmesh else None
-        old_plot = getattr(self, "drawing", None)
-        self.drawing = SceneDrawing(self.parts, self.names, self.navmesh, height=self.height)
-        camera = self._camera if self._camera is not None else default_camera(self.sim)
-        if camera is not None:
-            self.drawing.plot.camera_auto_fit = False
-            self.drawing.plot.camera = camera
-        if old_plot is not None and self._server is not None:
-            self._server.set_plot(self.drawing.plot)
+        shown = self._drawing.plot if self._drawing is not None else None
+        self._drawing = SceneDrawing(self.parts, self.names, self.navmesh, self.height, shown)
+        if shown is None:  # a new plot: aim its camera (a plot on screen keeps the student's)
+            camera = self._camera if self._camera is not None else default_camera(self.sim)
+            if camera is not None:
+                self._drawing.plot.camera_auto_fit = False
+                self._drawing.plot.camera = camera
         self.update()
+
+    def _object_ids(self) -> set[int]:
+        """Ids of the simulator's objects now (to notice objects added or removed)."""
+        manager = self.sim.get_rigid_object_manager()
+        return {obj.object_id for obj in manager.get_objects_by_handle_substring("").values()}
+
+    @property
+    def drawing(self) -> SceneDrawing:
+        """The k3d drawables of the scene (:class:`~engine.viewer.drawing.SceneDrawing`)."""
+        assert self._drawing is not None  # built by __init__
+        return self._drawing
 
     @property
     def plot(self) -> Any:
@@ -148,7 +160,15 @@ class Viewer:
         return self.drawing.plot
 
     def update(self) -> Frame:
-        """Read the simulator now and redraw; returns the :class:`Frame` drawn."""
+        """Read the simulator now and redraw; returns the :class:`Frame` drawn.
+
+        Objects added or removed since the last redraw are noticed and the scene is read
+        again (:meth:`rebuild`).
+        """
+        if self._object_ids() != set(self.names):
+            self.rebuild()
+            assert self.frame is not None  # rebuild drew a frame
+            return self.frame
         self.frame = capture_frame(self.sim, self.parts, self.switches)
         self.drawing.draw(self.frame)
         if self._recording is not None:

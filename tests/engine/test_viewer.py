@@ -333,3 +333,89 @@ def test_bad_input_raises_naming_the_value(floor_sim, tmp_path):
         viewer.replay().save(tmp_path / "replay.txt")
     with pytest.raises(ValueError, match="at least one frame"):
         Replay(viewer.parts, {}).to_html()
+
+
+# -- objects added later, on the plot already on screen -----------------------------------------
+def test_an_object_added_later_appears_in_the_same_plot_and_on_the_live_page(floor_sim):
+    first = add_cube(floor_sim, [0.0, 0.5, 0.0])
+    with Viewer(floor_sim) as viewer:
+        plot, url = viewer.plot, viewer.serve()
+        with urllib.request.urlopen(f"{url}changes?since=0", timeout=10) as answer:
+            before = msgpack.unpackb(answer.read())
+        second = add_cube(floor_sim, [0.5, 0.5, 0.0])
+        viewer.update()  # notices the new object and reads the scene again
+        assert viewer.plot is plot  # the widget a notebook shows stays the one drawn into
+        assert {first.handle, second.handle} <= {o.name for o in plot.objects}
+        with urllib.request.urlopen(f"{url}changes?since={before['version']}", timeout=10) as a:
+            after = msgpack.unpackb(a.read())
+        assert {o["name"] for o in after["objects"].values()} >= {second.handle, "stage"}
+        assert set(after["removed"]) == {int(key) for key in before["objects"]}
+        first_id, first_handle = first.object_id, first.handle
+        floor_sim.get_rigid_object_manager().remove_object_by_id(first_id)
+        viewer.update()  # notices the removal
+        names = {o.name for o in viewer.plot.objects}
+        assert second.handle in names and first_handle not in names
+        assert first_id not in viewer.names
+
+
+# -- an optional extra, outside the engine's import graph ---------------------------------------
+ENGINE_DIR = Path(__file__).resolve().parents[2] / "engine"
+
+
+def imported_modules(path: Path) -> set[str]:
+    """Absolute module names a file imports (at any depth, inside functions too)."""
+    import ast
+
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names.add(node.module)
+    return names
+
+
+def test_the_engine_never_imports_the_viewer_and_the_viewer_has_no_cycle():
+    import networkx as nx
+
+    core = [p for p in ENGINE_DIR.rglob("*.py") if "viewer" not in p.relative_to(ENGINE_DIR).parts]
+    assert len(core) > 50
+    for path in core:
+        bad = {m for m in imported_modules(path) if m.split(".")[0] in ("k3d", "msgpack")}
+        bad |= {m for m in imported_modules(path) if m.startswith("engine.viewer")}
+        assert not bad, f"{path.relative_to(ENGINE_DIR)} imports {bad}"
+    graph = nx.DiGraph()
+    for path in (ENGINE_DIR / "viewer").glob("*.py"):
+        module = f"engine.viewer.{path.stem}".removesuffix(".__init__")
+        for target in imported_modules(path):
+            if target.startswith("engine.viewer."):
+                graph.add_edge(module, target)
+    assert graph.number_of_edges() >= 10
+    assert nx.is_directed_acyclic_graph(graph), list(nx.simple_cycles(graph))
+
+
+def test_import_engine_works_without_k3d_and_the_viewer_names_its_extra():
+    import subprocess
+    import sys
+
+    script = (
+        "import sys; sys.modules['k3d'] = None\n"  # None in sys.modules: import k3d fails
+        "import engine, engine.simulator, engine.tutorial.cli\n"
+        "assert 'engine.viewer' not in sys.modules\n"
+        "try:\n    import engine.viewer\nexcept ImportError as error:\n"
+        "    assert \"extra 'viewer'\" in str(error), error\nelse:\n    raise SystemExit(1)\n"
+    )
+    root = str(ENGINE_DIR.parent)
+    done = subprocess.run(
+        [sys.executable, "-c", script], cwd=root, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+
+
+def test_demo_replay_rejects_bad_arguments():
+    from engine.viewer.demo import record_tutorial_replay
+
+    with pytest.raises(ValueError, match="seconds.*-1"):
+        record_tutorial_replay(seconds=-1.0)
+    with pytest.raises(ValueError, match="every.*0"):
+        record_tutorial_replay(seconds=1.0, every=0)
