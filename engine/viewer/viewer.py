@@ -48,18 +48,29 @@ _SWITCH_NAMES = tuple(f.name for f in fields(OverlaySwitches))
 
 
 def default_camera(sim: Any) -> list[float] | None:
-    """A k3d camera ``[eye, target, up]`` looking at the objects from above and aside.
+    """A k3d camera ``[eye, target, up]`` looking at the objects from where agent 0 stands.
 
-    The target is the centre of the objects' translations, the eye 1.6 m back along +Z and
-    1.2 m up (plus the objects' spread); None (fit the whole scene) when there are no objects.
+    The target is the centre of the objects' translations. The eye starts at agent 0's head
+    (its node plus the configured ``height``), inside the agent's room so that no wall hides
+    the objects, and moves horizontally 1 m towards the target (half way when it is closer),
+    past the agent's own frusta. Without agents the eye is 1.6 m back along +Z and 1.2 m up.
+    None (fit the whole scene) when there are no objects.
     """
     objects = sim.get_rigid_object_manager().get_objects_by_handle_substring("").values()
     centers = np.array([np.asarray(o.translation, dtype=np.float64) for o in objects])
     if len(centers) == 0:
         return None
     target = centers.mean(axis=0)
-    spread = float(np.ptp(centers, axis=0).max()) if len(centers) > 1 else 0.0
-    eye = target + np.array([0.9, 1.2, 1.6]) * (1.0 + spread)
+    if sim.agents:
+        agent = sim.agents[0]
+        head = np.asarray(agent.get_state().position, dtype=np.float64)
+        head = head + np.array([0.0, float(agent.agent_config.height), 0.0])
+        toward = target - head
+        toward[1] = 0.0  # move horizontally
+        distance = float(np.linalg.norm(toward))
+        eye = head + (toward / distance * min(1.0, distance / 2) if distance > 1e-6 else 0.0)
+    else:
+        eye = target + np.array([0.0, 1.2, 1.6])
     return [*eye.tolist(), *target.tolist(), 0.0, 1.0, 0.0]
 
 
