@@ -108,9 +108,11 @@ class Viewer:
         unknown = sorted(set(overlays) - set(_SWITCH_NAMES))
         if unknown:
             raise TypeError(f"unknown overlay switch(es) {unknown}; known: {list(_SWITCH_NAMES)}")
+        if isinstance(height, bool) or not isinstance(height, int) or height < 1:
+            raise ValueError(f"height must be a positive int (pixels), got {height!r}")
         self.sim = sim
         self.switches = OverlaySwitches(**overlays)
-        self.height = int(height)
+        self.height = height
         self._camera = self._check_camera(camera)
         self._recording: list[Frame] | None = None
         self._server: LiveServer | None = None

@@ -319,6 +319,8 @@ def test_bad_input_raises_naming_the_value(floor_sim, tmp_path):
         OverlaySwitches(path_goal=[0.0, float("nan"), 0.0])
     with pytest.raises(ValueError, match="camera"):
         Viewer(floor_sim, camera=[0.0, 1.0, 2.0])
+    with pytest.raises(ValueError, match="height.*'tall'"):
+        Viewer(floor_sim, height="tall")
     viewer = Viewer(floor_sim)
     with pytest.raises(RuntimeError, match="start_recording"):
         viewer.replay()
