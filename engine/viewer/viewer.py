@@ -150,10 +150,11 @@ class Viewer:
         shown = self._drawing.plot if self._drawing is not None else None
         self._drawing = SceneDrawing(self.parts, self.names, self.navmesh, self.height, shown)
         if shown is None:  # a new plot: aim its camera (a plot on screen keeps the student's)
-            camera = self._camera if self._camera is not None else default_camera(self.sim)
-            if camera is not None:
+            if self._camera is None:
+                self._camera = default_camera(self.sim)
+            if self._camera is not None:
                 self._drawing.plot.camera_auto_fit = False
-                self._drawing.plot.camera = camera
+                self._drawing.plot.camera = self._camera
         self.update()
 
     def _object_ids(self) -> set[int]:
@@ -255,8 +256,8 @@ class Viewer:
         """The frames recorded since :meth:`start_recording` as a :class:`Replay`."""
         if self._recording is None:
             raise RuntimeError("nothing recorded: call start_recording() before stepping")
-        camera = self._camera if self._camera is not None else default_camera(self.sim)
-        return Replay(self.parts, dict(self.names), list(self._recording), self.navmesh, camera)
+        frames = list(self._recording)
+        return Replay(self.parts, dict(self.names), frames, self.navmesh, self._camera)
 
     def close(self) -> None:
         """Stop following the simulator and stop the live server (if any)."""

@@ -421,3 +421,21 @@ def test_demo_replay_rejects_bad_arguments():
         record_tutorial_replay(seconds=-1.0)
     with pytest.raises(ValueError, match="every.*0"):
         record_tutorial_replay(seconds=1.0, every=0)
+
+
+def test_default_camera_looks_at_the_objects_from_one_meter_in_front_of_the_agent(floor_sim):
+    from engine.viewer.viewer import default_camera
+
+    assert default_camera(floor_sim) is None  # nothing to look at: k3d fits the scene
+    add_cube(floor_sim, [3.0, 0.5, 0.0])
+    add_cube(floor_sim, [3.0, 0.5, 2.0])
+    agent = floor_sim.agents[0]
+    state = agent.get_state()
+    state.position = [0.0, 0.0, 1.0]
+    agent.set_state(state)
+    camera = np.array(default_camera(floor_sim))
+    eye, target, up = camera[:3], camera[3:6], camera[6:]
+    np.testing.assert_allclose(target, [3.0, 0.5, 1.0])  # centre of the objects
+    head = np.array([0.0, agent.agent_config.height, 1.0])
+    np.testing.assert_allclose(eye, head + [1.0, 0.0, 0.0], atol=1e-12)  # 1 m towards them
+    np.testing.assert_allclose(up, [0.0, 1.0, 0.0])
