@@ -26,6 +26,12 @@ CAMERA = [1.2, 0.9, 1.4, 0.1, 0.1, 0.0, 0.0, 1.0, 0.0]  # eye, target, up: the c
 NAMES_JS = "Object.values(window.rigidsimViewer.getWorld().ObjectsListJson).map(o => o.name)"
 
 
+def small(page):
+    """The page at 640 x 480: software WebGL draws a third of the 1024 x 768 pixels."""
+    page.set_viewport_size({"width": 640, "height": 480})
+    return page
+
+
 def screenshot(page) -> np.ndarray:
     """``(H, W, 3)`` uint8 screenshot of the page."""
     return np.asarray(Image.open(io.BytesIO(page.screenshot())).convert("RGB"))
@@ -68,7 +74,7 @@ def test_exported_replay_shows_the_cubes_and_contacts_appear_as_they_land(
             step(sim, 2 / 60)
             viewer.update()
         path = viewer.replay().save(tmp_path / "replay.html")
-    remote = only_local_requests(page)
+    remote = only_local_requests(small(page))
     page.goto(path.as_uri())
     page.wait_for_function("window.rigidsimReady === true", timeout=60_000)
     names = page.evaluate(NAMES_JS)
@@ -94,7 +100,7 @@ def test_exported_replay_shows_the_cubes_and_contacts_appear_as_they_land(
 def test_live_page_follows_the_simulation_steps(page, test_assets):
     sim, cubes = two_falling_cubes(test_assets)
     with sim, Viewer(sim, camera=CAMERA) as viewer:
-        remote = only_local_requests(page)
+        remote = only_local_requests(small(page))
         url = viewer.serve()
         page.goto(url)
         page.wait_for_function("window.rigidsimVersion >= 1", timeout=60_000)
