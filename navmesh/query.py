@@ -49,9 +49,11 @@ class NavGrid:
         self.neighbours = neighbour_node_ids(data.links)
         self.n_islands = int(self.island.max(initial=-1)) + 1
         self._reach = math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size) + 1  # cells
-        self._window = _window_offsets(
-            math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size), self.nx, self.nz
-        )
+        box_half = math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size)
+        # nearest_node's windows: 3 and 10 cells around the point, then the whole snap box
+        self._windows: list[tuple[int | None, tuple[np.ndarray, np.ndarray]]] = [
+            (half, _window_offsets(half, self.nx, self.nz)) for half in (3, 10) if half < box_half
+        ] + [(None, _window_offsets(box_half, self.nx, self.nz))]
 
     @functools.cached_property
     def clearance(self) -> np.ndarray:
@@ -130,9 +132,32 @@ class NavGrid:
         return self._nearest_in_window(x, y, z, ix, iz, island_index)
 
     def _nearest_in_window(self, x, y, z, ix, iz, island_index):
-        """Vectorized search of every node in the snap box around (x, y, z)."""
+        """Vectorized search of the nodes in the snap box around (x, y, z), nearest first.
+
+        Growing windows of ``half`` cells around the point's cell are searched in turn; every
+        square outside a window is at least ``half * cell_size`` away, so a best score below
+        ``(half * cell_size)^2`` is the snap box's answer too (the same node, ties included:
+        each window lists its squares in the snap box's order).
+        """
+        inside_cell = (
+            math.floor((x - self.x0) / self.cell_size) == ix
+            and math.floor((z - self.z0) / self.cell_size) == iz
+        )
+        for half, window in self._windows:
+            found = self._best_in_window(window, x, y, z, ix, iz, island_index)
+            if found is None:
+                continue
+            node, score = found
+            if half is None or (inside_cell and score < (half * self.cell_size) ** 2):
+                own = self.node_cell(node) == (ix, iz)
+                sx, sz = (x, z) if own else self.clamp_into_cell(node, x, z)
+                return node, np.array([sx, self.floor[node], sz])
+        return -1, None
+
+    def _best_in_window(self, window, x, y, z, ix, iz, island_index):
+        """(node, score) of the best square among the window's cells, or None."""
         cs = self.cell_size
-        d_ix, d_iz = self._window
+        d_ix, d_iz = window
         cx, cz = ix + d_ix, iz + d_iz
         inside = (cx >= 0) & (cx < self.nx) & (cz >= 0) & (cz < self.nz)
         cx, cz = cx[inside], cz[inside]
@@ -143,7 +168,7 @@ class NavGrid:
         if island_index >= 0:
             ok &= self.island[nodes] == island_index
         if not np.any(ok):
-            return -1, None
+            return None
         nodes, cx, cz, floor = nodes[ok], cx[ok], cz[ok], floor[ok]
         # closest point of each square: clamp (x, z) into [lo, lo + cs]
         px = np.clip(x, self.x0 + cx * cs, self.x0 + (cx + 1) * cs)
@@ -156,9 +181,7 @@ class NavGrid:
             (px - x) ** 2 + (pz - z) ** 2 + (floor - y) ** 2,
         )
         k = int(np.argmin(score))
-        node = int(nodes[k])
-        sx, sz = (x, z) if own[k] else self.clamp_into_cell(node, x, z)
-        return node, np.array([sx, self.floor[node], sz])
+        return int(nodes[k]), float(score[k])
 
     # -- walking a straight segment (grid traversal, Amanatides & Woo 1987) --------------------
     def walk_segment(self, node: int, p0, p1) -> tuple[int, float, bool]:

@@ -161,3 +161,22 @@ def test_is_near_obstacle_answers_as_the_distance_query(simple_room):
     assert 0 < near < 300
     with pytest.raises(ValueError, match="distance"):
         simple_room.is_near_obstacle([0.0, 0.0, 0.0], 0.0)
+
+
+def test_growing_snap_windows_find_the_snap_boxs_node(simple_room):
+    """nearest_node searches 3- and 10-cell windows before the 2 m snap box: same answers."""
+    grid = simple_room._require_grid()
+    (x0, y0, z0), (x1, y1, z1) = simple_room.get_bounds()
+    rng = np.random.default_rng(4)
+    full_window = grid._windows[-1][1]
+    compared = 0
+    for x, y, z in rng.uniform([x0 - 1, y0 - 0.5, z0 - 1], [x1 + 1, y1 + 0.5, z1 + 1], (400, 3)):
+        ix, iz = grid.cell_of(x, z)
+        node, snapped = grid._nearest_in_window(x, y, z, ix, iz, -1)
+        best = grid._best_in_window(full_window, x, y, z, ix, iz, -1)
+        if best is None:
+            assert node == -1 and snapped is None
+            continue
+        assert node == best[0]
+        compared += 1
+    assert compared > 300
