@@ -30,13 +30,17 @@ def drop_ball(params: dict[str, Any], seed: int) -> dict[str, float]:
     rng = np.random.default_rng(seed)
     sim = habitat_sim.Simulator(habitat_sim.Configuration())
     templates, objects = sim.get_object_template_manager(), sim.get_rigid_object_manager()
-    floor_template = templates.get_template_by_handle(templates.get_template_handles("cubeSolid")[0])
+    floor_template = templates.get_template_by_handle(
+        templates.get_template_handles("cubeSolid")[0]
+    )
     floor_template.scale = [2.0, 0.1, 2.0]
     floor = objects.add_object_by_template_id(templates.register_template(floor_template, "floor"))
     floor.translation = [0.0, -0.1, 0.0]  # top face at y = 0
     floor.motion_type = MotionType.STATIC
     floor.restitution_coefficient = 1.0  # pair restitution = ball's x floor's
-    ball = objects.add_object_by_template_handle(templates.get_template_handles("icosphereSolid")[0])
+    ball = objects.add_object_by_template_handle(
+        templates.get_template_handles("icosphereSolid")[0]
+    )
     radius = 0.1  # the primitive templates' scale: a 0.2 m sphere
     height = 1.0 + rng.uniform(-0.05, 0.05)
     ball.translation = [0.0, radius + height, 0.0]
@@ -75,7 +79,7 @@ def main() -> None:
         resume=args.output_dir is not None,
     )
     print(" e     apex / h   e^2   status")
-    for e, record in zip(restitutions, results):
+    for e, record in zip(restitutions, results, strict=True):
         if record.ok:
             ratio = record.value["apex"] / record.value["height"]
             print(f"{e:.2f}  {ratio:8.3f}  {e * e:.3f}  {record.status}")

@@ -46,8 +46,10 @@ def main() -> None:
         sim.step_physics(0.5)
         cube.apply_impulse(mn.Vector3(1.0, 0.0, 0.0), mn.Vector3(0.0, 0.0, 0.0))
         sim.step_physics(1.0)
-        print(f"pushed: cube at {np.round(cube.translation, 3)}, "
-              f"speed {np.linalg.norm(cube.linear_velocity):.3f} m/s")
+        print(
+            f"pushed: cube at {np.round(cube.translation, 3)}, "
+            f"speed {np.linalg.norm(cube.linear_velocity):.3f} m/s"
+        )
 
         sphere.motion_type = MotionType.KINEMATIC
         control = sphere.velocity_control

@@ -39,8 +39,10 @@ def main() -> None:
             observations, rewards, terminated, truncated, _ = envs.step(actions)
             returns += rewards
             episode_ends += int(np.sum(terminated | truncated))
-        print(f"{args.env}: {steps} steps x {args.num_envs} envs, "
-              f"return per env {np.round(returns, 3)}, {episode_ends} episode ends")
+        print(
+            f"{args.env}: {steps} steps x {args.num_envs} envs, "
+            f"return per env {np.round(returns, 3)}, {episode_ends} episode ends"
+        )
         if isinstance(observations, dict):
             shapes = {key: value.shape for key, value in observations.items()}
             print(f"observations: {shapes}")

@@ -46,9 +46,11 @@ def main() -> None:
         for action in ("move_forward", "turn_left", "move_forward", "turn_right"):
             observations = sim.step(action)
             depth = observations["depth_sensor"]
-            print(f"{action:13s} collided={observations['collided']!s:5s} "
-                  f"position={np.round(agent.get_state().position, 3)} "
-                  f"median depth {np.median(depth[depth > 0]):.2f} m")
+            print(
+                f"{action:13s} collided={observations['collided']!s:5s} "
+                f"position={np.round(agent.get_state().position, 3)} "
+                f"median depth {np.median(depth[depth > 0]):.2f} m"
+            )
 
         sim.pathfinder.seed(4)
         goal = sim.pathfinder.get_random_navigable_point(island_index=0)

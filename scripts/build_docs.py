@@ -57,7 +57,9 @@ def scrub_paths(notebook: nbformat.NotebookNode, folders: list[str]) -> None:
                 data = output.get("data", {})
                 if mime in data:
                     value = data[mime]
-                    data[mime] = [clean(v) for v in value] if isinstance(value, list) else clean(value)
+                    data[mime] = (
+                        [clean(v) for v in value] if isinstance(value, list) else clean(value)
+                    )
 
 
 WIDGET_MIME = "application/vnd.jupyter.widget-view+json"
@@ -79,7 +81,9 @@ def execute_notebook(path: Path, fast: bool) -> nbformat.NotebookNode:
     """Run ``path`` top to bottom in a scratch folder and return it with outputs."""
     notebook = nbformat.read(path, as_version=4)
     env_before = dict(os.environ)
-    os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])
+    )
     os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
     if fast:
         os.environ["RIGIDSIM_FAST"] = "1"
@@ -121,7 +125,8 @@ def lay_out_sources(src: Path, executed_dir: Path | None, fast: bool) -> None:
             tqdm.write(f"docs: executing {path.name}")
             notebook = execute_notebook(path, fast)
         drop_widgets(notebook)
-        scrub_paths(notebook, [str(ROOT), os.path.realpath(ROOT), home])
+        scratch = str(notebook.metadata.pop("rigidsim_scratch", ""))  # the test's tmp folder
+        scrub_paths(notebook, [scratch, str(ROOT), os.path.realpath(ROOT), home])
         nbformat.write(notebook, src / "notebooks" / path.name)
 
 

@@ -42,6 +42,12 @@ def test_assets(habitat_data: Path) -> Path:
 
 
 @pytest.fixture(scope="session")
+def executed_notebooks(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Where the notebook tests leave executed copies for the docs site's test to reuse."""
+    return tmp_path_factory.mktemp("executed_notebooks")
+
+
+@pytest.fixture(scope="session")
 def demo_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The generated demo dataset, built once per test session into a temporary folder."""
     from engine.demo import demo_data_path
