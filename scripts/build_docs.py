@@ -130,6 +130,21 @@ def lay_out_sources(src: Path, executed_dir: Path | None, fast: bool) -> None:
         nbformat.write(notebook, src / "notebooks" / path.name)
 
 
+def scrub_site(out: Path, folders: list[str]) -> None:
+    """Remove absolute folders from the written pages (autodoc prints the values of module
+    constants, and a module object's repr holds its file's absolute path)."""
+    folders = sorted({f.rstrip("/") for f in folders if f}, key=len, reverse=True)
+    for path in [*out.rglob("*.html"), out / "searchindex.js"]:
+        if not path.is_file():
+            continue
+        text = path.read_text(encoding="utf-8")
+        cleaned = text
+        for folder in folders:
+            cleaned = cleaned.replace(folder + "/", "").replace(folder, ".")
+        if cleaned != text:
+            path.write_text(cleaned, encoding="utf-8")
+
+
 def package_modules() -> dict[str, list[str]]:
     """Every module of ``engine``, ``render`` and ``navmesh`` by package, found by file name.
 
@@ -174,6 +189,7 @@ def main(argv: list[str] | None = None) -> int:
     fast = args.fast or os.environ.get("RIGIDSIM_FAST") == "1"
     out = args.out.resolve()
     src = out.with_name(out.name + "-src")
+    doctrees = out.with_name(out.name + "-doctrees")  # Sphinx's cache, outside the site
     start = time.perf_counter()
     lay_out_sources(src, args.executed, fast)
     write_api_pages(src)
@@ -184,11 +200,23 @@ def main(argv: list[str] | None = None) -> int:
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
     LOG.info("docs: sphinx-build %s -> %s", src.name, out)
     subprocess.run(
-        [sys.executable, "-m", "sphinx", "-b", "html", "-q", str(src), str(out)],
+        [
+            sys.executable,
+            "-m",
+            "sphinx",
+            "-b",
+            "html",
+            "-q",
+            "-d",
+            str(doctrees),
+            str(src),
+            str(out),
+        ],
         check=True,
         env=env,
         cwd=ROOT,
     )
+    scrub_site(out, [str(ROOT), os.path.realpath(ROOT), str(Path.home())])
     total_s = time.perf_counter() - start
     LOG.info(
         "docs: wrote %s in %.0f s (notebooks %.0f s, Sphinx %.0f s)",

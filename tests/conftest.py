@@ -43,7 +43,12 @@ def test_assets(habitat_data: Path) -> Path:
 
 @pytest.fixture(scope="session")
 def executed_notebooks(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """Where the notebook tests leave executed copies for the docs site's test to reuse."""
+    """Where the notebook tests leave executed copies for the docs site's test to reuse
+    (``RIGIDSIM_EXECUTED_NOTEBOOKS`` names a folder to keep them across sessions)."""
+    kept = os.environ.get("RIGIDSIM_EXECUTED_NOTEBOOKS")
+    if kept:
+        Path(kept).mkdir(parents=True, exist_ok=True)
+        return Path(kept)
     return tmp_path_factory.mktemp("executed_notebooks")
 
 
