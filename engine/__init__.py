@@ -18,6 +18,7 @@ Like ``import habitat_sim``, importing ``engine`` imports numpy-quaternion, whic
 from __future__ import annotations
 
 import importlib
+from importlib.metadata import PackageNotFoundError, version
 from typing import Any
 
 import quaternion  # noqa: F401 - registers np.quaternion, as importing habitat_sim does
@@ -57,7 +58,7 @@ _SUBMODULES = {
     "assets",
     "attributes",
     "attributes_managers",
-    "datasets",
+    "demo",
     "errors",
     "geo",
     "nav",
@@ -72,6 +73,11 @@ _SUBMODULES = {
 }
 
 __all__ = ["mn", *sorted(_LAZY), *sorted(_SUBMODULES)]
+
+try:
+    __version__: str = version("rigidsim")  # the installed distribution's version
+except PackageNotFoundError:  # imported from a source tree that was never installed
+    __version__ = "0+unknown"
 
 
 def __getattr__(name: str) -> Any:

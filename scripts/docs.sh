@@ -1,32 +1,33 @@
 #!/usr/bin/env bash
-# Build the documentation's executed notebooks: every notebook in notebooks/ is run top to
-# bottom with nbconvert and written as HTML, figures and videos embedded, to build/docs/
-# (gitignored; open build/docs/index.html). The notebooks in the repository stay without
-# outputs. Options: RIGIDSIM_FAST=1 bash scripts/docs.sh builds small, quick versions.
+# Build the documentation site into build/docs/ (open build/docs/index.html): the pages of
+# docs/, every notebook of notebooks/ executed with its figures and videos, and the API
+# reference from the docstrings; math is typeset offline (scripts/build_docs.py says how).
+#
+#   bash scripts/docs.sh                  # full-size notebooks (about 10 min on 2 cores)
+#   bash scripts/docs.sh --fast           # the notebooks' fast mode (about 4 min)
+#   bash scripts/docs.sh --executed DIR   # reuse notebooks already executed in DIR
+#   bash scripts/docs.sh --out DIR        # another output folder
+#
+# It installs what it needs into ./.venv (created where missing) every time, so it works
+# after scripts/test.sh or scripts/tutorial.sh made the venv with other extras. With PYTHON
+# set, that interpreter is used as it is (its environment must have the docs extra).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ -z "${PYTHON:-}" ]; then
     if [ ! -x .venv/bin/python ]; then
         python3 -m venv .venv
         .venv/bin/python -m pip install -q --upgrade pip
-        .venv/bin/python -m pip install -q -e '.[notebook]'
     fi
+    .venv/bin/python -m pip install -q -e '.[docs,notebook,gym,ray,viewer]'
     PYTHON=.venv/bin/python
 fi
 out=build/docs
-rm -rf "$out"
-mkdir -p "$out/run"
-cp notebooks/*.ipynb "$out/run/"  # executed in a scratch copy: videos and files land there
-export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" MPLBACKEND=module://matplotlib_inline.backend_inline
-index="$out/index.html"
-echo "<html><head><title>rigidsim notebooks</title></head><body><h1>rigidsim notebooks</h1><ul>" > "$index"
-for notebook in "$out"/run/*.ipynb; do
-    name=$(basename "$notebook" .ipynb)
-    echo "executing $name"
-    "$PYTHON" -m jupyter nbconvert --to html --execute --ExecutePreprocessor.timeout=1800 \
-        --output-dir "$out" --output "$name" "$notebook"
-    echo "<li><a href=\"$name.html\">$name</a></li>" >> "$index"
+args=("$@")
+for ((i = 0; i < ${#args[@]}; i++)); do
+    if [ "${args[$i]}" = "--out" ]; then out="${args[$((i + 1))]}"; fi
 done
-echo "</ul></body></html>" >> "$index"
-rm -rf "$out/run"
-echo "wrote $index"
+"$PYTHON" scripts/build_docs.py "$@"
+# the 3D viewer's replay of the tutorial, embedded by docs/viewer.md
+mkdir -p "$out/replays"
+"$PYTHON" -m engine.viewer --demo-replay "$out/replays/tutorial_replay.html"
+echo "open $out/index.html"

@@ -11,8 +11,8 @@ if ! command -v chromium >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1 &
 fi
 python3 -m venv .venv
 .venv/bin/python -m pip install -q --upgrade pip
-.venv/bin/python -m pip install -q -e '.[dev,notebook,ray,gym,viewer]'
-.venv/bin/python -m ruff check engine render navmesh tests benchmarks
-.venv/bin/python -m ruff format --check engine render navmesh tests benchmarks
+.venv/bin/python -m pip install -q -e '.[dev,notebook,ray,gym,viewer,docs]'
+.venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
+.venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
 .venv/bin/python -m pytest -q "$@"

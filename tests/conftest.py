@@ -42,6 +42,17 @@ def test_assets(habitat_data: Path) -> Path:
 
 
 @pytest.fixture(scope="session")
+def executed_notebooks(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Where the notebook tests leave executed copies for the docs site's test to reuse
+    (``RIGIDSIM_EXECUTED_NOTEBOOKS`` names a folder to keep them across sessions)."""
+    kept = os.environ.get("RIGIDSIM_EXECUTED_NOTEBOOKS")
+    if kept:
+        Path(kept).mkdir(parents=True, exist_ok=True)
+        return Path(kept)
+    return tmp_path_factory.mktemp("executed_notebooks")
+
+
+@pytest.fixture(scope="session")
 def demo_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The generated demo dataset, built once per test session into a temporary folder."""
     from engine.demo import demo_data_path

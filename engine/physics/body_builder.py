@@ -1,6 +1,6 @@
 """From an object template to a body: render meshes, collision shapes, mass properties.
 
-Habitat's rules (HABITAT_SEMANTICS.md, "Objects"):
+Habitat's rules (docs/habitat_api.md, "Objects"):
 
 * render meshes: the render asset (a Magnum primitive scaled by the template ``scale``, or a
   file loaded with the template's up/front/scale/units_to_meters);

@@ -29,7 +29,7 @@ import engine as habitat_sim
 from engine.demo import demo_data_path
 from engine.tutorial.context import SectionResult, TutorialContext
 from engine.tutorial.recording import SectionRecorder, VideoSpec
-from engine.tutorial.report import format_summary, write_summary
+from engine.tutorial.report import SUMMARY_LEGEND, format_summary, write_summary
 from engine.tutorial.scene_setup import (
     FAST_RESOLUTION,
     TUTORIAL_RESOLUTION,
@@ -77,8 +77,14 @@ SECTION_NAMES = [
 ]
 
 
-# progress in simulated world seconds, e.g. "basics  60%|######    | 0.90/1.50 world s [00:01]"
-BAR_FORMAT = "{desc:<24}{percentage:3.0f}%|{bar:30}| {n:.2f}/{total:.2f} world s [{elapsed}]"
+# progress in simulated world seconds and video frames, e.g.
+# "basics                   60%|######    | 0.90/1.50 world s, frame 54 [00:01]"
+BAR_FORMAT = (
+    "{desc:<24}{percentage:3.0f}%|{bar:30}| {n:.2f}/{total:.2f} world s{postfix} [{elapsed}]"
+)
+# ProgressFn(section label, frames recorded in it, world seconds done over the selected
+# sections): how a worker process of --jobs N reports to the parent's bars.
+ProgressFn = Callable[[str, int, float], object]
 
 
 def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
@@ -192,6 +198,7 @@ def run_sections(
     progress: bool = True,
     keep_observations: bool = False,
     render_processes: int | None = None,
+    on_progress: ProgressFn | None = None,
 ) -> list[SectionResult]:
     """Run sections ``0 .. max(selected)`` in order on one simulator; record those in
     ``selected`` and return their results.
@@ -199,6 +206,7 @@ def run_sections(
     The others run without rendering (rendering never changes the simulation), so every
     recorded section starts from exactly the world the full tutorial would give it.
     ``render_processes`` sets the renderer's worker processes (None: its default).
+    ``on_progress`` is called at every recorded frame and when a replayed section starts.
     """
     if make_video:
         os.makedirs(output_dir, exist_ok=True)
@@ -211,24 +219,43 @@ def run_sections(
         simulate_only = partial(_new_recorder, sim, output_dir, False, False, None)
         context = TutorialContext(sim, data_path, simulate_only, random.Random(seed))
         results = []
+        done = 0.0  # world seconds of the recorded sections already finished
         for index, (label, section, world_seconds) in enumerate(SECTIONS[: max(selected) + 1]):
             if index not in selected:  # a prerequisite: simulate only
+                if on_progress is not None:
+                    on_progress(f"{label} (replay, no video)", 0, done)
                 context.new_recorder = simulate_only
                 section(context)
                 continue
             bar = tqdm(total=world_seconds, desc=label, bar_format=BAR_FORMAT, disable=not progress)
             with bar:
-                advance = partial(_advance_bar, bar)
+                advance = SectionProgress(bar, label, done, on_progress)
                 context.new_recorder = partial(
                     _new_recorder, sim, output_dir, make_video, keep_observations, advance
                 )
                 results.append(section(context))
+            done += world_seconds
     return results
 
 
-def _advance_bar(bar: tqdm, world_dt: float) -> None:
-    """Advance a section's bar by simulated seconds (the last frame may overshoot: clamp)."""
-    bar.update(min(world_dt, max(bar.total - bar.n, 0.0)))
+class SectionProgress:
+    """Per-frame progress of one recorded section: its bar and the ``on_progress`` report."""
+
+    def __init__(self, bar: tqdm, label: str, done_before: float, report: ProgressFn | None):
+        self.bar, self.label, self.report = bar, label, report
+        self.done_before = done_before  # world seconds of the sections recorded before it
+        self.frames = 0
+        self.world = 0.0
+
+    def __call__(self, world_dt: float) -> None:
+        """One frame of ``world_dt`` simulated seconds (the last may overshoot: clamped)."""
+        self.frames += 1
+        step = min(world_dt, max(float(self.bar.total) - self.world, 0.0))
+        self.world += step
+        self.bar.set_postfix_str(f"frame {self.frames}", refresh=False)
+        self.bar.update(step)
+        if self.report is not None:
+            self.report(self.label, self.frames, self.done_before + self.world)
 
 
 def _new_recorder(
@@ -269,6 +296,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         settings["groups"] = groups
     summary_path = write_summary(results, settings, args.output_dir)
     print(format_summary(results))
+    print(SUMMARY_LEGEND)
     for group in groups:  # --jobs N: what each worker did, in the order they started
         print(
             f"group {', '.join(group['sections'])}: {group['wall_seconds']:.1f} s wall, "

@@ -26,13 +26,18 @@ from __future__ import annotations
 
 import os
 import resource
+import tempfile
+import threading
 import time
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
+
+from tqdm.auto import tqdm
 
 from engine.batch import run_batch
 from engine.demo import demo_data_path
-from engine.tutorial.cli import SECTION_NAMES, run_sections
+from engine.tutorial.cli import BAR_FORMAT, SECTION_NAMES, SECTIONS, run_sections
 from engine.tutorial.context import SectionResult
 
 # Sections recorded together by one worker. A group replays (physics only) every section
@@ -97,16 +102,86 @@ def run_group(params: dict[str, Any], seed: int) -> dict[str, Any]:
     settings = dict(params)
     sections = settings.pop("sections")
     threads = settings.pop("render_threads")
+    progress_file = settings.pop("progress_file", None)
     if threads is not None:
         os.environ["RIGIDSIM_RENDER_THREADS"] = str(threads)  # read by the new simulator
     wall, cpu = time.perf_counter(), _cpu_seconds()
-    results = run_sections(sections, **settings)
+    report = ProgressWriter(progress_file) if progress_file is not None else None
+    results = run_sections(sections, on_progress=report, **settings)
+    if report is not None:  # the last frames may have fallen between two writes
+        report("done", 0, sum(SECTIONS[index][2] for index in sections), force=True)
     return {
         "sections": results,
         "wall_seconds": time.perf_counter() - wall,
         "cpu_seconds": _cpu_seconds() - cpu,
         "render_threads": threads,
     }
+
+
+class ProgressWriter:
+    """Worker side of the progress: the running section, its frame and the group's world
+    seconds done, written to a small file at most every ``interval`` seconds (and at every
+    change of section) for :class:`GroupBars` in the parent to read."""
+
+    def __init__(self, path: str, interval: float = 0.25):
+        self.path, self.interval = Path(path), interval
+        self.last_time, self.last_label = 0.0, ""
+
+    def __call__(self, label: str, frames: int, world_done: float, force: bool = False) -> None:
+        now = time.perf_counter()
+        if not force and label == self.last_label and now - self.last_time < self.interval:
+            return
+        self.last_time, self.last_label = now, label
+        scratch = self.path.with_suffix(".tmp")
+        scratch.write_text(f"{label}\t{frames}\t{world_done:.4f}\n", encoding="utf-8")
+        scratch.replace(self.path)  # atomic: the parent never reads half a line
+
+
+class GroupBars:
+    """Parent side: one bar per group, naming the section its worker runs and its frame.
+
+    A thread polls the workers' progress files (:class:`ProgressWriter`) four times a second;
+    ``run_batch`` itself shows no bar (it would say ``0/2`` for minutes).
+    """
+
+    def __init__(self, groups: Sequence[Sequence[int]], folder: str):
+        self.files = [Path(folder) / f"group-{k}.txt" for k in range(len(groups))]
+        self.bars = [
+            tqdm(
+                total=sum(SECTIONS[index][2] for index in group),
+                desc=f"worker {k + 1}: starting",
+                bar_format="{desc:<44}" + BAR_FORMAT.removeprefix("{desc:<24}"),
+                position=k,
+            )
+            for k, group in enumerate(groups)
+        ]
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self.poll, name="tutorial-progress", daemon=True)
+
+    def __enter__(self) -> GroupBars:
+        self.thread.start()
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.stop.set()
+        self.thread.join()
+        self.refresh()
+        for bar in self.bars:
+            bar.close()
+
+    def poll(self) -> None:
+        while not self.stop.wait(0.25):
+            self.refresh()
+
+    def refresh(self) -> None:
+        for k, (path, bar) in enumerate(zip(self.files, self.bars, strict=True)):
+            try:
+                label, frames, world = path.read_text(encoding="utf-8").rstrip("\n").split("\t")
+            except (OSError, ValueError):  # not written yet
+                continue
+            bar.set_description_str(f"worker {k + 1}: {label}", refresh=False)
+            bar.set_postfix_str(f"frame {frames}" if int(frames) else "", refresh=False)
+            bar.update(min(float(world), float(bar.total)) - bar.n)
 
 
 def _cpu_seconds() -> float:
@@ -145,7 +220,18 @@ def run_in_parallel(
         {"sections": group, "progress": False, "render_threads": threads, **settings}
         for group in groups
     ]
-    results = run_batch(run_group, params, backend="process", workers=workers, progress=progress)
+    if progress:
+        with tempfile.TemporaryDirectory(prefix="rigidsim-tutorial-") as folder:
+            for k, group_params in enumerate(params):
+                group_params["progress_file"] = str(Path(folder) / f"group-{k}.txt")
+            with GroupBars(groups, folder):
+                results = run_batch(
+                    run_group, params, backend="process", workers=workers, progress=False
+                )
+        for group_params in params:
+            del group_params["progress_file"]  # the error message below prints the params
+    else:
+        results = run_batch(run_group, params, backend="process", workers=workers, progress=False)
     failed = [r for r in results if not r.ok]
     if failed:
         raise RuntimeError(

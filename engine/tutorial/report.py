@@ -17,6 +17,12 @@ from typing import Any
 from engine.tutorial.context import SectionResult
 
 COLUMNS = ("section", "world s", "frames", "wall s", "physics", "render", "encode", "video")
+# one line under the table: what its columns mean
+SUMMARY_LEGEND = (
+    "world s: simulated seconds; frames: video frames, one step_physics(1/60) each; "
+    "wall s = physics (stepping, control code) + render (three sensors) + encode "
+    "(composing frames, H.264), seconds of the process that ran the section"
+)
 
 
 def summary_rows(results: Sequence[SectionResult]) -> list[tuple[str, ...]]:

@@ -1,4 +1,4 @@
-"""The rigid-object API (HABITAT_SEMANTICS.md "Objects"), ported Habitat tests included."""
+"""The rigid-object API (docs/habitat_api.md, "Objects"), ported Habitat tests included."""
 
 from __future__ import annotations
 

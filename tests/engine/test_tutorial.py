@@ -35,7 +35,7 @@ VIDEOS = {
     "embodied_agent_navmesh_sliding": "robot_control_sliding",
     "embodied_agent_navmesh_no_sliding": "robot_control_no_sliding",
 }
-# Resting contact: VALIDATION.md allows a 5 mm gap or sinking; the scene's surfaces are only
+# Resting contact: docs/physics.md allows a 5 mm gap or sinking; the scene's surfaces are only
 # known to about 5 mm, hence 1 cm.
 REST_TOL = 0.01
 
@@ -218,7 +218,7 @@ def test_anti_gravity_boxes_hover_until_the_sphere_arrives(job: dict) -> None:
     start = np.asarray(result["boxes_start"])
     # the sphere is thrown with v = 5 * (box - sphere): it needs about 0.2 s to arrive, so
     # for the first 0.1 s (6 frames) F = -m g holds every box in place (drift < 1 mm,
-    # VALIDATION.md's anti-gravity bound)
+    # docs/physics.md's anti-gravity bound)
     np.testing.assert_allclose(tracks[:6], np.broadcast_to(start, (6, 5, 3)), atol=1e-3)
     # nothing ends up under the floor
     assert np.all(tracks[:, :, 1] > FLOOR_Y)
@@ -229,7 +229,7 @@ def test_boxes_the_sphere_misses_hover_and_spin_for_the_whole_run(job: dict) -> 
     tracks = np.asarray(result["box_tracks"])
     start = np.asarray(result["boxes_start"])
     drift = np.max(np.linalg.norm(tracks - start, axis=2), axis=0)  # (5,) max over frames
-    hovering = np.flatnonzero(drift < 1e-3)  # VALIDATION.md: < 1 mm in 3 s
+    hovering = np.flatnonzero(drift < 1e-3)  # docs/physics.md: < 1 mm in 3 s
     # the sphere hits the top box and scatters the column; the two side boxes stay clear
     assert len(hovering) >= 2, f"max drift per box: {drift}"
     spins = np.asarray(result["boxes_angular_velocity"])[hovering]
@@ -282,7 +282,7 @@ def test_kinematic_update_follows_the_manual_state_updates(job: dict) -> None:
 
 
 def replay_velocity_control(start: dict, steps: list[tuple[int, np.ndarray, np.ndarray, bool]]):
-    """Explicit Euler of VelocityControl.integrate_transform (HABITAT_SEMANTICS.md), once per
+    """Explicit Euler of VelocityControl.integrate_transform (docs/habitat_api.md), once per
     step_physics(1/60) call. ``steps``: (n, linear, angular, is_local) phases."""
     t = np.asarray(start["translation"], dtype=np.float64)
     q = quat_xyzw(start["rotation"])

@@ -1,4 +1,4 @@
-"""Build pipeline against geometric truths (VALIDATION.md section 6).
+"""Build pipeline against geometric truths (docs/physics.md, validation).
 
 Geometry: boxes in the world frame, Y up, meters; default NavMeshSettings (cell 0.05 m,
 agent radius 0.1 m, height 1.5 m, max climb 0.2 m) unless stated.

@@ -1,4 +1,4 @@
-"""Shortest paths: analytic lengths, unreachable goals, multi-goal (VALIDATION.md section 6).
+"""Shortest paths: analytic lengths, unreachable goals, multi-goal (docs/physics.md, validation).
 
 World frame Y up, meters. Tolerances: paths are any-angle on a 0.05 m grid, so the
 geodesic must match the analytic shortest path within 2 %.

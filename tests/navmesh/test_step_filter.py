@@ -1,4 +1,4 @@
-"""try_step / try_step_no_sliding geometry (VALIDATION.md section 6, HABITAT_SEMANTICS.md).
+"""try_step / try_step_no_sliding geometry (docs/physics.md, validation; docs/habitat_api.md).
 
 Scene: a 6 x 6 m floor (y = 0) with a 2 m wall across z in [4.02, 4.22]. The navigable
 region of the main room ends at z_b (the wall eroded by the agent radius).

@@ -3,7 +3,9 @@
 Each notebook runs top to bottom in a fresh kernel from this interpreter's environment
 (``ipykernel``), with ``RIGIDSIM_FAST=1`` (small frames, fewer steps) and a per-cell
 timeout. A cell that raises fails the test with the cell's traceback. Notebooks are committed
-without outputs; the test checks that too.
+without outputs; the test checks that too. Each executed notebook is kept in the session's
+``executed_notebooks`` folder, where the documentation site's test (``test_site.py``) takes it
+instead of running the notebook a second time.
 """
 
 from __future__ import annotations
@@ -46,10 +48,11 @@ def test_notebook_is_committed_without_outputs(path: Path) -> None:
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
 def test_notebook_executes_in_fast_mode(
-    path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, executed_notebooks: Path
 ) -> None:
     monkeypatch.setenv("RIGIDSIM_FAST", "1")
-    monkeypatch.setenv("MPLBACKEND", "Agg")
+    # Jupyter's own backend: figures become PNG outputs, which the docs site shows
+    monkeypatch.setenv("MPLBACKEND", "module://matplotlib_inline.backend_inline")
     # the kernel must import this checkout's packages even when run from another folder
     root = str(NOTEBOOK_DIR.parent)
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
@@ -63,3 +66,6 @@ def test_notebook_executes_in_fast_mode(
     # the python3 kernelspec's argv[0] "python" is replaced by this interpreter
     # (jupyter_client), so the kernel sees the same virtual environment
     client.execute()
+    # the scratch folder, so that the site's build can remove it from printed paths
+    notebook.metadata["rigidsim_scratch"] = str(tmp_path)
+    nbformat.write(notebook, executed_notebooks / path.name)

@@ -1,4 +1,4 @@
-"""VALIDATION.md section 2: resting, restitution, friction, rolling, kinematic push, overlap."""
+"""docs/physics.md, validation: resting, restitution, friction, rolling, kinematic push, overlap."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ def test_dropped_body_rests_on_the_floor_and_sleeps(primitive):
     handle = register_primitive(templates, primitive, (0.1, 0.1, 0.1))
     body = add(world, templates, handle, [0.0, 0.4, 0.0])
     run(world, 1.5)
-    # 5 mm: VALIDATION.md's resting bound (our slop leaves at most 2 mm of overlap)
+    # 5 mm: docs/physics.md's resting bound (our slop leaves at most 2 mm of overlap)
     assert abs(body.translation[1] - 0.1) < 5e-3
     assert np.linalg.norm(np.asarray(body.linear_velocity)) < 1e-3
     run(world, 1.0)
@@ -43,7 +43,7 @@ def test_zero_restitution_does_not_bounce():
     box = add(world, templates, handle, [0.0, 1.1, 0.0])
     heights = _drop_and_track(world, box, 1.5)
     landing = int(np.argmax(heights < 0.1 + 0.01))
-    # no rise above the resting height after the first touch (< 1 mm, VALIDATION.md)
+    # no rise above the resting height after the first touch (< 1 mm, docs/physics.md)
     assert heights[landing:].max() - heights[-1] < 1e-3
     assert abs(heights[-1] - 0.1) < 5e-3
 
@@ -62,7 +62,7 @@ def test_partial_restitution_apex_matches_e_squared_h():
     heights = _drop_and_track(world, ball, 1.5) - 0.1
     first_contact = int(np.argmax(heights < 0.02))
     apex = heights[first_contact:].max()
-    # apex in [0.85, 1.02] e^2 h (VALIDATION.md; discrete contact time loses a little)
+    # apex in [0.85, 1.02] e^2 h (docs/physics.md; discrete contact time loses a little)
     assert 0.85 * e * e * drop <= apex <= 1.02 * e * e * drop
     assert apex < drop  # never gains energy
 
@@ -79,7 +79,7 @@ def test_elastic_head_on_collision_swaps_velocities_in_zero_gravity():
     a = add(world, templates, handle, [-0.5, 0.0, 0.0], linear_velocity=[1.0, 0.0, 0.0])
     b = add(world, templates, handle, [0.5, 0.0, 0.0])
     run(world, 1.5)
-    # equal masses, e = 1: velocities swap (1e-5, VALIDATION.md)
+    # equal masses, e = 1: velocities swap (1e-5, docs/physics.md)
     np.testing.assert_allclose(a.linear_velocity, [0.0, 0.0, 0.0], atol=1e-5)
     np.testing.assert_allclose(b.linear_velocity, [1.0, 0.0, 0.0], atol=1e-5)
 
@@ -141,7 +141,7 @@ def test_friction_is_isotropic(angle_deg):
     box.linear_velocity = [v0 * np.cos(a), 0.0, v0 * np.sin(a)]
     run(world, 1.5)
     distance = np.linalg.norm((np.asarray(box.translation) - start)[[0, 2]])
-    # v0^2 / (2 mu g) within 2 % (VALIDATION.md)
+    # v0^2 / (2 mu g) within 2 % (docs/physics.md)
     np.testing.assert_allclose(distance, v0 * v0 / (2 * mu * G), rtol=0.02)
 
 

@@ -1,4 +1,4 @@
-"""VALIDATION.md section 1: one body, no contact (free fall, forces, spin, velocity control)."""
+"""docs/physics.md, validation: one body, no contact (free fall, forces, spin, velocity control)."""
 
 from __future__ import annotations
 
@@ -71,7 +71,7 @@ def test_torque_free_spin_of_an_asymmetric_box_conserves_momentum_and_never_gain
         energies.append(energy_and_momentum()[0])
     e1, l1 = energy_and_momentum()
     assert np.all(np.isfinite(energies))
-    assert max(energies) <= 1.01 * e0  # VALIDATION.md: never above 1.01 x start
+    assert max(energies) <= 1.01 * e0  # docs/physics.md: never above 1.01 x start
     # the update holds L fixed in the world frame; 1e-3 relative is the validation bound
     np.testing.assert_allclose(l1, l0, atol=1e-3 * np.linalg.norm(l0))
 
@@ -85,7 +85,7 @@ def test_velocity_control_reference_numbers():
     state = RigidState(mn.Quaternion(), [0.0, 2.0, 0.0])
     for _ in range(1251):
         state = vc.integrate_transform(0.008, state)
-    # HABITAT_SEMANTICS.md reference (3 decimals given there)
+    # Habitat's reference numbers (docs/habitat_api.md, 3 decimals)
     np.testing.assert_allclose(state.translation, [0.0, 3.836, 0.544], atol=1e-3)
     np.testing.assert_allclose(
         [state.rotation.scalar, state.rotation.vector[0]], [0.2875, -0.9578], atol=1e-4

@@ -1,4 +1,4 @@
-"""Graph coloring; fast bodies do not tunnel; determinism; VALIDATION.md section 7.
+"""Graph coloring; fast bodies do not tunnel; determinism; docs/physics.md, validation.
 
 The two solver paths are compared in test_reference_path.py, the switches in
 test_solver_switches.py."""

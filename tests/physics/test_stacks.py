@@ -1,4 +1,4 @@
-"""VALIDATION.md section 3: stacks, pyramid, pile, anti-gravity hover."""
+"""docs/physics.md, validation: stacks, pyramid, pile, anti-gravity hover."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ def test_ten_box_stack_stands_ten_seconds_with_small_drift():
     run(world, 10.0)
     end = np.array([np.asarray(b.translation) for b in boxes])
     lateral = np.linalg.norm((end - start)[:, [0, 2]], axis=1)
-    assert lateral.max() < 0.01  # < 1 cm lateral drift (VALIDATION.md)
+    assert lateral.max() < 0.01  # < 1 cm lateral drift (docs/physics.md)
     # still a stack: each box one box-height above the one below (2 mm slop per contact)
     np.testing.assert_allclose(np.diff(end[:, 1]), 2 * HALF, atol=5e-3)
 

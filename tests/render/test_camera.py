@@ -1,4 +1,4 @@
-"""Camera intrinsics, projection and input validation (VALIDATION.md section 5)."""
+"""Camera intrinsics, projection and input validation (docs/physics.md, validation)."""
 
 from __future__ import annotations
 

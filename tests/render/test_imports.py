@@ -1,4 +1,4 @@
-"""render is a leaf library: it never imports engine or navmesh (STYLE.md)."""
+"""render is a leaf library: it never imports engine or navmesh (docs/conventions.md)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Rasterizer geometry: depth, coverage, fill rule, clipping (VALIDATION.md section 5)."""
+"""Rasterizer geometry: depth, coverage, fill rule, clipping (docs/physics.md, validation)."""
 
 from __future__ import annotations
 

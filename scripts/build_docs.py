@@ -1,0 +1,232 @@
+"""Build rigidsim's documentation site with Sphinx: pages, executed notebooks, API reference.
+
+``bash scripts/docs.sh`` installs what this needs and calls it; the browser test calls it too.
+Steps:
+
+1. lay out a source tree in ``<out>-src/``: every file of ``docs/`` and, under ``notebooks/``,
+   every notebook of ``notebooks/`` with its outputs;
+2. the outputs come from running the notebook top to bottom (nbclient, a fresh kernel of this
+   interpreter, in a scratch folder), or from an already executed copy given with
+   ``--executed DIR`` (the test suite's notebook test leaves one there, so CI runs each notebook
+   once); absolute paths of the scratch folder and of the repository are removed from outputs;
+3. ``sphinx-build`` writes the HTML site to ``<out>/`` (default ``build/docs/``), MathJax
+   copied from the ``jupyter-server-mathjax`` package so that equations render with no network.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+from tqdm import tqdm
+
+LOG = logging.getLogger("rigidsim.docs")
+ROOT = Path(__file__).resolve().parents[1]
+CELL_TIMEOUT_S = 1800
+
+
+def sources_match(executed: nbformat.NotebookNode, source: nbformat.NotebookNode) -> bool:
+    """True when ``executed`` ran exactly the cells of ``source`` (an edited notebook re-runs)."""
+    cells = [(cell.cell_type, cell.source) for cell in source.cells]
+    return cells == [(cell.cell_type, cell.source) for cell in executed.cells]
+
+
+def scrub_paths(notebook: nbformat.NotebookNode, folders: list[str]) -> None:
+    """Replace the absolute ``folders`` in text outputs: a page must not show the build machine."""
+    folders = sorted({f.rstrip("/") for f in folders if f}, key=len, reverse=True)
+
+    def clean(text: str) -> str:
+        for folder in folders:
+            text = text.replace(folder + "/", "").replace(folder, ".")
+        return text
+
+    for cell in notebook.cells:
+        for output in cell.get("outputs", []):
+            if "text" in output:
+                output["text"] = clean(output["text"])
+            for mime in ("text/plain", "text/html", "text/markdown"):
+                data = output.get("data", {})
+                if mime in data:
+                    value = data[mime]
+                    data[mime] = (
+                        [clean(v) for v in value] if isinstance(value, list) else clean(value)
+                    )
+
+
+WIDGET_MIME = "application/vnd.jupyter.widget-view+json"
+
+
+def drop_widgets(notebook: nbformat.NotebookNode) -> None:
+    """Remove Jupyter widget outputs and state (tqdm's bars in a notebook).
+
+    A page showing them would load the widget manager from a CDN; the text of a finished bar
+    says nothing a reader needs, and its state holds the scratch folder's absolute paths.
+    """
+    notebook.metadata.pop("widgets", None)
+    for cell in notebook.cells:
+        if "outputs" in cell:
+            cell["outputs"] = [o for o in cell["outputs"] if WIDGET_MIME not in o.get("data", {})]
+
+
+def execute_notebook(path: Path, fast: bool) -> nbformat.NotebookNode:
+    """Run ``path`` top to bottom in a scratch folder and return it with outputs."""
+    notebook = nbformat.read(path, as_version=4)
+    env_before = dict(os.environ)
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])
+    )
+    os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
+    if fast:
+        os.environ["RIGIDSIM_FAST"] = "1"
+    try:
+        with tempfile.TemporaryDirectory(prefix="rigidsim-docs-") as scratch:
+            client = NotebookClient(
+                notebook,
+                timeout=CELL_TIMEOUT_S,
+                kernel_name="python3",
+                resources={"metadata": {"path": scratch}},
+            )
+            client.execute()
+            scrub_paths(notebook, [scratch, os.path.realpath(scratch)])
+    finally:
+        os.environ.clear()
+        os.environ.update(env_before)
+    return notebook
+
+
+def lay_out_sources(src: Path, executed_dir: Path | None, fast: bool) -> None:
+    """Fill ``src`` with the docs pages and the executed notebooks."""
+    if src.exists():
+        shutil.rmtree(src)
+    shutil.copytree(ROOT / "docs", src)
+    (src / "notebooks").mkdir()
+    notebooks = sorted((ROOT / "notebooks").glob("*.ipynb"))
+    home = str(Path.home())
+    for path in tqdm(notebooks, desc="docs: notebooks", unit="notebook"):
+        source = nbformat.read(path, as_version=4)
+        cached = executed_dir / path.name if executed_dir is not None else None
+        if cached is not None and cached.is_file():
+            notebook = nbformat.read(cached, as_version=4)
+            if not sources_match(notebook, source):
+                LOG.info("%s: executed copy is stale, running it", path.name)
+                notebook = execute_notebook(path, fast)
+            else:
+                LOG.info("%s: reusing the executed copy in %s", path.name, executed_dir)
+        else:
+            tqdm.write(f"docs: executing {path.name}")
+            notebook = execute_notebook(path, fast)
+        drop_widgets(notebook)
+        scratch = str(notebook.metadata.pop("rigidsim_scratch", ""))  # the test's tmp folder
+        scrub_paths(notebook, [scratch, str(ROOT), os.path.realpath(ROOT), home])
+        nbformat.write(notebook, src / "notebooks" / path.name)
+
+
+def scrub_site(out: Path, folders: list[str]) -> None:
+    """Remove absolute folders from the written pages (autodoc prints the values of module
+    constants, and a module object's repr holds its file's absolute path)."""
+    folders = sorted({f.rstrip("/") for f in folders if f}, key=len, reverse=True)
+    for path in [*out.rglob("*.html"), out / "searchindex.js"]:
+        if not path.is_file():
+            continue
+        text = path.read_text(encoding="utf-8")
+        cleaned = text
+        for folder in folders:
+            cleaned = cleaned.replace(folder + "/", "").replace(folder, ".")
+        if cleaned != text:
+            path.write_text(cleaned, encoding="utf-8")
+
+
+def package_modules() -> dict[str, list[str]]:
+    """Every module of ``engine``, ``render`` and ``navmesh`` by package, found by file name.
+
+    Nothing is imported here (``engine.tutorial.__main__`` runs the main job when imported, so
+    ``__main__`` modules are left out); autodoc imports each listed module when it renders it.
+    """
+    packages: dict[str, list[str]] = {}
+    for top in ("engine", "render", "navmesh"):
+        for init in sorted((ROOT / top).rglob("__init__.py")):
+            package = ".".join(init.parent.relative_to(ROOT).parts)
+            modules = [package] + [
+                f"{package}.{path.stem}"
+                for path in sorted(init.parent.glob("*.py"))
+                if path.stem not in ("__init__", "__main__")
+            ]
+            packages[package] = modules
+    return packages
+
+
+def write_api_pages(src: Path) -> None:
+    """One API page per package, one section per module, rendered by autodoc from docstrings."""
+    api = src / "api"
+    api.mkdir()
+    for package, modules in package_modules().items():
+        lines = [f"# `{package}`", ""]
+        for module in modules:
+            if module != package:
+                lines += [f"## `{module}`", ""]
+            lines += ["```{eval-rst}", f".. automodule:: {module}", "   :members:", "```", ""]
+        (api / f"{package}.md").write_text("\n".join(lines), encoding="utf-8")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=ROOT / "build" / "docs", help="site folder")
+    parser.add_argument("--fast", action="store_true", help="notebooks in RIGIDSIM_FAST mode")
+    parser.add_argument(
+        "--executed", type=Path, default=None, help="folder of already executed notebooks to reuse"
+    )
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO, format="%(message)s")
+    fast = args.fast or os.environ.get("RIGIDSIM_FAST") == "1"
+    out = args.out.resolve()
+    src = out.with_name(out.name + "-src")
+    doctrees = out.with_name(out.name + "-doctrees")  # Sphinx's cache, outside the site
+    start = time.perf_counter()
+    lay_out_sources(src, args.executed, fast)
+    write_api_pages(src)
+    notebooks_s = time.perf_counter() - start
+    if out.exists():
+        shutil.rmtree(out)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    LOG.info("docs: sphinx-build %s -> %s", src.name, out)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sphinx",
+            "-b",
+            "html",
+            "-q",
+            "-d",
+            str(doctrees),
+            str(src),
+            str(out),
+        ],
+        check=True,
+        env=env,
+        cwd=ROOT,
+    )
+    scrub_site(out, [str(ROOT), os.path.realpath(ROOT), str(Path.home())])
+    total_s = time.perf_counter() - start
+    LOG.info(
+        "docs: wrote %s in %.0f s (notebooks %.0f s, Sphinx %.0f s)",
+        out / "index.html",
+        total_s,
+        notebooks_s,
+        total_s - notebooks_s,
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
