@@ -20,7 +20,7 @@ How one module is run
 3. Stage 1 runs the module's own tests (``MODULES[...].fast``) with ``pytest -x``; stage 2
    re-runs only the survivors against the wider set (``MODULES[...].wide``).
 4. The report ``benchmarks/results/mutation-<date>.md`` lists each module's score, every
-   survivor (line and diff) and every equivalent mutant with its reason.
+   survivor (line, original and mutated text) and every equivalent mutant with its reason.
 
 Usage::
 
@@ -41,7 +41,9 @@ import sqlite3
 import subprocess
 import sys
 import tempfile
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -169,6 +171,10 @@ def _config(module: str, tests: tuple[str, ...], timeout: float) -> str:
 
 def _cosmic_ray(work: Path, *args: str) -> None:
     env = dict(os.environ, PYTHONPATH=str(work))
+    # the copy has no ../shared beside it: point the tests at this checkout's Habitat assets
+    env.setdefault(
+        "RIGIDSIM_HABITAT_DATA", str((ROOT.parent / "shared/assets/habitat/data").resolve())
+    )
     cosmic_ray = str(Path(sys.executable).parent / "cosmic-ray")
     subprocess.run([cosmic_ray, *args], cwd=work, env=env, check=True)
 
@@ -177,13 +183,20 @@ def _line_text(work: Path, module: str, line: int) -> str:
     return (work / module).read_text().splitlines()[line - 1].strip()
 
 
-def _load_equivalents() -> dict[tuple[str, str, str, int], str]:
-    """``(module, operator, stripped line, column) -> reason`` from the TOML list."""
+def _load_equivalents() -> dict[tuple[str, str, str], str]:
+    """``(module, original line, mutated line) -> reason`` (lines stripped) from the TOML."""
     data = toml.loads(EQUIVALENTS.read_text()) if EQUIVALENTS.exists() else {}
-    return {
-        (e["module"], e["operator"], e["line"], int(e["col"])): e["reason"]
-        for e in data.get("equivalent", [])
-    }
+    return {(e["module"], e["line"], e["mutant"]): e["reason"] for e in data.get("equivalent", [])}
+
+
+def _mutated_line(work: Path, module: str, operator: str, occurrence: int, row: int) -> str:
+    """The stripped source line ``row`` after the mutation (what the equivalents match)."""
+    from cosmic_ray.mutating import mutate_code
+    from cosmic_ray.plugins import get_operator
+
+    mutated = mutate_code((work / module).read_text(), get_operator(operator)(), occurrence)
+    lines = (mutated or "").splitlines()
+    return lines[row - 1].strip() if row <= len(lines) else ""
 
 
 def _jobs(session: Path) -> list[tuple[str, str, int, int, int]]:
@@ -225,8 +238,8 @@ class ModuleResult:
     n_mutants: int
     n_sampled: int
     killed: list[tuple]
-    survived: list[tuple]  # (operator, line, col, text, diff)
-    equivalent: list[tuple]  # (operator, line, col, text, reason)
+    survived: list[tuple]  # (operator, line, col, original text, mutated text)
+    equivalent: list[tuple]  # (operator, line, col, original text, mutated text, reason)
     seconds: float
 
     @property
@@ -235,7 +248,9 @@ class ModuleResult:
         return len(self.killed) / total if total else 1.0
 
 
-def run_module(work: Path, module: str, per_module: int, seed: int) -> ModuleResult:
+def run_module(
+    work: Path, module: str, per_module: int, seed: int, list_only: bool = False
+) -> ModuleResult:
     """Sample, run both stages and classify the mutants of one module."""
     spec = MODULES[module]
     t0 = time.monotonic()
@@ -252,25 +267,32 @@ def run_module(work: Path, module: str, per_module: int, seed: int) -> ModuleRes
     sample = rng.sample(informative, min(per_module, len(informative)))
     sampled_ids = {j[0] for j in sample}
     equivalents = _load_equivalents()
-    equivalent, to_run = [], []
+    equivalent, to_run, mutant_text = [], [], {}
     for job in sample:
         text = _line_text(work, module, job[3])
-        reason = equivalents.get((module, job[1], text, job[4]))
+        mutant_text[job[0]] = _mutated_line(work, module, job[1], job[2], job[3])
+        reason = equivalents.get((module, text, mutant_text[job[0]]))
         if reason is None:
             to_run.append(job)
         else:
-            equivalent.append((job[1], job[3], job[4], text, reason))
+            equivalent.append((job[1], job[3], job[4], text, mutant_text[job[0]], reason))
     skipped = [j[0] for j in jobs if j[0] not in sampled_ids] + [
         j[0] for j in sample if j not in to_run
     ]
     _mark_skipped(session, skipped)
+    if list_only:  # --list: print the sample for triage, run nothing
+        for job in sorted(to_run, key=lambda j: (j[3], j[4])):
+            text = _line_text(work, module, job[3])
+            print(f"{module}:{job[3]}:{job[4]} {job[1]}\n    {text}\n    {mutant_text[job[0]]}")
+        to_run = []
     print(
         f"[{module}] {len(jobs)} mutants, {len(informative)} informative, "
         f"{len(sample)} sampled, {len(equivalent)} known equivalent",
         flush=True,
     )
 
-    _cosmic_ray(work, "exec", str(fast_cfg), str(session))  # stage 1: module tests, -x
+    if to_run:  # stage 1: the module's own tests, -x
+        _cosmic_ray(work, "exec", str(fast_cfg), str(session))
     results = _results(session)
     survivors = [j[0] for j in to_run if results[j[0]][1] == "survived"]
     if survivors:  # stage 2: the wider test set, survivors only
@@ -282,21 +304,11 @@ def run_module(work: Path, module: str, per_module: int, seed: int) -> ModuleRes
     killed, survived = [], []
     for job in to_run:
         worker, outcome, diff = results[job[0]]
-        entry = (job[1], job[3], job[4], _line_text(work, module, job[3]), diff or "")
+        entry = (job[1], job[3], job[4], _line_text(work, module, job[3]), mutant_text[job[0]])
         (survived if outcome == "survived" else killed).append(entry)
     return ModuleResult(
         module, len(jobs), len(sample), killed, survived, equivalent, time.monotonic() - t0
     )
-
-
-def _diff_lines(diff: str) -> str:
-    """The changed lines of a unified diff (``-old`` / ``+new``), joined by `` / ``."""
-    keep = [
-        line.strip()
-        for line in diff.splitlines()
-        if line[:1] in "+-" and not line.startswith(("+++", "---"))
-    ]
-    return " / ".join(keep)
 
 
 def _cpu_model() -> str:
@@ -331,12 +343,12 @@ def write_report(path: Path, results: list[ModuleResult], per_module: int, seed:
     for r in results:
         lines += ["", f"## `{r.module}`", ""]
         lines.append("Survivors:" if r.survived else "Survivors: none.")
-        for op, line, col, _text, diff in sorted(r.survived, key=lambda e: (e[1], e[2])):
-            lines.append(f"- line {line}:{col} `{op}`: `{_diff_lines(diff)}`")
+        for op, line, col, text, mutant in sorted(r.survived, key=lambda e: (e[1], e[2])):
+            lines.append(f"- line {line}:{col} `{op}`: `{text}` -> `{mutant}`")
         heading = "Equivalent (excluded from the score):" if r.equivalent else "Equivalent: none."
         lines += ["", heading]
-        for op, line, col, text, reason in sorted(r.equivalent, key=lambda e: (e[1], e[2])):
-            lines.append(f"- line {line}:{col} `{op}` in `{text}`: {reason}")
+        for op, line, col, text, mutant, why in sorted(r.equivalent, key=lambda e: (e[1], e[2])):
+            lines.append(f"- line {line}:{col} `{op}`: `{text}` -> `{mutant}`: {why}")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n")
 
@@ -346,6 +358,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("modules", nargs="*", help="module paths (default: all)")
     parser.add_argument("--per-module", type=int, default=60, help="sampled mutants per module")
     parser.add_argument("--seed", type=int, default=26)
+    parser.add_argument("--jobs", type=int, default=2, help="modules run in parallel")
+    parser.add_argument("--list", action="store_true", help="print the sample, run no test")
     parser.add_argument("--report", type=Path, default=None, help="report path")
     args = parser.parse_args(argv)
     modules = args.modules or list(MODULES)
@@ -355,13 +369,28 @@ def main(argv: list[str] | None = None) -> int:
     report = args.report or (
         ROOT / "benchmarks" / "results" / f"mutation-{datetime.date.today().isoformat()}.md"
     )
-    results = []
-    with tempfile.TemporaryDirectory(prefix="rigidsim-mutation-") as tmp:
-        work = Path(tmp)
-        _copy_tree(work)
-        for module in modules:
-            results.append(run_module(work, module, args.per_module, args.seed))
+    results: list[ModuleResult] = []
+    lock = threading.Lock()
+
+    def one(module: str) -> None:
+        with tempfile.TemporaryDirectory(prefix="rigidsim-mutation-") as tmp:
+            work = Path(tmp)
+            _copy_tree(work)  # one copy per module: parallel jobs never share a mutated file
+            result = run_module(work, module, args.per_module, args.seed, args.list)
+        with lock:
+            results.append(result)
+            results.sort(key=lambda r: modules.index(r.module))
             write_report(report, results, args.per_module, args.seed)
+
+    if args.list:
+        for module in modules:
+            with tempfile.TemporaryDirectory(prefix="rigidsim-mutation-") as tmp:
+                _copy_tree(Path(tmp))
+                run_module(Path(tmp), module, args.per_module, args.seed, list_only=True)
+        return 0
+    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        for future in [pool.submit(one, m) for m in modules]:
+            future.result()
     print()
     ok = True
     for r in results:

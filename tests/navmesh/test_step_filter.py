@@ -154,3 +154,26 @@ def test_sliding_step_near_a_wall_end_does_not_pass_through_the_wall(geometry):
         result = getattr(pf, method)(start, end)
         assert result[2] < 2.9 - 0.05, (method, result)  # in front of the wall, radius off
         assert result[0] == pytest.approx(2.6, abs=ON_BOUNDARY)  # no sideways motion to slide
+
+
+@pytest.mark.parametrize("angle", [0.0, 30.0, 60.0])
+def test_no_sliding_stops_a_tenth_of_a_millimeter_before_the_boundary(walled_room, angle):
+    # the segment meets the boundary z = z_b at c; the result is pulled back along the
+    # segment by INSIDE_EPS = 1e-4 m so that it lies inside the last navigable square
+    pf, z_b = walled_room
+    start = np.array([3.0, 0.0, z_b - 0.05])
+    direction = np.array([np.sin(np.radians(angle)), 0.0, np.cos(np.radians(angle))])
+    result = pf.try_step_no_sliding(start, start + 0.25 * direction)
+    crossing = start + (0.05 / direction[2]) * direction
+    np.testing.assert_allclose(result, crossing - 1e-4 * direction, rtol=0, atol=1e-9)
+
+
+def test_sliding_around_the_end_of_a_wall_reaches_an_end_behind_it(geometry):
+    # A step that crosses the wall right at its end: the search disk covers the way around
+    # the end (eroded by the 0.1 m radius to x = 3.1), so the agent ends exactly at ``end``.
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (6, 0, 6)), geometry.box((0, 0, 2.9), (3, 2, 3.1))
+    )
+    start, end = np.array([3.2, 0.0, 2.7]), np.array([2.9, 0.0, 3.3])
+    assert not np.allclose(pf.try_step_no_sliding(start, end), end)  # the straight way is shut
+    np.testing.assert_array_equal(pf.try_step(start, end), end)
