@@ -101,3 +101,44 @@ def test_a_box_pushed_slowly_by_a_kinematic_body_stays_awake_and_moves_with_it()
     gap = pushed.translation[0] - pusher.translation[0]
     assert 0.2 - 5e-3 <= gap <= 0.2 + 5e-3
     assert pusher.translation[0] == pytest.approx(-0.205 + 0.03 * 2.0, abs=1e-9)
+
+
+def test_a_kinematic_body_moving_elsewhere_does_not_keep_a_resting_stack_awake():
+    # a kinematic box slides along the floor 3 m away: the two stacked boxes at the origin
+    # (one island through their contact) fall asleep as if it were not there
+    world, templates = make_world()
+    handle = register_primitive(templates)
+    lower = add(world, templates, handle, [0.0, 0.1, 0.0])
+    upper = add(world, templates, handle, [0.0, 0.3, 0.0])
+    kinematic = add(world, templates, handle, [3.0, 0.1, 0.0])
+    kinematic.motion_type = MotionType.KINEMATIC
+    kinematic.velocity_control.controlling_lin_vel = True
+    kinematic.velocity_control.linear_velocity = [0.0, 0.0, 0.5]
+    run(world, 1.2)
+    assert not lower.awake and not upper.awake
+    assert kinematic.translation[2] == pytest.approx(0.6, abs=1e-9)  # it kept moving
+
+
+def test_a_box_on_a_still_kinematic_platform_falls_asleep():
+    # a kinematic platform that does not move is a floor: the box on it rests and sleeps
+    world, templates = make_world(floor=False)
+    handle = register_primitive(templates)
+    platform = add(world, templates, register_primitive(templates, half=(1.0, 0.1, 1.0)), [0, 0, 0])
+    platform.motion_type = MotionType.KINEMATIC
+    box = add(world, templates, handle, [0.0, 0.2, 0.0])
+    run(world, 1.0)
+    assert not box.awake
+    assert box.translation[1] == pytest.approx(0.2, abs=5e-3)  # resting on the platform
+
+
+def test_a_box_woken_by_the_user_stays_awake_for_the_rest_time():
+    # waking restarts the rest timer: a resting box needs TIME_TO_SLEEP again to sleep
+    world, templates = make_world()
+    box = add(world, templates, register_primitive(templates), [0.0, 0.1, 0.0])
+    run(world, 1.0)
+    assert not box.awake
+    box.awake = True
+    run(world, settings.TIME_TO_SLEEP - 0.1)
+    assert box.awake
+    run(world, 0.2)
+    assert not box.awake
