@@ -142,3 +142,32 @@ def test_a_box_woken_by_the_user_stays_awake_for_the_rest_time():
     assert box.awake
     run(world, 0.2)
     assert not box.awake
+
+
+def test_a_box_hitting_a_sleeping_box_conserves_momentum():
+    # zero gravity, no floor: a cube at 1 m/s hits an equal cube that was put to sleep. The
+    # sleeper is woken in the step of the hit (it is not a wall for one step), so the
+    # collision conserves momentum: m v_a + m v_b = m * 1 m/s, and the sleeper moves off.
+    world, templates = make_world(floor=False, gravity=(0.0, 0.0, 0.0))
+    handle = register_primitive(templates, linear_damping=0.0, angular_damping=0.0)
+    mover = add(world, templates, handle, [0.0, 0.0, 0.0])
+    sleeper = add(world, templates, handle, [0.3, 0.0, 0.0])  # 0.1 m gap
+    sleeper.awake = False
+    mover.linear_velocity = [1.0, 0.0, 0.0]
+    run(world, 0.5)
+    assert sleeper.awake and sleeper.linear_velocity[0] > 0.1
+    total = np.asarray(mover.linear_velocity) + np.asarray(sleeper.linear_velocity)
+    np.testing.assert_allclose(total, [1.0, 0.0, 0.0], atol=1e-6)
+
+
+def test_removing_the_lower_box_of_a_sleeping_stack_lets_the_upper_box_fall():
+    world, templates = make_world()
+    handle = register_primitive(templates)
+    lower = add(world, templates, handle, [0.0, 0.1, 0.0])
+    upper = add(world, templates, handle, [0.0, 0.3, 0.0])
+    run(world, 1.2)
+    assert not lower.awake and not upper.awake
+    world.rigid_object_manager.remove_object_by_id(lower.object_id)
+    assert upper.awake  # its support is gone: the island around it was woken
+    run(world, 1.0)
+    assert upper.translation[1] == pytest.approx(0.1, abs=5e-3)  # resting on the floor now
