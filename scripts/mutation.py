@@ -32,7 +32,9 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime
+import json
 import os
 import platform
 import random
@@ -321,7 +323,24 @@ def _cpu_model() -> str:
     return "unknown CPU"
 
 
+def _merge_earlier(path: Path, results: list[ModuleResult]) -> list[ModuleResult]:
+    """This run's results plus those of earlier runs of the same day for other modules.
+
+    Every report has a JSON twin (``.json``); a run over a few modules updates their rows
+    and keeps the others, so the dated report always covers every module run that day.
+    """
+    twin = path.with_suffix(".json")
+    earlier = json.loads(twin.read_text()) if twin.exists() else []
+    done = {r.module for r in results}
+    kept = [ModuleResult(**r) for r in earlier if r["module"] not in done]
+    merged = sorted(kept + results, key=lambda r: list(MODULES).index(r.module))
+    twin.write_text(json.dumps([dataclasses.asdict(r) for r in merged], indent=1) + "\n")
+    return merged
+
+
 def write_report(path: Path, results: list[ModuleResult], seed: int) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    results = _merge_earlier(path, results)
     today = datetime.date.today().isoformat()
     lines = [
         f"# Mutation run {today}",
@@ -350,7 +369,6 @@ def write_report(path: Path, results: list[ModuleResult], seed: int) -> None:
         lines += ["", heading]
         for op, line, col, text, mutant, why in sorted(r.equivalent, key=lambda e: (e[1], e[2])):
             lines.append(f"- line {line}:{col} `{op}`: `{text}` -> `{mutant}`: {why}")
-    path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n")
 
 

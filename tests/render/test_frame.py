@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -370,3 +372,16 @@ def test_ids_false_skips_the_semantic_ids_and_changes_nothing_else():
     np.testing.assert_array_equal(without.depth, with_ids.depth)
     assert np.all(without.ids == 12345)
     assert set(np.unique(with_ids.ids).tolist()) == {0, 7}  # the grid in front, background
+
+
+def test_stage_timings_are_wall_milliseconds_and_fragments_cover_the_pixels():
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=(9, 9, 9))
+    assert FrameBuffers.allocate(camera).n_fragments == 0  # nothing rendered yet
+    start = time.perf_counter()
+    frame = render_frame([mesh], camera, np.eye(4))
+    wall_ms = (time.perf_counter() - start) * 1e3
+    # the stages run back to back inside the call: their sum is most of its wall time
+    total_ms = sum(frame.timings.values())
+    assert 0.01 * wall_ms <= total_ms <= wall_ms
+    assert frame.n_fragments >= 30 * 20  # at least one fragment per covered pixel
