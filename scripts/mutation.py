@@ -98,7 +98,8 @@ MODULES: dict[str, Module] = {
         (PHYS + "test_contact_laws.py", PHYS + "test_reference_path.py"),
     ),
     "engine/physics/reference_solver.py": Module(
-        (PHYS + "test_reference_path.py",), (PHYS + "test_solver_switches.py",)
+        (PHYS + "test_reference_path.py",),
+        (PHYS + "test_solver_switches.py", PHYS + "test_rolling_friction.py"),
     ),
     "engine/physics/box_box.py": Module(
         (PHYS + "test_box_box.py",), (PHYS + "test_manifolds_and_narrow_phase.py",)
