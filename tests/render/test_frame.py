@@ -385,3 +385,33 @@ def test_stage_timings_are_wall_milliseconds_and_fragments_cover_the_pixels():
     total_ms = sum(frame.timings.values())
     assert 0.01 * wall_ms <= total_ms <= wall_ms
     assert frame.n_fragments >= 30 * 20  # at least one fragment per covered pixel
+
+
+@pytest.mark.parametrize("shape", [(24, 40), (96, 160), (48, 40)])
+def test_buffers_of_another_resolution_are_replaced_by_the_cameras(shape):
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=(1, 2, 3))
+    stale = render_frame([mesh], Camera(shape), np.eye(4))
+    frame = render_frame([mesh], camera, np.eye(4), stale)
+    assert frame.rgba.shape == (H, W, 4) and frame.depth.shape == (H, W)
+    assert (frame.depth > 0).sum() == 30 * 20
+
+
+@pytest.mark.parametrize("rows", [(1, H), (0, 3), (8, 4), (-4, 8), (0, H + 4)])
+def test_rows_off_the_band_grid_or_the_image_are_rejected(monkeypatch, rows):
+    from render import frame as frame_module
+
+    monkeypatch.setattr(frame_module, "SHADE_BAND_PIXELS", 4 * W)  # bands of 4 rows
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=(1, 2, 3))
+    with pytest.raises(ValueError, match="rows"):
+        render_frame([mesh], camera, np.eye(4), rows=rows)
+    render_frame([mesh], camera, np.eye(4), rows=(4, H))  # whole bands to the last row
+
+
+def test_an_image_wider_than_a_band_is_shaded_one_row_per_band():
+    # SHADE_BAND_PIXELS // W = 16384 // 9000 = 1 row per band: any row range is whole bands
+    camera = Camera((4, 9000), hfov=120.0)
+    mesh = RenderMesh(pixel_quad(camera, 100, 0, 50, 4, 2.0), QUAD_FACES, base_color=(1, 2, 3))
+    part = render_frame([mesh], camera, np.eye(4), rows=(1, 3))
+    assert (part.depth[1:3] > 0).sum() == 2 * 50
