@@ -105,7 +105,11 @@ MODULES: dict[str, Module] = {
         (PHYS + "test_box_box.py",), (PHYS + "test_manifolds_and_narrow_phase.py",)
     ),
     "engine/physics/collide.py": Module(
-        (PHYS + "test_manifolds_and_narrow_phase.py", PHYS + "test_box_separation.py"),
+        (
+            PHYS + "test_closest_points.py",
+            PHYS + "test_manifolds_and_narrow_phase.py",
+            PHYS + "test_box_separation.py",
+        ),
         (PHYS + "test_contact_laws.py", PHYS + "test_fall_through.py"),
     ),
     "render/raster.py": Module((REND + "test_raster.py",), (REND + "test_frame.py",)),
