@@ -407,6 +407,10 @@ def test_rows_off_the_band_grid_or_the_image_are_rejected(monkeypatch, rows):
     with pytest.raises(ValueError, match="rows"):
         render_frame([mesh], camera, np.eye(4), rows=rows)
     render_frame([mesh], camera, np.eye(4), rows=(4, H))  # whole bands to the last row
+    # the last band of an image whose height is not a multiple of the band is valid too
+    short = Camera((H - 2, W))
+    part = render_frame([mesh], short, np.eye(4), rows=(H - 4, H - 2))
+    assert part.depth.shape == (H - 2, W)
 
 
 def test_an_image_wider_than_a_band_is_shaded_one_row_per_band():
