@@ -136,3 +136,17 @@ def test_failed_build_keeps_the_previous_navmesh(geometry):
     with pytest.raises(ValueError, match="cell_size"):
         pf.build(*geometry.mesh_arrays(geometry.box((0, 0, 0), (1, 1, 1))), bad)
     assert pf.is_loaded and pf.navigable_area == area
+
+
+def test_floor_under_a_high_shelf_stays_walkable_in_a_scene_taller_than_deep(geometry):
+    # a 4 x 0.6 m floor under a shelf 2.9 m up: the scene is 3 m tall but only 0.6 m deep, so
+    # the heights of one column span more than the z extent; the floor keeps its 2.9 m
+    # clearance (> 1.5 m agent height) and all of its eroded area
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (4, 0, 0.6)),
+        geometry.box((1, 2.9, 0), (3, 3.0, 0.6)),
+        filter_ledge_spans=False,
+    )
+    assert pf.is_navigable([2.0, 0.0, 0.3])  # under the shelf
+    np.testing.assert_allclose(pf.navigable_area, 3.8 * 0.4, rtol=1e-9)
+    assert pf.num_islands == 1
