@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import trimesh
 
 from navmesh import NavMeshSettings, build_navmesh
 
@@ -136,3 +137,36 @@ def test_failed_build_keeps_the_previous_navmesh(geometry):
     with pytest.raises(ValueError, match="cell_size"):
         pf.build(*geometry.mesh_arrays(geometry.box((0, 0, 0), (1, 1, 1))), bad)
     assert pf.is_loaded and pf.navigable_area == area
+
+
+def test_floor_under_a_high_shelf_stays_walkable_in_a_scene_taller_than_deep(geometry):
+    # a 4 x 0.6 m floor under a shelf 2.9 m up: the scene is 3 m tall but only 0.6 m deep, so
+    # the heights of one column span more than the z extent; the floor keeps its 2.9 m
+    # clearance (> 1.5 m agent height) and all of its eroded area
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (4, 0, 0.6)),
+        geometry.box((1, 2.9, 0), (3, 3.0, 0.6)),
+        filter_ledge_spans=False,
+    )
+    assert pf.is_navigable([2.0, 0.0, 0.3])  # under the shelf
+    np.testing.assert_allclose(pf.navigable_area, 3.8 * 0.4, rtol=1e-9)
+    assert pf.num_islands == 1
+
+
+def test_a_low_steep_ridge_above_the_floor_does_not_cut_the_navmesh(geometry):
+    # Recast's low-hanging-obstacle filter: a ridge with 70 degree flanks (not walkable on
+    # its own) whose top (0.16 m) lies within max_climb = 0.2 m above the walkable floor
+    # below it becomes walkable, so the floor stays one whole region: the 6 x 4 m floor
+    # eroded by 0.1 m on every side. (cell_height 0.02 m keeps the ridge, 6 cm above the
+    # floor, a separate span.)
+    height, half_width = 0.1, 0.1 * np.tan(np.radians(20.0))
+    section = [(-half_width, 0.0), (half_width, 0.0), (0.0, height)]
+    vertices = np.array([[x, y, z] for z in (0.0, 2.0) for x, y in section]) + (3.0, 0.06, 1.0)
+    faces = [[0, 2, 1], [3, 4, 5], [0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4], [2, 0, 3], [2, 3, 5]]
+    ridge = trimesh.Trimesh(vertices, np.array(faces), process=False)
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (6, 0, 4)), ridge, cell_height=0.02, filter_ledge_spans=False
+    )
+    np.testing.assert_allclose(pf.navigable_area, 5.8 * 3.8, rtol=1e-9)
+    assert pf.num_islands == 1
+    assert pf.is_navigable([3.0, 0.16, 2.0])  # on the ridge

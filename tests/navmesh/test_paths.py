@@ -137,3 +137,28 @@ def test_stairs_connect_two_floors_and_try_step_climbs_them(geometry):
         dist = np.linalg.norm(direction)
         pos = pf.try_step(pos, pos + direction / dist * min(0.25, dist))
     np.testing.assert_allclose(pos, above, atol=1e-9)
+
+
+@pytest.mark.parametrize("mirror", [1.0, -1.0])
+def test_l_corridor_length_is_the_same_moved_to_negative_coordinates_or_mirrored(geometry, mirror):
+    # the L corridor shifted by (-10, 0, -10) and, for mirror = -1, reflected in z: the
+    # shortest path is the same taut string around the dilated corner
+    offset = np.array([-10.0, 0.0, -10.0])
+
+    def place(p):
+        p = np.asarray(p, float)
+        return offset + p * [1.0, 1.0, mirror]
+
+    boxes = [((0, -0.1, 0), (6, 0, 2)), ((4, -0.1, 2), (6, 0, 6))]
+    placed = [(place(lo), place(hi)) for lo, hi in boxes]
+    pf = geometry.build(
+        *(geometry.box(np.minimum(lo, hi), np.maximum(lo, hi)) for lo, hi in placed),
+        filter_ledge_spans=False,
+    )
+    start, end = place([1.0, 0.0, 1.0]), place([5.0, 0.0, 5.0])
+    path = ShortestPath(requested_start=start, requested_end=end)
+    assert pf.find_path(path)
+    expected = around_rounded_corner(start, end, place([4.0, 0.0, 2.0]), 0.1)
+    assert path.geodesic_distance == pytest.approx(expected, rel=0.02)
+    for p in path.points:
+        assert pf.is_navigable(p)

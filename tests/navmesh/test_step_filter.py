@@ -112,3 +112,68 @@ def test_try_step_rejects_bad_points(walled_room):
         pf.try_step_no_sliding([1, 0, 1], [1, 0])
     with pytest.raises(TypeError, match="start"):
         pf.try_step(None, [1, 0, 1])
+
+
+@pytest.mark.parametrize("method", ["try_step", "try_step_no_sliding"])
+def test_blocked_step_result_is_a_point_of_the_navmesh(walled_room, method):
+    # Snapping a navmesh point does not move it; a result left on (or 1e-4 m beyond) the
+    # boundary would be pulled back in by the snap.
+    pf, z_b = walled_room
+    for angle in (0.0, 20.0, 45.0, 70.0):
+        start = np.array([3.0, 0.0, z_b - 0.05])
+        rad = np.radians(angle)
+        end = start + 0.25 * np.array([np.sin(rad), 0.0, np.cos(rad)])
+        result = getattr(pf, method)(start, end)
+        assert result[2] < z_b, (angle, result)
+        np.testing.assert_allclose(pf.snap_point(result), result, rtol=0, atol=1e-12)
+
+
+def test_sliding_step_keeps_the_tangential_component(walled_room):
+    # Sliding removes the motion into the wall and keeps the motion along it: from 0.05 m
+    # before the boundary a step (dx, dz) ends at x + dx on the boundary line z = z_b (the
+    # ends stay in front of the wall's face z = 4.02, so they snap to this room).
+    pf, z_b = walled_room
+    start = np.array([2.0, 0.0, z_b - 0.05])
+    for dx, dz in ((0.3, 0.1), (-0.3, 0.12), (0.05, 0.1), (-0.01, 0.11)):
+        result = pf.try_step(start, start + [dx, 0.0, dz])
+        assert result[0] == pytest.approx(start[0] + dx, abs=ON_BOUNDARY)
+        assert result[2] == pytest.approx(z_b, abs=ON_BOUNDARY)
+
+
+def test_sliding_step_near_a_wall_end_does_not_pass_through_the_wall(geometry):
+    # A 0.2 m wall across z in [2.9, 3.1] that ends at x = 3 (the navmesh goes around its
+    # end, eroded by the 0.1 m agent radius). A 0.7 m step straight across it 0.4 m from
+    # its end is blocked: the search disk (radius = half the step, Detour) does not reach
+    # around the end, so the agent stops in front of the wall and never appears behind it.
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (6, 0, 6)), geometry.box((0, 0, 2.9), (3, 2, 3.1))
+    )
+    start, end = np.array([2.6, 0.0, 2.6]), np.array([2.6, 0.0, 3.3])
+    assert pf.is_navigable(end) and pf.get_island(end) == pf.get_island(start)
+    for method in ("try_step", "try_step_no_sliding"):
+        result = getattr(pf, method)(start, end)
+        assert result[2] < 2.9 - 0.05, (method, result)  # in front of the wall, radius off
+        assert result[0] == pytest.approx(2.6, abs=ON_BOUNDARY)  # no sideways motion to slide
+
+
+@pytest.mark.parametrize("angle", [0.0, 30.0, 60.0])
+def test_no_sliding_stops_a_tenth_of_a_millimeter_before_the_boundary(walled_room, angle):
+    # the segment meets the boundary z = z_b at c; the result is pulled back along the
+    # segment by INSIDE_EPS = 1e-4 m so that it lies inside the last navigable square
+    pf, z_b = walled_room
+    start = np.array([3.0, 0.0, z_b - 0.05])
+    direction = np.array([np.sin(np.radians(angle)), 0.0, np.cos(np.radians(angle))])
+    result = pf.try_step_no_sliding(start, start + 0.25 * direction)
+    crossing = start + (0.05 / direction[2]) * direction
+    np.testing.assert_allclose(result, crossing - 1e-4 * direction, rtol=0, atol=1e-9)
+
+
+def test_sliding_around_the_end_of_a_wall_reaches_an_end_behind_it(geometry):
+    # A step that crosses the wall right at its end: the search disk covers the way around
+    # the end (eroded by the 0.1 m radius to x = 3.1), so the agent ends exactly at ``end``.
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (6, 0, 6)), geometry.box((0, 0, 2.9), (3, 2, 3.1))
+    )
+    start, end = np.array([3.2, 0.0, 2.7]), np.array([2.9, 0.0, 3.3])
+    assert not np.allclose(pf.try_step_no_sliding(start, end), end)  # the straight way is shut
+    np.testing.assert_array_equal(pf.try_step(start, end), end)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -391,3 +393,49 @@ def test_render_settings_are_one_frozen_value():
     assert hash(settings) == hash(RenderSettings.plain(shade_band_pixels=64))
     with pytest.raises(AttributeError):
         settings.fast_shading = True  # type: ignore[misc]
+
+
+def test_stage_timings_are_wall_milliseconds_and_fragments_cover_the_pixels():
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=(9, 9, 9))
+    assert FrameBuffers.allocate(camera).n_fragments == 0  # nothing rendered yet
+    start = time.perf_counter()
+    frame = render_frame([mesh], camera, np.eye(4))
+    wall_ms = (time.perf_counter() - start) * 1e3
+    # the stages run back to back inside the call: their sum is most of its wall time
+    total_ms = sum(frame.timings.values())
+    assert 0.01 * wall_ms <= total_ms <= wall_ms
+    assert frame.n_fragments >= 30 * 20  # at least one fragment per covered pixel
+
+
+@pytest.mark.parametrize("shape", [(24, 40), (96, 160), (48, 40)])
+def test_buffers_of_another_resolution_are_replaced_by_the_cameras(shape):
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=(1, 2, 3))
+    stale = render_frame([mesh], Camera(shape), np.eye(4))
+    frame = render_frame([mesh], camera, np.eye(4), stale)
+    assert frame.rgba.shape == (H, W, 4) and frame.depth.shape == (H, W)
+    assert (frame.depth > 0).sum() == 30 * 20
+
+
+@pytest.mark.parametrize("rows", [(1, H), (0, 3), (8, 4), (-4, 8), (0, H + 4)])
+def test_rows_off_the_band_grid_or_the_image_are_rejected(rows):
+    settings = RenderSettings(shade_band_pixels=4 * W)  # bands of 4 rows
+    camera = Camera((H, W))
+    mesh = RenderMesh(pixel_quad(camera, 10, 5, 30, 20, 2.0), QUAD_FACES, base_color=(1, 2, 3))
+    with pytest.raises(ValueError, match="rows"):
+        render_frame([mesh], camera, np.eye(4), rows=rows, settings=settings)
+    # whole bands to the last row
+    render_frame([mesh], camera, np.eye(4), rows=(4, H), settings=settings)
+    # the last band of an image whose height is not a multiple of the band is valid too
+    short = Camera((H - 2, W))
+    part = render_frame([mesh], short, np.eye(4), rows=(H - 4, H - 2), settings=settings)
+    assert part.depth.shape == (H - 2, W)
+
+
+def test_an_image_wider_than_a_band_is_shaded_one_row_per_band():
+    # shade_band_pixels // W = 16384 // 9000 = 1 row per band: any row range is whole bands
+    camera = Camera((4, 9000), hfov=120.0)
+    mesh = RenderMesh(pixel_quad(camera, 100, 0, 50, 4, 2.0), QUAD_FACES, base_color=(1, 2, 3))
+    part = render_frame([mesh], camera, np.eye(4), rows=(1, 3))
+    assert (part.depth[1:3] > 0).sum() == 2 * 50

@@ -98,3 +98,19 @@ def test_bad_layer_arguments_raise():
         render_over_layer("not a layer", [], camera, np.eye(4))
     with pytest.raises(ValueError, match="resolution"):
         render_over_layer(layer, [], Camera((10, 12)), np.eye(4))
+
+
+def test_a_moving_mesh_covering_one_pixel_over_a_layer_equals_the_full_render():
+    # the smallest change over a kept layer: a quad exactly on pixel (row 10, col 20)
+    camera = Camera((H, W))
+    depth = 2.0
+    x0, x1 = ((c - camera.cx) * depth / camera.fx for c in (20, 21))
+    y1, y0 = (-(r - camera.cy) * depth / camera.fy for r in (10, 11))
+    background = RenderMesh(quad(-9, 9, -9, 9, -5.0), QUAD_FACES, base_color=(10, 20, 30))
+    pixel = RenderMesh(quad(x0, x1, y0, y1, -depth), QUAD_FACES, base_color=(200, 100, 50))
+    layer = StaticLayer.from_frame(render_frame([background], camera, np.eye(4)))
+    over = render_over_layer(layer, [pixel], camera, np.eye(4))
+    assert_same_frame(over, render_frame([background, pixel], camera, np.eye(4)))
+    assert tuple(over.rgba[10, 20, :3]) == (200, 100, 50)
+    assert over.depth[10, 20] == pytest.approx(depth)
+    assert np.isclose(over.depth, 5.0).sum() == H * W - 1  # the rest is the layer

@@ -139,3 +139,23 @@ def test_one_pixels_color_by_hand():
     frame = render_frame([quad], camera, pose)
     np.testing.assert_array_equal(rgba[0, 0], [*expected, 255])
     assert np.abs(frame.rgba.astype(int) - rgba.astype(int)).max() <= 1
+
+
+def test_centers_on_a_steep_shared_edge_are_drawn_exactly_once():
+    # screen points (px, py): the shared edge P (0.5, 0.5) -> Q (2.5, 6.5) passes through
+    # the pixel centers (0.5, 0.5), (1.5, 3.5), (2.5, 6.5); R (3, 3.5) lies right of it, close
+    # to it, L (0.5, 6.5) left of it. The top-left rule gives the centers to the triangle on
+    # their right (P Q is its left edge): drawn exactly once, none dropped.
+    camera = Camera((8, 8), subtype="orthographic", ortho_scale=1 / 8)  # 1 px per unit
+
+    def world(px, py):  # x = px - W / 2, y = H / 2 - py at 1 px per unit
+        return [px - 4.0, 4.0 - py, -1.0]
+
+    p, q, r, l = world(0.5, 0.5), world(2.5, 6.5), world(3.0, 3.5), world(0.5, 6.5)
+    right = RenderMesh(np.array([p, q, r]), np.array([[0, 1, 2]]), semantic_id=1)
+    left = RenderMesh(np.array([p, l, q]), np.array([[0, 1, 2]]), semantic_id=2)
+    depth, ids = reference_depth_and_ids([right, left], camera, np.eye(4))
+    counts = [(reference_depth_and_ids([m], camera, np.eye(4))[0] > 0).sum() for m in (right, left)]
+    assert (depth > 0).sum() == sum(counts)  # no center drawn twice
+    assert ids[3, 1] == 1  # the center (1.5, 3.5) on the edge belongs to the right triangle
+    np.testing.assert_array_equal(render_frame([right, left], camera, np.eye(4)).ids, ids)
