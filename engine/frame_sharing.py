@@ -28,6 +28,7 @@ import numpy as np
 from engine.sensors import CameraSensor, SensorType
 from render.camera import Camera
 from render.frame import FrameBuffers, band_rows
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 
 #: seconds of waiting for the worker's reply beyond which the worker was the later one
 WAITED_FOR_THE_WORKER = 0.0003
@@ -38,14 +39,19 @@ _BUFFER_OF = {SensorType.COLOR: "rgba", SensorType.DEPTH: "depth"}
 
 
 def next_split(
-    split: int, camera: Camera, worker_timings: dict, busy_here: float, waited: float = 0.0
+    split: int,
+    camera: Camera,
+    worker_timings: dict,
+    busy_here: float,
+    waited: float = 0.0,
+    settings: RenderSettings = DEFAULT_SETTINGS,
 ) -> int:
     """The split row of the next frame (see the module docstring).
 
     ``split``: this frame's (rows ``0 .. split - 1`` rendered here); ``worker_timings``:
     the worker's ``render_frame`` stage times (ms); ``busy_here``: seconds this process
     spent rendering its part and copying it out; ``waited``: seconds it then waited for
-    the worker's reply.
+    the worker's reply; ``settings``: the render's (their shading bands).
     """
     busy_there = sum(worker_timings.values()) / 1e3
     rows_there = camera.height - split
@@ -59,7 +65,7 @@ def next_split(
     if waited > WAITED_FOR_THE_WORKER:
         surplus = waited
     move = 0.5 * surplus / (2.0 * per_row)  # damped: times are noisy
-    step = band_rows(camera)
+    step = band_rows(camera, settings)
     rounded = int(round((split + move) / step)) * step
     return min(max(rounded, 0), max(0, (camera.height // step - 1) * step))
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from engine import mn
 from engine.fixed_fields import unknown_attribute_error
-from render.shade import AMBIENT, DEFAULT_LIGHTS, Lights
+from render.lights import AMBIENT, DEFAULT_LIGHTS, Lights
 
 __all__ = [
     "DEFAULT_LIGHTING_KEY",

@@ -11,7 +11,7 @@ Pipeline of ``render_frame`` (``render/frame.py``), stage by stage:
    (inverse of ``world_from_camera``); ``RenderScene`` caches the static arrays.
 2. Frustum culling with vertex outcodes (``cull.vertex_outcodes``,
    ``cull.triangles_in_frustum``); hidden meshes dropped. The surviving triangles are then
-   processed in batches of ``frame.TRIANGLE_BATCH`` through stages 3-6.
+   processed in batches of ``RenderSettings.triangle_batch`` through stages 3-6.
 3. Optional back-face culling (``cull.front_facing``) and near clipping against z = -near:
    1 or 2 pieces per crossing triangle (``cull.clip_near``).
 4. Triangle setup: per triangle, the affine screen functions b_k / z and 1 / z that make
@@ -24,17 +24,23 @@ Pipeline of ``render_frame`` (``render/frame.py``), stage by stage:
    (``raster.depth_test_spans``).
 7. Shading setup for the triangles that drew fragments: perspective-correct attribute
    planes of uvs and vertex colors (``raster.AttributePlanes``), Lambert light factors of
-   Habitat's default 4-light setup for lit meshes (``shade.face_light_factors``).
+   the lit meshes' light setups (``render.lights``; ``deferred.ShadingInputs.build``).
 8. Resolve and deferred shading in bands of rows: per covered pixel the winning triangle
    and its depth (``raster.resolve_depth``), then base color x vertex colors x bilinear
-   texture x light (``shade.shade_pixels``); depth and semantic ids written alongside.
+   texture x light (``shade.shade_pixels``, packed 8-bit kernels of ``packed_rgba``);
+   depth and semantic ids written alongside (``deferred.write_band``).
+
+``RenderSettings`` (``render.settings``) sizes the batches, chunks and bands and selects
+the fast or the plain kernels: one frozen value per render, the same pixels for all.
 
 Known differences from Habitat's GPU renderer: no mipmaps (distant textures alias), flat
-face normals for lighting (no normal maps or smooth normals), no anti-aliasing, no
-transparency (drawn pixels are opaque), both faces drawn unless ``cull_back_faces=True``.
+face normals for lighting unless a mesh has vertex normals (Gouraud; no normal maps), no
+anti-aliasing, no transparency (drawn pixels are opaque), both faces drawn unless
+``cull_back_faces=True``.
 
-``reference`` is the same rasterization written as textbook scalar loops (edge functions,
-Sutherland-Hodgman clipping), slow, used by the tests to check the vectorized pipeline.
+``reference`` is the same pipeline written as textbook scalar loops (edge functions,
+Sutherland-Hodgman clipping, a float fragment shader), slow, used by the tests to check the
+vectorized pipeline: depth and ids exactly, colors within one level of 255.
 ``render_over_layer`` draws moving meshes over a ``StaticLayer`` (a kept frame of the
 static meshes): bit for bit the frame ``render_frame`` gives for all of them, for the cost
 of the moving meshes' fragments (a static camera over a static apartment).
@@ -49,8 +55,7 @@ from render.frame import (
     render_frame,
     render_over_layer,
 )
-from render.scene import RenderMesh, RenderScene
-from render.shade import (
+from render.lights import (
     AMBIENT,
     DEFAULT_LIGHTS,
     DIFFUSE,
@@ -59,6 +64,8 @@ from render.shade import (
     face_light_factors,
     lambert_factors,
 )
+from render.scene import RenderMesh, RenderScene
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.video import (
     D3_40_COLORS_RGB,
     border_frames_from_overlay,
@@ -86,6 +93,8 @@ __all__ = [
     "PINHOLE",
     "RenderMesh",
     "RenderScene",
+    "RenderSettings",
+    "DEFAULT_SETTINGS",
     "border_frames_from_overlay",
     "depth_to_rgb",
     "display_video",

@@ -18,8 +18,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from render import cull, raster
+from render.packed_rgba import pack_rgba
 from render.scene import RenderScene
-from render.shade import MaterialTable, pack_rgba, shade_pixels
+from render.settings import DEFAULT_SETTINGS, RenderSettings
+from render.shade import MaterialTable, shade_pixels
 
 if TYPE_CHECKING:
     from render.frame import FrameBuffers
@@ -53,9 +55,20 @@ class ShadingInputs:
     tri_light: np.ndarray | None
     light_planes: raster.AttributePlanes | None
     is_smooth: np.ndarray | None
+    settings: RenderSettings = DEFAULT_SETTINGS  # the kernels shade_pixels uses
 
     @classmethod
-    def build(cls, scene, camera, camera_from_world, vertices_camera, tri_index, used, ids=True):
+    def build(
+        cls,
+        scene,
+        camera,
+        camera_from_world,
+        vertices_camera,
+        tri_index,
+        used,
+        ids=True,
+        settings: RenderSettings = DEFAULT_SETTINGS,
+    ):
         """For the candidates ``used`` (indices into the K candidates ``tri_index``; all of
         them, or those that can own pixels): attribute planes and light factors."""
         materials = scene.materials
@@ -71,7 +84,8 @@ class ShadingInputs:
             if values is None:  # values: (C, V) per-vertex attribute
                 return None
             corner_values = values[:, corners].transpose(1, 0, 2)  # (3 corners, C, k)
-            return raster.AttributePlanes(planes, corner_values, camera, row_of)
+            paired = settings.paired_attributes
+            return raster.AttributePlanes(planes, corner_values, camera, row_of, paired)
 
         tri_light = light_planes = is_smooth = None
         lit = scene.tri_lit[tri_index[used]]
@@ -103,6 +117,7 @@ class ShadingInputs:
             tri_light,
             light_planes,
             is_smooth,
+            settings,
         )
 
     def pixel_light(self, visible: raster.VisiblePixels) -> np.ndarray | None:
@@ -150,7 +165,13 @@ def write_pixels(
     candidate = visible.winner  # the candidate triangle of each covered pixel
     light = shading.pixel_light(visible)
     packed = shade_pixels(
-        shading.materials, visible, candidate, shading.uv_planes, shading.color_planes, light
+        shading.materials,
+        visible,
+        candidate,
+        shading.uv_planes,
+        shading.color_planes,
+        light,
+        shading.settings,
     )
     where = visible.pixel if where is None else where
     rgba_packed[where], depth_flat[where] = packed, visible.depth

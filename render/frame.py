@@ -1,7 +1,7 @@
 """``render_frame``: the whole rendering pipeline of one camera image, on one screen.
 
 Stages: (1) vertices to the camera frame, (2) frustum culling with vertex outcodes; then,
-per batch of ``TRIANGLE_BATCH`` triangles, (3) back-face culling (optional) and near-plane
+per batch of ``settings.triangle_batch`` triangles, (3) back-face culling (optional) and near-plane
 clipping, (4) triangle setup (perspective-correct plane functions) and projection,
 (5) scanline spans, (6) fragments and depth test into a 64-bit z-buffer; finally
 (7) shading setup (attribute planes, light factors) for the triangles that drew fragments
@@ -20,6 +20,10 @@ Static layers: ``StaticLayer.from_frame(render_frame(static_meshes, ...))`` keep
 the meshes that do not move; ``render_over_layer(layer, moving_meshes, ...)`` then rasterizes
 only the moving meshes, depth-tested against the kept depths, and returns bit for bit what
 ``render_frame(static_meshes + moving_meshes, ...)`` returns (same camera, pose, culling).
+
+Settings: ``settings`` (a frozen :class:`render.settings.RenderSettings`) sizes the batches,
+chunks and bands and selects the fast or the plain kernels; every choice gives the same
+pixels.
 
 Performance: pass a ``RenderScene`` (built once, poses updated per frame) rather than a list
 of meshes, and pass the previous ``FrameBuffers`` back as ``buffers`` to reuse its memory
@@ -44,22 +48,16 @@ from render.deferred import (
     write_pixels,
 )
 from render.scene import RenderMesh, RenderScene
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 
 _HIGH32 = np.uint64(0xFFFFFFFF00000000)
-#: triangles rasterized per batch (per-triangle temporaries stay in the CPU cache)
-TRIANGLE_BATCH = 8_192
-#: shading setup covers all candidate triangles up to this many; above, only those that drew
-#: fragments, and if those are still more, only the pixel winners
-REFINE_USED_ABOVE = 8_192
-#: pixels resolved and shaded per band (temporaries stay in the CPU cache): 16k. 32k was
-#: 4 % faster for render_frame alone but slower in most runs inside the simulator
-SHADE_BAND_PIXELS = 16_384
 
 __all__ = [
     "BACKGROUND_RGBA",
     "FrameBuffers",
     "RenderMesh",
     "RenderScene",
+    "RenderSettings",
     "StaticLayer",
     "render_frame",
     "render_over_layer",
@@ -107,6 +105,7 @@ def render_frame(
     cull_back_faces: bool = False,
     rows: tuple[int, int] | None = None,
     ids: bool = True,
+    settings: RenderSettings = DEFAULT_SETTINGS,
 ) -> FrameBuffers:
     """Render color, depth and semantic ids of ``meshes`` seen by ``camera``.
 
@@ -118,12 +117,13 @@ def render_frame(
     buffers : buffers of a previous call with the same resolution to reuse, or None.
     cull_back_faces : skip triangles whose counter-clockwise front faces away from the eye.
     rows : ``(first, end)``: rasterize, shade and write only image rows ``first .. end - 1``
-        (whole bands of ``band_rows(camera)`` rows, or the last row), leaving the other rows
-        of the buffers untouched. Every row is rasterized on its own (its spans and depth
+        (whole bands of ``band_rows(camera, settings)`` rows, or the last row), leaving the
+        other rows of the buffers untouched. Every row is rasterized on its own (its spans and depth
         tests depend on no other row), so these rows get exactly the pixels of a whole
         frame: two processes can each render a part of one frame.
     ids : also write the semantic ids (False: ``ids`` keeps what it held; for cameras
         without a semantic sensor, one gather and one write a pixel fewer).
+    settings : batch, chunk and band sizes and the kernels (same pixels for all).
 
     Returns
     -------
@@ -131,7 +131,8 @@ def render_frame(
     """
     if not isinstance(camera, Camera):
         raise TypeError(f"camera must be a render.Camera, got {type(camera).__name__}")
-    bands = _row_bands(camera) if rows is None else _bands_of_rows(camera, rows)
+    _check_settings(settings)
+    bands = _row_bands(camera, settings) if rows is None else _bands_of_rows(camera, rows, settings)
     rows = None if rows is None else (int(rows[0]), int(rows[1]))  # checked just above
     scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
     camera_from_world = invert_rigid(world_from_camera)
@@ -143,22 +144,22 @@ def render_frame(
         zkey_drawn = out.zkey[rows[0] * camera.width : rows[1] * camera.width]
     zkey_drawn.fill(raster.EMPTY_KEY)
     vertices_camera, tri_index, drawn = _rasterize_scene(
-        scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=0, rows=rows
+        scene, camera, camera_from_world, cull_back_faces, out, clock, 0, rows, settings
     )
     # --- 7. shading inputs (attribute planes, light) of the triangles that can own pixels
-    if len(tri_index) <= REFINE_USED_ABOVE:
+    if len(tri_index) <= settings.refine_used_above:
         used = np.arange(len(tri_index))  # few candidates: planes for all, no indirection
     else:
         used = np.flatnonzero(drawn)
-        if len(used) > REFINE_USED_ABOVE:  # many small triangles: only the pixel winners
+        if len(used) > settings.refine_used_above:  # many small triangles: the pixel winners
             used = raster.winning_triangles(zkey_drawn, len(tri_index))
     shading = ShadingInputs.build(
-        scene, camera, camera_from_world, vertices_camera, tri_index, used, ids
+        scene, camera, camera_from_world, vertices_camera, tri_index, used, ids, settings
     )
     clock.lap("shade setup")
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
     for band in bands:
-        visible = raster.resolve_depth(out.zkey, camera, band)
+        visible = raster.resolve_depth(out.zkey, camera, band, settings.pixel_center_tables)
         write_band(out, shading, visible, band)
     clock.lap("shade")
     return out
@@ -205,6 +206,7 @@ def render_over_layer(
     world_from_camera: np.ndarray,
     buffers: FrameBuffers | None = None,
     cull_back_faces: bool = False,
+    settings: RenderSettings = DEFAULT_SETTINGS,
 ) -> FrameBuffers:
     """Draw ``meshes`` over a static layer: the frame ``render_frame`` gives for the layer's
     static meshes followed by ``meshes``, bit for bit.
@@ -226,6 +228,7 @@ def render_over_layer(
         raise ValueError(
             f"layer resolution {layer.resolution} differs from the camera's {camera.resolution}"
         )
+    _check_settings(settings)
     scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
     camera_from_world = invert_rigid(world_from_camera)
     out = _prepare_buffers(buffers, camera)
@@ -233,7 +236,7 @@ def render_over_layer(
     np.copyto(out.zkey, layer.seed)
     # --- 1-6 for the moving meshes only; ids start at 1 so that id 0 (static) wins ties
     vertices_camera, tri_index, drawn = _rasterize_scene(
-        scene, camera, camera_from_world, cull_back_faces, out, clock, key_offset=1
+        scene, camera, camera_from_world, cull_back_faces, out, clock, 1, None, settings
     )
     np.copyto(out.rgba, layer.rgba)
     np.copyto(out.depth, layer.depth)
@@ -243,17 +246,19 @@ def render_over_layer(
     if len(changed) == 0:
         return out
     # --- 7. shading inputs of the candidates that drew fragments
-    used = np.arange(len(tri_index)) if len(tri_index) <= REFINE_USED_ABOVE else None
-    if used is None:
-        used = np.flatnonzero(drawn)
+    few = len(tri_index) <= settings.refine_used_above
+    used = np.arange(len(tri_index)) if few else np.flatnonzero(drawn)
     shading = ShadingInputs.build(
-        scene, camera, camera_from_world, vertices_camera, tri_index, used
+        scene, camera, camera_from_world, vertices_camera, tri_index, used, True, settings
     )
     clock.lap("shade setup")
     # --- 8. resolve and shade the changed pixels, a cache-sized run at a time
-    for start in range(0, len(changed), SHADE_BAND_PIXELS):
-        pixel = changed[start : start + SHADE_BAND_PIXELS]
-        visible = raster.visible_from_keys(out.zkey[pixel], pixel, camera, id_offset=1)
+    run = settings.shade_band_pixels
+    for start in range(0, len(changed), run):
+        pixel = changed[start : start + run]
+        visible = raster.visible_from_keys(
+            out.zkey[pixel], pixel, camera, 1, settings.pixel_center_tables
+        )
         write_pixels(out, shading, visible)
     clock.lap("shade")
     return out
@@ -267,7 +272,8 @@ def _rasterize_scene(
     out: FrameBuffers,
     clock: _StageClock,
     key_offset: int,
-    rows: tuple[int, int] | None = None,
+    rows: tuple[int, int] | None,
+    settings: RenderSettings,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stages 1-6: depth-test every fragment of ``scene`` into ``out.zkey`` (not cleared).
 
@@ -289,11 +295,21 @@ def _rasterize_scene(
     # --- 3-6. per batch of triangles: back faces, near clipping, setup, spans, depth test
     out.n_fragments = 0
     drawn = np.zeros(len(tri_index), dtype=bool)  # candidates that produced fragments
-    for start in range(0, len(tri_index), TRIANGLE_BATCH):
-        source = np.arange(start, min(start + TRIANGLE_BATCH, len(tri_index)))
+    batch = settings.triangle_batch
+    for start in range(0, len(tri_index), batch):
+        source = np.arange(start, min(start + batch, len(tri_index)))
         tri = triangle_corners(vertices_camera, scene, tri_index[source])  # (3, 3, n) camera frame
         out.n_fragments += _rasterize(
-            tri, source, camera, cull_back_faces, out, drawn, clock, key_offset, rows
+            tri,
+            source,
+            camera,
+            cull_back_faces,
+            out,
+            drawn,
+            clock,
+            key_offset,
+            rows,
+            settings.fragment_chunk,
         )
     return vertices_camera, tri_index, drawn
 
@@ -308,6 +324,7 @@ def _rasterize(
     clock: _StageClock,
     key_offset: int = 0,
     rows: tuple[int, int] | None = None,
+    fragment_chunk: int = DEFAULT_SETTINGS.fragment_chunk,
 ) -> int:
     """Stages 3-6 for one batch: depth-test its fragments into ``out.zkey``.
 
@@ -341,7 +358,7 @@ def _rasterize(
     far_test = bool(np.any(tri[:, 2] < -camera.far))  # some corner beyond the far plane
     key_id = source + key_offset if key_offset else source
     n_fragments = raster.depth_test_spans(
-        spans, planes, piece_of, camera, out.zkey, key_id, far_test
+        spans, planes, piece_of, camera, out.zkey, key_id, far_test, fragment_chunk
     )
     clock.lap("fragments")
     return n_fragments
@@ -357,15 +374,20 @@ def _prepare_buffers(buffers: FrameBuffers | None, camera: Camera) -> FrameBuffe
     return buffers
 
 
-def band_rows(camera: Camera) -> int:
-    """Image rows per shading band: ``SHADE_BAND_PIXELS // W`` (at least 1)."""
-    return max(1, SHADE_BAND_PIXELS // camera.width)
+def _check_settings(settings: object) -> None:
+    if not isinstance(settings, RenderSettings):
+        raise TypeError(f"settings must be a render.RenderSettings, got {settings!r}")
 
 
-def _bands_of_rows(camera: Camera, rows: tuple[int, int]) -> list[slice]:
+def band_rows(camera: Camera, settings: RenderSettings = DEFAULT_SETTINGS) -> int:
+    """Image rows per shading band: ``settings.shade_band_pixels // W`` (at least 1)."""
+    return max(1, settings.shade_band_pixels // camera.width)
+
+
+def _bands_of_rows(camera: Camera, rows: tuple[int, int], settings: RenderSettings) -> list[slice]:
     """The bands of ``_row_bands`` covering image rows ``first .. end - 1`` exactly."""
     first, end = (int(r) for r in rows)
-    step = band_rows(camera)
+    step = band_rows(camera, settings)
     aligned = all(r % step == 0 or r == camera.height for r in (first, end))
     if not (0 <= first <= end <= camera.height and aligned):
         raise ValueError(
@@ -373,12 +395,13 @@ def _bands_of_rows(camera: Camera, rows: tuple[int, int]) -> list[slice]:
             f"multiple of {step} rows (a shading band) or the last row; got {rows!r}"
         )
     width = camera.width
-    return [band for band in _row_bands(camera) if first * width <= band.start < end * width]
+    bands = _row_bands(camera, settings)
+    return [band for band in bands if first * width <= band.start < end * width]
 
 
-def _row_bands(camera: Camera) -> list[slice]:
-    """Flat-index slices of whole image rows, about ``SHADE_BAND_PIXELS`` each."""
-    rows_per_band = band_rows(camera)
+def _row_bands(camera: Camera, settings: RenderSettings) -> list[slice]:
+    """Flat-index slices of whole image rows, about ``settings.shade_band_pixels`` each."""
+    rows_per_band = band_rows(camera, settings)
     n_pixels = camera.height * camera.width
     step = rows_per_band * camera.width
     return [slice(start, min(start + step, n_pixels)) for start in range(0, n_pixels, step)]

@@ -1,11 +1,12 @@
 """Triangle rasterization with a z-buffer: setup, scanline spans, depth test, resolve.
 
-Stages (each a function below, called in this order by ``render.frame.render_frame``,
-after culling and near clipping in ``render.cull``; triangle batches use the corner-major
-``(3, 3, T)`` layout described there)
+Stages (numbered as in ``render_frame``, ``render/__init__.py``: each a function below,
+after culling and near clipping, stages 2-3 in ``render.cull``; triangle batches use the
+corner-major ``(3, 3, T)`` layout described there)
 ---------------------------------------------------------------------------------------
-1. ``plane_coefficients``: per source triangle, three functions that are *affine in pixel
-   coordinates* (the key fact of perspective-correct interpolation)::
+4. ``plane_coefficients`` (triangle setup, beside ``project_triangles``): per source
+   triangle, three functions that are *affine in pixel coordinates* (the key fact of
+   perspective-correct interpolation)::
 
        pinhole: q_k = b_k / z  (k = 0, 1),   w = 1 / z = q_0 + q_1 + q_2
        ortho:   q_k = b_k,                   w = z = sum_k b_k z_k
@@ -18,15 +19,15 @@ after culling and near clipping in ``render.cull``; triangle batches use the cor
    ``(P1 x P2, P2 x P0, P0 x P1) / det M``: signed volumes of tetrahedra with the eye.
    These functions are computed from the *unclipped* triangle, so clipping never distorts
    attributes. Coordinates are centered on the principal point for float32 accuracy.
-2. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
-3. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
+5. ``scanline_spans``: for every pixel row a triangle touches, the run of covered columns.
+6. ``depth_test_spans``: expand spans to fragments in cache-sized chunks (16k), compute each
    fragment's depth and keep, per pixel, the smallest key ``(depth bits << 32) | triangle``
    with ``np.minimum.at`` (depth test and tie break in one pass: the bit patterns of
    positive float32 numbers sort like the numbers, and equal depths keep the lower
    triangle index, so the result is deterministic).
-4. ``resolve_depth`` and ``AttributePlanes``: the winning triangle and depth per pixel,
-   then perspective-correct vertex attributes (uvs, colors) for deferred shading (each
-   visible pixel is shaded exactly once).
+7-8. ``AttributePlanes`` (built in stage 7 per triangle) and ``resolve_depth`` (stage 8):
+   the winning triangle and depth per pixel, then perspective-correct vertex attributes
+   (uvs, colors) for deferred shading (each visible pixel is shaded exactly once).
 
 Fill rule (top-left, at pixel centers)
 --------------------------------------
@@ -47,9 +48,8 @@ import numpy as np
 
 from render.camera import Camera
 from render.cull import cross
+from render.settings import DEFAULT_SETTINGS
 
-#: fragments per chunk: temporaries of 16k elements stay in the CPU cache (3x faster than 200k)
-FRAGMENT_CHUNK = 16_384
 #: an empty z-buffer key: larger than any (depth bits << 32) | triangle
 EMPTY_KEY = np.uint64(0xFFFFFFFFFFFFFFFF)
 _LOW32 = np.uint64(0xFFFFFFFF)
@@ -203,6 +203,7 @@ def depth_test_spans(
     zkey: np.ndarray,
     key_id: np.ndarray | None = None,
     far_test: bool = True,
+    fragment_chunk: int = DEFAULT_SETTINGS.fragment_chunk,
 ) -> int:
     """Expand spans into fragments and depth-test them into ``zkey`` in place.
 
@@ -217,6 +218,7 @@ def depth_test_spans(
         index into ``planes``).
     far_test : discard fragments beyond ``camera.far``; pass False when no triangle reaches
         past the far plane (saves two passes over the fragments).
+    fragment_chunk : fragments per chunk (``RenderSettings.fragment_chunk``).
 
     Returns
     -------
@@ -233,7 +235,7 @@ def depth_test_spans(
     tri_key = (source if key_id is None else key_id[source]).astype(np.uint64)
     ends = np.cumsum(spans.n_pixels)  # fragment count up to and including each span
     cuts = np.searchsorted(
-        ends, np.arange(FRAGMENT_CHUNK, ends[-1] if len(ends) else 0, FRAGMENT_CHUNK)
+        ends, np.arange(fragment_chunk, ends[-1] if len(ends) else 0, fragment_chunk)
     )
     bounds = np.concatenate([[0], np.unique(cuts), [len(ends)]])
     for s0, s1 in zip(bounds[:-1], bounds[1:], strict=True):
@@ -285,26 +287,30 @@ class VisiblePixels:
     winner : (n,) int64 index of the nearest triangle (the id stored in its z-buffer key).
     depth : (n,) float32 z-depth in meters.
     camera : the camera (for pixel-center coordinates).
+    center_tables : read pixel centers from cached tables (``RenderSettings.pixel_center_tables``).
     """
 
     pixel: np.ndarray
     winner: np.ndarray
     depth: np.ndarray
     camera: Camera
+    center_tables: bool = DEFAULT_SETTINGS.pixel_center_tables
 
     def subset(self, sel: np.ndarray) -> VisiblePixels:
         """The entries ``sel`` (an index array)."""
-        return VisiblePixels(self.pixel[sel], self.winner[sel], self.depth[sel], self.camera)
+        return VisiblePixels(
+            self.pixel[sel], self.winner[sel], self.depth[sel], self.camera, self.center_tables
+        )
 
     def centered_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
         """Pixel-center coordinates relative to the principal point, float32 ``(n,)`` each:
         ``xc = col + 0.5 - cx`` and ``yc = row + 0.5 - cy`` (read-only arrays).
 
-        With ``PIXEL_CENTER_TABLES`` they are read from per-camera tables of every pixel
+        With ``center_tables`` they are read from per-camera tables of every pixel
         (a slice for a run of consecutive pixels, else a gather), else computed from
         ``divmod(pixel, W)``; both give the same values.
         """
-        if not PIXEL_CENTER_TABLES:
+        if not self.center_tables:
             row, col = np.divmod(self.pixel.astype(np.int32), np.int32(self.camera.width))
             xc = col.astype(np.float32) + np.float32(0.5 - self.camera.cx)
             yc = row.astype(np.float32) + np.float32(0.5 - self.camera.cy)
@@ -317,12 +323,6 @@ class VisiblePixels:
         return xc_table.take(pixel), yc_table.take(pixel)
 
 
-#: True: ``VisiblePixels.centered_coordinates`` reads cached per-camera tables; False:
-#: the plain ``divmod`` formula (same values, tested in tests/render/test_shade.py)
-PIXEL_CENTER_TABLES = True
-#: True: ``AttributePlanes.evaluate`` computes two-channel attributes (uvs) as one complex64
-#: (``_evaluate_paired``); False: channel by channel. Same bits (tests/render/test_shade.py).
-PAIRED_ATTRIBUTES = True
 _CENTER_TABLES: dict = {}
 
 
@@ -346,11 +346,17 @@ def pixel_center_tables(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
     return tables
 
 
-def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -> VisiblePixels:
+def resolve_depth(
+    zkey: np.ndarray,
+    camera: Camera,
+    band: slice | None = None,
+    center_tables: bool = DEFAULT_SETTINGS.pixel_center_tables,
+) -> VisiblePixels:
     """Read the z-buffer back: covered pixels, winning triangle (low 32 bits of the key)
     and its depth (high 32 bits: the float32 depth's bit pattern).
 
-    ``band`` restricts the read to a slice of flat pixel indices (a band of rows).
+    ``band`` restricts the read to a slice of flat pixel indices (a band of rows);
+    ``center_tables`` is passed on to the ``VisiblePixels``.
     """
     start = 0 if band is None else band.start
     keys = zkey if band is None else zkey[band]
@@ -366,11 +372,15 @@ def resolve_depth(zkey: np.ndarray, camera: Camera, band: slice | None = None) -
     winner = halves[:, 0].astype(np.int64)  # the triangle id
     depth = halves[:, 1].view(np.float32)  # the depth bits
     pixel += start
-    return VisiblePixels(pixel, winner, depth, camera)
+    return VisiblePixels(pixel, winner, depth, camera, center_tables)
 
 
 def visible_from_keys(
-    keys: np.ndarray, pixel: np.ndarray, camera: Camera, id_offset: int = 0
+    keys: np.ndarray,
+    pixel: np.ndarray,
+    camera: Camera,
+    id_offset: int = 0,
+    center_tables: bool = DEFAULT_SETTINGS.pixel_center_tables,
 ) -> VisiblePixels:
     """Pixels ``pixel`` (flat indices, each covered) with their z-buffer ``keys``: winner
     ``low 32 bits - id_offset`` and depth (high 32 bits), as ``resolve_depth`` reads them."""
@@ -381,7 +391,7 @@ def visible_from_keys(
     if id_offset:
         winner -= id_offset
     depth = halves[:, 1].view(np.float32)  # the depth bits
-    return VisiblePixels(np.asarray(pixel, dtype=np.int64), winner, depth, camera)
+    return VisiblePixels(np.asarray(pixel, dtype=np.int64), winner, depth, camera, center_tables)
 
 
 class AttributePlanes:
@@ -401,6 +411,9 @@ class AttributePlanes:
     planes : (3, 3, K) float64 plane functions ``(q_0, q_1, w)`` of K triangles.
     corner_values : (3, C, K) float, the attribute (C channels) at each triangle's corners.
     camera : the camera (pinhole or orthographic).
+    row_of_triangle : (K',) row of each triangle id among the K (planes built for a subset).
+    paired : evaluate two-channel attributes as one complex64
+        (``RenderSettings.paired_attributes``; same bits as channel by channel).
     """
 
     def __init__(
@@ -409,6 +422,7 @@ class AttributePlanes:
         corner_values: np.ndarray,
         camera: Camera,
         row_of_triangle: np.ndarray | None = None,
+        paired: bool = DEFAULT_SETTINGS.paired_attributes,
     ) -> None:
         a0, a1, a2 = (corner_values[k][:, None, :] for k in range(3))  # (C, 1, K)
         sum_plane = planes[2] if camera.is_pinhole else np.array([0.0, 0.0, 1.0])[:, None]
@@ -418,7 +432,7 @@ class AttributePlanes:
         self.multiply_by_depth = camera.is_pinhole
         self.row_of_triangle = row_of_triangle
         self.paired = None  # two channels (uvs) as one complex64 plane: c0 + i c1, (3, K)
-        if attr.shape[0] == 2:
+        if paired and attr.shape[0] == 2:
             self.paired = self.coefficients[0] + np.complex64(1j) * self.coefficients[1]
 
     def evaluate(self, visible: VisiblePixels) -> np.ndarray:
@@ -431,7 +445,7 @@ class AttributePlanes:
         if self.row_of_triangle is not None:
             rows = self.row_of_triangle[rows]
         xc, yc = visible.centered_coordinates()
-        if PAIRED_ATTRIBUTES and self.paired is not None:
+        if self.paired is not None:
             return self._evaluate_paired(self.paired, rows, xc, yc, visible.depth)
         n_channels = self.coefficients.shape[0]
         out = np.empty((n_channels, len(rows)), dtype=np.float32)

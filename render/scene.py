@@ -22,18 +22,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from render.camera import check_pose
-from render.shade import (
-    DEFAULT_LIGHTS,
-    FLAT,
-    TEXTURED,
-    VERTEX_COLOR,
-    Lights,
-    MaterialTable,
-    face_light_factors,
-    lambert_factors,
-    pack_rgba,
-    pad_texture_wrap,
-)
+from render.lights import DEFAULT_LIGHTS, Lights, face_light_factors, lambert_factors
+from render.packed_rgba import pack_rgba, pad_texture_wrap
+from render.shade import FLAT, TEXTURED, VERTEX_COLOR, MaterialTable
 
 UV_ORIGINS = ("bottom", "top")
 

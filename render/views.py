@@ -22,6 +22,7 @@ import numpy as np
 from render.camera import Camera
 from render.frame import FrameBuffers, StaticLayer, render_frame, render_over_layer
 from render.scene import RenderMesh, RenderScene
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 
 __all__ = ["MODES", "LayeredView", "SplitScene"]
 
@@ -96,10 +97,12 @@ class LayeredView:
         world_from_camera: np.ndarray,
         rows: tuple[int, int] | None = None,
         ids: bool = True,
+        settings: RenderSettings = DEFAULT_SETTINGS,
     ) -> FrameBuffers:
         """Render the view as ``mode`` says; returns its (reused) buffers. ``rows``: only
         these image rows of a full render (``render_frame``'s ``rows``); ``ids``: False
-        when no sensor reads the semantic ids (full renders then skip them)."""
+        when no sensor reads the semantic ids (full renders then skip them); ``settings``:
+        those of ``render_frame``."""
         if mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
         if mode == "layer" and self.layer is None:
@@ -117,17 +120,23 @@ class LayeredView:
                 cull_back_faces=True,
                 rows=rows,
                 ids=ids,
+                settings=settings,
             )
         else:
             if mode == "new layer":
                 self.static_buffers = render_frame(
-                    scene.static, camera, world_from_camera, self.static_buffers, True
+                    scene.static,
+                    camera,
+                    world_from_camera,
+                    self.static_buffers,
+                    True,
+                    settings=settings,
                 )
                 self.layer = StaticLayer.from_frame(self.static_buffers)
             if self.layer is None:
                 raise RuntimeError("no static layer to draw over")
             frame = render_over_layer(
-                self.layer, scene.moving, camera, world_from_camera, buffers, True
+                self.layer, scene.moving, camera, world_from_camera, buffers, True, settings
             )
         self.buffers = frame
         return frame

@@ -17,8 +17,9 @@ Pieces (plain arrays only, like the rest of :mod:`render`):
   start method, a caller's script without ``if __name__ == "__main__"`` is not run again.
   The worker holds its own copy of the scene: the meshes are sent once when they change
   (``set_meshes``), then each frame sends only the mesh poses and, per view, the mode, the
-  camera and its pose (``submit``). The worker renders into a block of shared memory per
-  view (``multiprocessing.shared_memory``: color, depth, ids) and replies; ``collect``
+  camera, its pose and the render settings (``submit`` of :class:`WorkerJob` s). The
+  worker renders into a block of shared memory per view (``multiprocessing.shared_memory``:
+  color, depth, ids) and replies; ``collect``
   returns :class:`FrameBuffers` views of those blocks, valid until the next ``submit``.
   A job may name ``rows`` of a full render (``render_frame``'s ``rows``): the worker
   rasterizes and shades only those rows, the caller renders the other rows of the same
@@ -26,10 +27,10 @@ Pieces (plain arrays only, like the rest of :mod:`render`):
   Nothing is shared mutably: the worker never sees the caller's objects, only copies.
 
 Bit-identical results: the worker unpickles exactly the caller's arrays (float64 poses,
-meshes, :class:`Lights`), receives the module switches that select code paths or constants
-(``SETTINGS``: ``render.shade.AMBIENT``, ``FAST_SHADING`` ...) whenever they change, keeps
-the identity of light setups (``DEFAULT_LIGHTS`` maps to the worker's own, which selects
-the same formula) and runs the same functions. ``tests/render/test_worker.py`` checks frames
+meshes, :class:`Lights`), gets each view's :class:`render.settings.RenderSettings` inside
+its :class:`WorkerJob` (no module state to mirror), keeps the identity of light setups
+(``DEFAULT_LIGHTS`` maps to the worker's own, which selects the same formula) and runs the
+same functions. ``tests/render/test_worker.py`` checks frames
 of scenes mixing every material against in-process renders, bit for bit.
 
 A worker that dies (killed, out of memory) raises :class:`WorkerLost` at the next call, so
@@ -46,67 +47,61 @@ import subprocess
 import sys
 import traceback
 import weakref
+from dataclasses import dataclass
 from multiprocessing import resource_tracker, shared_memory
 from multiprocessing.connection import Connection
 from typing import Any
 
 import numpy as np
 
-from render import frame as _frame
-from render import raster as _raster
-from render import shade as _shade
+from render import lights as _lights
 from render.camera import Camera
 from render.frame import FrameBuffers
 from render.scene import RenderMesh
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.views import LayeredView, SplitScene
 
 __all__ = [
     "LayeredView",
     "RenderProcess",
-    "SETTINGS",
     "SplitScene",
+    "WorkerJob",
     "WorkerLost",
-    "current_settings",
 ]
-
-#: module switches and constants that select code paths or change pixels: the worker gets
-#: the caller's values whenever they change (module, attribute)
-SETTINGS: tuple[tuple[Any, str], ...] = (
-    (_frame, "TRIANGLE_BATCH"),
-    (_frame, "REFINE_USED_ABOVE"),
-    (_frame, "SHADE_BAND_PIXELS"),
-    (_raster, "FRAGMENT_CHUNK"),
-    (_raster, "PIXEL_CENTER_TABLES"),
-    (_raster, "PAIRED_ATTRIBUTES"),
-    (_shade, "AMBIENT"),
-    (_shade, "DIFFUSE"),
-    (_shade, "LIGHT_DIRECTIONS"),
-    (_shade, "FAST_SHADING"),
-    (_shade, "LIGHT_ALL_ABOVE"),
-    (_shade, "SAMPLE_ALL_ABOVE"),
-)
 
 
 class WorkerLost(RuntimeError):
     """The render worker process is gone (it died or was closed)."""
 
 
-def current_settings() -> tuple:
-    """The values of ``SETTINGS`` in this process (arrays as bytes, for comparison)."""
-    values = []
-    for module, name in SETTINGS:
-        value = getattr(module, name)
-        values.append(value.tobytes() if isinstance(value, np.ndarray) else value)
-    return tuple(values)
+@dataclass(frozen=True)
+class WorkerJob:
+    """One view the worker renders this frame (``RenderProcess.submit``).
 
+    Attributes
+    ----------
+    key : the view's key: its layers and shared block in the worker.
+    mode : one of ``render.views.MODES``.
+    camera : intrinsics and clip planes.
+    world_from_camera : (4, 4) float64 pose.
+    rows : a full render's rows to shade (``render_frame``'s ``rows``), None: all.
+    ids : False when no sensor reads the semantic ids.
+    settings : the :class:`RenderSettings` to render with (travels with the job).
+    """
 
-def _settings_payload() -> list:
-    return [getattr(module, name) for module, name in SETTINGS]
+    key: int
+    mode: str
+    camera: Camera
+    world_from_camera: np.ndarray
+    rows: tuple[int, int] | None = None
+    ids: bool = True
+    settings: RenderSettings = DEFAULT_SETTINGS
 
-
-def _apply_settings(values: list) -> None:
-    for (module, name), value in zip(SETTINGS, values, strict=True):
-        setattr(module, name, value)
+    def __post_init__(self) -> None:
+        if not isinstance(self.settings, RenderSettings):
+            raise TypeError(f"WorkerJob.settings must be RenderSettings, got {self.settings!r}")
+        pose = np.asarray(self.world_from_camera, np.float64)
+        object.__setattr__(self, "world_from_camera", pose)
 
 
 # ------------------------------------------------------------------------------------------
@@ -141,7 +136,7 @@ class _Worker:
 
     def __init__(self) -> None:
         self.scene = SplitScene()
-        self.lights: dict[int, _shade.Lights] = {}
+        self.lights: dict[int, _lights.Lights] = {}
         self.views: dict[int, LayeredView] = {}
         self.blocks: dict[int, shared_memory.SharedMemory] = {}
 
@@ -155,14 +150,12 @@ class _Worker:
             meshes.append(RenderMesh(**fields))
         return meshes
 
-    def _light(self, token: int) -> _shade.Lights:
-        return _shade.DEFAULT_LIGHTS if token == 0 else self.lights[token]
+    def _light(self, token: int) -> _lights.Lights:
+        return _lights.DEFAULT_LIGHTS if token == 0 else self.lights[token]
 
     def handle(self, message: tuple) -> tuple | None:
         kind = message[0]
-        if kind == "settings":
-            _apply_settings(message[1])
-        elif kind == "lights":
+        if kind == "lights":
             self.lights.update(message[1])
         elif kind == "meshes":
             static, moving = message[1], message[2]
@@ -179,21 +172,14 @@ class _Worker:
         elif kind == "frame":
             _, static_poses, moving_poses, jobs = message
             self.scene.set_poses(static_poses, moving_poses)
-            return ("done", [self.render(*job) for job in jobs])
+            return ("done", [self.render(job, block_name) for job, block_name in jobs])
         else:
             raise ValueError(f"unknown message {kind!r}")
         return None
 
-    def render(
-        self,
-        key: int,
-        block_name: str,
-        mode: str,
-        camera: Camera,
-        pose: np.ndarray,
-        rows: tuple[int, int] | None,
-        ids: bool = True,
-    ) -> tuple[int, dict, int]:
+    def render(self, job: WorkerJob, block_name: str) -> tuple[int, dict, int]:
+        """Render ``job`` into its shared block (attached at the first job of its key)."""
+        key, camera = job.key, job.camera
         view = self.views.get(key)
         if view is None or self.blocks[key].name != block_name:
             block = shared_memory.SharedMemory(name=block_name)
@@ -202,7 +188,9 @@ class _Worker:
             view = self.views[key] = LayeredView()
             view.out = _frame_on_block(block.buf, camera.resolution)
             view.out.zkey = np.empty(camera.height * camera.width, np.uint64)
-        frame = view.render(mode, self.scene, camera, pose, rows, ids)
+        frame = view.render(
+            job.mode, self.scene, camera, job.world_from_camera, job.rows, job.ids, job.settings
+        )
         return key, frame.timings, frame.n_fragments
 
 
@@ -305,9 +293,8 @@ class RenderProcess:
             child.close()
         self._blocks: dict[int, shared_memory.SharedMemory] = {}
         self._resolutions: dict[int, tuple[int, int]] = {}
-        self._lights: dict[int, _shade.Lights] = {}  # token -> Lights (kept alive)
+        self._lights: dict[int, _lights.Lights] = {}  # token -> Lights (kept alive)
         self._tokens: dict[int, int] = {}  # id(Lights) -> token
-        self._settings: tuple | None = None
         self._pending: list[int] | None = None
         self._finalizer = weakref.finalize(
             self, _close_process, self._conn, self._process, self._blocks, os.getpid()
@@ -353,7 +340,7 @@ class RenderProcess:
             lights = fields.pop("lights")
             if lights is None:
                 token = None
-            elif lights is _shade.DEFAULT_LIGHTS:
+            elif lights is _lights.DEFAULT_LIGHTS:
                 token = 0
             else:
                 token = self._tokens.get(id(lights))
@@ -372,27 +359,18 @@ class RenderProcess:
         self,
         static_poses: np.ndarray,
         moving_poses: np.ndarray,
-        jobs: list[tuple],
+        jobs: list[WorkerJob],
     ) -> None:
-        """Start rendering ``jobs``: ``(view key, mode, camera, world_from_camera)`` each,
-        optionally with a fifth item ``rows`` (a full render's rows to shade, as
-        ``render_frame``'s) and a sixth ``ids`` (False: no sensor reads the semantic ids),
+        """Start rendering ``jobs`` (one :class:`WorkerJob` per view, its settings with it)
         with the meshes at these poses. ``collect`` waits for the frames."""
         if self._pending is not None:
             raise RuntimeError("collect the previous frames before submitting new ones")
-        settings = current_settings()
-        if settings != self._settings:
-            self._send(("settings", _settings_payload()))
-            self._settings = settings
-        message = []
-        for key, mode, camera, pose, *options in jobs:
-            block = self._block(key, camera.resolution)
-            pose = np.asarray(pose, np.float64)
-            rows = options[0] if options else None
-            ids = options[1] if len(options) > 1 else True
-            message.append((key, block.name, mode, camera, pose, rows, ids))
+        for job in jobs:
+            if not isinstance(job, WorkerJob):
+                raise TypeError(f"RenderProcess.submit takes WorkerJob items, got {job!r}")
+        message = [(job, self._block(job.key, job.camera.resolution).name) for job in jobs]
         self._send(("frame", static_poses, moving_poses, message))
-        self._pending = [job[0] for job in jobs]
+        self._pending = [job.key for job in jobs]
 
     def _block(self, key: int, resolution: tuple[int, int]) -> shared_memory.SharedMemory:
         block = self._blocks.get(key)

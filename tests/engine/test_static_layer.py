@@ -13,10 +13,11 @@ import engine as habitat_sim
 import engine.simulator
 from engine.demo import demo_data_path
 from engine.physics.objects import MotionType
+from engine.render_scheduler import RenderScheduler
 from engine.scene_render import SceneRenderer
 from engine.tutorial.cli import run_tutorial
 from engine.tutorial.scene_setup import make_configuration, place_agent
-from render import shade
+from render.settings import RenderSettings
 
 
 class CheckedRenderer(SceneRenderer):
@@ -35,7 +36,7 @@ class CheckedRenderer(SceneRenderer):
             root, static_drawables, lights_for, static_layer=True, threads=2,
             processes=self.PROCESSES,
         )  # fmt: skip
-        self.process_min_pixels = 0
+        self.scheduler.process_min_pixels = 0
         self.reference = SceneRenderer(
             root, static_drawables, lights_for, static_layer=False, threads=1, processes=0
         )
@@ -87,7 +88,7 @@ def test_a_dead_worker_is_replaced_by_renders_in_this_process(checked):
     renderer = sim.get_renderer()
     sim.get_sensor_observations()
     assert renderer.last_places[("rgba_camera_3rdperson",)] == "worker"
-    renderer._worker._process.kill()  # noqa: SLF001 - simulate a crash
+    renderer.scheduler._worker._process.kill()  # noqa: SLF001 - simulate a crash
     with pytest.warns(RuntimeWarning, match="render worker"):
         sim.get_sensor_observations()  # checked against the reference renderer
     assert set(renderer.last_places.values()) == {"here"}
@@ -142,13 +143,6 @@ def test_adding_removing_moving_and_relighting_objects_match_full_renders(
     second.root_scene_node.translation = [2.3, -0.7, 0.3]  # a STATIC node moved by hand
     assert frames(1)[0] == ["full"]
     frames()
-    shade_ambient = shade.AMBIENT
-    try:
-        shade.AMBIENT = 0.3  # the light setup changed: static objects are lit
-        assert frames(1)[0] == ["full"]
-    finally:
-        shade.AMBIENT = shade_ambient
-    frames()
     # a new light setup for the default key (which the STATIC object uses): a static change
     sim.set_light_setup([habitat_sim.gfx.LightInfo(vector=[0.0, -1.0, 0.0, 0.0])])
     assert frames(1)[0] == ["full"]
@@ -179,19 +173,17 @@ def test_the_switches_select_single_threaded_full_renders(checked):
 
 
 def test_full_renders_shared_between_this_process_and_the_worker_match(checked, monkeypatch):
-    import render.frame
-
-    monkeypatch.setattr(render.frame, "SHADE_BAND_PIXELS", 64 * 8)  # bands of 8 rows
     splits = iter([8, 16, 40, 0, 24, 8, 32, 16])
 
     def next_split(self, remote, collected, busy_here, waited=0.0):  # any split: same frame
         for job in remote:
-            job[0].split = next(splits, 8)
+            job.state.split = next(splits, 8)
 
-    monkeypatch.setattr(CheckedRenderer, "_balance", next_split)
+    monkeypatch.setattr(RenderScheduler, "_balance", next_split)
     monkeypatch.setattr(CheckedRenderer, "FULL_CHECK_EVERY", 1)
     sim = small_sim()
     renderer = sim.get_renderer()
+    renderer.settings = RenderSettings(shade_band_pixels=64 * 8)  # bands of 8 rows
     agent = sim.get_agent(0)
     for k in range(8):
         state = agent.get_state()

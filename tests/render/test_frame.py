@@ -7,6 +7,7 @@ import pytest
 
 from render.camera import Camera
 from render.frame import BACKGROUND_RGBA, FrameBuffers, RenderMesh, RenderScene, render_frame
+from render.settings import RenderSettings
 from render.shade import face_light_factors
 
 H, W = 48, 80
@@ -321,37 +322,32 @@ def grid_mesh(n: int, z: float, semantic_id: int) -> RenderMesh:
     return RenderMesh(vertices, faces, vertex_colors=colors, semantic_id=semantic_id)
 
 
-def test_many_triangle_scenes_shade_the_same_with_or_without_the_winner_refinement(monkeypatch):
-    from render import frame as frame_module
-
+def test_many_triangle_scenes_shade_the_same_with_or_without_the_winner_refinement():
     camera = Camera((H, W), hfov=60.0)
     meshes = [grid_mesh(70, -3.0, 1), grid_mesh(70, -4.0, 2)]  # 2 x 9800 triangles
     refined = render_frame(meshes, camera, np.eye(4))
-    monkeypatch.setattr(frame_module, "REFINE_USED_ABOVE", 10**9)
-    plain = render_frame(meshes, camera, np.eye(4))
+    unrefined = RenderSettings(refine_used_above=10**9)
+    plain = render_frame(meshes, camera, np.eye(4), settings=unrefined)
     np.testing.assert_array_equal(refined.rgba, plain.rgba)
     np.testing.assert_array_equal(refined.ids, plain.ids)
     assert np.all(refined.ids[H // 2 - 5 : H // 2 + 5, W // 2 - 5 : W // 2 + 5] == 1)
 
 
 @pytest.mark.parametrize("refine_above", [10**9, 4])
-def test_rows_of_a_frame_match_the_whole_frame_over_stale_buffers(monkeypatch, refine_above):
+def test_rows_of_a_frame_match_the_whole_frame_over_stale_buffers(refine_above):
     """``rows=`` rasterizes, resolves and shades only those rows, over buffers that hold
     another frame (stale z-buffer keys outside the rows must not matter), with and without
     the winner refinement of the shading inputs."""
-    from render import frame as frame_module
-
-    monkeypatch.setattr(frame_module, "REFINE_USED_ABOVE", refine_above)
-    monkeypatch.setattr(frame_module, "SHADE_BAND_PIXELS", 4 * W)  # bands of 4 rows
-    camera = Camera((H, W), hfov=60.0)
+    settings = RenderSettings(refine_used_above=refine_above, shade_band_pixels=4 * W)
+    camera = Camera((H, W), hfov=60.0)  # bands of 4 rows
     scene = RenderScene([grid_mesh(12, -3.0, 1), grid_mesh(9, -4.0, 2)])
     pose = np.eye(4)
     pose[:3, 3] = [0.3, -0.2, 0.0]
-    whole = render_frame(scene, camera, pose)
+    whole = render_frame(scene, camera, pose, settings=settings)
     expected = {name: getattr(whole, name).copy() for name in ("rgba", "depth", "ids")}
-    buffers = render_frame(scene, camera, np.eye(4))  # another frame in the buffers
+    buffers = render_frame(scene, camera, np.eye(4), settings=settings)  # another frame
     for first, end in ((0, 8), (8, H), (12, 20)):
-        part = render_frame(scene, camera, pose, buffers, rows=(first, end))
+        part = render_frame(scene, camera, pose, buffers, rows=(first, end), settings=settings)
         for name, value in expected.items():
             np.testing.assert_array_equal(getattr(part, name)[first:end], value[first:end])
         assert 0 < part.n_fragments < whole.n_fragments
@@ -370,3 +366,28 @@ def test_ids_false_skips_the_semantic_ids_and_changes_nothing_else():
     np.testing.assert_array_equal(without.depth, with_ids.depth)
     assert np.all(without.ids == 12345)
     assert set(np.unique(with_ids.ids).tolist()) == {0, 7}  # the grid in front, background
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        ({"triangle_batch": 0}, "triangle_batch must be an int >= 1, got 0"),
+        ({"fragment_chunk": 2.5}, "fragment_chunk must be an int >= 1, got 2.5"),
+        ({"fast_shading": 1}, "fast_shading must be a bool, got 1"),
+        ({"light_all_above": 1.5}, "light_all_above must be a fraction in \\[0, 1\\], got 1.5"),
+    ],
+)
+def test_bad_render_settings_are_refused_naming_the_value(changes, message):
+    with pytest.raises(ValueError, match=message):
+        RenderSettings(**changes)
+    with pytest.raises(TypeError, match="settings must be a render.RenderSettings"):
+        render_frame([], Camera((4, 4)), np.eye(4), settings={"fast_shading": False})
+
+
+def test_render_settings_are_one_frozen_value():
+    settings = RenderSettings.plain(shade_band_pixels=64)
+    assert (settings.fast_shading, settings.pixel_center_tables) == (False, False)
+    assert settings.replace(fast_shading=True).fast_shading and not settings.fast_shading
+    assert hash(settings) == hash(RenderSettings.plain(shade_band_pixels=64))
+    with pytest.raises(AttributeError):
+        settings.fast_shading = True  # type: ignore[misc]

@@ -1,5 +1,5 @@
-"""The fast shading kernels give the bits of the plain ones (``shade.FAST_SHADING``,
-``raster.PIXEL_CENTER_TABLES``, ``raster.PAIRED_ATTRIBUTES``): kernel by kernel, and for
+"""The fast shading kernels give the bits of the plain ones (``RenderSettings`` fields
+``fast_shading``, ``pixel_center_tables``, ``paired_attributes``): kernel by kernel, and for
 whole frames of scenes that mix every material kind (flat, vertex colors, textures with
 and without tint, two textures, lit and unlit, Gouraud), perspective and orthographic."""
 
@@ -8,24 +8,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from render import raster, shade
+from render import packed_rgba, raster, shade
 from render.camera import Camera
 from render.frame import RenderMesh, RenderScene, render_frame
 from render.raster import VisiblePixels
+from render.settings import DEFAULT_SETTINGS, RenderSettings
 
 RNG_SEED = 15
 
 
-@pytest.fixture
-def use_fast_paths():
-    """A setter of both switches (True: fast kernels, False: plain); restored afterwards."""
-    saved = shade.FAST_SHADING, raster.PIXEL_CENTER_TABLES, raster.PAIRED_ATTRIBUTES
-
-    def set_fast(fast: bool) -> None:
-        shade.FAST_SHADING = raster.PIXEL_CENTER_TABLES = raster.PAIRED_ATTRIBUTES = fast
-
-    yield set_fast
-    shade.FAST_SHADING, raster.PIXEL_CENTER_TABLES, raster.PAIRED_ATTRIBUTES = saved
+def settings_for(fast: bool) -> RenderSettings:
+    """The default (fast) kernels, or the plain ones everywhere."""
+    return DEFAULT_SETTINGS if fast else RenderSettings.plain()
 
 
 @pytest.mark.parametrize("uv_origin", ["bottom", "top"])
@@ -33,7 +27,7 @@ def use_fast_paths():
 def test_fast_bilinear_sampler_matches_the_plain_one(uv_origin, size):
     rng = np.random.default_rng(RNG_SEED)
     texels = rng.integers(0, 2**32, size=size, dtype=np.uint64).astype(np.uint32)
-    padded = shade.pad_texture_wrap(texels)
+    padded = packed_rgba.pad_texture_wrap(texels)
     # wrapped, negative and texel-center coordinates, and the exact edges 0 and 1
     u = np.concatenate(
         [rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1], [0.0, 1.0, -1.0, 2.5]]
@@ -42,8 +36,8 @@ def test_fast_bilinear_sampler_matches_the_plain_one(uv_origin, size):
         [rng.uniform(-4, 4, 5000), (np.arange(size[1]) + 0.5) / size[1], [1.0, 0.0, -0.0, 3.0]]
     ).astype(np.float32)
     u_before, v_before = u.copy(), v.copy()
-    plain = shade.sample_bilinear(padded, u, v, uv_origin)
-    fast = shade.sample_bilinear_fast(padded, u, v, uv_origin)
+    plain = packed_rgba.sample_bilinear(padded, u, v, uv_origin)
+    fast = packed_rgba.sample_bilinear_fast(padded, u, v, uv_origin)
     np.testing.assert_array_equal(fast, plain)
     np.testing.assert_array_equal(u, u_before)  # inputs untouched
     np.testing.assert_array_equal(v, v_before)
@@ -53,14 +47,16 @@ def test_in_place_light_modulation_matches_the_plain_one():
     rng = np.random.default_rng(RNG_SEED)
     packed = rng.integers(0, 2**32, size=4000, dtype=np.uint64).astype(np.uint32)
     factor = np.concatenate([rng.uniform(0, 1, 3996), [0.0, 1.0, 0.5, 0.998]]).astype(np.float32)
-    expected = shade.modulate_packed(packed, factor)
-    shade.modulate_packed_inplace(packed, factor)
+    expected = packed_rgba.modulate_packed(packed, factor)
+    packed_rgba.modulate_packed_inplace(packed, factor)
     np.testing.assert_array_equal(packed, expected)
-    assert np.all(shade.modulate_packed(packed, np.ones(4000, np.float32)) == packed)  # W = 256
+    assert np.all(
+        packed_rgba.modulate_packed(packed, np.ones(4000, np.float32)) == packed
+    )  # W = 256
 
 
 @pytest.mark.parametrize("subtype", ["pinhole", "orthographic"])
-def test_paired_two_channel_attributes_match_the_per_channel_loop(use_fast_paths, subtype):
+def test_paired_two_channel_attributes_match_the_per_channel_loop(subtype):
     camera = Camera((37, 53), subtype=subtype)
     rng = np.random.default_rng(RNG_SEED)
     n_triangles = 40
@@ -73,32 +69,29 @@ def test_paired_two_channel_attributes_match_the_per_channel_loop(use_fast_paths
         rng.uniform(0.1, 30.0, len(pixel)).astype(np.float32),
         camera,
     )
-    planes_of_uvs = raster.AttributePlanes(planes, uvs, camera)
-    use_fast_paths(True)
-    paired = planes_of_uvs.evaluate(visible)
-    use_fast_paths(False)
-    plain = planes_of_uvs.evaluate(visible)
+    paired = raster.AttributePlanes(planes, uvs, camera, paired=True).evaluate(visible)
+    plain = raster.AttributePlanes(planes, uvs, camera, paired=False).evaluate(visible)
     assert paired.shape == plain.shape == (2, len(pixel)) and paired.dtype == np.float32
     bits = np.ascontiguousarray(paired).view(np.uint32)
     np.testing.assert_array_equal(bits, plain.view(np.uint32))  # bit for bit
 
 
 @pytest.mark.parametrize("subtype", ["pinhole", "orthographic"])
-def test_pixel_center_tables_match_the_divmod_formula(use_fast_paths, subtype):
+def test_pixel_center_tables_match_the_divmod_formula(subtype):
     camera = Camera((37, 53), subtype=subtype)
     rng = np.random.default_rng(RNG_SEED)
     scattered = np.sort(rng.choice(37 * 53, 300, replace=False))
     for pixel in (scattered, np.arange(100, 700), np.arange(37 * 53), np.arange(0)):
-        visible = VisiblePixels(
-            pixel.astype(np.int64),
-            np.zeros(len(pixel), np.int64),
-            np.ones(len(pixel), np.float32),
-            camera,
+        fast, plain = (
+            VisiblePixels(
+                pixel.astype(np.int64),
+                np.zeros(len(pixel), np.int64),
+                np.ones(len(pixel), np.float32),
+                camera,
+                tables,
+            ).centered_coordinates()
+            for tables in (True, False)
         )
-        use_fast_paths(True)
-        fast = visible.centered_coordinates()
-        use_fast_paths(False)
-        plain = visible.centered_coordinates()
         for a, b in zip(fast, plain, strict=True):
             assert a.dtype == b.dtype == np.float32
             np.testing.assert_array_equal(a, b)
@@ -175,7 +168,7 @@ def _mixed_scene(rng: np.random.Generator) -> list[RenderMesh]:
 
 @pytest.mark.parametrize("subtype", ["pinhole", "orthographic"])
 @pytest.mark.parametrize("cull", [False, True])
-def test_fast_and_plain_shading_render_the_same_frame(use_fast_paths, subtype, cull):
+def test_fast_and_plain_shading_render_the_same_frame(subtype, cull):
     rng = np.random.default_rng(RNG_SEED)
     scene = RenderScene(_mixed_scene(rng))
     camera = Camera((90, 120), hfov=80.0, subtype=subtype)
@@ -183,15 +176,14 @@ def test_fast_and_plain_shading_render_the_same_frame(use_fast_paths, subtype, c
     pose[:3, 3] = [0.0, 0.3, 0.5]
     frames = {}
     for fast in (False, True):
-        use_fast_paths(fast)
-        frame = render_frame(scene, camera, pose, cull_back_faces=cull)
+        frame = render_frame(scene, camera, pose, cull_back_faces=cull, settings=settings_for(fast))
         frames[fast] = {name: getattr(frame, name).copy() for name in ("rgba", "depth", "ids")}
     for name in ("rgba", "depth", "ids"):
         np.testing.assert_array_equal(frames[True][name], frames[False][name], err_msg=name)
     assert len(np.unique(frames[True]["ids"])) >= 6  # every kind of mesh is on screen
 
 
-def test_a_screen_filled_by_one_texture_takes_the_single_texture_branch(use_fast_paths):
+def test_a_screen_filled_by_one_texture_takes_the_single_texture_branch():
     """Every pixel textured by one mesh (the robot's view of a textured stage): the branch
     without selections gives the plain path's bits, lit and unlit."""
     rng = np.random.default_rng(RNG_SEED)
@@ -208,18 +200,16 @@ def test_a_screen_filled_by_one_texture_takes_the_single_texture_branch(use_fast
         scene = RenderScene([mesh])
         frames = []
         for fast in (False, True):
-            use_fast_paths(fast)
-            frames.append(render_frame(scene, camera, np.eye(4)).rgba.copy())
+            frame = render_frame(scene, camera, np.eye(4), settings=settings_for(fast))
+            frames.append(frame.rgba.copy())
         assert np.all(frames[0][..., 3] == 255)  # the wall covers the screen
         np.testing.assert_array_equal(frames[1], frames[0])
 
 
-def test_a_mostly_textured_screen_samples_every_pixel_and_keeps_the_others(
-    use_fast_paths, monkeypatch
-):
+def test_a_mostly_textured_screen_samples_every_pixel_and_keeps_the_others(monkeypatch):
     """One texture on most pixels with flat, vertex-colored and lit boxes in front (the
     3rd-person view of the robot on a textured floor): sampling every pixel and keeping the
-    textured ones (``SAMPLE_ALL_ABOVE``) gives the plain path's bits."""
+    textured ones (``RenderSettings.sample_all_above``) gives the plain path's bits."""
     import trimesh
 
     rng = np.random.default_rng(RNG_SEED)
@@ -245,8 +235,8 @@ def test_a_mostly_textured_screen_samples_every_pixel_and_keeps_the_others(
     monkeypatch.setattr(shade, "np", _CountingCopyto(calls))
     frames = []
     for fast in (False, True):
-        use_fast_paths(fast)
-        frames.append(render_frame(scene, camera, np.eye(4)).rgba.copy())
+        frame = render_frame(scene, camera, np.eye(4), settings=settings_for(fast))
+        frames.append(frame.rgba.copy())
     assert calls, "the sample-all branch ran"
     kinds = len(np.unique(frames[0].reshape(-1, 4), axis=0))
     assert kinds > 100  # texture, boxes and light on screen

@@ -1,6 +1,6 @@
 """A render worker process gives the bits of an in-process render: every mode (full, new
 layer, layer), pinhole and orthographic views at once, scenes mixing every material kind
-and light setup, the caller's module settings; its errors and its death reach the caller."""
+and light setup, the render settings of each job; its errors and its death reach the caller."""
 
 from __future__ import annotations
 
@@ -13,7 +13,8 @@ import pytest
 from render import frame, shade
 from render.camera import Camera
 from render.frame import RenderScene, render_frame
-from render.worker import LayeredView, RenderProcess, SplitScene, WorkerLost
+from render.settings import RenderSettings
+from render.worker import LayeredView, RenderProcess, SplitScene, WorkerJob, WorkerLost
 
 RNG_SEED = 21
 
@@ -71,7 +72,7 @@ def test_worker_frames_equal_in_process_frames_in_every_mode(worker):
     for mode in ("full", "new layer", "layer", "layer", "full", "new layer", "layer"):
         moving_poses[:, :3, 3] += rng.normal(0.0, 0.05, (len(moving), 3))  # objects move
         local_scene.set_poses(static_poses, moving_poses)
-        worker.submit(static_poses, moving_poses, [(k, mode, c, p) for k, c, p in views()])
+        worker.submit(static_poses, moving_poses, [WorkerJob(k, mode, c, p) for k, c, p in views()])
         remote = worker.collect()
         for key, camera, pose in views():
             local = local_views[key].render(mode, local_scene, camera, pose)
@@ -83,34 +84,36 @@ def test_worker_frames_equal_in_process_frames_in_every_mode(worker):
     assert len(np.unique(remote[1].ids)) >= 6  # every kind of mesh is on screen
 
 
-def test_the_worker_follows_the_callers_settings_and_mesh_changes(worker, monkeypatch):
+def test_the_worker_follows_each_jobs_settings_and_mesh_changes(worker):
     static, moving = split_meshes()
     worker.set_meshes(static, moving)
     static_poses = np.array([m.world_from_mesh for m in static])
     moving_poses = np.array([m.world_from_mesh for m in moving])
     key, camera, pose = views()[0]
 
-    def both() -> tuple:
-        worker.submit(static_poses, moving_poses, [(key, "full", camera, pose)])
+    def both(settings: RenderSettings, rows=None) -> tuple:
+        job = WorkerJob(key, "full", camera, pose, rows, settings=settings)
+        worker.submit(static_poses, moving_poses, [job])
         remote = frame_bytes(worker.collect()[key])
         scene = SplitScene()
         scene.set_meshes(static, moving)
         scene.set_poses(static_poses, moving_poses)
-        return remote, frame_bytes(LayeredView().render("full", scene, camera, pose))
+        view = LayeredView()
+        return remote, frame_bytes(view.render("full", scene, camera, pose, settings=settings))
 
-    default_remote, default_local = both()
+    default_remote, default_local = both(RenderSettings())
     assert default_remote == default_local
-    monkeypatch.setattr(shade, "AMBIENT", 0.1)
-    monkeypatch.setattr(shade, "FAST_SHADING", False)
-    dim_remote, dim_local = both()
-    assert dim_remote == dim_local
-    assert dim_remote[0] != default_remote[0]  # the default-lit boxes got darker
+    plain = RenderSettings.plain(shade_band_pixels=1200, triangle_batch=7, fragment_chunk=50)
+    plain_remote, plain_local = both(plain, rows=(10, 90))  # rows of 10-row bands: valid
+    assert plain_remote == plain_local
+    with pytest.raises(ValueError, match="multiple of 136 rows"):  # the default bands
+        both(RenderSettings(), rows=(10, 90))
     moving = moving[:2]  # objects removed: only the moving part is sent again
     moving_poses = moving_poses[:2]
     worker.set_meshes(None, moving)
-    fewer_remote, fewer_local = both()
+    fewer_remote, fewer_local = both(plain)
     assert fewer_remote == fewer_local
-    assert fewer_remote[2] != dim_remote[2]
+    assert fewer_remote[2] != plain_remote[2]
 
 
 def test_errors_come_back_to_the_caller_and_a_dead_worker_is_reported():
@@ -121,15 +124,15 @@ def test_errors_come_back_to_the_caller_and_a_dead_worker_is_reported():
         static_poses = np.array([m.world_from_mesh for m in static])
         moving_poses = np.array([m.world_from_mesh for m in moving])
         key, camera, pose = views()[0]
-        process.submit(static_poses, moving_poses, [(key, "layer", camera, pose)])
+        process.submit(static_poses, moving_poses, [WorkerJob(key, "layer", camera, pose)])
         with pytest.raises(ValueError, match="needs a static layer"):
             process.collect()
-        process.submit(static_poses, moving_poses, [(key, "full", camera, pose)])
+        process.submit(static_poses, moving_poses, [WorkerJob(key, "full", camera, pose)])
         assert process.collect()[key].depth.max() > 0  # still serving
         process._process.kill()  # noqa: SLF001 - simulate a crash
         process._process.wait()  # noqa: SLF001
         with pytest.raises(WorkerLost):
-            process.submit(static_poses, moving_poses, [(key, "full", camera, pose)])
+            process.submit(static_poses, moving_poses, [WorkerJob(key, "full", camera, pose)])
             process.collect()
         assert not process.alive
     finally:
@@ -137,8 +140,8 @@ def test_errors_come_back_to_the_caller_and_a_dead_worker_is_reported():
     process.close()  # twice is fine
 
 
-def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(worker, monkeypatch):
-    monkeypatch.setattr(frame, "SHADE_BAND_PIXELS", 1200)  # bands of 10 rows (the worker's too)
+def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(worker):
+    settings = RenderSettings(shade_band_pixels=1200)  # bands of 10 rows (the worker's too)
     static, moving = split_meshes()
     scene = SplitScene()
     scene.set_meshes(static, moving)
@@ -148,12 +151,14 @@ def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(wor
     worker.set_meshes(static, moving)
     key, camera, pose = views()[0]
     whole = frame_bytes(render_frame(scene.full(), camera, pose, cull_back_faces=True))
-    step = frame.band_rows(camera)
+    step = frame.band_rows(camera, settings)
     assert step == 10
     for split in (step, 5 * step, camera.height):
-        worker.submit(static_poses, moving_poses, [(key, "full", camera, pose, (split, 90))])
+        job = WorkerJob(key, "full", camera, pose, (split, 90), settings=settings)
+        worker.submit(static_poses, moving_poses, [job])
         there = worker.collect()[key]
-        here = LayeredView().render("full", scene, camera, pose, rows=(0, split))
+        view = LayeredView()
+        here = view.render("full", scene, camera, pose, rows=(0, split), settings=settings)
         names = ("rgba", "depth", "ids")
         parts = [
             np.concatenate([getattr(here, n)[:split], getattr(there, n)[split:]]) for n in names
@@ -164,6 +169,6 @@ def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(wor
             assert here.n_fragments + there.n_fragments == full_fragments.n_fragments
             assert 0 < here.n_fragments < full_fragments.n_fragments
     with pytest.raises(ValueError, match="multiple of"):
-        render_frame(scene.full(), camera, pose, rows=(1, 90))
+        render_frame(scene.full(), camera, pose, rows=(1, 90), settings=settings)
     with pytest.raises(ValueError, match="rows are for full renders"):
         LayeredView().render("new layer", scene, camera, pose, rows=(0, step))
