@@ -65,6 +65,8 @@ class SceneNode:
         self._rotation = np.array([0.0, 0.0, 0.0, 1.0])  # [x, y, z, w]
         self._scaling = np.ones(3)
         self.drawables: list[Drawable] = []
+        #: sensors whose leaf node this is, by uuid (Habitat's ``node_sensors``)
+        self.node_sensors: dict[str, Any] = {}
         if parent is not None:
             self.parent = parent
 
@@ -110,6 +112,14 @@ class SceneNode:
             nodes.append(node)
             stack.extend(reversed(node._children))
         return nodes
+
+    @property
+    def subtree_sensors(self) -> dict[str, Any]:
+        """Every sensor on this node or below it, by uuid (Habitat's ``subtree_sensors``)."""
+        sensors: dict[str, Any] = {}
+        for node in self.descendants():
+            sensors.update(node.node_sensors)
+        return sensors
 
     # -- local transform ----------------------------------------------------------------------
     @property

@@ -55,13 +55,18 @@ from engine.scene_loading import (
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
 from engine.simulator_config import Configuration, Random, SimulatorConfiguration
+from engine.simulator_sensors import SimulatorSensors
 from navmesh import NavMeshSettings, PathFinder
 
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
 
-class Simulator:
-    """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh."""
+class Simulator(SimulatorSensors):
+    """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
+
+    The sensor API (``sensors``, ``create_sensor``, ``get_sensor_observations``,
+    asynchronous rendering) is :class:`engine.simulator_sensors.SimulatorSensors`.
+    """
 
     def __init__(self, config: Configuration) -> None:
         if not isinstance(config, Configuration):
@@ -124,6 +129,7 @@ class Simulator:
             agent = Agent(node, agent_config)
             agent.controls.move_filter_fn = self.step_filter
             self.agents.append(agent)
+        self._register_agent_sensors()
         self._last_states: dict[int, AgentState] = {}
         for agent_id in range(len(self.agents)):
             self.initialize_agent(agent_id)
@@ -281,38 +287,12 @@ class Simulator:
         return self.agents[agent_id]
 
     @property
-    def sensors(self) -> dict:
-        """The default agent's sensors keyed by uuid."""
-        return self.get_agent(self._default_agent_id).sensors
-
-    @property
-    def _sensors(self) -> dict:
-        # Habitat's (deprecated) name, used by its tests
-        return self.sensors
-
-    @property
     def _default_agent(self) -> Agent:
         return self.get_agent(self._default_agent_id)
 
     def last_state(self, agent_id: int | None = None) -> AgentState:
         """The agent's state after its last ``step`` (or initialization)."""
         return self._last_states[self._default_agent_id if agent_id is None else agent_id]
-
-    def get_sensor_observations(self, agent_ids: int | list[int] = 0) -> Any:
-        """Render every sensor of the agent(s): a fresh dict keyed by sensor uuid.
-
-        With a list of agent ids, a dict ``{agent_id: observations}`` (as Habitat).
-        """
-        self._check_open()
-        if isinstance(agent_ids, list | tuple):
-            return {i: self._renderer.observe(self.get_agent(i).sensors) for i in agent_ids}
-        return self._renderer.observe(self.get_agent(agent_ids).sensors)
-
-    def add_sensor(self, sensor_spec: Any, agent_id: int | None = None) -> None:
-        """Give an agent (default: the default agent) a new sensor."""
-        self._check_open()
-        agent = self.get_agent(self._default_agent_id if agent_id is None else agent_id)
-        agent._add_sensor(sensor_spec)
 
     def step(self, action: Any, dt: float = 1.0 / 60.0) -> dict:
         """Act, step the world by ``dt`` and observe (Habitat's agent loop).
@@ -456,6 +436,11 @@ class Simulator:
         ``destroy`` is Habitat's (its GL context); rigidsim has none to release.
         """
         if not self._closed:
+            self._async_render.close()
+            for sensor in self._wrapper_of.values():
+                sensor.close()
+            self._sensor_registry.clear()
+            self._wrapper_of.clear()
             self._world.rigid_object_manager.remove_all_objects()
             self._renderer.close()
             self._closed = True

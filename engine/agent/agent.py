@@ -29,7 +29,8 @@ from engine import mn
 from engine.agent.controls import ActuationSpec, ObjectControls, UnknownActionError
 from engine.fixed_fields import FixedFields
 from engine.scene_node import SceneNode
-from engine.sensors import CameraSensor, CameraSensorSpec
+from engine.sensor import SensorFactory
+from engine.sensors import Sensor, SensorSpec
 
 __all__ = ["ActionSpec", "Agent", "AgentConfiguration", "AgentState", "SixDOFPose"]
 
@@ -56,7 +57,7 @@ class AgentConfiguration(FixedFields):
 
     height: float = 1.5
     radius: float = 0.1
-    sensor_specifications: list[CameraSensorSpec] = field(default_factory=list)
+    sensor_specifications: list[SensorSpec] = field(default_factory=list)
     action_space: dict[Any, ActionSpec] = field(default_factory=_default_action_space)
     body_type: str = "cylinder"
 
@@ -167,14 +168,13 @@ class Agent:
         self,
         scene_node: SceneNode,
         agent_config: AgentConfiguration | None = None,
-        _sensors: dict[str, CameraSensor] | None = None,
+        _sensors: dict[str, Sensor] | None = None,
         controls: ObjectControls | None = None,
     ) -> None:
         if not isinstance(scene_node, SceneNode):
             raise TypeError(f"Agent needs a SceneNode, got {type(scene_node).__name__}")
         self.body = _Body(scene_node)
         self.agent_config = agent_config if agent_config is not None else AgentConfiguration()
-        self._sensors: dict[str, CameraSensor] = {} if _sensors is None else _sensors
         self.controls = controls if controls is not None else ObjectControls()
         self.reconfigure(self.agent_config)
         self.initial_state: AgentState | None = None
@@ -184,12 +184,19 @@ class Agent:
         return self.body.object
 
     @property
-    def sensors(self) -> dict[str, CameraSensor]:
-        """The agent's sensors keyed by uuid (Habitat's sensor suite)."""
-        return self._sensors
+    def sensors(self) -> dict[str, Sensor]:
+        """Live view of the sensors on the agent's node and below it, by uuid (Habitat's
+        ``scene_node.subtree_sensors``: a sensor created on an object carried by the agent
+        is one of them)."""
+        return self.scene_node.subtree_sensors
 
-    def get_sensors(self) -> dict[str, CameraSensor]:
-        return self._sensors
+    @property
+    def _sensors(self) -> dict[str, Sensor]:
+        # Habitat's deprecated name
+        return self.sensors
+
+    def get_sensors(self) -> dict[str, Sensor]:
+        return self.sensors
 
     def reconfigure(
         self, agent_config: AgentConfiguration, reconfigure_sensors: bool = True
@@ -202,20 +209,20 @@ class Agent:
             spec.validate()  # all or nothing: no sensor is made from a bad list
         self.agent_config = agent_config
         if reconfigure_sensors:
-            for sensor in self._sensors.values():
-                sensor.node.parent = None  # detach the old sensor nodes
-            self._sensors.clear()
-            for spec in agent_config.sensor_specifications:
-                self._sensors[spec.uuid] = CameraSensor(spec, self.scene_node)
+            for uuid in list(self.scene_node.subtree_sensors):
+                SensorFactory.delete_subtree_sensor(self.scene_node, uuid)
+            SensorFactory.create_sensors(self.scene_node, agent_config.sensor_specifications)
 
-    def _add_sensor(self, spec: CameraSensorSpec, modify_agent_config: bool = True) -> None:
-        """Attach a new sensor (Habitat's ``_add_sensor``; ``Simulator.add_sensor`` calls it)."""
-        if spec.uuid in self._sensors:
+    def _add_sensor(self, spec: SensorSpec, modify_agent_config: bool = True) -> Sensor:
+        """Attach a new sensor to the agent's node and return it."""
+        if spec.uuid in self.sensors:
             raise ValueError(f"a sensor {spec.uuid!r} already exists on this agent")
-        spec.validate()
-        if modify_agent_config and spec not in self.agent_config.sensor_specifications:
+        sensor = SensorFactory.create_sensors(self.scene_node, [spec])[spec.uuid]
+        if modify_agent_config and not any(
+            s is spec for s in self.agent_config.sensor_specifications
+        ):
             self.agent_config.sensor_specifications.append(spec)
-        self._sensors[spec.uuid] = CameraSensor(spec, self.scene_node)
+        return sensor
 
     @property
     def state(self) -> AgentState:
@@ -270,7 +277,7 @@ class Agent:
         self.scene_node.transformation = local
         if reset_sensors:
             for sensor in self._sensors.values():
-                sensor.reset_pose()
+                sensor.set_transformation_from_spec()
         if not infer_sensor_states:
             body_from_world = np.linalg.inv(world)
             for uuid, pose in state.sensor_states.items():
@@ -300,8 +307,9 @@ class Agent:
         return False
 
     def close(self) -> None:
-        """Habitat releases the sensors here; rigidsim drops them."""
-        self._sensors = {}
+        """Release the agent's sensors (their nodes leave the scene graph)."""
+        for uuid in list(self.scene_node.subtree_sensors):
+            SensorFactory.delete_subtree_sensor(self.scene_node, uuid)
 
 
 def _pose_matrix(position: Any, rotation: Any) -> np.ndarray:

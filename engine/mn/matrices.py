@@ -196,8 +196,11 @@ class Matrix4(_MatrixN):
         return Matrix3x3(block / np.linalg.norm(block, axis=0))
 
     def transform_point(self, point: Any) -> Vector3:
-        """``M (p, 1)``: rotation, scaling and translation."""
-        return Vector3(self._data[:3, :3] @ np.asarray(point, dtype=np.float64) + self._data[:3, 3])
+        """``M (p, 1)``: rotation, scaling and translation, divided by the resulting ``w``
+        (Magnum's rule: a projection matrix gives normalized device coordinates)."""
+        moved = self._data[:3, :3] @ np.asarray(point, dtype=np.float64) + self._data[:3, 3]
+        w = float(self._data[3, :3] @ np.asarray(point, dtype=np.float64) + self._data[3, 3])
+        return Vector3(moved if w == 1.0 else moved / w)
 
     def transform_vector(self, vector: Any) -> Vector3:
         """``M (v, 0)``: rotation and scaling, no translation."""

@@ -1,0 +1,126 @@
+"""Asynchronous rendering: Habitat's ``start_async_render_and_step_physics`` pattern.
+
+Habitat lets a program render the sensors of the current frame while the physics computes
+the next one::
+
+    sim.start_async_render_and_step_physics(dt)   # render the world as it is, step it
+    observations = sim.get_sensor_observations_async_finish()   # the frame before the step
+
+Rules (Habitat's): ``start`` twice without ``finish`` raises ``RuntimeError``, and so does
+``finish`` without ``start``; between the two, nothing else may draw or create or remove
+sensors (``RuntimeError`` naming the call). ``step_physics`` may be called again (the render
+shows the state at ``start``). The observations are those of the state at ``start``,
+exactly what ``get_sensor_observations`` would have returned then.
+
+How rigidsim overlaps the two: at ``start`` the renderer snapshots every pose it needs
+(the scene's meshes are immutable, poses are copied) and the frame is rendered from that
+snapshot on a render thread while this thread steps the physics. The renderer and the
+physics share no mutable state, and the physics' NumPy kernels release the GIL part of the
+time, as do the renderer's; ``benchmarks/bench_render.py`` measures what overlaps.
+``AsyncRender.threaded = False`` renders at ``start`` in this thread (the plain version:
+the same observations, tested).
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from concurrent.futures import Future, ThreadPoolExecutor
+from typing import Any
+
+from engine.cubemap_sensors import observe_later_with_cube_maps
+
+__all__ = ["AsyncRender"]
+
+
+class AsyncRender:
+    """The state of one simulator's asynchronous render (module docstring)."""
+
+    #: False: render synchronously at ``start`` (same results; the plain path)
+    threaded = True
+
+    def __init__(self, sim: Any) -> None:
+        self._sim = sim
+        self._agent_ids: int | list[int] | None = None
+        self._queued: list = []
+        self._pending: Future | None = None
+        self._pool: ThreadPoolExecutor | None = None
+
+    @property
+    def running(self) -> bool:
+        return self._agent_ids is not None
+
+    def check_idle(self, what: str) -> None:
+        """Raise RuntimeError naming ``what`` while an asynchronous render is pending."""
+        if self.running:
+            raise RuntimeError(
+                f"{what} is not allowed during an asynchronous render: call "
+                "get_sensor_observations_async_finish first"
+            )
+
+    def enqueue(self, sensor: Any) -> None:
+        self._queued.append(sensor)
+
+    def start(self, agent_ids: int | list[int], dt: float | None) -> None:
+        """Queue the agents' sensors, start their render, then step the physics by ``dt``."""
+        sim = self._sim
+        sim._check_open()
+        if self.running:
+            raise RuntimeError(
+                "start_async_render_and_step_physics was already called.  "
+                "Call get_sensor_observations_async_finish before calling this again.  "
+                "Use step_physics to step physics additional times."
+            )
+        ids = [agent_ids] if isinstance(agent_ids, int) else list(agent_ids)
+        self._queued = []
+        for agent_id in ids:
+            for sensor in sim._agent_sensors(agent_id):
+                sensor.render_async()
+        sensors, self._queued = self._queued, []
+        objects = [sensor.sensor_object for sensor in sensors]
+        render = observe_later_with_cube_maps(sim._renderer.observe_later, objects)
+        if self.threaded:
+            self._pending = self._thread_pool().submit(render)
+        else:
+            self._pending = Future()
+            self._pending.set_result(render())
+        self._agent_ids = agent_ids
+        self._sensors = sensors
+        if dt is not None:
+            sim.step_physics(dt)
+
+    def finish(self) -> Any:
+        """Wait for the render; the observations as ``get_sensor_observations`` shapes them."""
+        if not self.running or self._pending is None:
+            raise RuntimeError(
+                "get_sensor_observations_async_finish was called before calling "
+                "start_async_render_and_step_physics."
+            )
+        agent_ids, self._agent_ids = self._agent_ids, None
+        pending, self._pending = self._pending, None
+        frames = pending.result()
+        for sensor in self._sensors:
+            sensor._buffer = frames[sensor.uuid]
+        single = isinstance(agent_ids, int)
+        ids = [agent_ids] if single else list(agent_ids)  # type: ignore[arg-type]
+        observations: dict[int, dict[str, Any]] = OrderedDict()
+        for agent_id in ids:
+            uuids = {s.uuid for s in self._sim._agent_sensors(agent_id)}
+            observations[agent_id] = {
+                s.uuid: s.get_observation_async() for s in self._sensors if s.uuid in uuids
+            }
+        self._sensors = []
+        return next(iter(observations.values())) if single else observations
+
+    def _thread_pool(self) -> ThreadPoolExecutor:
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(1, thread_name_prefix="rigidsim-async-render")
+        return self._pool
+
+    def close(self) -> None:
+        if self._pending is not None:
+            self._pending.exception()  # wait: the render must not outlive the simulator
+        self._agent_ids, self._pending = None, None
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+
