@@ -123,4 +123,3 @@ class AsyncRender:
         if self._pool is not None:
             self._pool.shutdown()
             self._pool = None
-

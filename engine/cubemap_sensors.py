@@ -30,7 +30,7 @@ import numpy as np
 
 from engine import mn
 from engine.scene_node import SceneNode
-from engine.sensors import Sensor, SensorSpec, SensorSubType, VisualSensorSpec
+from engine.sensors import Sensor, SensorSubType, VisualSensorSpec
 from render import camera_models, cubemap
 
 __all__ = [

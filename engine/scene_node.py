@@ -114,6 +114,20 @@ class SceneNode:
         return nodes
 
     @property
+    def semantic_id(self) -> int:
+        """The node's semantic id, written to the SEMANTIC buffer by the meshes it draws
+        (Habitat's ``SceneNode.semantic_id``; not inherited by child nodes)."""
+        return int(getattr(self, "_semantic_id", 0))
+
+    @semantic_id.setter
+    def semantic_id(self, value: Any) -> None:
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+            raise ValueError(f"semantic_id must be a non-negative int, got {value!r}")
+        self._semantic_id = int(value)
+        for drawable in self.drawables:
+            drawable.semantic_id = int(value)
+
+    @property
     def subtree_sensors(self) -> dict[str, Any]:
         """Every sensor on this node or below it, by uuid (Habitat's ``subtree_sensors``)."""
         sensors: dict[str, Any] = {}

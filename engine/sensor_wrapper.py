@@ -69,9 +69,7 @@ class Sensor:
     def get_observation(self) -> np.ndarray:
         """A fresh copy of the last frame drawn (``draw_observation`` first)."""
         if self._buffer is None:
-            raise RuntimeError(
-                f"sensor {self.uuid!r}: get_observation before any draw_observation"
-            )
+            raise RuntimeError(f"sensor {self.uuid!r}: get_observation before any draw_observation")
         return self._buffer.copy()
 
     def render_async(self) -> None:

@@ -236,7 +236,7 @@ class Simulator(SimulatorSensors):
         ids = {id(d) for d in self._stage_node.drawables}
         for obj in self._world.rigid_object_manager._objects.values():
             if obj.motion_type == MotionType.STATIC:
-                ids.update(id(d) for d in obj._visual_node.drawables)
+                ids.update(id(d) for d in obj.visual_drawables())
         return ids
 
     # ------------------------------------------------------------------------------------------

@@ -66,7 +66,9 @@ def window_coordinates(height: int, width: int) -> tuple[np.ndarray, np.ndarray]
     """
     u = np.arange(width, dtype=np.float64) + 0.5
     v = height - (np.arange(height, dtype=np.float64) + 0.5)
-    return np.broadcast_to(u[None, :], (height, width)), np.broadcast_to(v[:, None], (height, width))
+    return np.broadcast_to(u[None, :], (height, width)), np.broadcast_to(
+        v[:, None], (height, width)
+    )
 
 
 def double_sphere_rays(
