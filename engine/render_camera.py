@@ -34,6 +34,7 @@ import numpy as np
 
 from engine import mn
 from engine.geo import Ray
+from render.camera import Camera
 
 __all__ = ["RenderCamera", "projection_matrix"]
 
@@ -89,6 +90,12 @@ class RenderCamera:
     def projection_size(self) -> mn.Vector2:
         matrix = projection_matrix(self._sensor.camera_key())
         return mn.Vector2(2.0 / matrix[0, 0], 2.0 / matrix[1, 1])
+
+    def render_camera_model(self):
+        """The :class:`render.camera.Camera` the renderer draws this sensor with."""
+        (height, width), hfov, near, far, subtype, ortho_scale = self._sensor.camera_key()
+        kind = "orthographic" if subtype.name == "ORTHOGRAPHIC" else "pinhole"
+        return Camera((height, width), hfov, near, far, kind, ortho_scale)
 
     def unproject(self, viewport_point: Any, normalized: bool = True) -> Ray:
         """The world ray through pixel ``viewport_point = (x, y)`` (module docstring)."""

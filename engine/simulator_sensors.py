@@ -28,10 +28,12 @@ from typing import Any
 
 from engine.async_render import AsyncRender
 from engine.cubemap_sensors import observe_with_cube_maps
+from engine.debug_lines import DebugLineRender
 from engine.scene_node import SceneNode
 from engine.sensor import SensorFactory
 from engine.sensor_wrapper import Sensor
-from engine.sensors import SensorSpec
+from engine.sensors import CameraSensor, SensorSpec, SensorType
+from render.lines import draw_lines
 
 __all__ = ["SimulatorSensors"]
 
@@ -47,6 +49,7 @@ class SimulatorSensors:
         self._sensor_registry = {}
         self._wrapper_of: dict[int, Sensor] = {}  # id(sensor object) -> its wrapper
         self._async_render = AsyncRender(self)
+        self._debug_lines = DebugLineRender()
         for agent in self.agents:  # type: ignore[attr-defined]
             for spec in agent.agent_config.sensor_specifications:
                 self._register(Sensor(self, agent.scene_node.subtree_sensors[spec.uuid]))
@@ -121,11 +124,19 @@ class SimulatorSensors:
         """Render ``sensors`` together into their wrappers' buffers."""
         self._check_open()  # type: ignore[attr-defined]
         self._async_render.check_idle("drawing an observation")
+        lines = self._debug_lines.take_lines() if self._debug_lines.has_lines() else None
         for batch in _unique_uuid_batches(sensors):  # observations are keyed by uuid
             objects = [sensor.sensor_object for sensor in batch]
-            frames = observe_with_cube_maps(self._renderer.observe, objects)  # type: ignore[attr-defined]
+            proxies = _line_depth_proxies(objects) if lines is not None else []
+            frames = observe_with_cube_maps(self._renderer.observe, objects + proxies)  # type: ignore[attr-defined]
+            for proxy in proxies:  # debug lines, depth-tested against the frame's depth
+                proxy.draw(frames[proxy.owner.uuid], frames[proxy.uuid], lines)
             for sensor in batch:
                 sensor._buffer = frames[sensor.uuid]
+
+    def get_debug_line_render(self) -> DebugLineRender:
+        """The simulator's debug line renderer (:mod:`engine.debug_lines`)."""
+        return self._debug_lines
 
     def render_sensors(self, sensors: list[Sensor] | None = None) -> dict[str, Any]:
         """Draw ``sensors`` (default: every registered one), then read them by uuid."""
@@ -173,3 +184,42 @@ def _unique_uuid_batches(sensors: list[Sensor]) -> list[list[Sensor]]:
             batches.append([])
         batches[-1].append(sensor)
     return [batch for batch in batches if batch]
+
+
+class _LineDepth:
+    """A hidden DEPTH twin of a COLOR camera (same intrinsics and pose, so the renderer
+    shares the rasterization): the depth the debug lines are tested against."""
+
+    def __init__(self, owner: CameraSensor) -> None:
+        self.owner = owner
+        self.uuid = f"{owner.uuid}:depth-for-debug-lines"
+        self.spec = _DepthSpec()
+
+    def camera_key(self) -> tuple:
+        return self.owner.camera_key()
+
+    def world_from_camera(self) -> Any:
+        return self.owner.world_from_camera()
+
+    def draw(self, rgba: Any, depth: Any, lines: tuple) -> None:
+        camera = self.owner.render_camera.render_camera_model()
+        starts, ends, start_colors, end_colors, width = lines
+        draw_lines(
+            rgba, depth, camera, self.world_from_camera(), starts, ends, start_colors,
+            end_colors, width,
+        )  # fmt: skip
+
+
+class _DepthSpec:
+    sensor_type = SensorType.DEPTH
+
+
+def _line_depth_proxies(objects: list) -> list[_LineDepth]:
+    """One depth twin per pinhole / orthographic COLOR sensor."""
+    proxies = []
+    for sensor in objects:
+        if isinstance(sensor, CameraSensor) and sensor.spec.sensor_type is SensorType.COLOR:
+            if getattr(sensor, "_line_depth", None) is None:  # one per sensor: the renderer
+                sensor._line_depth = _LineDepth(sensor)  # keeps per-group state by identity
+            proxies.append(sensor._line_depth)
+    return proxies

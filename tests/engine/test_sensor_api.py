@@ -286,3 +286,37 @@ def test_object_light_setup_key_changes_its_shading():
         assert all(d.light_setup_key == NO_LIGHT_KEY for d in wall.visual_drawables())
         with pytest.raises(TypeError, match="light_setup_key"):
             wall.set_light_setup(3)  # type: ignore[arg-type]
+
+
+# -- debug lines -----------------------------------------------------------------------------
+def test_debug_lines_appear_in_the_next_color_observation_only():
+    with make_sim(camera("rgb"), camera("depth", habitat_sim.SensorType.DEPTH)) as sim:
+        add_wall(sim)
+        plain = sim.get_sensor_observations()
+        lines = sim.get_debug_line_render()
+        lines.set_line_width(3)
+        # a red line 1 m in front of the sensor (at height 1.5), left to right
+        lines.push_transform(mn.Matrix4.translation(mn.Vector3(0.0, 1.5, 0.0)))
+        lines.draw_transformed_line(
+            mn.Vector3(-0.3, 0.0, -1.0), mn.Vector3(0.3, 0.0, -1.0), mn.Color4(1, 0, 0, 1)
+        )
+        lines.pop_transform()
+        drawn = sim.get_sensor_observations()
+        np.testing.assert_array_equal(drawn["rgb"][24, 32], [255, 0, 0, 255])
+        np.testing.assert_array_equal(drawn["depth"], plain["depth"])  # color only
+        changed = np.any(drawn["rgb"] != plain["rgb"], axis=-1)
+        assert set(np.nonzero(changed)[0].tolist()) == {23, 24, 25}  # 3 px wide
+        again = sim.get_sensor_observations()  # drawn once, then forgotten
+        np.testing.assert_array_equal(again["rgb"], plain["rgb"])
+        lines.draw_box(
+            mn.Vector3(-0.1, 1.4, -1.1), mn.Vector3(0.1, 1.6, -0.9), mn.Color4(0, 1, 0, 1)
+        )
+        lines.draw_circle(
+            mn.Vector3(0, 1.5, -1.0), 0.2, mn.Color4(0, 0, 1, 1), normal=mn.Vector3(0, 0, 1)
+        )
+        lines.draw_path_with_endpoint_circles(
+            [mn.Vector3(-0.5, 1.0, -2), mn.Vector3(0.5, 1.0, -2)], 0.1, mn.Color4(1, 1, 0, 1)
+        )
+        assert len(lines._starts) == 12 + 24 + 48 + 1
+        with pytest.raises(RuntimeError, match="pop_transform"):
+            lines.pop_transform()
