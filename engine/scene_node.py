@@ -203,6 +203,10 @@ class SceneNode:
     def absolute_transformation(self) -> mn.Matrix4:
         return mn.Matrix4(self.world_matrix())
 
+    def absolute_transformation_matrix(self) -> mn.Matrix4:
+        """Habitat's (Magnum's) name: the node's transformation in the world frame."""
+        return self.absolute_transformation()
+
     def transformation_matrix(self) -> mn.Matrix4:
         """Habitat's name for the absolute transformation."""
         return self.absolute_transformation()

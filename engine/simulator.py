@@ -27,6 +27,7 @@ and bad input raises a clear exception instead of logging.
 
 from __future__ import annotations
 
+import time
 import warnings
 from collections.abc import Mapping
 from typing import Any
@@ -55,17 +56,19 @@ from engine.scene_loading import (
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
 from engine.simulator_config import Configuration, Random, SimulatorConfiguration
+from engine.simulator_queries import SimulatorQueries
 from engine.simulator_sensors import SimulatorSensors
 from navmesh import NavMeshSettings, PathFinder
 
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
 
-class Simulator(SimulatorSensors):
+class Simulator(SimulatorSensors, SimulatorQueries):
     """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
 
     The sensor API (``sensors``, ``create_sensor``, ``get_sensor_observations``,
-    asynchronous rendering) is :class:`engine.simulator_sensors.SimulatorSensors`.
+    asynchronous rendering) is :class:`engine.simulator_sensors.SimulatorSensors`; the
+    scene queries are :class:`engine.simulator_queries.SimulatorQueries`.
     """
 
     def __init__(self, config: Configuration) -> None:
@@ -90,6 +93,8 @@ class Simulator(SimulatorSensors):
             self._physics_template_manager, sim_cfg.physics_config_file
         )
         stage_attributes, stage_meshes = load_stage(self._stage_template_manager, sim_cfg.scene_id)
+        self._stage_attributes = stage_attributes
+        self._semantic_scene = None
 
         self.root_node = SceneNode(name="root")
         self._scene_graph = SceneGraph(self.root_node)
@@ -311,7 +316,9 @@ class Simulator(SimulatorSensors):
             agent = self.get_agent(agent_id)
             collided[agent_id] = agent.act(action_id)
             self._last_states[agent_id] = agent.get_state()
+        step_start = time.time()
         self._world.step_physics(dt)
+        self._previous_step_time = time.time() - step_start
         observations = self.get_sensor_observations(agent_ids=list(actions))
         for agent_id, agent_observations in observations.items():
             agent_observations["collided"] = collided[agent_id]

@@ -27,8 +27,6 @@ import numpy as np
 
 __all__ = [
     "FLOAT_EPSILON",
-    "Color3",
-    "Color4",
     "Deg",
     "Rad",
     "Vector2",
@@ -371,53 +369,6 @@ class Vector4(Vector3):
     @staticmethod
     def zero_init() -> Vector4:
         return Vector4(0.0, 0.0, 0.0, 0.0)
-
-
-class Color3(Vector3):
-    """An RGB color with float channels in [0, 1] (Magnum's ``Color3``, a ``Vector3``)."""
-
-    __slots__ = ()
-
-    r = Vector3.x
-    g = Vector3.y
-    b = Vector3.z
-
-    @staticmethod
-    def red(value: float = 1.0) -> Color3:
-        return Color3(value, 0.0, 0.0)
-
-    @staticmethod
-    def green(value: float = 1.0) -> Color3:
-        return Color3(0.0, value, 0.0)
-
-    @staticmethod
-    def blue(value: float = 1.0) -> Color3:
-        return Color3(0.0, 0.0, value)
-
-
-class Color4(Vector4):
-    """An RGBA color (Magnum's ``Color4``); alpha defaults to 1: ``Color4(r, g, b)``,
-    ``Color4(Color3(...))``, ``Color4(Color3(...), a)``, ``Color4(gray)``."""
-
-    __slots__ = ()
-
-    def __init__(self, *values: Any) -> None:
-        if len(values) == 1 and is_scalar(values[0]):
-            values = (float(values[0]),) * 3 + (1.0,)
-        elif len(values) == 1 and len(np.asarray(values[0]).reshape(-1)) == 3:
-            values = (values[0], 1.0)
-        elif len(values) == 3:
-            values = (*values, 1.0)
-        super().__init__(*values)
-
-    r = Vector3.x
-    g = Vector3.y
-    b = Vector3.z
-    a = Vector4.w
-
-    @property
-    def rgb(self) -> Color3:
-        return Color3(self._data[:3])
 
 
 class _IntVectorN(_VectorN):

@@ -17,6 +17,7 @@ from typing import Any
 
 __all__ = [
     "common",
+    "datasets_download",
     "maps",
     "quat_from_angle_axis",
     "quat_rotate_vector",
