@@ -379,6 +379,10 @@ class _IntVectorN(_VectorN):
 
     def __init__(self, *values: Any) -> None:
         super().__init__(*values)
+        if len(values) == 1 and isinstance(values[0], _VectorN) and np.all(
+            np.isfinite(self._data)
+        ):  # Magnum's explicit conversion of a float vector truncates towards zero
+            self._data = np.trunc(self._data)
         if not np.all(np.isfinite(self._data)) or np.any(self._data != np.trunc(self._data)):
             raise ValueError(f"{type(self).__name__} needs integer components, got {values!r}")
         self._data = self._data.astype(np.int64)
