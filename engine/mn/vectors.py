@@ -379,8 +379,8 @@ class _IntVectorN(_VectorN):
 
     def __init__(self, *values: Any) -> None:
         super().__init__(*values)
-        if len(values) == 1 and isinstance(values[0], _VectorN) and np.all(
-            np.isfinite(self._data)
+        if (
+            len(values) == 1 and isinstance(values[0], _VectorN) and np.all(np.isfinite(self._data))
         ):  # Magnum's explicit conversion of a float vector truncates towards zero
             self._data = np.trunc(self._data)
         if not np.all(np.isfinite(self._data)) or np.any(self._data != np.trunc(self._data)):
