@@ -25,6 +25,7 @@ EXPECTED_NOTEBOOKS = {
     "02_contacts_and_solver.ipynb",
     "03_rasterizer.ipynb",
     "04_navmesh.ipynb",
+    "08_camera_models.ipynb",
     "managed_rigid_object_tutorial.ipynb",
 }
 
