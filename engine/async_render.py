@@ -12,13 +12,16 @@ sensors (``RuntimeError`` naming the call). ``step_physics`` may be called again
 shows the state at ``start``). The observations are those of the state at ``start``,
 exactly what ``get_sensor_observations`` would have returned then.
 
-How rigidsim overlaps the two: at ``start`` the renderer snapshots every pose it needs
-(the scene's meshes are immutable, poses are copied) and the frame is rendered from that
-snapshot on a render thread while this thread steps the physics. The renderer and the
-physics share no mutable state, and the physics' NumPy kernels release the GIL part of the
-time, as do the renderer's; ``benchmarks/bench_render.py`` measures what overlaps.
-``AsyncRender.threaded = False`` renders at ``start`` in this thread (the plain version:
-the same observations, tested).
+How rigidsim overlaps the two: at ``start`` the renderer copies every pose it needs (the
+render scenes' mesh poses, each camera's pose; the meshes themselves are immutable) and
+submits every camera group to the **render worker process** (:mod:`render.worker`), which
+renders from that snapshot while this process steps the physics: two processes, two cores,
+no shared mutable state. ``finish`` collects the frames (and resamples the cube maps of
+wide-angle sensors). A group rendered asynchronously stays in the worker afterwards.
+Without a worker (``processes = 0``) the snapshot renders on a thread (``threaded``: the
+renderer's NumPy passes hold the GIL most of the time, so little overlaps) or, with
+``threaded = False``, synchronously at ``start`` (the plain path). All three give the same
+observations (tested); ``benchmarks/bench_render.py`` measures the overlap.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ from collections import OrderedDict
 from concurrent.futures import Future, ThreadPoolExecutor
 from typing import Any
 
-from engine.cubemap_sensors import observe_later_with_cube_maps
+from engine.cubemap_sensors import observe_later_with_cube_maps, observe_with_cube_maps
 
 __all__ = ["AsyncRender"]
 
@@ -35,14 +38,17 @@ __all__ = ["AsyncRender"]
 class AsyncRender:
     """The state of one simulator's asynchronous render (module docstring)."""
 
-    #: False: render synchronously at ``start`` (same results; the plain path)
+    #: True: render in the render worker process when the renderer has one
+    use_worker = True
+    #: without the worker: True renders on a thread, False synchronously at ``start``
+    #: (the plain path; the same observations)
     threaded = True
 
     def __init__(self, sim: Any) -> None:
         self._sim = sim
         self._agent_ids: int | list[int] | None = None
         self._queued: list = []
-        self._pending: Future | None = None
+        self._pending: Any = None
         self._pool: ThreadPoolExecutor | None = None
 
     @property
@@ -77,12 +83,18 @@ class AsyncRender:
                 sensor.render_async()
         sensors, self._queued = self._queued, []
         objects = [sensor.sensor_object for sensor in sensors]
-        render = observe_later_with_cube_maps(sim._renderer.observe_later, objects)
-        if self.threaded:
+        renderer = sim._renderer
+        in_worker = None
+        if self.use_worker:
+            in_worker = observe_later_with_cube_maps(renderer.observe_in_worker, objects)
+        if in_worker is not None:  # rendering in the worker process already
+            self._pending = self._collect_later(in_worker)
+        elif self.threaded:
+            render = observe_later_with_cube_maps(renderer.observe_later, objects)
             self._pending = self._thread_pool().submit(render)
         else:
             self._pending = Future()
-            self._pending.set_result(render())
+            self._pending.set_result(observe_with_cube_maps(renderer.observe, objects))
         self._agent_ids = agent_ids
         self._sensors = sensors
         if dt is not None:
@@ -110,6 +122,23 @@ class AsyncRender:
             }
         self._sensors = []
         return next(iter(observations.values())) if single else observations
+
+    @staticmethod
+    def _collect_later(collect: Any) -> Any:
+        """A future-like whose ``result()`` collects the worker's frames."""
+
+        class _Collect:
+            def result(self) -> Any:
+                return collect()
+
+            def exception(self) -> Any:
+                try:
+                    collect()
+                except Exception as error:  # noqa: BLE001 - reported by the caller
+                    return error
+                return None
+
+        return _Collect()
 
     def _thread_pool(self) -> ThreadPoolExecutor:
         if self._pool is None:

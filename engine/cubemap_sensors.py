@@ -268,8 +268,11 @@ def observe_with_cube_maps(
 def observe_later_with_cube_maps(
     observe_later: Callable[[list], Callable[[], dict[str, np.ndarray]]], sensors: list
 ) -> Callable[[], dict[str, np.ndarray]]:
-    """:func:`observe_with_cube_maps` in two halves (``SceneRenderer.observe_later``)."""
+    """:func:`observe_with_cube_maps` in two halves (``SceneRenderer.observe_later`` or
+    ``observe_in_worker``; None when the latter declines)."""
     render = observe_later(_with_faces(sensors))
+    if render is None:
+        return None  # type: ignore[return-value]
     return lambda: _resample_cube_maps(sensors, render())
 
 

@@ -213,10 +213,15 @@ def test_fisheye_and_panorama_see_the_wall_at_its_z_depth():
 
 
 # -- asynchronous rendering ------------------------------------------------------------------
-@pytest.mark.parametrize("threaded", [True, False])
-def test_async_render_returns_the_frame_before_the_physics_step(threaded):
-    with make_sim(camera("depth", habitat_sim.SensorType.DEPTH), enable_physics=True) as sim:
-        sim._async_render.threaded = threaded
+@pytest.mark.parametrize("path", ["worker", "thread", "plain"])
+def test_async_render_returns_the_frame_before_the_physics_step(path):
+    fisheye = wide_specs()[0]
+    with make_sim(
+        camera("depth", habitat_sim.SensorType.DEPTH), fisheye, enable_physics=True
+    ) as sim:
+        sim.get_renderer().processes = 1 if path == "worker" else 0
+        sim._async_render.use_worker = path == "worker"
+        sim._async_render.threaded = path == "thread"
         wall = add_wall(sim)
         wall.motion_type = habitat_sim.physics.MotionType.KINEMATIC
         wall.velocity_control.controlling_lin_vel = True
@@ -231,6 +236,9 @@ def test_async_render_returns_the_frame_before_the_physics_step(threaded):
             sim.get_sensor_observations()
         observed = sim.get_sensor_observations_async_finish()
         np.testing.assert_array_equal(observed["depth"], expected["depth"])
+        np.testing.assert_array_equal(observed["fisheye_depth"], expected["fisheye_depth"])
+        if path == "worker":  # rendered by the worker process while the physics stepped
+            assert set(sim.get_renderer().last_places.values()) == {"worker"}
         after = sim.get_sensor_observations()["depth"]
         assert after[24, 32] < expected["depth"][24, 32]  # the wall moved closer meanwhile
         with pytest.raises(RuntimeError, match="before calling"):
