@@ -23,10 +23,10 @@ Pipeline of ``render_frame`` (``render/frame.py``), stage by stage:
    pixel kept with one ``np.minimum.at`` on 64-bit keys (depth bits << 32 | triangle)
    (``raster.depth_test_spans``).
 7. Shading setup for the triangles that drew fragments: perspective-correct attribute
-   planes of uvs and vertex colors (``raster.AttributePlanes``), Lambert light factors of
+   planes of uvs and vertex colors (``resolve.AttributePlanes``), Lambert light factors of
    the lit meshes' light setups (``render.lights``; ``deferred.ShadingInputs.build``).
 8. Resolve and deferred shading in bands of rows: per covered pixel the winning triangle
-   and its depth (``raster.resolve_depth``), then base color x vertex colors x bilinear
+   and its depth (``resolve.resolve_depth``), then base color x vertex colors x bilinear
    texture x light (``shade.shade_pixels``, packed 8-bit kernels of ``packed_rgba``);
    depth and semantic ids written alongside (``deferred.write_band``).
 

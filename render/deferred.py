@@ -4,8 +4,8 @@ After rasterization (stages 1-6) the z-buffer holds, per pixel, the nearest cand
 triangle and its depth. Stage 7 (``ShadingInputs.build``) prepares, per candidate triangle,
 what shading needs: its material rows (``MaterialTable.of_triangles``: pixels index them by
 candidate), semantic id, perspective-correct attribute planes (uvs, vertex colors,
-Gouraud light; ``render.raster.AttributePlanes``) and flat light factors
-(``render.shade``). Stage 8 (``write_band``) shades each band of resolved pixels once
+Gouraud light; ``render.resolve.AttributePlanes``) and flat light factors
+(``render.lights``). Stage 8 (``write_band``) shades each band of resolved pixels once
 (``render.shade.shade_pixels``) and writes color, depth and ids, the background where
 nothing was drawn.
 """
@@ -19,6 +19,7 @@ import numpy as np
 
 from render import cull, raster
 from render.packed_rgba import pack_rgba
+from render.resolve import AttributePlanes, VisiblePixels
 from render.scene import RenderScene
 from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.shade import MaterialTable, shade_pixels
@@ -50,10 +51,10 @@ class ShadingInputs:
 
     materials: MaterialTable  # of the candidates: row k is candidate k (tri_index[k])
     semantic: np.ndarray | None  # (K,) semantic id of each candidate (None: no ids written)
-    uv_planes: raster.AttributePlanes | None
-    color_planes: raster.AttributePlanes | None
+    uv_planes: AttributePlanes | None
+    color_planes: AttributePlanes | None
     tri_light: np.ndarray | None
-    light_planes: raster.AttributePlanes | None
+    light_planes: AttributePlanes | None
     is_smooth: np.ndarray | None
     settings: RenderSettings = DEFAULT_SETTINGS  # the kernels shade_pixels uses
 
@@ -80,12 +81,12 @@ class ShadingInputs:
         planes, _ = raster.plane_coefficients(tri, camera)
         corners = materials.faces[:, tri_index[used]]  # (3, k) global vertex ids
 
-        def interpolator(values: np.ndarray | None) -> raster.AttributePlanes | None:
+        def interpolator(values: np.ndarray | None) -> AttributePlanes | None:
             if values is None:  # values: (C, V) per-vertex attribute
                 return None
             corner_values = values[:, corners].transpose(1, 0, 2)  # (3 corners, C, k)
             paired = settings.paired_attributes
-            return raster.AttributePlanes(planes, corner_values, camera, row_of, paired)
+            return AttributePlanes(planes, corner_values, camera, row_of, paired)
 
         tri_light = light_planes = is_smooth = None
         lit = scene.tri_lit[tri_index[used]]
@@ -120,7 +121,7 @@ class ShadingInputs:
             settings,
         )
 
-    def pixel_light(self, visible: raster.VisiblePixels) -> np.ndarray | None:
+    def pixel_light(self, visible: VisiblePixels) -> np.ndarray | None:
         """Light factor of each visible pixel ``(n,)`` float32, or None if nothing is lit."""
         if self.tri_light is None:
             return None
@@ -135,7 +136,7 @@ class ShadingInputs:
 def write_band(
     out: FrameBuffers,
     shading: ShadingInputs,
-    visible: raster.VisiblePixels,
+    visible: VisiblePixels,
     band: slice,
 ) -> None:
     """Shade the visible pixels of one band and write rgba, depth and ids there."""
@@ -155,7 +156,7 @@ def write_band(
 def write_pixels(
     out: FrameBuffers,
     shading: ShadingInputs,
-    visible: raster.VisiblePixels,
+    visible: VisiblePixels,
     where: slice | np.ndarray | None = None,
 ) -> None:
     """Shade ``visible`` pixels and write rgba, depth and ids at ``where`` (default: their

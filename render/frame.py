@@ -6,9 +6,9 @@ clipping, (4) triangle setup (perspective-correct plane functions) and projectio
 (5) scanline spans, (6) fragments and depth test into a 64-bit z-buffer; finally
 (7) shading setup (attribute planes, light factors) for the triangles that drew fragments
 and (8) per band of rows: resolve (winning triangle and depth per pixel), deferred shading,
-semantic ids (stages 7-8 live in ``render.deferred``). See ``render.cull``, ``render.raster``
-and ``render.shade`` for the equations; ``FrameBuffers.timings`` reports the wall time of
-each stage.
+semantic ids (stages 7-8 live in ``render.deferred``). See ``render.cull``, ``render.raster``,
+``render.resolve`` and ``render.shade`` for the equations; ``FrameBuffers.timings`` reports
+the wall time of each stage.
 
 Outputs follow Habitat's sensors: ``rgba (H, W, 4) uint8`` (alpha 255 where drawn, the
 background ``BACKGROUND_RGBA`` = opaque black elsewhere), ``depth (H, W) float32`` z-depth
@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from render import cull, raster
+from render import cull, raster, resolve
 from render.camera import Camera, invert_rigid
 from render.deferred import (
     BACKGROUND_RGBA,
@@ -142,7 +142,7 @@ def render_frame(
     zkey_drawn = out.zkey
     if rows is not None:
         zkey_drawn = out.zkey[rows[0] * camera.width : rows[1] * camera.width]
-    zkey_drawn.fill(raster.EMPTY_KEY)
+    zkey_drawn.fill(resolve.EMPTY_KEY)
     vertices_camera, tri_index, drawn = _rasterize_scene(
         scene, camera, camera_from_world, cull_back_faces, out, clock, 0, rows, settings
     )
@@ -152,14 +152,14 @@ def render_frame(
     else:
         used = np.flatnonzero(drawn)
         if len(used) > settings.refine_used_above:  # many small triangles: the pixel winners
-            used = raster.winning_triangles(zkey_drawn, len(tri_index))
+            used = resolve.winning_triangles(zkey_drawn, len(tri_index))
     shading = ShadingInputs.build(
         scene, camera, camera_from_world, vertices_camera, tri_index, used, ids, settings
     )
     clock.lap("shade setup")
     # --- 8. resolve and deferred shading, one band of rows at a time (cache-sized)
     for band in bands:
-        visible = raster.resolve_depth(out.zkey, camera, band, settings.pixel_center_tables)
+        visible = resolve.resolve_depth(out.zkey, camera, band, settings.pixel_center_tables)
         write_band(out, shading, visible, band)
     clock.lap("shade")
     return out
@@ -178,7 +178,7 @@ class StaticLayer:
     ----------
     rgba, depth, ids : copies of the static frame's buffers.
     seed : (H * W,) uint64 z-buffer to start from: ``depth bits << 32`` (id 0) where a
-        static mesh is drawn, ``raster.EMPTY_KEY`` elsewhere.
+        static mesh is drawn, ``resolve.EMPTY_KEY`` elsewhere.
     """
 
     rgba: np.ndarray
@@ -189,8 +189,8 @@ class StaticLayer:
     @classmethod
     def from_frame(cls, frame: FrameBuffers) -> StaticLayer:
         """The layer of a frame just rendered by ``render_frame`` (its buffers are copied)."""
-        drawn = frame.zkey != raster.EMPTY_KEY
-        seed = np.where(drawn, frame.zkey & _HIGH32, raster.EMPTY_KEY)  # keep the depth bits
+        drawn = frame.zkey != resolve.EMPTY_KEY
+        seed = np.where(drawn, frame.zkey & _HIGH32, resolve.EMPTY_KEY)  # keep the depth bits
         return cls(frame.rgba.copy(), frame.depth.copy(), frame.ids.copy(), seed)
 
     @property
@@ -256,7 +256,7 @@ def render_over_layer(
     run = settings.shade_band_pixels
     for start in range(0, len(changed), run):
         pixel = changed[start : start + run]
-        visible = raster.visible_from_keys(
+        visible = resolve.visible_from_keys(
             out.zkey[pixel], pixel, camera, 1, settings.pixel_center_tables
         )
         write_pixels(out, shading, visible)

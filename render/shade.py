@@ -2,7 +2,7 @@
 
 Shading is *deferred*: the rasterizer first finds, per pixel, the nearest triangle and its
 depth; each visible pixel is then shaded exactly once here. Perspective-correct vertex
-attributes (uvs, vertex colors) come from ``render.raster.AttributePlanes``; ``b`` below
+attributes (uvs, vertex colors) come from ``render.resolve.AttributePlanes``; ``b`` below
 are the perspective-correct barycentrics of the pixel center.
 
 Color of a pixel (all factors in [0, 1], RGBA)::
@@ -52,7 +52,7 @@ from render.packed_rgba import (
     sample_bilinear_fast,
     unpack_rgba,
 )
-from render.raster import AttributePlanes, VisiblePixels
+from render.resolve import AttributePlanes, VisiblePixels
 from render.settings import DEFAULT_SETTINGS, RenderSettings
 
 __all__ = [  # the light setups and packed colors are re-exported: render.shade.Lights ...

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from render import packed_rgba, raster, shade
+from render import packed_rgba, shade
 from render.camera import Camera
 from render.frame import RenderMesh, RenderScene, render_frame
-from render.raster import VisiblePixels
+from render.resolve import AttributePlanes, VisiblePixels
 from render.settings import DEFAULT_SETTINGS, RenderSettings
 
 RNG_SEED = 15
@@ -69,8 +69,8 @@ def test_paired_two_channel_attributes_match_the_per_channel_loop(subtype):
         rng.uniform(0.1, 30.0, len(pixel)).astype(np.float32),
         camera,
     )
-    paired = raster.AttributePlanes(planes, uvs, camera, paired=True).evaluate(visible)
-    plain = raster.AttributePlanes(planes, uvs, camera, paired=False).evaluate(visible)
+    paired = AttributePlanes(planes, uvs, camera, paired=True).evaluate(visible)
+    plain = AttributePlanes(planes, uvs, camera, paired=False).evaluate(visible)
     assert paired.shape == plain.shape == (2, len(pixel)) and paired.dtype == np.float32
     bits = np.ascontiguousarray(paired).view(np.uint32)
     np.testing.assert_array_equal(bits, plain.view(np.uint32))  # bit for bit

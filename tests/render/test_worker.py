@@ -172,3 +172,17 @@ def test_rows_of_full_renders_here_and_in_the_worker_compose_the_whole_frame(wor
         render_frame(scene.full(), camera, pose, rows=(1, 90), settings=settings)
     with pytest.raises(ValueError, match="rows are for full renders"):
         LayeredView().render("new layer", scene, camera, pose, rows=(0, step))
+
+
+def test_jobs_are_checked_before_anything_is_sent(worker):
+    key, camera, pose = views()[0]
+    with pytest.raises(TypeError, match="WorkerJob.settings must be RenderSettings"):
+        WorkerJob(key, "full", camera, pose, settings={"fast_shading": False})
+    static, moving = split_meshes()
+    worker.set_meshes(static, moving)
+    static_poses = np.array([m.world_from_mesh for m in static])
+    moving_poses = np.array([m.world_from_mesh for m in moving])
+    with pytest.raises(TypeError, match="takes WorkerJob items"):
+        worker.submit(static_poses, moving_poses, [(key, "full", camera, pose)])
+    worker.submit(static_poses, moving_poses, [WorkerJob(key, "full", camera, pose)])
+    assert worker.collect()[key].depth.max() > 0  # nothing was pending: still in step
