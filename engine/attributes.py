@@ -24,6 +24,7 @@ import numpy as np
 
 from engine import mn
 from engine.fixed_fields import public_names, unknown_attribute_error
+from engine.logging import get_logger
 from engine.primitives import is_primitive_handle
 from engine.user_config import Configuration
 
@@ -56,7 +57,8 @@ class Field:
 
     json_key: str | None
     # "float", "positive", "nonnegative", "unit" ([0, 1]), "vec3", "scale" (vec3 > 0),
-    # "inertia" (zero or a physical diagonal), "bool", "int", "str", "asset"
+    # "inertia" (zero or a physical diagonal), "bool", "int", "str", "asset",
+    # "restitution" (>= 0; above 1 stored with a warning, as Habitat stores it)
     kind: str
     default: Any
 
@@ -118,6 +120,13 @@ def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
         raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
     if kind == "unit" and not 0.0 <= number <= 1.0:
         raise ValueError(f"{name}{where} must be in [0, 1], got {value!r}")
+    if kind == "restitution":
+        if number < 0.0:
+            raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
+        if number > 1.0:  # Habitat stores it silently; a bounce then gains energy
+            get_logger("metadata").warning(
+                "%s%s = %r is above 1: stored, but bounces will gain energy", name, where, value
+            )
     return number
 
 
@@ -273,7 +282,7 @@ _ASSET_FIELDS = {
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
     "rolling_friction_coefficient": Field("rolling_friction_coefficient", "nonnegative", 0.0),
     "spinning_friction_coefficient": Field("spinning_friction_coefficient", "nonnegative", 0.0),
-    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),
     "force_flat_shading": Field("force_flat_shading", "bool", False),
     "is_collidable": Field("is_collidable", "bool", True),
     "shader_type": Field("shader_type", "str", "material"),
@@ -295,7 +304,7 @@ OBJECT_FIELDS = {
 STAGE_FIELDS = {
     **_ASSET_FIELDS,
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
-    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "origin": Field("origin", "vec3", _VEC_ZERO),
     "navmesh_asset_handle": Field("nav_asset", "asset", ""),
@@ -306,12 +315,35 @@ PHYSICS_FIELDS = {
     "timestep": Field("timestep", "positive", 0.008),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
-    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),
     "max_substeps": Field("max_substeps", "int", 10),
 }
 
 
-class ObjectAttributes(AbstractAttributes):
+class _AssetPaths:
+    """``render_asset_fullpath`` / ``collision_asset_fullpath`` (Habitat's names): the asset
+    handle as a full path, joined to the template's folder when relative; a primitive
+    handle (``cubeSolid``) or an empty one is returned as is."""
+
+    render_asset_handle: str
+    collision_asset_handle: str
+    file_directory: str
+
+    def _fullpath(self, handle: str) -> str:
+        if not handle or is_primitive_handle(handle) or Path(handle).is_absolute():
+            return handle
+        return str(Path(self.file_directory or ".") / handle)
+
+    @property
+    def render_asset_fullpath(self) -> str:
+        return self._fullpath(self.render_asset_handle)
+
+    @property
+    def collision_asset_fullpath(self) -> str:
+        return self._fullpath(self.collision_asset_handle)
+
+
+class ObjectAttributes(_AssetPaths, AbstractAttributes):
     """An object template (``*.object_config.json``), Habitat's ``ObjectAttributes``.
 
     ``compute_COM_from_shape`` is True unless the config (or a setter) gave ``COM``: then the
@@ -345,7 +377,7 @@ class ObjectAttributes(AbstractAttributes):
         return not self.bounding_box_collisions
 
 
-class StageAttributes(AbstractAttributes):
+class StageAttributes(_AssetPaths, AbstractAttributes):
     """A stage template (``*.stage_config.json``), Habitat's ``StageAttributes``.
 
     A bare ``.glb`` with no config beside it is Z-up: see

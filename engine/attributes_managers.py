@@ -333,6 +333,30 @@ class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):
             self.register_template(template)
             self._undeletable.add(handle)
 
+    def create_new_template(self, handle: str, register_template: bool = False) -> ObjectAttributes:
+        """A new template named ``handle`` (Habitat's ``create_new_template``).
+
+        An existing ``*.object_config.json`` is read; any other existing file (``.glb``,
+        ``.obj``, ...) becomes the template's render and collision asset (its full path is the
+        handle); anything else gives a template with default values and no asset.
+        """
+        if not isinstance(handle, str):
+            raise TypeError(f"handle must be a str, got {handle!r}")
+        path = Path(handle).expanduser()
+        if path.is_file() and path.name.endswith(self.config_suffix):
+            template = ObjectAttributes.from_json_file(path)
+        elif path.is_file():
+            path = path.resolve()
+            template = ObjectAttributes(str(path))
+            template.file_directory = str(path.parent)
+            template.render_asset_handle = str(path)
+            template.collision_asset_handle = str(path)
+        else:
+            template = ObjectAttributes(handle)
+        if register_template:
+            self.register_template(template)
+        return template
+
     def get_synth_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
         """Handles of the primitive-based templates."""
         prims = set(PRIMITIVE_ASSET_HANDLES)
