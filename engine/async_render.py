@@ -113,7 +113,7 @@ class AsyncRender:
         for sensor in self._sensors:
             sensor._buffer = frames[sensor.uuid]
         single = isinstance(agent_ids, int)
-        ids = [agent_ids] if single else list(agent_ids)  # type: ignore[arg-type]
+        ids: list[int] = [agent_ids] if isinstance(agent_ids, int) else list(agent_ids or [])
         observations: dict[int, dict[str, Any]] = OrderedDict()
         for agent_id in ids:
             uuids = {s.uuid for s in self._sim._agent_sensors(agent_id)}

@@ -341,17 +341,22 @@ class Sensor:
 
     @property
     def near(self) -> float:
-        return float(self.spec.near)
+        return float(self._visual_spec().near)
 
     @property
     def far(self) -> float:
-        return float(self.spec.far)
+        return float(self._visual_spec().far)
 
     @property
     def framebuffer_size(self) -> mn.Vector2i:
         """``(width, height)`` in pixels (Magnum's order)."""
-        height, width = self.spec.pixel_resolution()
+        height, width = self._visual_spec().pixel_resolution()
         return mn.Vector2i(width, height)
+
+    def _visual_spec(self) -> VisualSensorSpec:
+        if not isinstance(self.spec, VisualSensorSpec):
+            raise AttributeError(f"sensor {self.uuid!r} is not a visual sensor")
+        return self.spec
 
 
 class CameraSensor(Sensor):

@@ -130,7 +130,7 @@ class SimulatorSensors:
             proxies = _line_depth_proxies(objects) if lines is not None else []
             frames = observe_with_cube_maps(self._renderer.observe, objects + proxies)  # type: ignore[attr-defined]
             for proxy in proxies:  # debug lines, depth-tested against the frame's depth
-                proxy.draw(frames[proxy.owner.uuid], frames[proxy.uuid], lines)
+                proxy.draw(frames[proxy.owner.uuid], frames[proxy.uuid], lines)  # type: ignore[arg-type]
             for sensor in batch:
                 sensor._buffer = frames[sensor.uuid]
 
@@ -149,7 +149,7 @@ class SimulatorSensors:
         ``{agent_id: observations}`` for a list of ids (as Habitat)."""
         self._check_open()  # type: ignore[attr-defined]
         single = not isinstance(agent_ids, list | tuple)
-        ids = [agent_ids] if single else list(agent_ids)  # type: ignore[list-item]
+        ids: list[int] = list(agent_ids) if isinstance(agent_ids, list | tuple) else [agent_ids]
         per_agent = {agent_id: self._agent_sensors(agent_id) for agent_id in ids}
         self._draw_sensors([s for sensors in per_agent.values() for s in sensors])
         observations: dict[int, dict[str, Any]] = OrderedDict()
@@ -219,7 +219,9 @@ def _line_depth_proxies(objects: list) -> list[_LineDepth]:
     proxies = []
     for sensor in objects:
         if isinstance(sensor, CameraSensor) and sensor.spec.sensor_type is SensorType.COLOR:
-            if getattr(sensor, "_line_depth", None) is None:  # one per sensor: the renderer
-                sensor._line_depth = _LineDepth(sensor)  # keeps per-group state by identity
-            proxies.append(sensor._line_depth)
+            proxy = getattr(sensor, "_line_depth", None)
+            if proxy is None:  # one per sensor: the renderer keeps group state by identity
+                proxy = _LineDepth(sensor)
+                setattr(sensor, "_line_depth", proxy)  # noqa: B010 - a private cache
+            proxies.append(proxy)
     return proxies
