@@ -58,7 +58,7 @@ class Field:
     json_key: str | None
     # "float", "positive", "nonnegative", "unit" ([0, 1]), "vec3", "scale" (vec3 > 0),
     # "inertia" (zero or a physical diagonal), "bool", "int", "str", "asset",
-    # "restitution" (>= 0; above 1 stored with a warning, as Habitat stores it)
+    # "restitution", "damping" (>= 0; above 1 stored with a warning, as Habitat stores it)
     kind: str
     default: Any
 
@@ -120,15 +120,21 @@ def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
         raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
     if kind == "unit" and not 0.0 <= number <= 1.0:
         raise ValueError(f"{name}{where} must be in [0, 1], got {value!r}")
-    if kind == "restitution":
+    if kind in _ABOVE_ONE_WARNING:
         if number < 0.0:
             raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
-        if number > 1.0:  # Habitat stores it silently; a bounce then gains energy
+        if number > 1.0:  # Habitat stores it silently
             get_logger("metadata").warning(
-                "%s%s = %r is above 1: stored, but bounces will gain energy", name, where, value
+                "%s%s = %r is above 1: stored, but %s", name, where, value, _ABOVE_ONE_WARNING[kind]
             )
     return number
 
+
+#: kinds stored above 1 (as Habitat stores them) with a warning saying what that means here
+_ABOVE_ONE_WARNING = {
+    "restitution": "bounces will gain energy",
+    "damping": "the physics uses 1 (all velocity lost each second), as Bullet clamps it",
+}
 
 _Attributes = TypeVar("_Attributes", bound="AbstractAttributes")  # a template's own class
 
@@ -293,8 +299,8 @@ OBJECT_FIELDS = {
     "mass": Field("mass", "positive", 1.0),
     "com": Field("COM", "vec3", _VEC_ZERO),
     "inertia": Field("inertia", "inertia", _VEC_ZERO),
-    "linear_damping": Field("linear_damping", "unit", 0.2),
-    "angular_damping": Field("angular_damping", "unit", 0.2),
+    "linear_damping": Field("linear_damping", "damping", 0.2),
+    "angular_damping": Field("angular_damping", "damping", 0.2),
     "bounding_box_collisions": Field("use_bounding_box_for_collision", "bool", False),
     "join_collision_meshes": Field("join_collision_meshes", "bool", False),
     "is_visibile": Field("is_visible", "bool", True),

@@ -31,9 +31,13 @@ class _MatrixN:
     __slots__ = ("_data",)
     __array_priority__ = 20.0
 
-    def __init__(self, data: Any = None) -> None:
+    def __init__(self, data: Any = None, *more_columns: Any) -> None:
+        """``Matrix(array)`` takes a (rows, columns) array; ``Matrix(c0, c1, ...)`` takes the
+        columns one by one, as Magnum's constructor does."""
         if data is None:
             data = np.eye(self._size)
+        if more_columns:
+            data = np.column_stack([np.asarray(c, dtype=np.float64) for c in (data, *more_columns)])
         array = np.array(data, dtype=np.float64)
         if array.shape != (self._size, self._size):
             raise ValueError(
