@@ -36,6 +36,7 @@ import numpy as np
 
 from engine import mn
 from engine.agent import Agent, AgentState
+from engine.agent.agent import numpy_quaternion
 from engine.attributes_managers import (
     AssetAttributesManager,
     ObjectAttributesManager,
@@ -265,7 +266,9 @@ class Simulator(SimulatorQueries):
                         stacklevel=2,
                     )
                 yaw = self.random.uniform_float(0.0, 2.0 * np.pi)
-                initial_state.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+                initial_state.rotation = numpy_quaternion(
+                    mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+                )
         agent.set_state(initial_state, is_initial=True)
         self._last_states[agent_id] = agent.get_state()
         return agent
