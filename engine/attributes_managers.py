@@ -378,7 +378,8 @@ class StageAttributesManager(_AttributesManager[StageAttributes]):
         """The stage template for ``scene_id``: its config file, the config beside a mesh
         (``<stem>.stage_config.json``), or, for a bare mesh, defaults with a Z-up frame
         (asset ``(x, y, z)`` -> world ``(x, z, -y)``, Habitat's default for a ``.glb`` stage)."""
-        path = Path(asset_path).expanduser().resolve()
+        given = Path(asset_path).expanduser().absolute()
+        path = given.resolve()
         if path.name.endswith(self.config_suffix):
             return StageAttributes.from_json_file(path)
         if not path.is_file():
@@ -388,6 +389,7 @@ class StageAttributesManager(_AttributesManager[StageAttributes]):
             template = StageAttributes.from_json_file(beside)
             if not template.render_asset_handle:
                 template.render_asset_handle = str(path)
+            template.handle = str(given)  # named after the scene as given (Habitat's handle)
             return template
         template = StageAttributes(str(path))
         template.file_directory = str(path.parent)

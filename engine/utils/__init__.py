@@ -16,8 +16,10 @@ import importlib
 from typing import Any
 
 __all__ = [
+    "collect_env",
     "common",
     "datasets_download",
+    "manager_utils",
     "maps",
     "quat_from_angle_axis",
     "quat_rotate_vector",
