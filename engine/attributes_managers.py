@@ -36,6 +36,7 @@ from engine.attributes import (
     PhysicsManagerAttributes,
     PrimitiveAssetAttributes,
     StageAttributes,
+    checked_path,
 )
 from engine.primitives import PRIMITIVE_ASSET_HANDLES
 
@@ -231,7 +232,7 @@ class _AttributesManager(Generic[T]):
     # -- files ----------------------------------------------------------------------------------
     def _config_files(self, path: str | Path) -> list[Path]:
         """The config files ``path`` names: a folder's, a file, or a file missing its suffix."""
-        path = Path(path).expanduser()
+        path = checked_path(path).expanduser()
         if path.is_dir():
             return sorted(path.glob(f"*{self.config_suffix}"))
         if path.is_file() and path.name.endswith(self.config_suffix):

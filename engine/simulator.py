@@ -45,6 +45,7 @@ from engine.attributes_managers import (
 )
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
 from engine.metadata import MetadataMediator
+from engine.pathfinder import PathFinder
 from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene_loading import (
@@ -58,7 +59,7 @@ from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
 from engine.simulator_config import Configuration, Random, SimulatorConfiguration
 from engine.simulator_queries import SimulatorQueries
-from navmesh import NavMeshSettings, PathFinder
+from navmesh import NavMeshSettings
 
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
