@@ -199,6 +199,21 @@ class Matrix4(_MatrixN):
         return cls.from_(np.diag(finite_array(vector, 3, "scaling")), (0.0, 0.0, 0.0))
 
     @classmethod
+    def rotation_x(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +X (Magnum's ``Matrix4.rotation_x``)."""
+        return cls.from_(axis_angle_matrix(angle, (1.0, 0.0, 0.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_y(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +Y."""
+        return cls.from_(axis_angle_matrix(angle, (0.0, 1.0, 0.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_z(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +Z."""
+        return cls.from_(axis_angle_matrix(angle, (0.0, 0.0, 1.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
     def look_at(cls, eye: Any, target: Any, up: Any) -> Matrix4:
         """A camera (or object) pose at ``eye`` whose -Z axis points at ``target``.
 
