@@ -21,6 +21,7 @@ __all__ = [
     "datasets_download",
     "manager_utils",
     "maps",
+    "profiling_utils",
     "quat_from_angle_axis",
     "quat_rotate_vector",
     "quaternion_utils",

@@ -161,3 +161,22 @@ def test_path_like_text_and_deep_json_are_refused_up_front(tmp_path):
     with pytest.raises(ValueError, match="deep"):
         manager.load_configs(str(deep))
     assert manager.get_num_templates() == ObjectAttributesManager().get_num_templates()
+
+
+def test_profiling_ranges_nest_and_capture_a_step_window(monkeypatch):
+    from engine.utils import profiling_utils
+
+    monkeypatch.setattr(profiling_utils, "_enable_profiling", True)
+    with profiling_utils.RangeContext("A"):
+        profiling_utils.range_push("B")
+        assert profiling_utils._helper.range_depth == 2
+        profiling_utils.range_pop()
+    assert profiling_utils._helper.range_depth == 0
+    profiling_utils.configure(capture_start_step=2, num_steps_to_capture=3)
+    depths = []
+    for _ in range(7):
+        profiling_utils.on_start_step()
+        depths.append(profiling_utils._helper.range_depth)
+    assert depths == [0, 0, 1, 1, 1, 0, 0]  # steps 2, 3, 4 inside the capture range
+    with pytest.raises(ValueError, match="num_steps_to_capture"):
+        profiling_utils.configure(capture_start_step=1, num_steps_to_capture=0)
