@@ -55,7 +55,7 @@ _LAZY = {
     "RigidState": "engine.physics",
     "SceneNode": "engine.scene_node",
     "NavMeshSettings": "navmesh",
-    "PathFinder": "navmesh",
+    "PathFinder": "engine.pathfinder",
     "ShortestPath": "navmesh",
     "MultiGoalShortestPath": "navmesh",
     "stage_id": "engine.bindings",

@@ -41,7 +41,7 @@ _CLASSES = {
     "SceneNode": "engine.scene_node",
     "SimulatorConfiguration": "engine.simulator_config",
     "GreedyFollowerCodes": "engine.nav",
-    "PathFinder": "navmesh",
+    "PathFinder": "engine.pathfinder",
     "ShortestPath": "navmesh",
     "MultiGoalShortestPath": "navmesh",
     "HitRecord": "navmesh",

@@ -36,6 +36,7 @@ import numpy as np
 
 from engine import mn
 from engine.agent import Agent, AgentState
+from engine.agent.agent import numpy_quaternion
 from engine.attributes_managers import (
     AssetAttributesManager,
     ObjectAttributesManager,
@@ -44,6 +45,7 @@ from engine.attributes_managers import (
 )
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
 from engine.metadata import MetadataMediator
+from engine.pathfinder import PathFinder
 from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene_loading import (
@@ -58,7 +60,7 @@ from engine.scene_render import SceneRenderer
 from engine.simulator_config import Configuration, Random, SimulatorConfiguration
 from engine.simulator_queries import SimulatorQueries
 from engine.simulator_sensors import SimulatorSensors
-from navmesh import NavMeshSettings, PathFinder
+from navmesh import NavMeshSettings
 
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
@@ -272,7 +274,9 @@ class Simulator(SimulatorSensors, SimulatorQueries):
                         stacklevel=2,
                     )
                 yaw = self.random.uniform_float(0.0, 2.0 * np.pi)
-                initial_state.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+                initial_state.rotation = numpy_quaternion(
+                    mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+                )
         agent.set_state(initial_state, is_initial=True)
         self._last_states[agent_id] = agent.get_state()
         return agent

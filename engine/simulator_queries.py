@@ -12,7 +12,7 @@ the simulator's own parts (scene graph, metadata mediator, physics world):
 * ``metadata_mediator`` / ``get_metadata_mediator()``, and
   ``get_stage_initialization_template()``: a copy of the stage's template (None without a stage);
 * ``get_physics_step_collision_summary()``: one line per touching pair of the last step,
-  ``"[Stage] vs [RigidObject, sphere_:0000, id 1], 4 points"``, as Habitat's Bullet backend
+  ``"[RigidObject, cubeSolid, id 1] vs [Stage, subpart 0], 4 points"``, as Habitat's Bullet backend
   formats it (``"(no active collision manifolds)"`` when nothing touches);
 * ``_previous_step_time``: wall-clock seconds of the physics part of the last ``step()``.
 """
@@ -90,7 +90,9 @@ class SimulatorQueries:
         """One line per touching pair of the last physics step (Habitat's Bullet format)."""
         counts: dict[tuple[int, int], int] = {}
         for point in self._world.get_physics_contact_points():
-            pair = (point.object_id_a, point.object_id_b)
+            # Bullet lists an object before the stage: order each pair (object, stage)
+            a, b = int(point.object_id_a), int(point.object_id_b)
+            pair = (a, b) if a != stage_id else (b, a)
             counts[pair] = counts.get(pair, 0) + 1
         if not counts:
             return "(no active collision manifolds)\n"
@@ -101,9 +103,10 @@ class SimulatorQueries:
         return "\n".join(lines) + "\n"
 
     def _debug_name(self, object_id: int) -> str:
-        """``Stage`` or ``RigidObject, <handle>, id <id>`` for the collision summary."""
+        """``Stage, subpart 0`` or ``RigidObject, <template handle>, id <id>`` (Habitat's
+        names; rigidsim's stage is one merged mesh, so always subpart 0)."""
         if object_id == stage_id:
-            return "Stage"
-        obj = self._world.rigid_object_manager.get_object_by_id(int(object_id))
-        handle = obj.handle if obj is not None else "unknown"
+            return "Stage, subpart 0"
+        obj = self._world.rigid_object_manager.get_object_by_id(object_id)
+        handle = obj.creation_attributes.handle if obj is not None else "unknown"
         return f"RigidObject, {handle}, id {object_id}"

@@ -83,7 +83,8 @@ class _Pose(FixedFields):
     :class:`SixDOFPose` (conversions in AgentState's docstring)."""
 
     _position: np.ndarray  # (3,) float64, meters
-    _rotation: np.ndarray  # (4,) float64 unit quaternion [x, y, z, w]
+    _rotation: np.ndarray  # (4,) float64 unit quaternion [x, y, z, w], used by set_state
+    _rotation_value: Any  # the value assigned, returned as is (Habitat's attrs field)
 
     @property
     def position(self) -> np.ndarray:
@@ -94,24 +95,33 @@ class _Pose(FixedFields):
         self._position = _as_position(value, "AgentState.position")
 
     @property
-    def rotation(self) -> quaternion.quaternion:
-        x, y, z, w = self._rotation
-        return quaternion.quaternion(w, x, y, z)
+    def rotation(self) -> Any:
+        """The rotation as assigned (``np.quaternion``, ``mn.Quaternion`` or coefficients)."""
+        return self._rotation_value
 
     @rotation.setter
     def rotation(self, value: Any) -> None:
         self._rotation = mn.to_quaternion(value, "AgentState.rotation").xyzw
+        self._rotation_value = value
+
+
+def numpy_quaternion(rotation: mn.Quaternion) -> quaternion.quaternion:
+    """``np.quaternion(w, x, y, z)`` of a Magnum quaternion (the type Habitat's states hold)."""
+    x, y, z, w = rotation.xyzw
+    return quaternion.quaternion(w, x, y, z)
 
 
 class AgentState(_Pose):
     """An agent's pose: ``position`` (3,) in meters and ``rotation`` (a unit quaternion).
 
-    As in Habitat, ``rotation`` reads back as a numpy-quaternion ``np.quaternion(w, x, y, z)``
-    (the identity by default), so Habitat's ``AgentState(rotation=np.quaternion(...))`` and
-    ``quat_to_angle_axis(state.rotation)`` work unchanged. It accepts an ``np.quaternion``, an
+    As in Habitat, ``rotation`` is a numpy-quaternion ``np.quaternion(w, x, y, z)`` (the
+    identity by default, and in every state ``get_state`` returns), so
+    ``quat_to_angle_axis(state.rotation)`` works unchanged. It accepts an ``np.quaternion``, an
     :class:`mn.Quaternion` or a list / ndarray read as coefficients ``[x, y, z, w]`` (Habitat's
-    ``quat_from_coeffs`` order); the value is normalized. ``sensor_states`` maps sensor uuids
-    to :class:`SixDOFPose`.
+    ``quat_from_coeffs`` order), and reads back **what was assigned** (Habitat's attrs field
+    keeps it: after ``state.rotation = mn_quat``, ``state.rotation * q`` is Magnum's product);
+    ``set_state`` uses its normalized value. ``sensor_states`` maps sensor uuids to
+    :class:`SixDOFPose`.
 
     As in Habitat (attrs validators), the constructor refuses a non-finite position
     (``ValueError``); assigning one later is stored and refused by ``Agent.set_state``.
@@ -127,7 +137,7 @@ class AgentState(_Pose):
     ) -> None:
         self.position = position
         _check_finite(self._position, "AgentState.position")
-        self.rotation = mn.Quaternion() if rotation is None else rotation
+        self.rotation = quaternion.quaternion(1, 0, 0, 0) if rotation is None else rotation
         self.sensor_states = {} if sensor_states is None else dict(sensor_states)
 
     def __repr__(self) -> str:
@@ -143,7 +153,7 @@ class SixDOFPose(_Pose):
     def __init__(self, position: Any = (0.0, 0.0, 0.0), rotation: Any = None) -> None:
         self.position = position
         _check_finite(self._position, "SixDOFPose.position")
-        self.rotation = mn.Quaternion() if rotation is None else rotation
+        self.rotation = quaternion.quaternion(1, 0, 0, 0) if rotation is None else rotation
 
     def __repr__(self) -> str:
         return f"SixDOFPose(position={self._position.tolist()}, rotation={self.rotation!r})"
@@ -236,11 +246,12 @@ class Agent:
     def get_state(self) -> AgentState:
         """The agent's world pose and its sensors' world poses (a fresh ``AgentState``)."""
         world = self.scene_node.world_matrix()
-        state = AgentState(world[:3, 3], mn.Quaternion.from_matrix(world[:3, :3]))
+        state = AgentState(world[:3, 3], numpy_quaternion(mn.Quaternion.from_matrix(world[:3, :3])))
         for uuid, sensor in self._sensors.items():
             sensor_world = sensor.world_from_camera()
+            sensor_rotation = mn.Quaternion.from_matrix(sensor_world[:3, :3])
             state.sensor_states[uuid] = SixDOFPose(
-                sensor_world[:3, 3], mn.Quaternion.from_matrix(sensor_world[:3, :3])
+                sensor_world[:3, 3], numpy_quaternion(sensor_rotation)
             )
         return state
 

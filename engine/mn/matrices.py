@@ -31,9 +31,13 @@ class _MatrixN:
     __slots__ = ("_data",)
     __array_priority__ = 20.0
 
-    def __init__(self, data: Any = None) -> None:
+    def __init__(self, data: Any = None, *more_columns: Any) -> None:
+        """``Matrix(array)`` takes a (rows, columns) array; ``Matrix(c0, c1, ...)`` takes the
+        columns one by one, as Magnum's constructor does."""
         if data is None:
             data = np.eye(self._size)
+        if more_columns:
+            data = np.column_stack([np.asarray(c, dtype=np.float64) for c in (data, *more_columns)])
         array = np.array(data, dtype=np.float64)
         if array.shape != (self._size, self._size):
             raise ValueError(
@@ -193,6 +197,21 @@ class Matrix4(_MatrixN):
     @classmethod
     def scaling(cls, vector: Any) -> Matrix4:
         return cls.from_(np.diag(finite_array(vector, 3, "scaling")), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_x(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +X (Magnum's ``Matrix4.rotation_x``)."""
+        return cls.from_(axis_angle_matrix(angle, (1.0, 0.0, 0.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_y(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +Y."""
+        return cls.from_(axis_angle_matrix(angle, (0.0, 1.0, 0.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_z(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +Z."""
+        return cls.from_(axis_angle_matrix(angle, (0.0, 0.0, 1.0)), (0.0, 0.0, 0.0))
 
     @classmethod
     def look_at(cls, eye: Any, target: Any, up: Any) -> Matrix4:
