@@ -14,10 +14,15 @@ same triangles from the same camera in the same run; the table prints both media
 ratio, plus where our time goes (per-stage medians from ``FrameBuffers.timings``) and a
 cross-check of the two depth images. Compare ratios, not absolute times across runs.
 
-A last table times a static camera over the apartment with 5 lit boxes moving in view (the
+Another table times a static camera over the apartment with 5 lit boxes moving in view (the
 tutorial's onlooker sections): a full ``render_frame`` of everything against
 ``render_over_layer`` (only the boxes, over a kept ``StaticLayer`` of the apartment),
 checks that the two frames are bit-identical and prints the speed-up.
+
+The last table (``--async-only`` runs it alone) times a simulator frame of the tutorial's
+two cameras with 30 cubes dropping: physics then observations, against
+``start_async_render_and_step_physics`` (the render worker process renders while this one
+steps the physics), and prints how much of the shorter task the overlap hides.
 
 ``bench_scene(meshes, camera, world_from_camera, repeats)`` is importable, so other scenes
 (e.g. the demo apartment) can be measured the same way.
@@ -260,10 +265,59 @@ def bench_static_layer(
     }
 
 
+def async_simulator(n_boxes: int):
+    """The tutorial's simulator (two cameras over the apartment) with ``n_boxes`` cubes
+    dropping in view, so that a frame has both physics and rendering to do."""
+    from engine.demo import demo_data_path
+    from engine.tutorial.scene_setup import make_configuration, place_agent
+
+    sim = __import__("engine").Simulator(make_configuration(str(demo_data_path())))
+    place_agent(sim)
+    objects = sim.get_rigid_object_manager()
+    eye = np.asarray(sim.agents[0].get_state().position)
+    for k in range(n_boxes):
+        cube = objects.add_object_by_template_handle("cubeSolid")
+        cube.translation = eye + [0.3 * (k % 5) - 0.6, 1.0 + 0.25 * (k // 5), -1.5]
+    return sim
+
+
+def bench_async(n_frames: int, n_boxes: int = 30, dt: float = 1.0 / 60.0) -> dict:
+    """Frame time of ``step_physics(dt)`` then ``get_sensor_observations()`` (sequential)
+    against ``start_async_render_and_step_physics(dt)`` then
+    ``get_sensor_observations_async_finish()`` (the render worker renders while the physics
+    steps). Also physics alone and rendering alone, on the same scene and frames."""
+    times: dict[str, list[float]] = {"physics": [], "render": [], "sequential": [], "async": []}
+    for mode in times:
+        sim = async_simulator(n_boxes)
+        sim.get_sensor_observations()  # warm up: meshes, worker, layers
+        for _ in range(n_frames):
+            start = time.perf_counter()
+            if mode == "physics":
+                sim.step_physics(dt)
+            elif mode == "render":
+                sim.get_sensor_observations()
+            elif mode == "sequential":
+                sim.step_physics(dt)
+                sim.get_sensor_observations()
+            else:
+                sim.start_async_render_and_step_physics(dt)
+                sim.get_sensor_observations_async_finish()
+            times[mode].append(1e3 * (time.perf_counter() - start))
+        sim.close()
+    medians = {mode: statistics.median(values) for mode, values in times.items()}
+    hidden = medians["sequential"] - medians["async"]
+    medians["overlap"] = hidden / max(1e-9, min(medians["physics"], medians["render"]))
+    return medians
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats")
+    parser.add_argument("--async-only", action="store_true", help="only the async table")
     args = parser.parse_args()
+    if args.async_only:
+        print_async_table(10 if args.quick else 40)
+        return
     repeats = 3 if args.quick else 15
     camera = Camera(RESOLUTION, hfov=90.0)
     spheres = [1_000, 10_000] if args.quick else [1_000, 10_000, 100_000]
@@ -309,6 +363,20 @@ def main() -> None:
             f"{name:30s} {result['full_ms']:8.1f} {result['layer_ms']:9.1f} "
             f"{result['speedup']:8.1f}x {result['moving_pixels']:7d}"
         )
+    print()
+    print_async_table(10 if args.quick else 40)
+
+
+def print_async_table(n_frames: int) -> None:
+    """Print :func:`bench_async`'s medians and the share of the shorter task hidden."""
+    result = bench_async(n_frames)
+    print("asynchronous rendering: tutorial cameras + 30 dropping cubes, ms per frame (medians)")
+    print(f"{'physics':>8s} {'render':>8s} {'sequential':>11s} {'async':>8s} {'overlap':>8s}")
+    print(
+        f"{result['physics']:8.1f} {result['render']:8.1f} {result['sequential']:11.1f} "
+        f"{result['async']:8.1f} {100 * result['overlap']:7.0f}%"
+    )
+    print("overlap = (sequential - async) / min(physics, render): 100 % hides the shorter one")
 
 
 if __name__ == "__main__":

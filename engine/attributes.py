@@ -24,6 +24,7 @@ import numpy as np
 
 from engine import mn
 from engine.fixed_fields import public_names, unknown_attribute_error
+from engine.logging import get_logger
 from engine.primitives import is_primitive_handle
 from engine.user_config import Configuration
 
@@ -38,11 +39,54 @@ __all__ = [
 ]
 
 
+#: longest path string accepted (Linux PATH_MAX); longer text is not a file name
+MAX_PATH_CHARS = 4096
+#: deepest nesting of objects/arrays accepted in a config file (real configs nest < 10 deep)
+MAX_JSON_DEPTH = 100
+
+
+def checked_path(path: Any, name: str = "path") -> Path:
+    """``path`` (a str or PathLike) as a ``Path``, refused up front when it cannot be a file
+    name: not a string, longer than ``MAX_PATH_CHARS`` or holding a NUL character. The error
+    names the length and the start of the text, never the whole (possibly huge) value."""
+    if not isinstance(path, str | Path):
+        raise TypeError(f"{name} must be a str or Path, got {type(path).__name__}")
+    text = str(path)
+    if len(text) > MAX_PATH_CHARS or "\0" in text:
+        raise ValueError(
+            f"{name} is not a file name: {len(text)} characters starting {text[:60]!r} "
+            f"(at most {MAX_PATH_CHARS}, no NUL); pass the path of a config file or folder"
+        )
+    return Path(text)
+
+
+def json_depth(text: str) -> int:
+    """Deepest bracket nesting of JSON ``text`` (brackets inside strings count too, so this
+    bounds the real depth from above); linear time, no recursion."""
+    opens = text.count("{") + text.count("[")
+    if opens <= MAX_JSON_DEPTH:
+        return opens
+    depth = deepest = 0
+    for char in text:
+        if char in "{[":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char in "}]":
+            depth -= 1
+    return deepest
+
+
 def read_json_object(path: Path) -> dict:
-    """The JSON object in the file at ``path``; ``ValueError`` for malformed JSON or any
-    other top-level value."""
+    """The JSON object in the file at ``path``; ``ValueError`` for malformed JSON, nesting
+    deeper than ``MAX_JSON_DEPTH`` (refused before parsing) or any other top-level value."""
+    text = path.read_text()
+    if json_depth(text) > MAX_JSON_DEPTH:
+        raise ValueError(
+            f"{path} nests objects/arrays more than {MAX_JSON_DEPTH} deep; "
+            f"a template config is a shallow JSON object"
+        )
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(text)
     except json.JSONDecodeError as error:
         raise ValueError(f"malformed JSON in {path}: {error}") from error
     if not isinstance(data, dict):
@@ -56,7 +100,8 @@ class Field:
 
     json_key: str | None
     # "float", "positive", "nonnegative", "unit" ([0, 1]), "vec3", "scale" (vec3 > 0),
-    # "inertia" (zero or a physical diagonal), "bool", "int", "str", "asset"
+    # "inertia" (zero or a physical diagonal), "bool", "int", "str", "asset",
+    # "restitution", "damping" (>= 0; above 1 stored with a warning, as Habitat stores it)
     kind: str
     default: Any
 
@@ -118,8 +163,21 @@ def _validate(name: str, kind: str, value: Any, source: str = "") -> Any:
         raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
     if kind == "unit" and not 0.0 <= number <= 1.0:
         raise ValueError(f"{name}{where} must be in [0, 1], got {value!r}")
+    if kind in _ABOVE_ONE_WARNING:
+        if number < 0.0:
+            raise ValueError(f"{name}{where} must be >= 0, got {value!r}")
+        if number > 1.0:  # Habitat stores it silently
+            get_logger("metadata").warning(
+                "%s%s = %r is above 1: stored, but %s", name, where, value, _ABOVE_ONE_WARNING[kind]
+            )
     return number
 
+
+#: kinds stored above 1 (as Habitat stores them) with a warning saying what that means here
+_ABOVE_ONE_WARNING = {
+    "restitution": "bounces will gain energy",
+    "damping": "the physics uses 1 (all velocity lost each second), as Bullet clamps it",
+}
 
 _Attributes = TypeVar("_Attributes", bound="AbstractAttributes")  # a template's own class
 
@@ -217,7 +275,7 @@ class AbstractAttributes:
     @classmethod
     def from_json_file(cls: type[_Attributes], path: str | Path) -> _Attributes:
         """Read a config file; the template handle is its full path."""
-        path = Path(path).resolve()
+        path = checked_path(path).resolve()
         if not path.is_file():
             raise FileNotFoundError(f"config file not found: {path}")
         data = read_json_object(path)
@@ -273,7 +331,7 @@ _ASSET_FIELDS = {
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.5),
     "rolling_friction_coefficient": Field("rolling_friction_coefficient", "nonnegative", 0.0),
     "spinning_friction_coefficient": Field("spinning_friction_coefficient", "nonnegative", 0.0),
-    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),
     "force_flat_shading": Field("force_flat_shading", "bool", False),
     "is_collidable": Field("is_collidable", "bool", True),
     "shader_type": Field("shader_type", "str", "material"),
@@ -284,8 +342,8 @@ OBJECT_FIELDS = {
     "mass": Field("mass", "positive", 1.0),
     "com": Field("COM", "vec3", _VEC_ZERO),
     "inertia": Field("inertia", "inertia", _VEC_ZERO),
-    "linear_damping": Field("linear_damping", "unit", 0.2),
-    "angular_damping": Field("angular_damping", "unit", 0.2),
+    "linear_damping": Field("linear_damping", "damping", 0.2),
+    "angular_damping": Field("angular_damping", "damping", 0.2),
     "bounding_box_collisions": Field("use_bounding_box_for_collision", "bool", False),
     "join_collision_meshes": Field("join_collision_meshes", "bool", False),
     "is_visibile": Field("is_visible", "bool", True),
@@ -295,7 +353,7 @@ OBJECT_FIELDS = {
 STAGE_FIELDS = {
     **_ASSET_FIELDS,
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
-    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "origin": Field("origin", "vec3", _VEC_ZERO),
     "navmesh_asset_handle": Field("nav_asset", "asset", ""),
@@ -306,12 +364,35 @@ PHYSICS_FIELDS = {
     "timestep": Field("timestep", "positive", 0.008),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
-    "restitution_coefficient": Field("restitution_coefficient", "unit", 0.1),
+    "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),
     "max_substeps": Field("max_substeps", "int", 10),
 }
 
 
-class ObjectAttributes(AbstractAttributes):
+class _AssetPaths:
+    """``render_asset_fullpath`` / ``collision_asset_fullpath`` (Habitat's names): the asset
+    handle as a full path, joined to the template's folder when relative; a primitive
+    handle (``cubeSolid``) or an empty one is returned as is."""
+
+    render_asset_handle: str
+    collision_asset_handle: str
+    file_directory: str
+
+    def _fullpath(self, handle: str) -> str:
+        if not handle or is_primitive_handle(handle) or Path(handle).is_absolute():
+            return handle
+        return str(Path(self.file_directory or ".") / handle)
+
+    @property
+    def render_asset_fullpath(self) -> str:
+        return self._fullpath(self.render_asset_handle)
+
+    @property
+    def collision_asset_fullpath(self) -> str:
+        return self._fullpath(self.collision_asset_handle)
+
+
+class ObjectAttributes(_AssetPaths, AbstractAttributes):
     """An object template (``*.object_config.json``), Habitat's ``ObjectAttributes``.
 
     ``compute_COM_from_shape`` is True unless the config (or a setter) gave ``COM``: then the
@@ -345,7 +426,7 @@ class ObjectAttributes(AbstractAttributes):
         return not self.bounding_box_collisions
 
 
-class StageAttributes(AbstractAttributes):
+class StageAttributes(_AssetPaths, AbstractAttributes):
     """A stage template (``*.stage_config.json``), Habitat's ``StageAttributes``.
 
     A bare ``.glb`` with no config beside it is Z-up: see

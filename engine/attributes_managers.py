@@ -36,6 +36,7 @@ from engine.attributes import (
     PhysicsManagerAttributes,
     PrimitiveAssetAttributes,
     StageAttributes,
+    checked_path,
 )
 from engine.primitives import PRIMITIVE_ASSET_HANDLES
 
@@ -231,7 +232,7 @@ class _AttributesManager(Generic[T]):
     # -- files ----------------------------------------------------------------------------------
     def _config_files(self, path: str | Path) -> list[Path]:
         """The config files ``path`` names: a folder's, a file, or a file missing its suffix."""
-        path = Path(path).expanduser()
+        path = checked_path(path).expanduser()
         if path.is_dir():
             return sorted(path.glob(f"*{self.config_suffix}"))
         if path.is_file() and path.name.endswith(self.config_suffix):
@@ -333,6 +334,30 @@ class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):
             self.register_template(template)
             self._undeletable.add(handle)
 
+    def create_new_template(self, handle: str, register_template: bool = False) -> ObjectAttributes:
+        """A new template named ``handle`` (Habitat's ``create_new_template``).
+
+        An existing ``*.object_config.json`` is read; any other existing file (``.glb``,
+        ``.obj``, ...) becomes the template's render and collision asset (its full path is the
+        handle); anything else gives a template with default values and no asset.
+        """
+        if not isinstance(handle, str):
+            raise TypeError(f"handle must be a str, got {handle!r}")
+        path = Path(handle).expanduser()
+        if path.is_file() and path.name.endswith(self.config_suffix):
+            template = ObjectAttributes.from_json_file(path)
+        elif path.is_file():
+            path = path.resolve()
+            template = ObjectAttributes(str(path))
+            template.file_directory = str(path.parent)
+            template.render_asset_handle = str(path)
+            template.collision_asset_handle = str(path)
+        else:
+            template = ObjectAttributes(handle)
+        if register_template:
+            self.register_template(template)
+        return template
+
     def get_synth_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
         """Handles of the primitive-based templates."""
         prims = set(PRIMITIVE_ASSET_HANDLES)
@@ -354,7 +379,8 @@ class StageAttributesManager(_AttributesManager[StageAttributes]):
         """The stage template for ``scene_id``: its config file, the config beside a mesh
         (``<stem>.stage_config.json``), or, for a bare mesh, defaults with a Z-up frame
         (asset ``(x, y, z)`` -> world ``(x, z, -y)``, Habitat's default for a ``.glb`` stage)."""
-        path = Path(asset_path).expanduser().resolve()
+        given = Path(asset_path).expanduser().absolute()
+        path = given.resolve()
         if path.name.endswith(self.config_suffix):
             return StageAttributes.from_json_file(path)
         if not path.is_file():
@@ -364,6 +390,7 @@ class StageAttributesManager(_AttributesManager[StageAttributes]):
             template = StageAttributes.from_json_file(beside)
             if not template.render_asset_handle:
                 template.render_asset_handle = str(path)
+            template.handle = str(given)  # named after the scene as given (Habitat's handle)
             return template
         template = StageAttributes(str(path))
         template.file_directory = str(path.parent)

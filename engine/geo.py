@@ -1,4 +1,5 @@
-"""Geometry helpers of Habitat's ``habitat_sim.geo``: the :class:`Ray` used by ``cast_ray``.
+"""Geometry helpers of Habitat's ``habitat_sim.geo``: the :class:`Ray` used by ``cast_ray``
+and :func:`get_transformed_bb` (the world box around a transformed local box).
 
 Also Habitat's axis constants (Y up, -Z forward, right handed): ``UP``, ``GRAVITY``,
 ``FRONT``, ``BACK``, ``LEFT``, ``RIGHT``.
@@ -55,3 +56,19 @@ class Ray:
 
     def __repr__(self) -> str:
         return f"Ray(origin={self._origin.tolist()}, direction={self._direction.tolist()})"
+
+
+def get_transformed_bb(range: mn.Range3D, xform: Any) -> mn.Range3D:  # noqa: A002 - Habitat's name
+    """The axis-aligned box around ``range`` after the 4x4 transformation ``xform``.
+
+    Each world axis of the result is the extent of the 8 transformed corners; computed as
+    Arvo's method: ``center' = M center``, ``half' = |R S| half`` (absolute values of the
+    rotation-scaling block times the half size), which bounds the corners exactly.
+    """
+    matrix = np.asarray(xform, dtype=np.float64)
+    if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+        raise ValueError(f"xform must be a finite 4x4 matrix, got {xform!r}")
+    low, high = np.asarray(range.min), np.asarray(range.max)
+    center = matrix[:3, :3] @ (0.5 * (low + high)) + matrix[:3, 3]
+    half = np.abs(matrix[:3, :3]) @ (0.5 * (high - low))
+    return mn.Range3D(center - half, center + half)

@@ -24,13 +24,13 @@ for its PBR shader).
 
 from __future__ import annotations
 
-import enum
 from typing import Any
 
 import numpy as np
 
 from engine import mn
 from engine.fixed_fields import unknown_attribute_error
+from engine.named_enum import NamedIntEnum
 from render.lights import AMBIENT, DEFAULT_LIGHTS, Lights
 
 __all__ = [
@@ -49,7 +49,7 @@ DEFAULT_LIGHTING_KEY = ""
 NO_LIGHT_KEY = "no_lights"
 
 
-class LightPositionModel(enum.IntEnum):
+class LightPositionModel(NamedIntEnum):
     """The frame a light's vector is given in (Habitat's enum)."""
 
     Camera = 0

@@ -33,6 +33,7 @@ from __future__ import annotations
 import itertools
 import time
 import warnings
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
@@ -194,6 +195,29 @@ class RenderScheduler:
         if remote:
             self._collect(remote, outputs, busy_here)
         return [outputs[id(job.state)] for job in jobs]
+
+    def start(
+        self, jobs: list[RenderJob], versions: tuple[int, int]
+    ) -> Callable[[], list[dict[str, np.ndarray]]]:
+        """Asynchronous rendering: place every group in the worker, submit them now (the
+        worker renders while this process goes on) and return the function that collects
+        the observations (in the order of ``jobs``). A group moved to the worker stays there
+        and starts with a full render (its layer, if any, was here)."""
+        for job in jobs:
+            state = job.state
+            if not state.remote:
+                state.remote, state.has_layer, state.layer_signature = True, False, None
+                self._remote_states.append(state)
+                job.mode = "full"
+            state.tile_rows = 0  # no row sharing: this process is busy with the physics
+        self._submit(jobs, versions)
+
+        def finish() -> list[dict[str, np.ndarray]]:
+            outputs: dict[int, dict[str, np.ndarray]] = {}
+            self._collect(jobs, outputs, 0.0)
+            return [outputs[id(job.state)] for job in jobs]
+
+        return finish
 
     @staticmethod
     def _shares(job: RenderJob) -> bool:

@@ -6,7 +6,7 @@
    (Habitat's defaults, timestep 0.008 s and gravity -9.8 m/s^2, when the file is missing);
 2. :func:`load_stage`: the stage template named by ``sim_cfg.scene_id`` (a template of the
    scene dataset, or one made for a bare ``.glb``/``.obj``/``.ply``) and its meshes in the
-   world frame (Y up, meters); ``"NONE"`` is an empty world;
+   world frame (Y up, meters); ``"NONE"`` (any case) is an empty world;
 3. :func:`load_navmesh_beside_stage`: ``<stage stem>.navmesh`` next to the stage asset.
 
 ``Simulator.recompute_navmesh`` builds a navmesh from :func:`stage_triangles` (the stage
@@ -25,6 +25,7 @@ import numpy as np
 from engine.assets import MeshData, load_meshes, merge_meshes
 from engine.attributes import PhysicsManagerAttributes, StageAttributes
 from engine.attributes_managers import PhysicsAttributesManager, StageAttributesManager
+from engine.logging import get_logger
 from navmesh import PathFinder
 
 __all__ = [
@@ -63,7 +64,9 @@ def load_stage(
     """
     if not isinstance(scene_id, str):
         raise TypeError(f"scene_id must be a string, got {scene_id!r}")
-    if scene_id in ("NONE", ""):
+    if scene_id.strip().lower() in ("none", ""):
+        # Habitat's empty scene ("NONE", any case): no stage, no navmesh, just a log line
+        get_logger("sim").info("scene_id %r: an empty scene without a stage", scene_id)
         return None, []
     # a stage template of the dataset (a copy), else one made for the asset file
     stage = (

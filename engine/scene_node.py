@@ -65,6 +65,8 @@ class SceneNode:
         self._rotation = np.array([0.0, 0.0, 0.0, 1.0])  # [x, y, z, w]
         self._scaling = np.ones(3)
         self.drawables: list[Drawable] = []
+        #: sensors whose leaf node this is, by uuid (Habitat's ``node_sensors``)
+        self.node_sensors: dict[str, Any] = {}
         if parent is not None:
             self.parent = parent
 
@@ -110,6 +112,28 @@ class SceneNode:
             nodes.append(node)
             stack.extend(reversed(node._children))
         return nodes
+
+    @property
+    def semantic_id(self) -> int:
+        """The node's semantic id, written to the SEMANTIC buffer by the meshes it draws
+        (Habitat's ``SceneNode.semantic_id``; not inherited by child nodes)."""
+        return int(getattr(self, "_semantic_id", 0))
+
+    @semantic_id.setter
+    def semantic_id(self, value: Any) -> None:
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+            raise ValueError(f"semantic_id must be a non-negative int, got {value!r}")
+        self._semantic_id = int(value)
+        for drawable in self.drawables:
+            drawable.semantic_id = int(value)
+
+    @property
+    def subtree_sensors(self) -> dict[str, Any]:
+        """Every sensor on this node or below it, by uuid (Habitat's ``subtree_sensors``)."""
+        sensors: dict[str, Any] = {}
+        for node in self.descendants():
+            sensors.update(node.node_sensors)
+        return sensors
 
     # -- local transform ----------------------------------------------------------------------
     @property
@@ -178,6 +202,10 @@ class SceneNode:
 
     def absolute_transformation(self) -> mn.Matrix4:
         return mn.Matrix4(self.world_matrix())
+
+    def absolute_transformation_matrix(self) -> mn.Matrix4:
+        """Habitat's (Magnum's) name: the node's transformation in the world frame."""
+        return self.absolute_transformation()
 
     def transformation_matrix(self) -> mn.Matrix4:
         """Habitat's name for the absolute transformation."""

@@ -61,6 +61,7 @@ from render.lights import Lights
 from render.scene import RenderMesh
 from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.views import SplitScene
+from render.worker import WorkerLost
 
 __all__ = ["SceneRenderer", "default_render_processes", "default_render_threads"]
 
@@ -240,13 +241,60 @@ class SceneRenderer:
 
         ``sensors`` is a list of sensors or an agent's ``sensors`` dict (uuid -> sensor).
         """
+        return self.observe_later(sensors)()
+
+    def observe_later(
+        self, sensors: list[CameraSensor] | dict[str, CameraSensor]
+    ) -> Callable[[], dict[str, np.ndarray]]:
+        """Stages 1-3 now, stages 4-5 when the returned function is called.
+
+        Every pose is copied now (the render scenes' poses, each group's camera pose), so
+        the scene graph may move before the call (asynchronous rendering,
+        :mod:`engine.async_render`); nothing else may use this renderer until then.
+        """
         if isinstance(sensors, dict):
             sensors = list(sensors.values())
         static_poses = self._update_scenes()
         jobs = self._group(sensors, static_poses)
         self.last_modes = {_names(job): job.mode for job in jobs}
+        versions = (self._static_version, self._moving_version)
+        return lambda: self._render_jobs(jobs, list(sensors), versions)
+
+    def observe_in_worker(
+        self, sensors: list[CameraSensor]
+    ) -> Callable[[], dict[str, np.ndarray]] | None:
+        """Asynchronous rendering: stages 1-3 now and every group submitted to the render
+        worker process at once (it renders while this process steps the physics); the
+        returned function collects the observations. None when there is no worker
+        (``processes = 0``) or it could not start: use :meth:`observe_later`."""
+        if self.scheduler.processes == 0:
+            return None
+        static_poses = self._update_scenes()
+        jobs = self._group(list(sensors), static_poses)
+        self.last_modes = {_names(job): job.mode for job in jobs}
+        versions = (self._static_version, self._moving_version)
+        try:
+            collect = self.scheduler.start(jobs, versions)
+        except WorkerLost as error:
+            self.scheduler._lose_worker(error, jobs)
+            return lambda: self._render_jobs(jobs, list(sensors), versions)
+
+        def finish() -> dict[str, np.ndarray]:
+            observations: dict[str, np.ndarray] = {}
+            for job, arrays in zip(jobs, collect(), strict=True):
+                self.last_places[_names(job)] = "worker"
+                observations.update(arrays)
+            return {sensor.uuid: observations[sensor.uuid] for sensor in sensors}
+
+        self.last_places = {}
+        return finish
+
+    def _render_jobs(
+        self, jobs: list[RenderJob], sensors: list[CameraSensor], versions: tuple[int, int]
+    ) -> dict[str, np.ndarray]:
+        """Stages 4-5: render the groups and copy each sensor's buffer out."""
         if self.scheduler.threads > 1 or any(job.state.remote for job in jobs):
-            per_group = self.scheduler.render(jobs, (self._static_version, self._moving_version))
+            per_group = self.scheduler.render(jobs, versions)
         else:  # the plain loop: one group after the other, here
             per_group = [copy_out(job.members, job.render_here(self._scene)) for job in jobs]
         observations: dict[str, np.ndarray] = {}

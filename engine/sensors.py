@@ -25,10 +25,21 @@ import numpy as np
 
 from engine import mn
 from engine.fixed_fields import FixedFields
+from engine.render_camera import RenderCamera
 from engine.scene_node import SceneNode
 from render.settings import check_pixel_budget
 
-__all__ = ["CameraSensor", "CameraSensorSpec", "SensorSubType", "SensorType", "euler_xyz_matrix"]
+__all__ = [
+    "CameraSensor",
+    "CameraSensorSpec",
+    "SemanticSensorTarget",
+    "Sensor",
+    "SensorSpec",
+    "SensorSubType",
+    "SensorType",
+    "VisualSensorSpec",
+    "euler_xyz_matrix",
+]
 
 
 class SensorType(Enum):
@@ -39,61 +50,82 @@ class SensorType(Enum):
     DEPTH = 2
     NORMAL = 3
     SEMANTIC = 4
+    CUSTOM = 5
+    AUDIO = 6
 
 
 class SensorSubType(Enum):
-    """The camera model (Habitat's ``SensorSubType``)."""
+    """The camera model (Habitat's ``SensorSubType``): pinhole and orthographic cameras are
+    :class:`CameraSensorSpec` s; fisheye and equirectangular ones are cube-map sensors
+    (:mod:`engine.cubemap_sensors`)."""
 
     NONE = 0
     PINHOLE = 1
     ORTHOGRAPHIC = 2
+    FISHEYE = 3
+    EQUIRECTANGULAR = 4
+    CUSTOM = 5
+    IMPULSERESPONSE = 6
 
 
-class CameraSensorSpec(FixedFields):
-    """A camera sensor's description, Habitat's defaults (``position`` is ``[0, 1.5, 0]``).
+class SemanticSensorTarget(Enum):
+    """What a SEMANTIC sensor writes (Habitat's ``SensorSemanticTarget``); rigidsim writes
+    each drawable's ``semantic_id`` for every value."""
 
-    ``resolution`` is ``[height, width]``; ``hfov`` is the horizontal field of view in degrees;
-    ``orientation`` is X, Y, Z Euler angles in radians. A misspelt field raises
-    ``AttributeError`` naming the closest one (Habitat's specs are fixed-field structs).
-    ``channels``, ``gpu2gpu_transfer``, ``noise_model``, ``noise_model_kwargs`` and
-    ``sensor_subtype``-specific Habitat fields are stored for compatibility; rigidsim renders
-    COLOR as RGBA whatever ``channels`` says.
+    DRAWABLE_ID = 0
+    SEMANTIC_ID = 1
+    OBJECT_ID = 2
+
+
+_VISUAL_TYPES = (SensorType.COLOR, SensorType.DEPTH, SensorType.SEMANTIC)
+
+
+class SensorSpec(FixedFields):
+    """Habitat's ``SensorSpec``: what every sensor has (uuid, type, pose on its node).
+
+    Defaults as Habitat's: ``uuid`` ``""``, ``sensor_type`` and ``sensor_subtype`` NONE,
+    ``position`` ``[0, 1.5, 0]``, ``orientation`` ``[0, 0, 0]`` (X, Y, Z Euler angles in
+    radians), ``noise_model`` ``"None"``. A misspelt field raises ``AttributeError`` naming the
+    closest one (Habitat's specs are fixed-field structs).
     """
 
-    _extra_fields = (
+    _extra_fields: tuple[str, ...] = (
         "uuid",
         "sensor_type",
         "sensor_subtype",
-        "resolution",
         "position",
         "orientation",
-        "hfov",
-        "near",
-        "far",
-        "ortho_scale",
-        "clear_color",
-        "channels",
-        "gpu2gpu_transfer",
         "noise_model",
         "noise_model_kwargs",
+    )
+    #: the spec fields compared by ``==`` (Habitat's ``operator==``)
+    _compared: tuple[str, ...] = (
+        "uuid",
+        "sensor_type",
+        "sensor_subtype",
+        "position",
+        "orientation",
+        "noise_model",
     )
 
     def __init__(self) -> None:
         self.uuid = ""
-        self.sensor_type = SensorType.COLOR
-        self.sensor_subtype = SensorSubType.PINHOLE
-        self.resolution = [128, 128]
+        self.sensor_type = SensorType.NONE
+        self.sensor_subtype = SensorSubType.NONE
         self.position = [0.0, 1.5, 0.0]
         self.orientation = [0.0, 0.0, 0.0]
-        self.hfov = 90.0
-        self.near = 0.01
-        self.far = 1000.0
-        self.ortho_scale = 0.1
-        self.clear_color = [0.0, 0.0, 0.0, 1.0]
-        self.channels = 4
-        self.gpu2gpu_transfer = False
         self.noise_model = "None"
         self.noise_model_kwargs: dict[str, Any] = {}
+
+    def is_visual_sensor_spec(self) -> bool:
+        return False
+
+    def __eq__(self, other: object) -> bool:
+        if type(other) is not type(self):
+            return NotImplemented
+        return all(_same(getattr(self, k), getattr(other, k)) for k in self._compared)
+
+    __hash__ = object.__hash__  # specs are mutable structs, hashed by identity
 
     def validate(self) -> None:
         """Raise ValueError/TypeError naming the first bad field."""
@@ -101,24 +133,84 @@ class CameraSensorSpec(FixedFields):
             raise TypeError(f"sensor uuid must be a string, got {self.uuid!r}")
         if not isinstance(self.sensor_type, SensorType):
             raise TypeError(f"sensor_type must be a SensorType, got {self.sensor_type!r}")
-        if self.sensor_type not in (SensorType.COLOR, SensorType.DEPTH, SensorType.SEMANTIC):
-            raise ValueError(f"sensor {self.uuid!r}: unsupported sensor_type {self.sensor_type}")
         if not isinstance(self.sensor_subtype, SensorSubType):
             raise TypeError(f"sensor_subtype must be a SensorSubType, got {self.sensor_subtype!r}")
-        self.pixel_resolution()
         mn.to_vector3(self.position, f"sensor {self.uuid!r} position")
         mn.to_vector3(self.orientation, f"sensor {self.uuid!r} orientation")
-        hfov, near, far = (self._number(name) for name in ("hfov", "near", "far"))
-        if not 0.0 < hfov < 180.0:
-            raise ValueError(f"sensor {self.uuid!r}: hfov must be in (0, 180), got {self.hfov!r}")
+
+    def _number(self, name: str) -> float:
+        """Field ``name`` as a finite float, else TypeError/ValueError naming it."""
+        value = getattr(self, name)
+        if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+            raise TypeError(f"sensor {self.uuid!r}: {name} must be a number, got {value!r}")
+        if not math.isfinite(float(value)):
+            raise ValueError(f"sensor {self.uuid!r}: {name} must be finite, got {value!r}")
+        return float(value)
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Field equality for specs: sequences compare element-wise."""
+    if isinstance(a, str | Enum | dict) or isinstance(b, str | Enum | dict) or a is None:
+        return bool(a == b)
+    try:
+        return bool(np.array_equal(np.asarray(a, dtype=np.float64), np.asarray(b, np.float64)))
+    except (TypeError, ValueError):
+        return bool(a == b)
+
+
+class VisualSensorSpec(SensorSpec):
+    """Habitat's ``VisualSensorSpec``: an image sensor (``sensor_type`` COLOR by default).
+
+    ``resolution`` is ``[height, width]`` (default ``[128, 128]``), ``near`` 0.01 and ``far``
+    1000 m, ``channels`` 4, ``clear_color`` opaque black, ``semantic_target``
+    SEMANTIC_ID. ``channels``, ``gpu2gpu_transfer`` and ``semantic_target`` are stored for
+    compatibility; rigidsim renders COLOR as RGBA whatever ``channels`` says.
+    """
+
+    _extra_fields = (
+        *SensorSpec._extra_fields,
+        "resolution",
+        "near",
+        "far",
+        "channels",
+        "gpu2gpu_transfer",
+        "semantic_target",
+        "clear_color",
+    )
+    _compared = (
+        *SensorSpec._compared,
+        "resolution",
+        "channels",
+        "gpu2gpu_transfer",
+        "far",
+        "near",
+        "clear_color",
+    )
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.sensor_type = SensorType.COLOR
+        self.resolution = [128, 128]
+        self.near = 0.01
+        self.far = 1000.0
+        self.channels = 4
+        self.gpu2gpu_transfer = False
+        self.semantic_target = SemanticSensorTarget.SEMANTIC_ID
+        self.clear_color = [0.0, 0.0, 0.0, 1.0]
+
+    def is_visual_sensor_spec(self) -> bool:
+        return True
+
+    def validate(self) -> None:
+        super().validate()
+        if self.sensor_type not in _VISUAL_TYPES:
+            raise ValueError(f"sensor {self.uuid!r}: unsupported sensor_type {self.sensor_type}")
+        self.pixel_resolution()
+        near, far = self._number("near"), self._number("far")
         if not 0.0 < near < far:
             raise ValueError(
                 f"sensor {self.uuid!r}: need 0 < near < far, got "
                 f"near={self.near!r}, far={self.far!r}"
-            )
-        if self._number("ortho_scale") <= 0.0:
-            raise ValueError(
-                f"sensor {self.uuid!r}: ortho_scale must be > 0, got {self.ortho_scale!r}"
             )
 
     def pixel_resolution(self) -> tuple[int, int]:
@@ -143,14 +235,39 @@ class CameraSensorSpec(FixedFields):
         check_pixel_budget(height, width, f"sensor {self.uuid!r} resolution")
         return height, width
 
-    def _number(self, name: str) -> float:
-        """Field ``name`` as a finite float, else TypeError/ValueError naming it."""
-        value = getattr(self, name)
-        if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-            raise TypeError(f"sensor {self.uuid!r}: {name} must be a number, got {value!r}")
-        if not math.isfinite(float(value)):
-            raise ValueError(f"sensor {self.uuid!r}: {name} must be finite, got {value!r}")
-        return float(value)
+
+class CameraSensorSpec(VisualSensorSpec):
+    """A pinhole or orthographic camera, Habitat's defaults: ``uuid`` ``"rgba_camera"``,
+    ``sensor_subtype`` PINHOLE, ``hfov`` 90 (horizontal, degrees), ``ortho_scale`` 0.1, and
+    :class:`VisualSensorSpec`'s (``resolution`` ``[128, 128]``, ``position`` ``[0, 1.5, 0]``).
+    """
+
+    _extra_fields = (*VisualSensorSpec._extra_fields, "hfov", "ortho_scale")
+    _compared = (*VisualSensorSpec._compared, "ortho_scale", "hfov")
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.uuid = "rgba_camera"
+        self.sensor_subtype = SensorSubType.PINHOLE
+        self.hfov = 90.0
+        self.ortho_scale = 0.1
+
+    def validate(self) -> None:
+        """Raise ValueError/TypeError naming the first bad field."""
+        super().validate()
+        if self.sensor_subtype not in (SensorSubType.PINHOLE, SensorSubType.ORTHOGRAPHIC):
+            raise ValueError(
+                f"sensor {self.uuid!r}: a CameraSensorSpec is PINHOLE or ORTHOGRAPHIC, got "
+                f"{self.sensor_subtype}; use FisheyeSensorDoubleSphereSpec or "
+                "EquirectangularSensorSpec for the wide-angle models"
+            )
+        hfov = self._number("hfov")
+        if not 0.0 < hfov < 180.0:
+            raise ValueError(f"sensor {self.uuid!r}: hfov must be in (0, 180), got {self.hfov!r}")
+        if self._number("ortho_scale") <= 0.0:
+            raise ValueError(
+                f"sensor {self.uuid!r}: ortho_scale must be > 0, got {self.ortho_scale!r}"
+            )
 
     def __repr__(self) -> str:
         return (
@@ -177,14 +294,19 @@ def euler_xyz_matrix(angles: Any) -> np.ndarray:
     return rot_z @ rot_y @ rot_x
 
 
-class CameraSensor:
-    """A sensor instance: its spec and the scene node that carries it (child of the agent)."""
+class Sensor:
+    """A sensor object (Habitat's C++ ``Sensor``): its spec and the leaf scene node that
+    carries it, a child of the node it was created on (an agent's node, an object's node or
+    any static node). The node is registered in ``parent.subtree_sensors`` under the uuid."""
 
-    def __init__(self, spec: CameraSensorSpec, agent_node: SceneNode) -> None:
+    def __init__(self, spec: SensorSpec, parent_node: SceneNode) -> None:
         spec.validate()
+        if not isinstance(parent_node, SceneNode):
+            raise TypeError(f"a sensor needs a SceneNode to attach to, got {parent_node!r}")
         self.spec = spec
-        self.node = SceneNode(agent_node, name=f"sensor:{spec.uuid}")
-        self.reset_pose()
+        self.node = SceneNode(parent_node, name=f"sensor:{spec.uuid}")
+        self.node.node_sensors[spec.uuid] = self
+        self.set_transformation_from_spec()
 
     @property
     def uuid(self) -> str:
@@ -192,11 +314,70 @@ class CameraSensor:
 
     @property
     def object(self) -> SceneNode:
-        """Habitat's name for the node the sensor is attached to (its own node)."""
+        """Habitat's alias of :attr:`node`."""
         return self.node
 
-    def specification(self) -> CameraSensorSpec:
+    def specification(self) -> SensorSpec:
         return self.spec
+
+    def is_visual_sensor(self) -> bool:
+        return self.spec.is_visual_sensor_spec()
+
+    def set_transformation_from_spec(self) -> None:
+        """Put the sensor node back at the spec's position and orientation."""
+        self.node.translation = self.spec.position
+        self.node.rotation = mn.Quaternion.from_matrix(euler_xyz_matrix(self.spec.orientation))
+
+    reset_pose = set_transformation_from_spec  # rigidsim's older name
+
+    def world_from_camera(self) -> np.ndarray:
+        """The sensor pose ``(4, 4)``: its parent chain's pose times its local pose."""
+        return self.node.world_matrix()
+
+    def detach(self) -> None:
+        """Remove the sensor's leaf node from the scene graph (Habitat's ``delete_sensor``)."""
+        self.node.node_sensors.pop(self.uuid, None)
+        self.node.parent = None
+
+    @property
+    def near(self) -> float:
+        return float(self._visual_spec().near)
+
+    @property
+    def far(self) -> float:
+        return float(self._visual_spec().far)
+
+    @property
+    def framebuffer_size(self) -> mn.Vector2i:
+        """``(width, height)`` in pixels (Magnum's order)."""
+        height, width = self._visual_spec().pixel_resolution()
+        return mn.Vector2i(width, height)
+
+    def _visual_spec(self) -> VisualSensorSpec:
+        if not isinstance(self.spec, VisualSensorSpec):
+            raise AttributeError(f"sensor {self.uuid!r} is not a visual sensor")
+        return self.spec
+
+
+class CameraSensor(Sensor):
+    """A pinhole or orthographic camera sensor (Habitat's ``CameraSensor``).
+
+    ``hfov`` / ``fov`` (settable, :class:`mn.Deg`), ``near_plane_dist`` / ``far_plane_dist``
+    (settable), ``zoom(factor)`` / ``reset_zoom()`` (a factor > 1 narrows the view: the
+    focal length, or the orthographic pixels per meter, times ``factor``), ``camera_type``,
+    ``set_width`` / ``set_height`` / ``set_projection_params(spec)`` and ``render_camera``
+    (:class:`engine.render_camera.RenderCamera`: projection and camera matrices, unproject).
+    Setters write the spec, so the next observation uses them.
+    """
+
+    spec: CameraSensorSpec
+
+    def __init__(self, spec: CameraSensorSpec, parent_node: SceneNode) -> None:
+        if not isinstance(spec, CameraSensorSpec):
+            raise TypeError(f"CameraSensor needs a CameraSensorSpec, got {type(spec).__name__}")
+        self._zoom = 1.0
+        super().__init__(spec, parent_node)
+        self._render_camera: RenderCamera | None = None
 
     @property
     def hfov(self) -> mn.Deg:
@@ -215,28 +396,93 @@ class CameraSensor:
 
     fov = hfov  # Habitat's alias
 
-    def set_transformation_from_spec(self) -> None:
-        """Habitat's name for :meth:`reset_pose`."""
-        self.reset_pose()
+    @property
+    def near_plane_dist(self) -> float:
+        return float(self.spec.near)
 
-    def reset_pose(self) -> None:
-        """Put the sensor node back at the spec's position and orientation."""
-        self.node.translation = self.spec.position
-        self.node.rotation = mn.Quaternion.from_matrix(euler_xyz_matrix(self.spec.orientation))
+    @near_plane_dist.setter
+    def near_plane_dist(self, value: float) -> None:
+        self._set_clip("near", value)
+
+    @property
+    def far_plane_dist(self) -> float:
+        return float(self.spec.far)
+
+    @far_plane_dist.setter
+    def far_plane_dist(self, value: float) -> None:
+        self._set_clip("far", value)
+
+    def _set_clip(self, name: str, value: Any) -> None:
+        near, far = float(self.spec.near), float(self.spec.far)
+        near, far = (float(value), far) if name == "near" else (near, float(value))
+        if not (math.isfinite(near) and math.isfinite(far) and 0.0 < near < far):
+            raise ValueError(
+                f"sensor {self.uuid!r}: {name} plane {value!r} leaves near={near}, far={far}; "
+                "need 0 < near < far"
+            )
+        setattr(self.spec, name, float(value))
+
+    @property
+    def camera_type(self) -> SensorSubType:
+        return self.spec.sensor_subtype
+
+    @camera_type.setter
+    def camera_type(self, value: SensorSubType) -> None:
+        if value not in (SensorSubType.PINHOLE, SensorSubType.ORTHOGRAPHIC):
+            raise ValueError(f"camera_type must be PINHOLE or ORTHOGRAPHIC, got {value!r}")
+        self.spec.sensor_subtype = value
+
+    def zoom(self, factor: float) -> None:
+        """Multiply the zoom by ``factor`` (> 1 narrows the view, Habitat's ``zoom``)."""
+        if isinstance(factor, bool) or not math.isfinite(float(factor)) or float(factor) <= 0:
+            raise ValueError(f"sensor {self.uuid!r}: zoom factor must be > 0, got {factor!r}")
+        self._zoom *= float(factor)
+
+    def reset_zoom(self) -> None:
+        self._zoom = 1.0
+
+    def set_width(self, width: int) -> None:
+        self._set_resolution(int(self.spec.resolution[0]), width)
+
+    def set_height(self, height: int) -> None:
+        self._set_resolution(height, int(self.spec.resolution[1]))
+
+    def _set_resolution(self, height: Any, width: Any) -> None:
+        old = self.spec.resolution
+        self.spec.resolution = [height, width]
+        try:
+            self.spec.pixel_resolution()
+        except ValueError:
+            self.spec.resolution = old
+            raise
+
+    def set_projection_params(self, sensor_spec: CameraSensorSpec) -> None:
+        """Take ``sensor_spec``'s resolution and camera type (Habitat's rule)."""
+        self._set_resolution(*sensor_spec.resolution)
+        self.camera_type = sensor_spec.sensor_subtype
+
+    @property
+    def render_camera(self) -> RenderCamera:
+        """The camera's projection, view matrix and unprojection (one per sensor)."""
+        if self._render_camera is None:
+            self._render_camera = RenderCamera(self)
+        return self._render_camera
 
     def camera_key(self) -> tuple:
-        """Intrinsics that decide the rasterization (sensors with equal keys and poses share)."""
+        """Intrinsics that decide the rasterization (sensors with equal keys and poses share):
+        ``((H, W), hfov, near, far, subtype, ortho_scale)`` with the zoom applied
+        (``tan(hfov' / 2) = tan(hfov / 2) / zoom``, ``ortho_scale' = ortho_scale * zoom``)."""
         spec = self.spec
         height, width = spec.pixel_resolution()
+        hfov = float(spec.hfov)
+        if self._zoom != 1.0:
+            half = math.atan(math.tan(math.radians(hfov) / 2.0) / self._zoom)
+            hfov = math.degrees(2.0 * half)
         return (
             (height, width),
-            float(spec.hfov),
+            hfov,
             float(spec.near),
             float(spec.far),
             spec.sensor_subtype,
-            float(spec.ortho_scale),
+            float(spec.ortho_scale) * self._zoom,
         )
-
-    def world_from_camera(self) -> np.ndarray:
-        """The camera pose ``(4, 4)``: agent node pose times the sensor's local pose."""
-        return self.node.world_matrix()

@@ -27,6 +27,7 @@ and bad input raises a clear exception instead of logging.
 
 from __future__ import annotations
 
+import time
 import warnings
 from collections.abc import Mapping
 from typing import Any
@@ -35,6 +36,7 @@ import numpy as np
 
 from engine import mn
 from engine.agent import Agent, AgentState
+from engine.agent.agent import numpy_quaternion
 from engine.agent.controls.pyrobot_noisy_controls import seed_noise
 from engine.attributes_managers import (
     AssetAttributesManager,
@@ -44,6 +46,7 @@ from engine.attributes_managers import (
 )
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
 from engine.metadata import MetadataMediator
+from engine.pathfinder import PathFinder
 from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene_loading import (
@@ -56,13 +59,20 @@ from engine.scene_loading import (
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
 from engine.simulator_config import Configuration, Random, SimulatorConfiguration
-from navmesh import NavMeshSettings, PathFinder
+from engine.simulator_queries import SimulatorQueries
+from engine.simulator_sensors import SimulatorSensors
+from navmesh import NavMeshSettings
 
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
 
-class Simulator:
-    """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh."""
+class Simulator(SimulatorSensors, SimulatorQueries):
+    """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
+
+    The sensor API (``sensors``, ``create_sensor``, ``get_sensor_observations``,
+    asynchronous rendering) is :class:`engine.simulator_sensors.SimulatorSensors`; the
+    scene queries are :class:`engine.simulator_queries.SimulatorQueries`.
+    """
 
     def __init__(self, config: Configuration) -> None:
         if not isinstance(config, Configuration):
@@ -86,6 +96,8 @@ class Simulator:
             self._physics_template_manager, sim_cfg.physics_config_file
         )
         stage_attributes, stage_meshes = load_stage(self._stage_template_manager, sim_cfg.scene_id)
+        self._stage_attributes = stage_attributes
+        self._semantic_scene = None
 
         self.root_node = SceneNode(name="root")
         self._scene_graph = SceneGraph(self.root_node)
@@ -126,6 +138,7 @@ class Simulator:
             agent = Agent(node, agent_config)
             agent.controls.move_filter_fn = self.step_filter
             self.agents.append(agent)
+        self._register_agent_sensors()
         self._last_states: dict[int, AgentState] = {}
         for agent_id in range(len(self.agents)):
             self.initialize_agent(agent_id)
@@ -232,7 +245,7 @@ class Simulator:
         ids = {id(d) for d in self._stage_node.drawables}
         for obj in self._world.rigid_object_manager._objects.values():
             if obj.motion_type == MotionType.STATIC:
-                ids.update(id(d) for d in obj._visual_node.drawables)
+                ids.update(id(d) for d in obj.visual_drawables())
         return ids
 
     # ------------------------------------------------------------------------------------------
@@ -265,7 +278,9 @@ class Simulator:
                         stacklevel=2,
                     )
                 yaw = self.random.uniform_float(0.0, 2.0 * np.pi)
-                initial_state.rotation = mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+                initial_state.rotation = numpy_quaternion(
+                    mn.Quaternion.rotation(mn.Rad(yaw), [0.0, 1.0, 0.0])
+                )
         agent.set_state(initial_state, is_initial=True)
         self._last_states[agent_id] = agent.get_state()
         return agent
@@ -285,38 +300,12 @@ class Simulator:
         return self.agents[agent_id]
 
     @property
-    def sensors(self) -> dict:
-        """The default agent's sensors keyed by uuid."""
-        return self.get_agent(self._default_agent_id).sensors
-
-    @property
-    def _sensors(self) -> dict:
-        # Habitat's (deprecated) name, used by its tests
-        return self.sensors
-
-    @property
     def _default_agent(self) -> Agent:
         return self.get_agent(self._default_agent_id)
 
     def last_state(self, agent_id: int | None = None) -> AgentState:
         """The agent's state after its last ``step`` (or initialization)."""
         return self._last_states[self._default_agent_id if agent_id is None else agent_id]
-
-    def get_sensor_observations(self, agent_ids: int | list[int] = 0) -> Any:
-        """Render every sensor of the agent(s): a fresh dict keyed by sensor uuid.
-
-        With a list of agent ids, a dict ``{agent_id: observations}`` (as Habitat).
-        """
-        self._check_open()
-        if isinstance(agent_ids, list | tuple):
-            return {i: self._renderer.observe(self.get_agent(i).sensors) for i in agent_ids}
-        return self._renderer.observe(self.get_agent(agent_ids).sensors)
-
-    def add_sensor(self, sensor_spec: Any, agent_id: int | None = None) -> None:
-        """Give an agent (default: the default agent) a new sensor."""
-        self._check_open()
-        agent = self.get_agent(self._default_agent_id if agent_id is None else agent_id)
-        agent._add_sensor(sensor_spec)
 
     def step(self, action: Any, dt: float = 1.0 / 60.0) -> dict:
         """Act, step the world by ``dt`` and observe (Habitat's agent loop).
@@ -335,7 +324,9 @@ class Simulator:
             agent = self.get_agent(agent_id)
             collided[agent_id] = agent.act(action_id)
             self._last_states[agent_id] = agent.get_state()
+        step_start = time.time()
         self._world.step_physics(dt)
+        self._previous_step_time = time.time() - step_start
         observations = self.get_sensor_observations(agent_ids=list(actions))
         for agent_id, agent_observations in observations.items():
             agent_observations["collided"] = collided[agent_id]
@@ -460,6 +451,11 @@ class Simulator:
         ``destroy`` is Habitat's (its GL context); rigidsim has none to release.
         """
         if not self._closed:
+            self._async_render.close()
+            for sensor in self._wrapper_of.values():
+                sensor.close()
+            self._sensor_registry.clear()
+            self._wrapper_of.clear()
             self._world.rigid_object_manager.remove_all_objects()
             self._renderer.close()
             self._closed = True

@@ -2,10 +2,11 @@
 
 Templates carry the free JSON found under ``"user_defined"`` in their config files as a
 :class:`Configuration`; every object created from the template starts with a copy of it
-(``obj.user_attributes``). Values are typed when set: bool, int, float, str, a 3-vector
-(:class:`mn.Vector3`), a 4-vector, a :class:`mn.Quaternion`, or a nested ``Configuration``.
+(``obj.user_attributes``). Values are typed when set (:mod:`engine.config_values` has the
+whole table): bool, int, float, ``Rad``/``Deg``, str, 2-, 3- and 4-vectors, quaternions, 3x3
+and 4x4 matrices, or a nested ``Configuration``; ``get`` returns the Magnum type.
 
-``get_as_string`` reproduces Habitat's exact formats:
+``get_as_string`` reproduces Habitat's exact formats, among them:
 
 ==========  ====================  =============================
 type        format                example
@@ -21,34 +22,18 @@ Quaternion  ``w [x y z]`` (%.6g)  ``0.707107 [-0.707107 0 0]``
 
 from __future__ import annotations
 
+import builtins
 import copy
 import warnings
-from enum import Enum
 from typing import Any
 
 import numpy as np
 
 from engine import mn
+from engine.config_values import ConfigValType, format_value, typed_value
 from engine.mn.vectors import finite_array
 
 __all__ = ["ConfigValType", "Configuration"]
-
-
-class ConfigValType(Enum):
-    """The type tag of a stored value (Habitat's ``ConfigValType``)."""
-
-    Unknown = 0
-    Boolean = 1
-    Integer = 2
-    Float = 3
-    String = 4
-    MagnumVec3 = 5
-    MagnumVec4 = 6
-    MagnumQuat = 7
-
-
-def _fmt(value: float) -> str:
-    return f"{value:.6g}"
 
 
 class Configuration:
@@ -58,27 +43,10 @@ class Configuration:
         self._values: dict[str, tuple[ConfigValType, Any]] = {}
         self._subconfigs: dict[str, Configuration] = {}
 
-    # -- typing ---------------------------------------------------------------------------------
     @staticmethod
     def _typed(key: str, value: Any) -> tuple[ConfigValType, Any]:
-        """The (type, stored value) of ``value``; ValueError for an unsupported value."""
-        if isinstance(value, bool | np.bool_):
-            return ConfigValType.Boolean, bool(value)
-        if isinstance(value, int | np.integer):
-            return ConfigValType.Integer, int(value)
-        if isinstance(value, float | np.floating):
-            return ConfigValType.Float, float(value)
-        if isinstance(value, str):
-            return ConfigValType.String, value
-        if isinstance(value, mn.Quaternion) or all(hasattr(value, a) for a in "wxyz"):
-            return ConfigValType.MagnumQuat, mn.to_quaternion(value, key)
-        if isinstance(value, mn.Vector3 | list | tuple | np.ndarray):
-            array = np.asarray(value, dtype=np.float64) if len(value) in (3, 4) else None
-            if array is not None and array.shape == (3,):
-                return ConfigValType.MagnumVec3, mn.to_vector3(array, key)
-            if array is not None and array.shape == (4,) and np.all(np.isfinite(array)):
-                return ConfigValType.MagnumVec4, array
-        raise ValueError(f"user attribute {key!r}: unsupported value {value!r}")
+        """The (type, stored value) of ``value`` (:func:`engine.config_values.typed_value`)."""
+        return typed_value(key, value)
 
     # -- values -----------------------------------------------------------------------------------
     def set(self, key: str, value: Any) -> None:
@@ -90,6 +58,10 @@ class Configuration:
             return
         typed = self._typed(key, value)
         self._values[key] = typed
+
+    def init(self, key: str, value: Any) -> None:
+        """Habitat's ``init``: store an initial value (here the same as :meth:`set`)."""
+        self.set(key, value)
 
     def get(self, key: str) -> Any:
         """The value stored under ``key`` (a copy for vectors); KeyError if absent."""
@@ -108,19 +80,7 @@ class Configuration:
         """The value formatted as Habitat does (see the module docstring)."""
         if key not in self._values:
             raise KeyError(f"user attribute {key!r} not found")
-        value_type, value = self._values[key]
-        if value_type is ConfigValType.Boolean:
-            return "True" if value else "False"
-        if value_type is ConfigValType.Integer:
-            return str(value)
-        if value_type is ConfigValType.Float:
-            return f"{value:.15g}"
-        if value_type is ConfigValType.String:
-            return value
-        if value_type is ConfigValType.MagnumQuat:
-            x, y, z = value.vector
-            return f"{_fmt(value.scalar)} [{_fmt(x)} {_fmt(y)} {_fmt(z)}]"
-        return "[" + " ".join(_fmt(c) for c in np.asarray(value)) + "]"
+        return format_value(*self._values[key])
 
     def has_value(self, key: str) -> bool:
         return key in self._values
@@ -133,22 +93,27 @@ class Configuration:
             return self._subconfigs.pop(key)
         raise KeyError(f"user attribute {key!r} not found")
 
-    def get_keys_by_type(self, value_type: ConfigValType | type) -> list[str]:
+    def get_keys_by_type(self, value_type: ConfigValType | type, sorted: bool = True) -> list[str]:  # noqa: A002
         """Keys whose values have ``value_type`` (a ConfigValType or a Python type), sorted."""
         by_python_type: dict[type, ConfigValType] = {
             bool: ConfigValType.Boolean,
             int: ConfigValType.Integer,
             float: ConfigValType.Float,
             str: ConfigValType.String,
+            mn.Vector2: ConfigValType.MagnumVec2,
             mn.Vector3: ConfigValType.MagnumVec3,
+            mn.Vector4: ConfigValType.MagnumVec4,
             mn.Quaternion: ConfigValType.MagnumQuat,
+            mn.Matrix3: ConfigValType.MagnumMat3,
+            mn.Matrix4: ConfigValType.MagnumMat4,
         }
         wanted = (
             value_type
             if isinstance(value_type, ConfigValType)
             else by_python_type.get(value_type)  # None (matches nothing) for other types
         )
-        return sorted(k for k, (t, _) in self._values.items() if t is wanted)
+        keys = [k for k, (t, _) in self._values.items() if t is wanted]
+        return builtins.sorted(keys) if sorted else keys
 
     def get_keys(self) -> list[str]:
         return sorted(self._values)
@@ -162,15 +127,72 @@ class Configuration:
         return self._subconfigs.setdefault(key, Configuration())
 
     def get_subconfig_copy(self, key: str) -> Configuration:
+        """A copy of the sub-configuration ``key`` (created empty first if absent, as Habitat)."""
+        return self.get_subconfig(key).copy()
+
+    def save_subconfig(self, key: str, subconfig: Configuration) -> None:
+        """Store (a copy of) ``subconfig`` under ``key``, replacing what was there."""
+        if not isinstance(subconfig, Configuration):
+            raise TypeError(f"subconfig {key!r} must be a Configuration, got {subconfig!r}")
+        self.set(key, subconfig)
+
+    def remove_subconfig(self, key: str) -> Configuration:
+        """Remove and return the sub-configuration ``key`` (KeyError if absent)."""
         if key not in self._subconfigs:
             raise KeyError(f"sub-configuration {key!r} not found")
-        return self._subconfigs[key].copy()
+        return self._subconfigs.pop(key)
+
+    def find_value_location(self, key: str) -> list[str]:
+        """The sub-configuration keys leading to ``key``, then ``key`` ([] if nowhere).
+
+        Depth first in key order; this configuration's own values and sub-configurations first.
+        """
+        if key in self._values or key in self._subconfigs:
+            return [key]
+        for name in sorted(self._subconfigs):
+            path = self._subconfigs[name].find_value_location(key)
+            if path:
+                return [name, *path]
+        return []
+
+    def has_key_to_type(self, key: str, value_type: ConfigValType) -> bool:
+        """True when ``key`` holds a value of ``value_type``."""
+        return key in self._values and self._values[key][0] is value_type
+
+    def get_keys_and_types(self) -> dict[str, ConfigValType]:
+        """Every value key with its type."""
+        return {key: value_type for key, (value_type, _) in self._values.items()}
+
+    @property
+    def top_level_num_entries(self) -> int:
+        return len(self._values) + len(self._subconfigs)
+
+    @property
+    def top_level_num_configs(self) -> int:
+        return len(self._subconfigs)
+
+    @property
+    def top_level_num_values(self) -> int:
+        return len(self._values)
+
+    @property
+    def total_num_configs(self) -> int:
+        return sum(1 + sub.total_num_configs for sub in self._subconfigs.values())
+
+    @property
+    def total_num_values(self) -> int:
+        return len(self._values) + sum(s.total_num_values for s in self._subconfigs.values())
+
+    @property
+    def total_num_entries(self) -> int:
+        return self.total_num_values + self.total_num_configs
 
     def has_subconfig(self, key: str) -> bool:
         return key in self._subconfigs
 
-    def get_subconfig_keys(self) -> list[str]:
-        return sorted(self._subconfigs)
+    def get_subconfig_keys(self, sorted: bool = True) -> list[str]:  # noqa: A002
+        keys = list(self._subconfigs)
+        return builtins.sorted(keys) if sorted else keys
 
     def get_num_subconfigs(self) -> int:
         return len(self._subconfigs)
@@ -216,8 +238,12 @@ class Configuration:
         for key, (value_type, value) in self._values.items():
             if value_type is ConfigValType.MagnumQuat:
                 out[key] = [value.scalar, *value.vector]
-            elif value_type in (ConfigValType.MagnumVec3, ConfigValType.MagnumVec4):
-                out[key] = [float(c) for c in np.asarray(value)]
+            elif isinstance(value, mn.Vector2i):
+                out[key] = [int(c) for c in np.asarray(value)]
+            elif isinstance(value, mn.Rad | mn.Deg):
+                out[key] = float(value)
+            elif not isinstance(value, bool | int | float | str):  # vectors and matrices
+                out[key] = np.asarray(value, dtype=np.float64).tolist()
             else:
                 out[key] = value
         for key, sub in self._subconfigs.items():

@@ -20,9 +20,9 @@ Pinhole projection (Habitat's ``CameraSensorSpec``: ``hfov`` in degrees, horizon
 (720 x 544 at 90 degrees gives fx = 360 px.)
 
 Orthographic projection (Habitat's ``OrthographicCamera``: the view is ``1 / ortho_scale``
-meters tall and ``(W / H) / ortho_scale`` meters wide)::
+meters wide and ``(H / W) / ortho_scale`` meters tall)::
 
-    s = H * ortho_scale  (pixels per meter)
+    s = W * ortho_scale  (pixels per meter)
     px = cx + s * x,   py = cy - s * y,   depth z = -z_camera
 """
 
@@ -106,7 +106,7 @@ class Camera:
     hfov : float, horizontal field of view in degrees, in (0, 180). Default 90.
     near, far : float, clip distances in meters along the view axis, 0 < near < far.
     subtype : ``"pinhole"`` or ``"orthographic"``.
-    ortho_scale : float > 0, orthographic only: the view is ``1 / ortho_scale`` m tall.
+    ortho_scale : float > 0, orthographic only: the view is ``1 / ortho_scale`` m wide.
     """
 
     resolution: tuple[int, int]
@@ -149,10 +149,10 @@ class Camera:
 
     @property
     def fx(self) -> float:
-        """Focal length in pixels: (W / 2) / tan(hfov / 2) (pinhole); H * ortho_scale (ortho)."""
+        """Focal length in pixels: (W / 2) / tan(hfov / 2) (pinhole); W * ortho_scale (ortho)."""
         if self.is_pinhole:
             return (self.width / 2.0) / math.tan(math.radians(self.hfov) / 2.0)
-        return self.height * self.ortho_scale
+        return self.width * self.ortho_scale
 
     @property
     def fy(self) -> float:

@@ -155,6 +155,10 @@ def save_video(
     ``len(frames)`` when available) enables the progress bar above
     ``PROGRESS_BAR_MIN_FRAMES``. Returns the path written (``.gif`` on fallback).
     """
+    check_fps(fps)
+    if isinstance(frames, Sized) and not callable(frames):
+        for index, frame in enumerate(frames):  # type: ignore[arg-type]
+            check_frame_size(np.shape(frame), f"save_video: frame {index}")
     make_frames = frames if callable(frames) else (lambda: iter(frames))
     if n_frames is None and isinstance(frames, Sized):
         n_frames = len(frames)
@@ -168,6 +172,25 @@ def save_video(
         print(f"mp4 encoding failed ({error}); writing {gif_file} instead")
         _write_frames(gif_file, make_frames(), n_frames, {"duration": 1000.0 / fps, "loop": 0})
         return gif_file
+
+
+def check_fps(fps: object) -> float:
+    """``fps`` as a float: a finite number > 0, else ValueError naming it (an encoder given
+    a negative rate writes nothing, silently)."""
+    if isinstance(fps, bool) or not isinstance(fps, int | float | np.integer | np.floating):
+        raise ValueError(f"fps must be a number of frames per second > 0, got {fps!r}")
+    if not np.isfinite(float(fps)) or float(fps) <= 0.0:
+        raise ValueError(f"fps must be finite and > 0, got {fps!r}")
+    return float(fps)
+
+
+def check_frame_size(shape: tuple, what: str) -> None:
+    """Refuse a frame H.264 cannot hold: it is cropped to even sides, so H and W >= 2."""
+    if len(shape) < 2 or shape[0] < 2 or shape[1] < 2:
+        raise ValueError(
+            f"{what} has shape {tuple(shape)}; a video frame needs height and width >= 2 "
+            "(frames are cropped to even sides)"
+        )
 
 
 def _write_frames(

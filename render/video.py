@@ -49,6 +49,7 @@ from render.encode import X264_PRESET as X264_PRESET
 from render.encode import X264_THREADS as X264_THREADS
 from render.encode import BackgroundVideoWriter as BackgroundVideoWriter
 from render.encode import _to_even_frame as _to_even_frame
+from render.encode import check_fps, check_frame_size
 from render.encode import mp4_options as mp4_options
 from render.encode import save_video as save_video
 from render.settings import check_pixel_budget
@@ -360,8 +361,16 @@ def make_video(
         )
     if len(observations) == 0:
         raise ValueError("make_video: observations is empty, there is no frame to encode")
+    check_fps(fps)
     if video_dims is not None:
-        _check_dims(video_dims, "video_dims")
+        check_frame_size(_check_dims(video_dims, "video_dims")[::-1], "make_video: video_dims")
+    else:
+        for index, ob in enumerate(observations):
+            if not isinstance(ob, dict) or primary_obs not in ob:
+                raise KeyError(f"make_video: frame {index} has no observation {primary_obs!r}")
+            check_frame_size(
+                np.shape(ob[primary_obs]), f"make_video: frame {index} {primary_obs!r}"
+            )
     if not video_file.endswith(".mp4"):
         video_file += ".mp4"
     print(f"Encoding the video: {video_file}")

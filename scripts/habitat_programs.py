@@ -10,10 +10,19 @@ lines there:
     import magnum as mn              ->  from engine import mn
     from magnum import Vector3       ->  from engine.mn import Vector3
 
-Data paths are changed by a folder of links, ``<work>/data``: Habitat's test scenes (skokloster
-castle, the van Gogh room, apartment_1) are all played by rigidsim's demo apartment, the example
-objects and the locobot by rigidsim's demo objects, and ``test_assets`` by Habitat's MIT test
-assets (``../shared/assets/habitat/data`` or ``RIGIDSIM_HABITAT_DATA``). Nothing of habitat-sim is
+Data paths are changed by a folder of links, ``<work>/data`` (the stand-ins; each program still
+opens the path it names):
+
+- ``scene_datasets/habitat-test-scenes/{skokloster-castle,van-gogh-room,apartment_1}.glb`` and
+  ``.navmesh``: rigidsim's demo apartment (so hard-coded positions and path lengths differ);
+- ``scene_datasets/mp3d_example/17DRP5sb8fy/17DRP5sb8fy.glb`` and ``.navmesh`` (the ECCV
+  notebooks' mp3d scene): the demo apartment again;
+- ``scene_datasets/mp3d_example/mp3d.scene_dataset_config.json``: a generated dataset config
+  whose only stage template is the demo apartment's (no semantic annotations: the semantic
+  scene is empty);
+- ``objects/example_objects``, ``objects/locobot_merged``: rigidsim's demo objects;
+- ``test_assets``: Habitat's MIT test assets (``../shared/assets/habitat/data`` or
+  ``RIGIDSIM_HABITAT_DATA``), plus the demo's ``test_assets`` files they lack. Nothing of habitat-sim is
 copied into this repository: the work folder is temporary unless ``--keep`` names one.
 
 The programs and their arguments are those Habitat's own ``tests/test_examples.py`` runs. Usage:
@@ -27,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import json
 import os
 import re
 import shutil
@@ -72,7 +82,16 @@ STAND_INS = {
     "scene_datasets/habitat-test-scenes/skokloster-castle": "demo:scene_datasets/demo/apartment",
     "scene_datasets/habitat-test-scenes/van-gogh-room": "demo:scene_datasets/demo/apartment",
     "scene_datasets/habitat-test-scenes/apartment_1": "demo:scene_datasets/demo/apartment",
+    "scene_datasets/mp3d_example/17DRP5sb8fy/17DRP5sb8fy": "demo:scene_datasets/demo/apartment",
 }
+#: scene dataset configs Habitat's programs name, generated: (path under data/, JSON content)
+GENERATED_CONFIGS = (
+    # the mp3d example dataset: its one stage, the demo apartment linked above
+    (
+        "scene_datasets/mp3d_example/mp3d.scene_dataset_config.json",
+        {"stages": {"paths": {".json": ["../demo"]}}, "objects": {"paths": {".json": []}}},
+    ),
+)
 IMPORT_LINE = re.compile(r"^(\s*)(import|from)\s+(habitat_sim|magnum)\b(.*)$")
 
 
@@ -162,6 +181,9 @@ def link_data(work: Path, demo: Path, assets: Path) -> None:
             link = data / (habitat_name + suffix)
             link.parent.mkdir(parents=True, exist_ok=True)
             link.symlink_to(source.with_suffix(suffix))
+    for relative, content in GENERATED_CONFIGS:
+        (data / relative).parent.mkdir(parents=True, exist_ok=True)
+        (data / relative).write_text(json.dumps(content, indent=2) + "\n", encoding="utf-8")
 
 
 def run_program(work: Path, script: str, argv: list[str], timeout: float) -> tuple[bool, str]:

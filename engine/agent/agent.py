@@ -29,7 +29,8 @@ from engine import mn
 from engine.agent.controls import ActuationSpec, ObjectControls, UnknownActionError
 from engine.fixed_fields import FixedFields
 from engine.scene_node import SceneNode
-from engine.sensors import CameraSensor, CameraSensorSpec
+from engine.sensor import SensorFactory
+from engine.sensors import Sensor, SensorSpec
 
 __all__ = ["ActionSpec", "Agent", "AgentConfiguration", "AgentState", "SixDOFPose"]
 
@@ -56,7 +57,7 @@ class AgentConfiguration(FixedFields):
 
     height: float = 1.5
     radius: float = 0.1
-    sensor_specifications: list[CameraSensorSpec] = field(default_factory=list)
+    sensor_specifications: list[SensorSpec] = field(default_factory=list)
     action_space: dict[Any, ActionSpec] = field(default_factory=_default_action_space)
     body_type: str = "cylinder"
 
@@ -82,7 +83,8 @@ class _Pose(FixedFields):
     :class:`SixDOFPose` (conversions in AgentState's docstring)."""
 
     _position: np.ndarray  # (3,) float64, meters
-    _rotation: np.ndarray  # (4,) float64 unit quaternion [x, y, z, w]
+    _rotation: np.ndarray  # (4,) float64 unit quaternion [x, y, z, w], used by set_state
+    _rotation_value: Any  # the value assigned, returned as is (Habitat's attrs field)
 
     @property
     def position(self) -> np.ndarray:
@@ -93,24 +95,33 @@ class _Pose(FixedFields):
         self._position = _as_position(value, "AgentState.position")
 
     @property
-    def rotation(self) -> quaternion.quaternion:
-        x, y, z, w = self._rotation
-        return quaternion.quaternion(w, x, y, z)
+    def rotation(self) -> Any:
+        """The rotation as assigned (``np.quaternion``, ``mn.Quaternion`` or coefficients)."""
+        return self._rotation_value
 
     @rotation.setter
     def rotation(self, value: Any) -> None:
         self._rotation = mn.to_quaternion(value, "AgentState.rotation").xyzw
+        self._rotation_value = value
+
+
+def numpy_quaternion(rotation: mn.Quaternion) -> quaternion.quaternion:
+    """``np.quaternion(w, x, y, z)`` of a Magnum quaternion (the type Habitat's states hold)."""
+    x, y, z, w = rotation.xyzw
+    return quaternion.quaternion(w, x, y, z)
 
 
 class AgentState(_Pose):
     """An agent's pose: ``position`` (3,) in meters and ``rotation`` (a unit quaternion).
 
-    As in Habitat, ``rotation`` reads back as a numpy-quaternion ``np.quaternion(w, x, y, z)``
-    (the identity by default), so Habitat's ``AgentState(rotation=np.quaternion(...))`` and
-    ``quat_to_angle_axis(state.rotation)`` work unchanged. It accepts an ``np.quaternion``, an
+    As in Habitat, ``rotation`` is a numpy-quaternion ``np.quaternion(w, x, y, z)`` (the
+    identity by default, and in every state ``get_state`` returns), so
+    ``quat_to_angle_axis(state.rotation)`` works unchanged. It accepts an ``np.quaternion``, an
     :class:`mn.Quaternion` or a list / ndarray read as coefficients ``[x, y, z, w]`` (Habitat's
-    ``quat_from_coeffs`` order); the value is normalized. ``sensor_states`` maps sensor uuids
-    to :class:`SixDOFPose`.
+    ``quat_from_coeffs`` order), and reads back **what was assigned** (Habitat's attrs field
+    keeps it: after ``state.rotation = mn_quat``, ``state.rotation * q`` is Magnum's product);
+    ``set_state`` uses its normalized value. ``sensor_states`` maps sensor uuids to
+    :class:`SixDOFPose`.
 
     As in Habitat (attrs validators), the constructor refuses a non-finite position
     (``ValueError``); assigning one later is stored and refused by ``Agent.set_state``.
@@ -126,7 +137,7 @@ class AgentState(_Pose):
     ) -> None:
         self.position = position
         _check_finite(self._position, "AgentState.position")
-        self.rotation = mn.Quaternion() if rotation is None else rotation
+        self.rotation = quaternion.quaternion(1, 0, 0, 0) if rotation is None else rotation
         self.sensor_states = {} if sensor_states is None else dict(sensor_states)
 
     def __repr__(self) -> str:
@@ -142,7 +153,7 @@ class SixDOFPose(_Pose):
     def __init__(self, position: Any = (0.0, 0.0, 0.0), rotation: Any = None) -> None:
         self.position = position
         _check_finite(self._position, "SixDOFPose.position")
-        self.rotation = mn.Quaternion() if rotation is None else rotation
+        self.rotation = quaternion.quaternion(1, 0, 0, 0) if rotation is None else rotation
 
     def __repr__(self) -> str:
         return f"SixDOFPose(position={self._position.tolist()}, rotation={self.rotation!r})"
@@ -167,14 +178,13 @@ class Agent:
         self,
         scene_node: SceneNode,
         agent_config: AgentConfiguration | None = None,
-        _sensors: dict[str, CameraSensor] | None = None,
+        _sensors: dict[str, Sensor] | None = None,
         controls: ObjectControls | None = None,
     ) -> None:
         if not isinstance(scene_node, SceneNode):
             raise TypeError(f"Agent needs a SceneNode, got {type(scene_node).__name__}")
         self.body = _Body(scene_node)
         self.agent_config = agent_config if agent_config is not None else AgentConfiguration()
-        self._sensors: dict[str, CameraSensor] = {} if _sensors is None else _sensors
         self.controls = controls if controls is not None else ObjectControls()
         self.reconfigure(self.agent_config)
         self.initial_state: AgentState | None = None
@@ -184,12 +194,19 @@ class Agent:
         return self.body.object
 
     @property
-    def sensors(self) -> dict[str, CameraSensor]:
-        """The agent's sensors keyed by uuid (Habitat's sensor suite)."""
-        return self._sensors
+    def sensors(self) -> dict[str, Sensor]:
+        """Live view of the sensors on the agent's node and below it, by uuid (Habitat's
+        ``scene_node.subtree_sensors``: a sensor created on an object carried by the agent
+        is one of them)."""
+        return self.scene_node.subtree_sensors
 
-    def get_sensors(self) -> dict[str, CameraSensor]:
-        return self._sensors
+    @property
+    def _sensors(self) -> dict[str, Sensor]:
+        # Habitat's deprecated name
+        return self.sensors
+
+    def get_sensors(self) -> dict[str, Sensor]:
+        return self.sensors
 
     def reconfigure(
         self, agent_config: AgentConfiguration, reconfigure_sensors: bool = True
@@ -202,20 +219,20 @@ class Agent:
             spec.validate()  # all or nothing: no sensor is made from a bad list
         self.agent_config = agent_config
         if reconfigure_sensors:
-            for sensor in self._sensors.values():
-                sensor.node.parent = None  # detach the old sensor nodes
-            self._sensors.clear()
-            for spec in agent_config.sensor_specifications:
-                self._sensors[spec.uuid] = CameraSensor(spec, self.scene_node)
+            for uuid in list(self.scene_node.subtree_sensors):
+                SensorFactory.delete_subtree_sensor(self.scene_node, uuid)
+            SensorFactory.create_sensors(self.scene_node, agent_config.sensor_specifications)
 
-    def _add_sensor(self, spec: CameraSensorSpec, modify_agent_config: bool = True) -> None:
-        """Attach a new sensor (Habitat's ``_add_sensor``; ``Simulator.add_sensor`` calls it)."""
-        if spec.uuid in self._sensors:
+    def _add_sensor(self, spec: SensorSpec, modify_agent_config: bool = True) -> Sensor:
+        """Attach a new sensor to the agent's node and return it."""
+        if spec.uuid in self.sensors:
             raise ValueError(f"a sensor {spec.uuid!r} already exists on this agent")
-        spec.validate()
-        if modify_agent_config and spec not in self.agent_config.sensor_specifications:
+        sensor = SensorFactory.create_sensors(self.scene_node, [spec])[spec.uuid]
+        if modify_agent_config and not any(
+            s is spec for s in self.agent_config.sensor_specifications
+        ):
             self.agent_config.sensor_specifications.append(spec)
-        self._sensors[spec.uuid] = CameraSensor(spec, self.scene_node)
+        return sensor
 
     @property
     def state(self) -> AgentState:
@@ -229,11 +246,12 @@ class Agent:
     def get_state(self) -> AgentState:
         """The agent's world pose and its sensors' world poses (a fresh ``AgentState``)."""
         world = self.scene_node.world_matrix()
-        state = AgentState(world[:3, 3], mn.Quaternion.from_matrix(world[:3, :3]))
+        state = AgentState(world[:3, 3], numpy_quaternion(mn.Quaternion.from_matrix(world[:3, :3])))
         for uuid, sensor in self._sensors.items():
             sensor_world = sensor.world_from_camera()
+            sensor_rotation = mn.Quaternion.from_matrix(sensor_world[:3, :3])
             state.sensor_states[uuid] = SixDOFPose(
-                sensor_world[:3, 3], mn.Quaternion.from_matrix(sensor_world[:3, :3])
+                sensor_world[:3, 3], numpy_quaternion(sensor_rotation)
             )
         return state
 
@@ -270,7 +288,7 @@ class Agent:
         self.scene_node.transformation = local
         if reset_sensors:
             for sensor in self._sensors.values():
-                sensor.reset_pose()
+                sensor.set_transformation_from_spec()
         if not infer_sensor_states:
             body_from_world = np.linalg.inv(world)
             for uuid, pose in state.sensor_states.items():
@@ -300,8 +318,9 @@ class Agent:
         return False
 
     def close(self) -> None:
-        """Habitat releases the sensors here; rigidsim drops them."""
-        self._sensors = {}
+        """Release the agent's sensors (their nodes leave the scene graph)."""
+        for uuid in list(self.scene_node.subtree_sensors):
+            SensorFactory.delete_subtree_sensor(self.scene_node, uuid)
 
 
 def _pose_matrix(position: Any, rotation: Any) -> np.ndarray:

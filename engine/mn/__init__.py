@@ -3,8 +3,9 @@
 rigidsim code writes ``from engine import mn`` and then uses the same names as Magnum's Python
 bindings: :class:`Vector2`, :class:`Vector3`, :class:`Vector4`, :class:`Vector2i`,
 :class:`Vector3i`, :class:`Color3`, :class:`Color4`, :class:`Quaternion`, :class:`Deg`,
-:class:`Rad`, :class:`Matrix3x3`, :class:`Matrix3`, :class:`Matrix4`, :class:`Range2D`,
-:class:`Range3D` and the free functions and constants of ``mn.math`` (:mod:`engine.mn.math`).
+:class:`Rad`, :class:`Matrix3x3`, :class:`Matrix3`, :class:`Matrix4`, :class:`Range1D`,
+:class:`Range2D`, :class:`Range3D` and the free functions and constants of ``mn.math``
+(:mod:`engine.mn.math`).
 Float types compare with Magnum's fuzzy ``==`` (relative epsilon 1e-5, see
 :mod:`engine.mn.vectors`). The types are thin wrappers around NumPy arrays so that they mix
 freely with lists and ``np.ndarray`` (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``).
@@ -27,7 +28,9 @@ instance, the translation part (``m.translation``).
 from __future__ import annotations
 
 from engine.mn import math
-from engine.mn.matrices import Matrix3, Matrix3x3, Matrix4, Range2D, Range3D
+from engine.mn.colors import Color3, Color4
+from engine.mn.matrices import Matrix3, Matrix3x3, Matrix4
+from engine.mn.ranges import Range1D, Range2D, Range3D
 from engine.mn.rotations import (
     Quaternion,
     matrix_to_quaternion,
@@ -36,8 +39,6 @@ from engine.mn.rotations import (
     to_quaternion,
 )
 from engine.mn.vectors import (
-    Color3,
-    Color4,
     Deg,
     Rad,
     Vector2,
@@ -58,6 +59,7 @@ __all__ = [
     "Matrix4",
     "Quaternion",
     "Rad",
+    "Range1D",
     "Range2D",
     "Range3D",
     "Vector2",

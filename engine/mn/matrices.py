@@ -1,5 +1,5 @@
-"""Matrices and boxes of :mod:`engine.mn`: Magnum's ``Matrix3x3``, ``Matrix3``, ``Matrix4``,
-``Range2D``, ``Range3D``.
+"""Matrices of :mod:`engine.mn`: Magnum's ``Matrix3x3``, ``Matrix3``, ``Matrix4`` (the boxes,
+``Range1D`` to ``Range3D``, are in :mod:`engine.mn.ranges`).
 
 A ``Matrix4`` is a 4x4 homogeneous transformation whose columns are the basis vectors and the
 translation; a ``Matrix3`` is the same for 2D (3x3 homogeneous, Magnum's 2D transformation
@@ -18,7 +18,7 @@ import numpy as np
 
 from engine.mn.vectors import Vector2, Vector3, finite_array, fuzzy_equal, radians, stable_norm
 
-__all__ = ["Matrix3", "Matrix3x3", "Matrix4", "Range2D", "Range3D"]
+__all__ = ["Matrix3", "Matrix3x3", "Matrix4"]
 
 
 # --------------------------------------------------------------------------------------------
@@ -31,9 +31,13 @@ class _MatrixN:
     __slots__ = ("_data",)
     __array_priority__ = 20.0
 
-    def __init__(self, data: Any = None) -> None:
+    def __init__(self, data: Any = None, *more_columns: Any) -> None:
+        """``Matrix(array)`` takes a (rows, columns) array; ``Matrix(c0, c1, ...)`` takes the
+        columns one by one, as Magnum's constructor does."""
         if data is None:
             data = np.eye(self._size)
+        if more_columns:
+            data = np.column_stack([np.asarray(c, dtype=np.float64) for c in (data, *more_columns)])
         array = np.array(data, dtype=np.float64)
         if array.shape != (self._size, self._size):
             raise ValueError(
@@ -96,6 +100,13 @@ class _TranslationAccessor:
         if isinstance(instance, Matrix3):
             return Vector2(instance._data[:2, 2])
         return Vector3(instance._data[:3, 3])
+
+    def __set__(self, instance: Any, value: Any) -> None:
+        """``m.translation = v`` replaces the translation column (Magnum's setter)."""
+        if isinstance(instance, Matrix3):
+            instance._data[:2, 2] = finite_array(value, 2, "translation")
+        else:
+            instance._data[:3, 3] = finite_array(value, 3, "translation")
 
 
 class _DualRotation2D:
@@ -187,6 +198,56 @@ class Matrix4(_MatrixN):
     def scaling(cls, vector: Any) -> Matrix4:
         return cls.from_(np.diag(finite_array(vector, 3, "scaling")), (0.0, 0.0, 0.0))
 
+    @classmethod
+    def rotation_x(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +X (Magnum's ``Matrix4.rotation_x``)."""
+        return cls.from_(axis_angle_matrix(angle, (1.0, 0.0, 0.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_y(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +Y."""
+        return cls.from_(axis_angle_matrix(angle, (0.0, 1.0, 0.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def rotation_z(cls, angle: Any) -> Matrix4:
+        """Rotation by ``angle`` about +Z."""
+        return cls.from_(axis_angle_matrix(angle, (0.0, 0.0, 1.0)), (0.0, 0.0, 0.0))
+
+    @classmethod
+    def look_at(cls, eye: Any, target: Any, up: Any) -> Matrix4:
+        """A camera (or object) pose at ``eye`` whose -Z axis points at ``target``.
+
+        Columns (Magnum's ``lookAt``): ``backward = |eye - target|``,
+        ``right = |up x backward|``, ``real_up = backward x right``, translation ``eye``.
+        ValueError when ``eye == target`` or ``up`` is parallel to the view direction.
+        """
+        eye_v = finite_array(eye, 3, "eye")
+        backward = eye_v - finite_array(target, 3, "target")
+        right = np.cross(finite_array(up, 3, "up"), backward)
+        if np.linalg.norm(backward) < 1e-12 or np.linalg.norm(right) < 1e-12:
+            raise ValueError(
+                f"look_at needs eye != target and up not parallel to the view direction, got "
+                f"eye={eye!r}, target={target!r}, up={up!r}"
+            )
+        backward = backward / np.linalg.norm(backward)
+        right = right / np.linalg.norm(right)
+        return cls.from_(np.column_stack([right, np.cross(backward, right), backward]), eye_v)
+
+    @property
+    def right(self) -> Vector3:
+        """The first column (local +X in the parent frame)."""
+        return Vector3(self._data[:3, 0])
+
+    @property
+    def up(self) -> Vector3:
+        """The second column (local +Y)."""
+        return Vector3(self._data[:3, 1])
+
+    @property
+    def backward(self) -> Vector3:
+        """The third column (local +Z; a camera looks down -backward)."""
+        return Vector3(self._data[:3, 2])
+
     def rotation_scaling(self) -> Matrix3x3:
         return Matrix3x3(self._data[:3, :3])
 
@@ -196,8 +257,11 @@ class Matrix4(_MatrixN):
         return Matrix3x3(block / np.linalg.norm(block, axis=0))
 
     def transform_point(self, point: Any) -> Vector3:
-        """``M (p, 1)``: rotation, scaling and translation."""
-        return Vector3(self._data[:3, :3] @ np.asarray(point, dtype=np.float64) + self._data[:3, 3])
+        """``M (p, 1)``: rotation, scaling and translation, divided by the resulting ``w``
+        (Magnum's rule: a projection matrix gives normalized device coordinates)."""
+        moved = self._data[:3, :3] @ np.asarray(point, dtype=np.float64) + self._data[:3, 3]
+        w = float(self._data[3, :3] @ np.asarray(point, dtype=np.float64) + self._data[3, 3])
+        return Vector3(moved if w == 1.0 else moved / w)
 
     def transform_vector(self, vector: Any) -> Vector3:
         """``M (v, 0)``: rotation and scaling, no translation."""
@@ -262,137 +326,3 @@ def rotation_and_scaling(
     if not np.allclose(rotation.T @ rotation, np.eye(3), atol=orthogonality_tolerance):
         raise ValueError(f"transformation has a shear (its axes are not orthogonal): {value!r}")
     return rotation, scaling, matrix[:3, 3].copy()
-
-
-# --------------------------------------------------------------------------------------------
-# Axis-aligned boxes
-# --------------------------------------------------------------------------------------------
-class _RangeN:
-    """An axis-aligned box ``[min, max]`` in ``_size`` dimensions (Magnum's ``RangeND``)."""
-
-    _size = 3
-    _vector: type = Vector3
-    __slots__ = ("_min", "_max")
-
-    def __init__(self, min: Any = None, max: Any = None) -> None:  # noqa: A002
-        zero = np.zeros(self._size)
-        self._min = finite_array(zero if min is None else min, self._size, "min")
-        self._max = finite_array(zero if max is None else max, self._size, "max")
-
-    @classmethod
-    def from_points(cls, points: Any) -> Any:
-        array = np.asarray(points, dtype=np.float64).reshape(-1, cls._size)
-        return cls(array.min(axis=0), array.max(axis=0))
-
-    @classmethod
-    def from_size(cls, min: Any, size: Any) -> Any:  # noqa: A002
-        low = finite_array(min, cls._size, "min")
-        return cls(low, low + finite_array(size, cls._size, "size"))
-
-    @classmethod
-    def from_center(cls, center: Any, half_size: Any) -> Any:
-        middle = finite_array(center, cls._size, "center")
-        half = finite_array(half_size, cls._size, "half_size")
-        return cls(middle - half, middle + half)
-
-    @classmethod
-    def zero_init(cls) -> Any:
-        return cls()
-
-    @property
-    def min(self) -> Any:
-        return self._vector(self._min)
-
-    @min.setter
-    def min(self, value: Any) -> None:
-        self._min = finite_array(value, self._size, "min")
-
-    @property
-    def max(self) -> Any:
-        return self._vector(self._max)
-
-    @max.setter
-    def max(self, value: Any) -> None:
-        self._max = finite_array(value, self._size, "max")
-
-    def size(self) -> Any:
-        return self._vector(self._max - self._min)
-
-    def center(self) -> Any:
-        return self._vector(0.5 * (self._min + self._max))
-
-    def size_x(self) -> float:
-        return float(self._max[0] - self._min[0])
-
-    def size_y(self) -> float:
-        return float(self._max[1] - self._min[1])
-
-    def translated(self, vector: Any) -> Any:
-        offset = finite_array(vector, self._size, "vector")
-        return type(self)(self._min + offset, self._max + offset)
-
-    def padded(self, padding: Any) -> Any:
-        pad = np.broadcast_to(np.asarray(padding, dtype=np.float64), (self._size,))
-        return type(self)(self._min - pad, self._max + pad)
-
-    def contains(self, point: Any) -> bool:
-        """True when ``point`` (or a whole range) lies inside (Magnum: min inclusive)."""
-        if isinstance(point, _RangeN):
-            return bool(np.all(point._min >= self._min) and np.all(point._max <= self._max))
-        p = np.asarray(point, dtype=np.float64)
-        return bool(np.all(p >= self._min) and np.all(p <= self._max))
-
-    def __eq__(self, other: object) -> bool:
-        return (
-            type(other) is type(self)
-            and fuzzy_equal(self._min, other._min)
-            and fuzzy_equal(self._max, other._max)
-        )
-
-    # No __hash__ (fuzzy equality): __eq__ alone sets it to None.
-
-    def __repr__(self) -> str:
-        return f"{type(self).__name__}(min={self.min!r}, max={self.max!r})"
-
-
-class Range2D(_RangeN):
-    """A 2D axis-aligned rectangle (Magnum's ``Range2D``): ``left, right, bottom, top``."""
-
-    _size = 2
-    _vector = Vector2
-    __slots__ = ()
-
-    left = property(lambda self: float(self._min[0]))
-    right = property(lambda self: float(self._max[0]))
-    bottom = property(lambda self: float(self._min[1]))
-    top = property(lambda self: float(self._max[1]))
-    bottom_left = property(lambda self: Vector2(self._min))
-    top_right = property(lambda self: Vector2(self._max))
-    bottom_right = property(lambda self: Vector2(self._max[0], self._min[1]))
-    top_left = property(lambda self: Vector2(self._min[0], self._max[1]))
-
-
-class Range3D(_RangeN):
-    """An axis-aligned box ``[min, max]`` (Magnum's ``Range3D``), e.g. an object's AABB."""
-
-    _size = 3
-    _vector = Vector3
-    __slots__ = ()
-
-    def _corner(self, right: bool, top: bool, front: bool) -> Vector3:
-        """A corner: x from max if right, y from max if top, z from max if front (Magnum:
-        "front" is +Z, "back" is -Z)."""
-        pick = [self._max if flag else self._min for flag in (right, top, front)]
-        return Vector3(pick[0][0], pick[1][1], pick[2][2])
-
-    back_bottom_left = property(lambda self: self._corner(False, False, False))
-    back_bottom_right = property(lambda self: self._corner(True, False, False))
-    back_top_left = property(lambda self: self._corner(False, True, False))
-    back_top_right = property(lambda self: self._corner(True, True, False))
-    front_bottom_left = property(lambda self: self._corner(False, False, True))
-    front_bottom_right = property(lambda self: self._corner(True, False, True))
-    front_top_left = property(lambda self: self._corner(False, True, True))
-    front_top_right = property(lambda self: self._corner(True, True, True))
-
-    def size_z(self) -> float:
-        return float(self._max[2] - self._min[2])

@@ -27,8 +27,6 @@ import numpy as np
 
 __all__ = [
     "FLOAT_EPSILON",
-    "Color3",
-    "Color4",
     "Deg",
     "Rad",
     "Vector2",
@@ -373,53 +371,6 @@ class Vector4(Vector3):
         return Vector4(0.0, 0.0, 0.0, 0.0)
 
 
-class Color3(Vector3):
-    """An RGB color with float channels in [0, 1] (Magnum's ``Color3``, a ``Vector3``)."""
-
-    __slots__ = ()
-
-    r = Vector3.x
-    g = Vector3.y
-    b = Vector3.z
-
-    @staticmethod
-    def red(value: float = 1.0) -> Color3:
-        return Color3(value, 0.0, 0.0)
-
-    @staticmethod
-    def green(value: float = 1.0) -> Color3:
-        return Color3(0.0, value, 0.0)
-
-    @staticmethod
-    def blue(value: float = 1.0) -> Color3:
-        return Color3(0.0, 0.0, value)
-
-
-class Color4(Vector4):
-    """An RGBA color (Magnum's ``Color4``); alpha defaults to 1: ``Color4(r, g, b)``,
-    ``Color4(Color3(...))``, ``Color4(Color3(...), a)``, ``Color4(gray)``."""
-
-    __slots__ = ()
-
-    def __init__(self, *values: Any) -> None:
-        if len(values) == 1 and is_scalar(values[0]):
-            values = (float(values[0]),) * 3 + (1.0,)
-        elif len(values) == 1 and len(np.asarray(values[0]).reshape(-1)) == 3:
-            values = (values[0], 1.0)
-        elif len(values) == 3:
-            values = (*values, 1.0)
-        super().__init__(*values)
-
-    r = Vector3.x
-    g = Vector3.y
-    b = Vector3.z
-    a = Vector4.w
-
-    @property
-    def rgb(self) -> Color3:
-        return Color3(self._data[:3])
-
-
 class _IntVectorN(_VectorN):
     """Integer vectors: exact ``==``; arithmetic truncates towards zero, as Magnum's
     integer vectors do (``Vector2i(3, 5) / 2 == Vector2i(1, 2)``)."""
@@ -428,6 +379,10 @@ class _IntVectorN(_VectorN):
 
     def __init__(self, *values: Any) -> None:
         super().__init__(*values)
+        if (
+            len(values) == 1 and isinstance(values[0], _VectorN) and np.all(np.isfinite(self._data))
+        ):  # Magnum's explicit conversion of a float vector truncates towards zero
+            self._data = np.trunc(self._data)
         if not np.all(np.isfinite(self._data)) or np.any(self._data != np.trunc(self._data)):
             raise ValueError(f"{type(self).__name__} needs integer components, got {values!r}")
         self._data = self._data.astype(np.int64)

@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-import enum
+from engine.named_enum import NamedIntEnum
 
 from .collision_groups import CollisionGroupHelper, CollisionGroups
 from .constraints import RigidConstraintSettings, RigidConstraintType
@@ -20,7 +20,7 @@ from .velocity_control import RigidState, VelocityControl
 from .world import STAGE_ID, PhysicsWorld
 
 
-class PhysicsSimulationLibrary(enum.IntEnum):
+class PhysicsSimulationLibrary(NamedIntEnum):
     """Habitat's physics backends. rigidsim's solver stands in for ``Bullet`` (the value a
     physics-enabled Habitat simulator reports, so Habitat's checks keep working)."""
 

@@ -38,7 +38,6 @@ interleaved within the iterations). Bodies held by a constraint do not fall asle
 
 from __future__ import annotations
 
-import enum
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -47,6 +46,7 @@ import numpy as np
 
 from engine import mn
 from engine.fixed_fields import unknown_attribute_error
+from engine.named_enum import NamedIntEnum
 
 from .bodies import Bodies
 from .coloring import color_manifolds
@@ -65,7 +65,7 @@ __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
 WORLD = -1
 
 
-class RigidConstraintType(enum.IntEnum):
+class RigidConstraintType(NamedIntEnum):
     """Habitat's constraint kinds."""
 
     PointToPoint = 0

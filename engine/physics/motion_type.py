@@ -6,10 +6,10 @@ to them, so ``bodies.body_motion_type == MotionType.DYNAMIC`` is a plain array c
 
 from __future__ import annotations
 
-import enum
+from engine.named_enum import NamedIntEnum
 
 
-class MotionType(enum.IntEnum):
+class MotionType(NamedIntEnum):
     """How an object moves. Set with ``obj.motion_type = MotionType.KINEMATIC``."""
 
     def __new__(cls, value: int, doc: str):

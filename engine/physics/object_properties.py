@@ -322,7 +322,7 @@ class ManagedRigidObject(ManagedPhysicsObject):
     @property
     def semantic_id(self) -> int:
         self._check()
-        drawables = self._visual_node.drawables
+        drawables = self.visual_drawables()
         return int(drawables[0].semantic_id) if drawables else int(self._template.semantic_id)
 
     @semantic_id.setter
@@ -330,5 +330,7 @@ class ManagedRigidObject(ManagedPhysicsObject):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
             raise ValueError(f"semantic_id must be a non-negative int, got {value!r}")
         self._check()
-        for drawable in self._visual_node.drawables:
+        for drawable in self.visual_drawables():
             drawable.semantic_id = int(value)
+        for node in self.visual_scene_nodes:
+            node._semantic_id = int(value)

@@ -69,6 +69,7 @@ class RigidObjectManager:
 
     def _add(self, template, attachment_node, light_setup_key: str = "") -> ManagedRigidObject:
         from engine.scene_node import Drawable, SceneNode
+        from engine.visual_nodes import build_visual_nodes
 
         if not isinstance(light_setup_key, str):
             raise TypeError(f"light_setup_key must be a str, got {light_setup_key!r}")
@@ -78,10 +79,11 @@ class RigidObjectManager:
         root = attachment_node if attachment_node is not None else SceneNode(self._root_node)
         visual = SceneNode(root, name="visual")
         visual.translation = -description.com
-        visual.drawables = [
+        drawables = [
             Drawable(mesh, True, int(template.semantic_id), light_setup_key)
             for mesh in description.render_meshes
         ]
+        visual_nodes = build_visual_nodes(visual, drawables, str(template.render_asset_handle))
         world.nodes[index] = root
         world.render_meshes[index] = [
             dataclasses.replace(m, vertices=np.asarray(m.vertices) - description.com)
@@ -93,6 +95,7 @@ class RigidObjectManager:
         obj = ManagedRigidObject(
             world, index, self._new_handle(template.handle), template, description, root, visual
         )
+        obj._visual_nodes = visual_nodes
         if attachment_node is not None:
             matrix = attachment_node.world_matrix()
             world.node_sync.forget(index)

@@ -120,8 +120,24 @@ class ManagedPhysicsObject:
 
     @property
     def visual_scene_nodes(self) -> list:
+        """The visual node, the scale node, the asset's root, then one node per node of the
+        render asset (:mod:`engine.visual_nodes`): set ``semantic_id`` on one to relabel a
+        part."""
         self._check()
-        return [self._visual_node]
+        return list(getattr(self, "_visual_nodes", [self._visual_node]))
+
+    def visual_drawables(self) -> list:
+        """Every drawable of the object (on its visual node and the nodes below it)."""
+        return [d for node in self._visual_node.descendants() for d in node.drawables]
+
+    def set_light_setup(self, light_setup_key: str) -> None:
+        """Light every part of the object with the setup ``light_setup_key`` (Habitat's
+        ``set_light_setup``; ``""`` is the default setup, ``"no_lights"`` draws it flat)."""
+        if not isinstance(light_setup_key, str):
+            raise TypeError(f"light_setup_key must be a str, got {light_setup_key!r}")
+        self._check()
+        for drawable in self.visual_drawables():
+            drawable.light_setup_key = light_setup_key
 
     # -- motion type ---------------------------------------------------------------------------
     @property

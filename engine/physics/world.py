@@ -203,8 +203,9 @@ class PhysicsWorld:
         b.body_spinning_friction[index] = float(template.spinning_friction_coefficient)
         assign_group(b, index)  # the group of its motion type, until overridden
         b.body_restitution[index] = float(template.restitution_coefficient)
-        b.body_linear_damping[index] = float(template.linear_damping)
-        b.body_angular_damping[index] = float(template.angular_damping)
+        # a template may store damping above 1 (as Habitat's); Bullet clamps it to [0, 1]
+        b.body_linear_damping[index] = min(float(template.linear_damping), 1.0)
+        b.body_angular_damping[index] = min(float(template.angular_damping), 1.0)
         b.body_collidable[index] = bool(template.is_collidable)
         self._install_shapes(index, description.shapes)
         self.creation_state[index] = (b.body_position[index].copy(), b.body_rotation[index].copy())

@@ -16,8 +16,12 @@ import importlib
 from typing import Any
 
 __all__ = [
+    "collect_env",
     "common",
+    "datasets_download",
+    "manager_utils",
     "maps",
+    "profiling_utils",
     "quat_from_angle_axis",
     "quat_rotate_vector",
     "quaternion_utils",

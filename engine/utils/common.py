@@ -11,7 +11,11 @@ is registered under that name too.
 from __future__ import annotations
 
 import sys
+from typing import Any
 
+import numpy as np
+
+from engine import mn
 from engine.utils import quaternion_utils
 from engine.utils.quaternion_utils import (
     angle_between_quats,
@@ -44,7 +48,32 @@ __all__ = [
 ]
 
 
-# Habitat's id colors live in engine.utils.colors; re-exported here as Habitat has them
+# Habitat's id colors live in engine.utils.colors; re-exported here as Habitat has them, and
+# ``engine.utils.common.common`` (Habitat's module of them) resolves to that module
+from engine.utils import colors  # noqa: E402
 from engine.utils.colors import colorize_ids, d3_40_colors_hex, d3_40_colors_rgb  # noqa: E402
 
-__all__ += ["colorize_ids", "d3_40_colors_hex", "d3_40_colors_rgb"]
+sys.modules.setdefault(f"{__name__}.common", colors)
+
+__all__ += ["colorize_ids", "d3_40_colors_hex", "d3_40_colors_rgb", "orthonormalize_rotation_shear"]
+
+
+def orthonormalize_rotation_shear(transformation: Any) -> mn.Matrix4:
+    """The 4x4 ``transformation`` with its 3x3 block made a pure rotation (Habitat's core helper).
+
+    Gram-Schmidt on the columns in order x, y, z: scaling and shear are removed, the
+    translation is kept, and a left-handed block is turned right handed (z = x cross y).
+    ValueError for a non-finite matrix or a block of rank below 2.
+    """
+    matrix = np.array(transformation, dtype=np.float64)
+    if matrix.shape != (4, 4) or not np.all(np.isfinite(matrix)):
+        raise ValueError(f"transformation must be a finite 4x4 matrix, got {transformation!r}")
+    x, y = matrix[:3, 0], matrix[:3, 1]
+    x_len = float(np.linalg.norm(x))
+    y = y - (y @ x) / max(x_len * x_len, 1e-300) * x  # y minus its part along x
+    y_len = float(np.linalg.norm(y))
+    if x_len < 1e-12 or y_len < 1e-12:
+        raise ValueError(f"transformation has a degenerate rotation block: {transformation!r}")
+    x, y = x / x_len, y / y_len
+    matrix[:3, :3] = np.column_stack([x, y, np.cross(x, y)])
+    return mn.Matrix4(matrix)

@@ -8,9 +8,10 @@ agent whose height is the sensor height, Habitat's default action space (``move_
 set to True (pinhole ``color_sensor``, ``depth_sensor``, ``semantic_sensor``; orthographic
 ``ortho_rgba_sensor``, ``ortho_depth_sensor``, ``ortho_semantic_sensor``), all at
 ``[0, sensor_height, 0]``, and, with ``default_agent_navmesh``, navmesh settings fitted to
-the agent (radius, height, static objects). The fisheye and equirectangular sensor keys
-exist with Habitat's defaults (False); rigidsim has no such cameras, so asking for one raises
-``ValueError``.
+the agent (radius, height, static objects). The wide-angle keys (``fisheye_rgba_sensor``,
+``fisheye_depth_sensor``, ``fisheye_semantic_sensor``, ``equirect_*``) add Habitat's
+double-sphere fisheye (its "GoPro" lens: ``xi`` -0.27, ``alpha`` 0.57, focal length
+``(364.84, 364.86)`` px) and equirectangular sensors (:mod:`engine.cubemap_sensors`).
 
 Use::
 
@@ -25,6 +26,11 @@ from typing import Any
 
 from engine import mn
 from engine.agent import ActionSpec, ActuationSpec, AgentConfiguration
+from engine.cubemap_sensors import (
+    CubeMapSensorBaseSpec,
+    EquirectangularSensorSpec,
+    FisheyeSensorDoubleSphereSpec,
+)
 from engine.sensors import CameraSensorSpec, SensorSubType, SensorType
 from engine.simulator import Configuration, SimulatorConfiguration
 from navmesh import NavMeshSettings
@@ -85,14 +91,35 @@ _CAMERAS = {
     "ortho_depth_sensor": (SensorType.DEPTH, SensorSubType.ORTHOGRAPHIC),
     "ortho_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.ORTHOGRAPHIC),
 }
-_UNSUPPORTED = (
-    "fisheye_rgba_sensor",
-    "fisheye_depth_sensor",
-    "fisheye_semantic_sensor",
-    "equirect_rgba_sensor",
-    "equirect_depth_sensor",
-    "equirect_semantic_sensor",
-)
+#: the wide-angle sensors, in make_cfg's order: uuid -> (sensor type, model)
+_WIDE = {
+    "fisheye_rgba_sensor": (SensorType.COLOR, SensorSubType.FISHEYE),
+    "fisheye_depth_sensor": (SensorType.DEPTH, SensorSubType.FISHEYE),
+    "fisheye_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.FISHEYE),
+    "equirect_rgba_sensor": (SensorType.COLOR, SensorSubType.EQUIRECTANGULAR),
+    "equirect_depth_sensor": (SensorType.DEPTH, SensorSubType.EQUIRECTANGULAR),
+    "equirect_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.EQUIRECTANGULAR),
+}
+
+
+def _wide_spec(settings: dict[str, Any], uuid: str) -> CubeMapSensorBaseSpec:
+    """Habitat's ``create_fisheye_spec`` / ``create_equirect_spec`` for one uuid."""
+    sensor_type, subtype = _WIDE[uuid]
+    spec: CubeMapSensorBaseSpec
+    if subtype is SensorSubType.FISHEYE:
+        spec = FisheyeSensorDoubleSphereSpec()
+        spec.xi, spec.alpha = -0.27, 0.57  # the GoPro lens of Usenko et al. 2018, Table 3
+        spec.focal_length = [364.84, 364.86]
+    else:
+        spec = EquirectangularSensorSpec()
+    spec.uuid, spec.sensor_type = uuid, sensor_type
+    spec.resolution = [int(settings["height"]), int(settings["width"])]
+    spec.position = [0.0, float(settings["sensor_height"]), 0.0]
+    if sensor_type is SensorType.COLOR:
+        spec.clear_color = settings["clear_color"]
+    else:
+        spec.channels = 1
+    return spec
 
 
 def _camera_spec(settings: dict[str, Any], uuid: str) -> CameraSensorSpec:
@@ -134,11 +161,6 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
     ]
     if missing:
         raise KeyError(f"make_cfg: settings lack {missing}; start from default_sim_settings")
-    asked = [key for key in _UNSUPPORTED if settings.get(key, False)]
-    if asked:
-        raise ValueError(
-            f"make_cfg: rigidsim has no fisheye or equirectangular cameras (asked for {asked})"
-        )
     sim_cfg = SimulatorConfiguration()
     sim_cfg.scene_id = settings["scene"]
     for key in (
@@ -162,7 +184,7 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
     agent_cfg.radius = float(settings["agent_radius"])
     agent_cfg.sensor_specifications = [
         _camera_spec(settings, uuid) for uuid in _CAMERAS if settings.get(uuid, False)
-    ]
+    ] + [_wide_spec(settings, uuid) for uuid in _WIDE if settings.get(uuid, False)]
     agent_cfg.action_space = {
         "move_forward": ActionSpec("move_forward", ActuationSpec(amount=0.25)),
         "turn_left": ActionSpec("turn_left", ActuationSpec(amount=10.0)),

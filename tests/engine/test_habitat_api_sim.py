@@ -114,8 +114,15 @@ def test_make_cfg_builds_habitats_agent_sensors_and_navmesh_settings():
     navmesh = cfg.sim_cfg.navmesh_settings
     assert navmesh.agent_radius == 0.2 and navmesh.agent_height == 1.5
     assert cfg.sim_cfg.scene_id == "NONE" and cfg.sim_cfg.random_seed == 7
-    with pytest.raises(ValueError, match="fisheye"):
-        make_cfg({**default_sim_settings, "fisheye_rgba_sensor": True})
+    wide = make_cfg(
+        {**default_sim_settings, "fisheye_depth_sensor": True, "equirect_rgba_sensor": True}
+    )
+    fisheye, pano = wide.agents[0].sensor_specifications[1:]
+    assert isinstance(fisheye, habitat_sim.FisheyeSensorDoubleSphereSpec)
+    assert (fisheye.uuid, fisheye.xi, fisheye.alpha) == ("fisheye_depth_sensor", -0.27, 0.57)
+    assert list(fisheye.focal_length) == [364.84, 364.86] and fisheye.channels == 1
+    assert isinstance(pano, habitat_sim.EquirectangularSensorSpec)
+    assert pano.uuid == "equirect_rgba_sensor" and pano.resolution == [480, 640]
     with pytest.raises(KeyError, match="scene"):
         make_cfg({"width": 10})
 
@@ -379,21 +386,22 @@ def test_recompute_navmesh_third_argument_includes_static_objects(apartment_sett
 
 
 def test_seed_reproduces_random_navigable_points(apartment_settings):
-    """Habitat's test_random_seed, verbatim in spirit."""
+    """Habitat's test_random_seed: points are mn.Vector3, so ``==`` answers one bool."""
     with habitat_sim.Simulator(
         make_cfg({**apartment_settings, "color_sensor": False, "depth_sensor": False})
     ) as sim:
         sim.seed(1)
         point1 = sim.pathfinder.get_random_navigable_point()
         sim.seed(1)
-        assert all(point1 == sim.pathfinder.get_random_navigable_point())
+        assert point1 == sim.pathfinder.get_random_navigable_point()
+        assert isinstance(point1, mn.Vector3)
         sim.seed(2)
         point1 = sim.pathfinder.get_random_navigable_point()
         sim.seed(3)
-        assert any(point1 != sim.pathfinder.get_random_navigable_point())
+        assert point1 != sim.pathfinder.get_random_navigable_point()
         sim.seed(4)
         point1 = sim.pathfinder.get_random_navigable_point()
-        assert any(point1 != sim.pathfinder.get_random_navigable_point())
+        assert point1 != sim.pathfinder.get_random_navigable_point()
 
 
 def test_navmesh_without_navigable_area_starts_agents_at_the_origin(tmp_path):

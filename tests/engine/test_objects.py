@@ -64,7 +64,9 @@ def test_translation_is_the_aabb_center_and_the_visual_node_is_offset(sim, test_
     chair = sim.get_rigid_object_manager().add_object_by_template_id(template_id)
     chair.translation = [1.0, 2.0, 3.0]
     visual = chair.visual_scene_nodes[0]
-    vertices = np.concatenate([np.asarray(d.mesh.vertices) for d in visual.drawables])
+    # the meshes hang on the component nodes below the visual node (identity transforms)
+    drawables = [d for node in chair.visual_scene_nodes for d in node.drawables]
+    vertices = np.concatenate([np.asarray(d.mesh.vertices) for d in drawables])
     world = vertices @ visual.world_matrix()[:3, :3].T + visual.world_matrix()[:3, 3]
     center = 0.5 * (world.min(0) + world.max(0))
     np.testing.assert_allclose(center, [1.0, 2.0, 3.0], atol=1e-9)  # COM = AABB center

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-import quaternion  # noqa: F401 - registers np.quaternion
+import quaternion
 
 from engine import mn
 from engine.agent import Agent, AgentConfiguration, AgentState
@@ -56,12 +56,17 @@ def test_agent_state_validation_and_xyzw_list():
     with pytest.raises(ValueError, match="position"):
         AgentState(position=[math.nan, 0, 0])
     state = AgentState([1, 2, 3], [0.0, 1.0, 0.0, 0.0])  # [x, y, z, w]: 180 degrees about Y
-    # Habitat types the rotation as numpy-quaternion: np.quaternion(w, x, y, z)
-    assert isinstance(state.rotation, np.quaternion)
-    assert state.rotation == np.quaternion(0.0, 0.0, 1.0, 0.0)
+    # Habitat's attrs field keeps what was assigned; set_state reads it as [x, y, z, w]
+    assert state.rotation == [0.0, 1.0, 0.0, 0.0]
+    agent = Agent(SceneNode(), AgentConfiguration())
+    agent.set_state(state)
+    assert isinstance(agent.get_state().rotation, np.quaternion)  # get_state: numpy-quaternion
+    assert quaternion.allclose(agent.get_state().rotation, np.quaternion(0.0, 0.0, 1.0, 0.0))
     assert AgentState().rotation == np.quaternion(1.0, 0.0, 0.0, 0.0)
     state.rotation = np.quaternion(-0.83147, 0, 0.55557, 0)  # the tutorial's line
-    assert state.rotation.w == pytest.approx(-0.83147 / math.hypot(0.83147, 0.55557))
+    agent.set_state(state)  # normalized when used
+    w = agent.get_state().rotation.w
+    assert abs(w) == pytest.approx(0.83147 / math.hypot(0.83147, 0.55557))
     for bad in ([0.0, 0.0, 0.0, 0.0], np.quaternion(math.nan, 0, 0, 1)):
         with pytest.raises(ValueError):
             state.rotation = bad

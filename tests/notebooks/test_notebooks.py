@@ -28,6 +28,7 @@ EXPECTED_NOTEBOOKS = {
     "03_rasterizer.ipynb",
     "04_navmesh.ipynb",
     "07_viewer_contacts.ipynb",
+    "08_camera_models.ipynb",
     "managed_rigid_object_tutorial.ipynb",
 }
 

@@ -12,6 +12,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 from bad_inputs import (
     EXAMPLES,
     assert_refused,
@@ -80,3 +81,21 @@ def test_make_video_refuses_empty_lists_and_bad_dims(sim, dims):
 
         assert_refused(sim, call, ValueError)
         assert not any(Path(folder).iterdir())  # nothing written
+
+
+@pytest.mark.parametrize(
+    ("fps", "shape"),
+    [(-5, (8, 8, 4)), (0, (8, 8, 4)), (float("nan"), (8, 8, 4)), (True, (8, 8, 4)),
+     (30, (0, 0, 4)), (30, (1, 1, 4)), (30, (8, 0, 4))],
+)  # fmt: skip
+def test_make_video_refuses_bad_fps_and_empty_frames_before_writing(fps, shape):
+    # before the fix, both returned a file name and wrote nothing: a silent loss
+    frames = [{"color": np.zeros(shape, np.uint8)}] * 3
+    with tempfile.TemporaryDirectory() as folder:
+        target = str(Path(folder) / "clip")
+        with pytest.raises(ValueError, match="fps|height and width"):
+            vut.make_video(frames, "color", "color", target, fps=fps, open_vid=False)
+        assert not any(Path(folder).iterdir())  # nothing written
+        with pytest.raises(ValueError, match="fps|height and width"):
+            vut.save_video(target + ".mp4", [f["color"] for f in frames], fps=fps)
+        assert not any(Path(folder).iterdir())

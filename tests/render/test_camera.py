@@ -30,10 +30,12 @@ def test_project_matches_intrinsics_formula():
     np.testing.assert_allclose(depth, z)
 
 
-def test_orthographic_view_is_one_over_ortho_scale_meters_tall():
+def test_orthographic_view_is_one_over_ortho_scale_meters_wide():
+    # Habitat: orthographicProjection(nearPlaneSize / ortho_scale) with nearPlaneSize
+    # (1, H / W): 1 / 0.25 = 4 m wide over 80 px (20 px per meter), 2.5 m tall over 50 px
     camera = Camera((50, 80), subtype="orthographic", ortho_scale=0.25)
-    pixels, depth = camera.project(np.array([[0.0, 2.0, -3.0], [3.2, 0.0, -1.0]]))
-    # 1 / 0.25 = 4 m tall over 50 px: y = +2 m is the top edge, x = 3.2 m the right edge
+    pixels, depth = camera.project(np.array([[0.0, 1.25, -3.0], [2.0, 0.0, -1.0]]))
+    # y = +1.25 m is the top edge, x = +2 m the right edge
     np.testing.assert_allclose(pixels, [[40.0, 0.0], [80.0, 25.0]], atol=1e-12)
     np.testing.assert_allclose(depth, [3.0, 1.0])
 

@@ -224,14 +224,14 @@ def test_far_plane_discards_fragments_beyond_it():
 
 
 def test_orthographic_box_has_metric_extent_and_exact_depth():
-    camera = Camera((H, W), subtype="orthographic", ortho_scale=0.2)  # 5 m tall view
+    camera = Camera((H, W), subtype="orthographic", ortho_scale=0.2)  # 5 m wide view
     pose = np.eye(4)
     pose[:3, 3] = [0.5, 0.25, -4.0]
     frame = render_frame([cube_mesh(pose)], camera, np.eye(4))
     drawn = frame.depth > 0
     rows, cols = np.nonzero(drawn)
-    s = H * 0.2  # 12 px per meter: the 1 m cube is 12 x 12 px
-    assert drawn.sum() == 12 * 12
+    s = W * 0.2  # 16 px per meter: the 1 m cube is 16 x 16 px
+    assert drawn.sum() == 16 * 16
     assert cols.min() == math.ceil(camera.cx + s * 0.0 - 0.5)
     assert rows.min() == math.ceil(camera.cy - s * 0.75 - 0.5)
     np.testing.assert_allclose(frame.depth[drawn], 3.5, rtol=1e-6)  # front face at z = -3.5
