@@ -1,10 +1,12 @@
 r"""Batched contacts of hulls resting on the stage mesh (rule ``stage-hull`` of :mod:`pair_table`).
 
-fcl names the stage triangles near each body (its *probe*, the shape grown by
-``STAGE_SPECULATIVE_DISTANCE``, against the stage's BVH); the contacts are then the body's
-hull vertices lying in the prism of a touched triangle, just below its plane (method 2 of
-:mod:`collide`). For vertex ``v`` and triangle ``t`` (unit normal ``n_t``, corner ``p0_t``)
-the signed height is
+The stage's triangle grid (:mod:`stage_grid`, built once) names the triangles near every
+body at once: those whose box overlaps the body's AABB grown by
+``STAGE_NEAR_DISTANCE`` (a superset of what fcl's BVH reports for the body's *probe*, the
+shape grown by ``STAGE_SPECULATIVE_DISTANCE``, which reaches at most that far). The contacts
+are the body's hull vertices lying in the prism of a nearby triangle, just below its plane
+(method 2 of :mod:`collide`). For vertex ``v`` and triangle ``t`` (unit normal ``n_t``,
+corner ``p0_t``) the signed height is
 
 $$ h_{tv} = n_t \cdot (x_v - p_{0t}), $$
 
@@ -17,8 +19,12 @@ Only a new contact falls back to the side holding the middle of the body's exten
 body's center is never used, so a thin plate pushed past the surface's plane is still
 pushed back out, never through.
 
-Jobs are grouped by the hull's vertex count ``V``; each group is a handful of ``(g, T, V)``
-array operations, whatever its size ``g``. Reference: :func:`reference_pairs.stage_hull_pair`.
+A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
+vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
+it. A job whose hull has no vertex in contact (an edge crossing a face) asks fcl after all
+and takes fcl's points, as before the grid. Jobs are grouped by the hull's vertex count
+``V``; each group is a handful of ``(g, T, V)`` array operations, whatever its size ``g``.
+Reference: :func:`reference_pairs.stage_hull_pair`.
 """
 
 from __future__ import annotations
@@ -38,19 +44,58 @@ from .contact_helpers import (
     triangle_table,
 )
 from .pair_rules import ContactBatch, PairContext, PairJob
+from .stage_grid import stage_grid
 
 
 def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
     """Contacts of hull shapes (box, convex, cylinder, cone) with the stage mesh (A)."""
-    groups: defaultdict[int, list[PairJob]] = defaultdict(list)
-    for job in jobs:
-        found = fcl_raw_contacts(job.object_a, job.probe_b)  # the triangles near B's hull
-        if found:
-            groups[len(job.shape_b.hull_vertices)].append(job._replace(records=found))
-    for group in groups.values():
-        cached = _cached_normals(context.store, [job.body_b for job in group])
-        _stage_group(group, context.rotation, context.bodies.body_position, out, cached)
+    nearby = nearby_triangles(jobs, context)
+    edge_jobs = _vertex_contacts(jobs, nearby, context, out, edges_from_fcl=False)
+    if edge_jobs:  # no vertex in contact: fcl's triangles and points for these few
+        bodies = np.array(sorted({job.body_b for job in edge_jobs}), dtype=np.int64)
+        context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
+        asked = [
+            job._replace(records=fcl_raw_contacts(job.object_a, job.probe_b)) for job in edge_jobs
+        ]
+        asked = [job for job in asked if job.records]
+        touched = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
+        _vertex_contacts(asked, touched, context, out, edges_from_fcl=True)
     return []
+
+
+def nearby_triangles(jobs: list[PairJob], context: PairContext) -> list[np.ndarray]:
+    """Ids of the stage triangles near each job's body B: their box overlaps B's world AABB
+    grown by ``STAGE_NEAR_DISTANCE`` (all jobs in one grid query, :mod:`stage_grid`)."""
+    bodies = context.bodies
+    body = np.array([job.body_b for job in jobs], dtype=np.int64)
+    lo = bodies.body_aabb_min[body] - settings.STAGE_NEAR_DISTANCE
+    hi = bodies.body_aabb_max[body] + settings.STAGE_NEAR_DISTANCE
+    owner, triangle = stage_grid(jobs[0].shape_a).candidates(lo, hi)
+    bounds = np.searchsorted(owner, np.arange(len(jobs) + 1))  # owner is sorted
+    return [triangle[bounds[k] : bounds[k + 1]] for k in range(len(jobs))]
+
+
+def _vertex_contacts(jobs, triangle_ids, context, out, edges_from_fcl: bool) -> list[PairJob]:
+    """Contacts of ``jobs`` with their ``triangle_ids`` (one id array per job), grouped by
+    hull size; returns the jobs with triangles but no vertex in contact (unless
+    ``edges_from_fcl``: then those take fcl's points, see :func:`_stage_group`)."""
+    groups: defaultdict[int, list[tuple[PairJob, np.ndarray]]] = defaultdict(list)
+    for job, ids in zip(jobs, triangle_ids, strict=True):
+        if len(ids):
+            groups[len(job.shape_b.hull_vertices)].append((job, ids))
+    edge_jobs: list[PairJob] = []
+    for group in groups.values():
+        members = [job for job, _ in group]
+        cached = _cached_normals(context.store, [job.body_b for job in members])
+        edge_jobs += _stage_group(
+            members,
+            [ids for _, ids in group],
+            (context.rotation, context.bodies.body_position),
+            out,
+            cached,
+            edges_from_fcl,
+        )
+    return edge_jobs
 
 
 def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -88,17 +133,21 @@ def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, ca
     return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), middle)
 
 
-def _stage_group(jobs, rotation, position, contacts: ContactBatch, cached) -> None:
+def _stage_group(
+    jobs, triangle_ids: list, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
+) -> list[PairJob]:
     """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
-    (``cached``: the pairs' cached manifold normals, see :func:`_cached_normals`).
+    triangles ``triangle_ids`` (one id array per job; ``poses``: every body's rotation
+    ``(n, 3, 3)`` and position ``(n, 3)``; ``cached``: the pairs' cached manifold normals,
+    see :func:`_cached_normals`). Returns the jobs without a vertex in contact, or with
+    ``edges_from_fcl`` gives them fcl's points (their ``records``) and returns none.
 
     Reference: :func:`reference_pairs.stage_polyhedron_contacts` (one shape pair)."""
+    rotation, position = poses
     stage = jobs[0].shape_a
     table = triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
-    ids = _touched_triangles(
-        [[c.b1 for c in job.records] for job in jobs], len(stage.ray_triangles)
-    )
+    ids = _touched_triangles(triangle_ids, len(stage.ray_triangles))
     tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
     r, x = body_poses([job.body_b for job in jobs], rotation, position)
     hull = np.stack([job.shape_b.hull_vertices for job in jobs])
@@ -123,13 +172,17 @@ def _stage_group(jobs, rotation, position, contacts: ContactBatch, cached) -> No
     t = best[g, v]
     n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
     contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
-    for k in np.flatnonzero(~candidate.any(axis=(1, 2))).tolist():
+    untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
+    if not edges_from_fcl:
+        return [jobs[k] for k in untouched]
+    for k in untouched:
         # an edge crossing a face: fcl's points with the first triangle's normal
         mid, _, depths, _ = contact_arrays(jobs[k].records)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts.add_one(
             seq[k], midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
         )
+    return []
 
 
 def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:

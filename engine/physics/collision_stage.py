@@ -196,7 +196,8 @@ def move_fcl_users(
     """Move the fcl objects of the bodies in ``pairs`` that the narrow phase will ask fcl
     about: both bodies of every pair whose shape kinds need a rule that uses fcl
     (:meth:`pair_rules.PairTable.needs_fcl`; two boxes, say, have analytic contacts); the
-    probes (grown shapes) of the bodies paired with the stage. The stage never moves.
+    probes (grown shapes) of the bodies paired with the stage by such a rule (hulls find
+    their stage triangles in the stage grid). The stage never moves.
 
     A job that an analytic rule declines to an fcl rule after all (coincident or deep box
     pairs) moves its two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
@@ -205,7 +206,8 @@ def move_fcl_users(
     near_stage: set[int] = set()
     for a, c in pairs:
         if a == STAGE_ID:
-            near_stage.add(c)
+            if PAIR_TABLE.needs_fcl(kinds[a], kinds[c]):  # hulls use the stage grid
+                near_stage.add(c)
         elif PAIR_TABLE.needs_fcl(kinds[a], kinds[c]):
             users.update((a, c))
     if users or near_stage:

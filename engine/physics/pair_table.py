@@ -38,7 +38,7 @@ SPHERE: frozenset[ShapeKind] = frozenset({ShapeKind.SPHERE})
 
 PAIR_TABLE = PairTable(
     [
-        PairRule(10, "stage-hull", MESH, POLYHEDRA, stage_hull_batch, stage_hull_pair, True),
+        PairRule(10, "stage-hull", MESH, POLYHEDRA, stage_hull_batch, stage_hull_pair, False),
         PairRule(20, "stage-round", MESH, ROUND, stage_round_batch, stage_round_pair, True),
         PairRule(30, "box-box", BOX, BOX, box_pair_batch, box_pair, False, fallback="hull-hull"),
         PairRule(40, "hull-hull", POLYHEDRA, POLYHEDRA, hull_pair_batch, hull_pair, True),

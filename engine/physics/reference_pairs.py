@@ -33,6 +33,7 @@ from .contacts import ManifoldStore, tie_key
 from .pair_rules import PairContext, PairJob
 from .reference_box_box import box_box_contacts_reference
 from .reference_geometry import Contact, dot, rotate, unrotate
+from .stage_grid import candidate_triangles_reference
 
 
 def as_contacts(result) -> list[Contact]:
@@ -48,13 +49,27 @@ def as_contacts(result) -> list[Contact]:
 def stage_hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
     """Rule ``stage-hull``: hull vertices resting on the stage triangles near the hull
     (mirrors :func:`batched_stage.stage_hull_batch`)."""
-    found = fcl_raw_contacts(job.object_a, job.probe_b)  # the triangles near B's hull
+    bodies, b = context.bodies, job.body_b
+    # the triangles whose box overlaps B's AABB grown by the probe's reach
+    near = candidate_triangles_reference(
+        job.shape_a.ray_triangles,
+        bodies.body_aabb_min[b : b + 1] - settings.STAGE_NEAR_DISTANCE,
+        bodies.body_aabb_max[b : b + 1] + settings.STAGE_NEAR_DISTANCE,
+    )[0].tolist()
+    if not near:
+        return []
+    cached = cached_stage_normals(context.store, b)
+    pose = context.pose(b)
+    contacts = stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, near, cached)
+    if contacts:
+        return contacts
+    # no vertex in contact (an edge crossing a face): fcl's triangles and points
+    context.objects.move(bodies, np.array([b]), context.rotation[[b]])  # and its probe
+    found = fcl_raw_contacts(job.object_a, job.probe_b)
     if not found:
         return []
-    cached = cached_stage_normals(context.store, job.body_b)
-    return stage_polyhedron_contacts(
-        job.shape_a, job.shape_b, context.pose(job.body_b), found, cached
-    )
+    touched = sorted({int(record.b1) for record in found if record.b1 >= 0})
+    return stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, touched, cached, found)
 
 
 def box_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
@@ -160,9 +175,16 @@ def outward_side(
 
 
 def stage_polyhedron_contacts(
-    stage, hull, pose, found: list, cached: list[tuple[np.ndarray, np.ndarray]]
+    stage,
+    hull,
+    pose,
+    triangle_ids: list[int],
+    cached: list[tuple[np.ndarray, np.ndarray]],
+    found: list | None = None,
 ) -> list[Contact]:
-    """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles fcl found.
+    """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles
+    ``triangle_ids`` (ascending); when none touches and fcl's records ``found`` are given,
+    fcl's points with the first triangle's normal (an edge crossing a face).
 
     Mirrors ``batched_stage._stage_group``. For every touched triangle t (normal n_t turned to
     the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
@@ -172,7 +194,6 @@ def stage_polyhedron_contacts(
     inside the triangle. Each vertex keeps its shallowest triangle (the largest h).
     """
     table = triangle_table(stage)
-    triangle_ids = sorted({int(record.b1) for record in found if record.b1 >= 0})
     rotation, position = pose
     vertices = [rotate(rotation, v) + position for v in hull.hull_vertices]
     extent = max(
@@ -202,7 +223,7 @@ def stage_polyhedron_contacts(
         if best is not None:
             normal, depth = normals[best[1]], -best[0]
             contacts.append(Contact(vertex + normal * depth, vertex, normal))
-    if not contacts and triangle_ids:  # an edge crossing a face: fcl's points
+    if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)

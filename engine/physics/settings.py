@@ -172,6 +172,16 @@ BOX_TEST_PARALLEL_GUARD = 1e-9
 #: direction: the sphere-triangle contact takes the triangle's normal instead.
 SPHERE_CENTER_ON_SURFACE = 1e-9
 
+#: m, the stage grid names the triangles within this of a body's AABB: a probe (the shape
+#: grown by ``STAGE_SPECULATIVE_DISTANCE`` along each of its own axes, shapes.probe_geometry)
+#: reaches at most sqrt(3) times that distance beyond the body, at a rotated box's corner.
+STAGE_NEAR_DISTANCE = 3.0**0.5 * STAGE_SPECULATIVE_DISTANCE
+#: m, side of the square X-Z cells of the stage's triangle grid (stage_grid.py): about a few
+#: bodies wide, so a body's box meets one to four cells.
+STAGE_GRID_CELL = 1.0
+#: cells, the most the stage grid holds; a larger stage gets coarser cells (doubled).
+STAGE_GRID_MAX_CELLS = 1_000_000
+
 # --- broad phase ------------------------------------------------------------------------
 #: m, broad-phase AABB inflation of every body (keeps touching pairs found).
 AABB_MARGIN = 0.005
