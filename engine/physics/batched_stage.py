@@ -15,9 +15,11 @@ and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BE
 vertex keeps its shallowest triangle, the contact depth is ``-h``. The triangle's normal is
 turned to the stage's *outward side*: the side the body was on when the contact began,
 remembered by the pair's manifold (its cached normals point from the stage to the body).
-Only a new contact falls back to the side holding the middle of the body's extent; the
-body's center is never used, so a thin plate pushed past the surface's plane is still
-pushed back out, never through.
+Only a new contact falls back to the triangle's front (its winding normal, outward on a
+closed or one-sided surface) when some hull vertex lies in front of the plane, else to its
+back (a body wholly behind a one-sided wall). The body's center is never used: a body
+spawned or teleported with its center below a floor is pushed up, never down through it,
+and a thin plate pushed past the surface's plane is still pushed back out.
 
 A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
 vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
@@ -115,8 +117,8 @@ def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, ca
 
     The cached normal most (anti-)parallel to the triangle's decides when it is within 60
     degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
-    vertex of each triangle); otherwise (a new contact) the side holding the middle of the
-    hull's extent along the normal.
+    vertex of each triangle); otherwise (a new contact) the triangle's front (winding
+    normal) when some hull vertex is in front of its plane, else its back.
     """
     cached_normal, cached_point, valid = cached
     # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
@@ -129,8 +131,9 @@ def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, ca
     strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
         ..., 0
     ]
-    middle = np.where(height.max(axis=2) + height.min(axis=2) < 0, -1.0, 1.0)
-    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), middle)
+    # a new contact: the front, unless the whole hull is behind the plane (max_v h_tv <= 0)
+    front = np.where(height.max(axis=2) > 0, 1.0, -1.0)
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), front)
 
 
 def _stage_group(

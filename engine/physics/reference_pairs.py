@@ -159,7 +159,9 @@ def outward_side(
     (``|n . c| > 0.5``) and its point lies on the triangle's plane (within
     ``OUTWARD_SIDE_PLANE_DISTANCE`` of the plane through ``corner``): the body stays on the
     side where the contact began. A new contact, or one cached on another surface, takes
-    the side holding the middle of the hull's extent along the normal.
+    the triangle's front (its winding normal) when some hull vertex lies in front of the
+    plane, else its back: a body spawned or teleported with its center below a floor is
+    pushed up, never down through it; a body wholly behind a one-sided wall stays there.
     """
     alignments = [
         dot(normal, c)
@@ -171,7 +173,7 @@ def outward_side(
         strongest = alignments[int(np.argmax(np.abs(alignments)))]
         if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
             return float(np.sign(strongest))
-    return -1.0 if max(heights) + min(heights) < 0 else 1.0
+    return 1.0 if max(heights) > 0 else -1.0
 
 
 def stage_polyhedron_contacts(
