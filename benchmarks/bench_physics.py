@@ -47,9 +47,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import platform
 import statistics
 import subprocess
 import sys
+from datetime import date
 from pathlib import Path
 
 import numpy as np
@@ -221,7 +223,8 @@ def sweep(sizes, seconds, bullet):
     )
     print(
         f"{'N':>5} {'ms/step':>8} {'cpu ms':>8} {'cpu us/body':>11} {'pairs/body':>10} "
-        f"{'bullet ms':>9} {'ratio':>6}  " + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest"))
+        f"{'bullet ms':>9} {'ratio':>6} {'b cpu':>6} {'cpu rat':>7}  "
+        + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest"))
     )
     rows = []
     for n in sizes:
@@ -239,11 +242,21 @@ def sweep(sizes, seconds, bullet):
         pairs = ours["touching_pairs"] / n
         print(
             f"{n:5d} {ms:8.3f} {cpu:8.3f} {1000 * cpu / n:11.1f} {pairs:10.2f} "
-            f"{bullet_ms:9.3f} {ms / bullet_ms:6.1f}  "
+            f"{bullet_ms:9.3f} {ms / bullet_ms:6.1f} {bullet_cpu:6.2f} {cpu / bullet_cpu:7.2f}  "
             + " ".join(f"{100 * split[k]:6.1f}" for k in (*STAGES, "rest"))
         )
         rows.append((n, cpu, bullet_cpu, split))
     return rows
+
+
+def machine_name() -> str:
+    """The CPU model (``lscpu``'s "Model name"), or the platform's processor string."""
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return platform.processor() or platform.machine()
+    names = [line.split(":", 1)[1].strip() for line in out.splitlines() if "Model name" in line]
+    return names[0] if names else platform.machine()
 
 
 def plot(rows, path: Path) -> None:
@@ -273,7 +286,10 @@ def plot(rows, path: Path) -> None:
     for ax in axes[:2]:
         ax.legend()
         ax.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Moving column of 0.2 m cubes (sleeping off), 2-core shared machine")
+    fig.suptitle(
+        "Moving column of 0.2 m cubes (sleeping off), CPU time per step; "
+        f"{machine_name()}, {date.today().isoformat()} (shared, loaded)"
+    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=90)
