@@ -9,8 +9,19 @@ frames through the same accumulator):
   (issue 13; N = 10, 100, 500);
 * ``pile-N``: N cubes dropped in a loose grid, sleeping on (N = 10, 100): time to settle;
 * ``stack-10``: a vertical stack of 10 cubes, 10 s (quality: lateral drift of the top cube,
-  energy drift);
-* ``pyramid-6``: a pyramid with a base of 6 cubes (quality: largest displacement).
+  energy drift); ``stack-20`` the same with 20 cubes;
+* ``pyramid-6``: a pyramid with a base of 6 cubes (quality: largest displacement);
+  ``pyramid-10`` a 10-layer pyramid;
+* ``plane-column-N``: the column on Habitat's ``plane.glb`` (a triangle-mesh stage, as every
+  Habitat scene is) with **default sleeping** in both engines (N = 100, 500), and
+  ``apartment-30``: 30 cubes dropped on the demo apartment's coffee table and floor; pybullet
+  collides with the same triangles as a static mesh. ``settle`` prints when every body fell
+  asleep in each engine.
+
+Timings are CPU time (``time.process_time``) per fixed step, medians of ``--repeats``
+interleaved runs (rigidsim, pybullet and, with ``--baseline PATH``, another rigidsim
+checkout run in a subprocess, for the "x of the baseline's step" targets): other processes
+load the machine, and ratios measured in one run are what to compare.
 
 Reported per scene: ms of wall time per fixed step and per simulated second, pybullet's
 figures and the ratio, bodies asleep at the end, the largest contact penetration over the
@@ -24,6 +35,7 @@ times vary a lot on a shared machine.
 Usage::
 
     python benchmarks/bench_physics.py               # targets: columns, stack, piles
+    python benchmarks/bench_physics.py --baseline ../main --repeats 3
     python benchmarks/bench_physics.py --sweep       # + scaling sweep and plot
     python benchmarks/bench_physics.py --quick       # 2 s columns, no 500, short quality runs
     python benchmarks/bench_physics.py --reference   # also time the reference path
@@ -33,7 +45,13 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
 import sys
+from datetime import date
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +60,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from physics_scenes import (  # noqa: E402
     WATCH_FROM,
+    apartment_positions,
     column_positions,
     have_pybullet,
     pile_positions,
@@ -84,21 +103,63 @@ def quality(name, start, final):
 # ------------------------------------------------------------------------------------------
 # report
 # ------------------------------------------------------------------------------------------
-def run_scene(name, positions, rotations, seconds, sleep, bullet, results, reference=False):
-    ours = run_rigidsim(positions, rotations, seconds, sleep=sleep)
-    theirs = run_pybullet(positions, rotations, seconds, sleep=sleep) if bullet else None
+def baseline_cpu(checkout: Path, scene: str, seconds: float, sleep: bool) -> float | None:
+    """CPU ms per step of ``scene`` (a box-floor column, ``column-N``) stepped by the rigidsim
+    checkout ``checkout`` in a subprocess (its own ``physics_scenes``); None if it fails."""
+    n = int(scene.split("-")[-1])
+    code = (
+        "import json, sys; sys.path.insert(0, sys.argv[1]); import physics_scenes as s; "
+        "p, q = s.column_positions(int(sys.argv[2])); "
+        "r = s.run_rigidsim(p, q, float(sys.argv[3]), sleep=sys.argv[4] == '1', watch=False); "
+        "print(json.dumps(1000 * r['cpu'] / r['steps']))"
+    )
+    args = [str(checkout / "benchmarks"), str(n), str(seconds), "1" if sleep else "0"]
+    run = subprocess.run(
+        [sys.executable, "-c", code, *args],
+        env=dict(os.environ, PYTHONPATH=str(checkout)),
+        capture_output=True,
+        text=True,
+    )
+    if run.returncode != 0:
+        print(f"baseline run failed: {run.stderr.strip().splitlines()[-1:]}")
+        return None
+    return float(json.loads(run.stdout.strip().splitlines()[-1]))
+
+
+def run_scene(name, scene, bullet, results, options):
+    """Run ``scene`` (positions, rotations, seconds, sleep, stage) ``options.repeats`` times
+    interleaved with pybullet (and the baseline checkout); print one report line."""
+    (positions, rotations), seconds, sleep, stage = scene
+    cpu_ours, cpu_bullet, cpu_base = [], [], []
+    runs_ours, runs_bullet = [], []  # the first run of each engine gives the quality figures
+    for repeat in range(options.repeats):
+        runs_ours.append(
+            run_rigidsim(positions, rotations, seconds, sleep=sleep, stage=stage, watch=not repeat)
+        )
+        cpu_ours.append(runs_ours[-1]["cpu"] / runs_ours[-1]["steps"] * 1000)
+        if bullet:
+            runs_bullet.append(
+                run_pybullet(positions, rotations, seconds, sleep=sleep, stage=stage)
+            )
+            cpu_bullet.append(runs_bullet[-1]["cpu"] / runs_bullet[-1]["steps"] * 1000)
+        if options.baseline and stage == "box" and name.startswith("column"):
+            cpu_base.append(baseline_cpu(options.baseline, name, seconds, sleep))
+    ours = runs_ours[0]
+    theirs = runs_bullet[0] if bullet else None
     start = np.array(positions)
     ms_step = ours["wall"] / ours["steps"] * 1000
     ms_sim = ours["wall"] / seconds * 1000
-    cpu_step = ours["cpu"] / ours["steps"] * 1000
+    cpu_step = statistics.median(cpu_ours)
+    base_step = statistics.median(cpu_base) if cpu_base and None not in cpu_base else None
     if theirs:
-        bullet_step = theirs["wall"] / theirs["steps"] * 1000
+        bullet_step = statistics.median(cpu_bullet)
         ratio = ours["wall"] / theirs["wall"]
-        cpu_ratio = ours["cpu"] / max(theirs["cpu"], 1e-9)
+        cpu_ratio = cpu_step / max(bullet_step, 1e-9)
         bullet_text = f"{bullet_step:8.3f} {ratio:6.1f}x {cpu_ratio:6.1f}x"
         bullet_quality = quality(name, start, theirs["final"])
     else:
-        bullet_step, ratio, bullet_text, bullet_quality = (
+        bullet_step, ratio, cpu_ratio, bullet_text, bullet_quality = (
+            float("nan"),
             float("nan"),
             float("nan"),
             "     n/a    n/a     n/a",
@@ -115,7 +176,16 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results, refer
         f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}"
     )
     print(f"{'':<11} profile % {split_text}")
-    if reference:
+    if base_step is not None:
+        print(
+            f"{'':<11} baseline checkout: {base_step:.3f} CPU ms/step, this one "
+            f"{cpu_step / base_step:.2f}x of it"
+        )
+    if sleep:
+        ours_settled = f"{ours['settled'][0]:.2f} s" if ours["settled"] else "not all"
+        bullet_settled = f"{theirs['settled']:.2f} s" if theirs and theirs["settled"] else "not all"
+        print(f"{'':<11} settle: all asleep after {ours_settled} (pybullet {bullet_settled})")
+    if options.reference:
         slow = run_rigidsim(
             positions, rotations, seconds, sleep=sleep, watch=False, vectorized=False
         )
@@ -123,7 +193,7 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results, refer
             f"{'':<11} reference path: {slow['wall'] / slow['steps'] * 1000:.2f} ms/step "
             f"({slow['wall'] / ours['wall']:.1f}x the vectorized path)"
         )
-    if ours["settled"] is not None and name.startswith("pile"):
+    if ours["settled"] is not None and name.startswith("pile") and options.verbose:
         sim, wall = ours["settled"]
         print(
             f"{'':<11} settled: all {len(positions)} asleep after {sim:.2f} s simulated, "
@@ -134,6 +204,8 @@ def run_scene(name, positions, rotations, seconds, sleep, bullet, results, refer
         ms_step=ms_step,
         cpu_step=cpu_step,
         ratio=ratio,
+        cpu_ratio=cpu_ratio,
+        base_ratio=None if base_step is None else cpu_step / base_step,
         bullet_step=bullet_step,
         start=start,
         n=len(positions),
@@ -151,7 +223,8 @@ def sweep(sizes, seconds, bullet):
     )
     print(
         f"{'N':>5} {'ms/step':>8} {'cpu ms':>8} {'cpu us/body':>11} {'pairs/body':>10} "
-        f"{'bullet ms':>9} {'ratio':>6}  " + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest"))
+        f"{'bullet ms':>9} {'ratio':>6} {'b cpu':>6} {'cpu rat':>7}  "
+        + " ".join(f"{k[:6]:>6}" for k in (*STAGES, "rest"))
     )
     rows = []
     for n in sizes:
@@ -169,11 +242,21 @@ def sweep(sizes, seconds, bullet):
         pairs = ours["touching_pairs"] / n
         print(
             f"{n:5d} {ms:8.3f} {cpu:8.3f} {1000 * cpu / n:11.1f} {pairs:10.2f} "
-            f"{bullet_ms:9.3f} {ms / bullet_ms:6.1f}  "
+            f"{bullet_ms:9.3f} {ms / bullet_ms:6.1f} {bullet_cpu:6.2f} {cpu / bullet_cpu:7.2f}  "
             + " ".join(f"{100 * split[k]:6.1f}" for k in (*STAGES, "rest"))
         )
         rows.append((n, cpu, bullet_cpu, split))
     return rows
+
+
+def machine_name() -> str:
+    """The CPU model (``lscpu``'s "Model name"), or the platform's processor string."""
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return platform.processor() or platform.machine()
+    names = [line.split(":", 1)[1].strip() for line in out.splitlines() if "Model name" in line]
+    return names[0] if names else platform.machine()
 
 
 def plot(rows, path: Path) -> None:
@@ -203,32 +286,48 @@ def plot(rows, path: Path) -> None:
     for ax in axes[:2]:
         ax.legend()
         ax.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Moving column of 0.2 m cubes (sleeping off), 2-core shared machine")
+    fig.suptitle(
+        "Moving column of 0.2 m cubes (sleeping off), CPU time per step; "
+        f"{machine_name()}, {date.today().isoformat()} (shared, loaded)"
+    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=90)
     print(f"wrote {path}")
 
 
-def report_targets(results, rows) -> None:
-    """Issue 13's targets, each with its measured value and met / missed."""
-    print("\nTargets (issue 13):")
+def _line(text: str, value: str, ok: bool) -> None:
+    print(f"  [{'met   ' if ok else 'MISSED'}] {text}: {value}")
 
-    def line(text, value, ok):
-        print(f"  [{'met   ' if ok else 'MISSED'}] {text}: {value}")
 
-    if "column-100" in results:
-        r = results["column-100"]
-        line("column-100: <= 3 ms per 0.008 s step", f"{r['ms_step']:.2f} ms", r["ms_step"] <= 3)
-        line("column-100: <= 5x pybullet", f"{r['ratio']:.1f}x", r["ratio"] <= 5)
-    if "column-500" in results:
-        r = results["column-500"]
-        line(
-            "column-500: <= 3x pybullet wall per simulated s", f"{r['ratio']:.1f}x", r["ratio"] <= 3
+def report_speed_targets(results) -> None:
+    """Issue 22's speed targets: CPU per step as ratios to pybullet / the baseline."""
+    print("\nSpeed targets (issue 22; CPU time per 0.008 s step, medians of the repeats):")
+    for name, limit in (
+        ("column-100", 2.0),
+        ("column-500", 1.0),
+        ("plane-column-100", 2.0),
+        ("plane-column-500", 1.0),
+        ("apartment-30", 2.0),
+    ):
+        if name in results:
+            r = results[name]
+            _line(
+                f"{name}: <= {limit:g}x pybullet", f"{r['cpu_ratio']:.2f}x", r["cpu_ratio"] <= limit
+            )
+    r = results.get("column-10")
+    if r and r["base_ratio"] is not None:
+        _line(
+            "column-10: <= 0.55x the baseline checkout's step",
+            f"{r['base_ratio']:.2f}x",
+            r["base_ratio"] <= 0.55,
         )
-    if "column-10" in results:
-        r = results["column-10"]
-        line("column-10: <= 0.4 ms per step", f"{r['ms_step']:.3f} ms", r["ms_step"] <= 0.4)
+
+
+def report_targets(results, rows) -> None:
+    """The quality gates (unchanged from issue 13) and the scaling target."""
+    print("\nQuality gates:")
+    line = _line
     if rows:
         per_body = {n: cpu / n for n, cpu, _, _ in rows}  # CPU ms: robust to the load
         sizes = sorted(per_body)
@@ -253,6 +352,22 @@ def report_targets(results, rows) -> None:
             f"{r['energy_change'] * 1000:+.2f} mJ",
             r["energy_change"] <= 1e-3,
         )
+    if "stack-20" in results:
+        r = results["stack-20"]
+        drift = np.linalg.norm((r["final"][-1] - r["start"][-1])[[0, 2]])
+        line(
+            f"stack-20 stands {r['seconds']:.0f} s awake (top above 3.8 m)",
+            f"top drift {drift * 100:.2f} cm, top at {r['final'][-1, 1]:.3f} m",
+            r["final"][-1, 1] > 3.8,
+        )
+    if "pyramid-10" in results:
+        r = results["pyramid-10"]
+        moved = np.abs(r["final"] - r["start"]).max()
+        line(
+            f"pyramid-10 stands {r['seconds']:.0f} s awake (every cube within 5 cm)",
+            f"max displacement {moved * 100:.2f} cm",
+            moved < 0.05,
+        )
     if results:
         floor = max(r["deepest"][0] for r in results.values())
         line(
@@ -263,7 +378,7 @@ def report_targets(results, rows) -> None:
         pair = {name: r["deepest"][1] for name, r in results.items()}
         worst = max(pair, key=pair.get)
         line(
-            "no two cubes overlap deeper than 2 cm (worst scene)",
+            "no two cubes overlap deeper than 2 cm (worst scene; impacts of the 5 m column)",
             f"{pair[worst] * 1000:.1f} mm in {worst}",
             pair[worst] < 0.02,
         )
@@ -278,6 +393,27 @@ def report_targets(results, rows) -> None:
             )
 
 
+def scenes(quick: bool) -> list:
+    """``(name, ((positions, rotations), seconds, sleep, stage))`` of the report."""
+    column_s, quality_s = (2.0, 2.0) if quick else (3.0, 10.0)
+    sizes = (10, 100) if quick else (10, 100, 500)
+    out = [(f"column-{n}", (column_positions(n), column_s, False, "box")) for n in sizes]
+    out += [
+        (f"plane-column-{n}", (column_positions(n), column_s, True, "plane")) for n in sizes[1:]
+    ]
+    out.append(("apartment-30", (apartment_positions(30), column_s, True, "apartment")))
+    out += [
+        ("pile-10", (pile_positions(10), quality_s, True, "box")),
+        ("pile-100", (pile_positions(100), quality_s, True, "box")),
+        ("stack-10", (stack_positions(), quality_s, True, "box")),
+        ("pyramid-6", (pyramid_positions(), quality_s, True, "box")),
+    ]
+    if not quick:  # awake for 10 s: sleeping off
+        out.append(("stack-20", (stack_positions(20), quality_s, False, "box")))
+        out.append(("pyramid-10", (pyramid_positions(10), quality_s, False, "box")))
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="short runs, no 500 column")
@@ -288,28 +424,18 @@ def main() -> None:
         action="store_true",
         help="also run the reference path (use_vectorized=False)",
     )
+    parser.add_argument("--repeats", type=int, default=3, help="interleaved timing runs")
+    parser.add_argument("--baseline", type=Path, help="a rigidsim checkout to compare with")
+    parser.add_argument("--only", help="comma-separated scene names to run")
+    parser.add_argument("--verbose", action="store_true", help="also print pile settle times")
     parser.add_argument("--plot", type=Path, default=ROOT / "docs" / "physics_scaling.png")
     args = parser.parse_args()
     bullet = have_pybullet()
-    column_s = 2.0 if args.quick else 3.0
-    quality_s = 2.0 if args.quick else 10.0
     results: dict = {}
     if not args.only_sweep:
-        scenes = [
-            ("column-10", column_positions(10), column_s, False),
-            ("column-100", column_positions(100), column_s, False),
-        ]
-        if not args.quick:
-            scenes.append(("column-500", column_positions(500), column_s, False))
-        scenes += [
-            ("pile-10", pile_positions(10), quality_s, True),
-            ("pile-100", pile_positions(100), quality_s, True),
-            ("stack-10", stack_positions(), quality_s, True),
-            ("pyramid-6", pyramid_positions(), quality_s, True),
-        ]
         print(
-            "ms/step: wall per 0.008 s step (cpu ms: this process's CPU time, less "
-            "sensitive to a loaded machine);\nratio: wall vs pybullet, cpu rat: CPU time vs "
+            "ms/step: wall per 0.008 s step; cpu ms: this process's CPU time per step (median "
+            "of the repeats);\nratio: wall vs pybullet, cpu rat: CPU time vs "
             "pybullet; deep/rest mm: deepest overlap floor/cube-cube "
             f"(true geometry) from {WATCH_FROM:g} s on / at the end;\ndE J: energy change "
             f"from {WATCH_FROM:g} s to the end; v end: fastest body at the end, m/s."
@@ -321,13 +447,16 @@ def main() -> None:
             "  quality (rigidsim | pybullet)"
         )
         print(f"{'':<11} profile % = " + " ".join(STAGES) + " rest")
-        for name, (positions, rotations), seconds, sleep in scenes:
-            run_scene(name, positions, rotations, seconds, sleep, bullet, results, args.reference)
+        chosen = set(args.only.split(",")) if args.only else None
+        for name, scene in scenes(args.quick):
+            if chosen is None or name in chosen:
+                run_scene(name, scene, bullet, results, args)
     rows = []
     if args.sweep or args.only_sweep:
         sizes = (10, 30, 100, 300) if args.quick else (10, 30, 100, 300, 1000)
         rows = sweep(sizes, 1.0 if args.quick else 2.0, bullet)
         plot(rows, args.plot)
+    report_speed_targets(results)
     report_targets(results, rows)
 
 

@@ -3,7 +3,12 @@
 Scene builders return drop positions and unit quaternions ``[x, y, z, w]`` of 0.2 m, 1 kg
 cubes; :func:`run_rigidsim` and :func:`run_pybullet` step them at the same 0.008 s step
 through the same 1/60 s frame accumulator and return wall and CPU time plus what the
-report measures (deepest true overlaps, energy, fastest body, stage timers).
+report measures (deepest true overlaps, energy, fastest body, stage timers, when every
+body fell asleep). Both engines collide with the same stage triangles
+(:func:`stage_triangles`): ``box`` (a 40 x 40 m floor of two triangles, y = 0), ``plane``
+(Habitat's test asset ``plane.glb``: 2,048 triangles, 200 x 200 m, y = 0) or ``apartment``
+(the demo apartment, 1,562 triangles, floor at y = -1.45); pybullet gets them as a static
+concave triangle mesh (``GEOM_FORCE_CONCAVE_TRIMESH``).
 """
 
 from __future__ import annotations
@@ -20,9 +25,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "physics"
 from helpers import add, make_world, register_primitive  # noqa: E402
 
 from engine import mn  # noqa: E402
+from engine.assets import MeshData, load_meshes  # noqa: E402
+from engine.attributes import StageAttributes  # noqa: E402
 from engine.physics import settings as physics_settings  # noqa: E402
 from engine.physics.quaternions import quat_to_matrix  # noqa: E402
 
+ROOT = Path(__file__).resolve().parents[1]
+PLANE_GLB = ROOT.parent / "shared" / "assets" / "habitat" / "data" / "test_assets" / "scenes"
+PLANE_GLB = PLANE_GLB / "plane.glb"
+APARTMENT_FLOOR = -1.45  # m, the demo apartment's floor height
+TABLE_TOP = -1.05  # m, its coffee table's top
 FRAME = 1.0 / 60.0
 STEP = 0.008
 HALF = 0.1
@@ -77,6 +89,26 @@ def pile_positions(n: int, seed: int = 0):
     return positions, rotations
 
 
+def apartment_positions(n: int = 30, seed: int = 0):
+    """``n`` cubes dropped onto the demo apartment's coffee table (x 2.25..2.85, z
+    -0.4..0.5, top y = -1.05) and the clear floor beside it (around x 1.5, z 0.4): 2 x 3
+    per layer over the table, 3 x 3 per layer over the floor, layers 0.3 m apart."""
+    rng = np.random.default_rng(seed)
+    over_table = [(x, z) for x in (2.42, 2.68) for z in (-0.2, 0.05, 0.3)]
+    over_floor = [(x, z) for x in (1.2, 1.5, 1.8) for z in (0.1, 0.4, 0.7)]
+    positions, rotations = [], []
+    for k in range(n):
+        spots, base, index = (
+            (over_table, TABLE_TOP, k // 2) if k % 2 == 0 else (over_floor, APARTMENT_FLOOR, k // 2)
+        )
+        layer, cell = divmod(index, len(spots))
+        x, z = spots[cell]
+        positions.append([x, base + 0.3 + 0.3 * layer + rng.uniform(0, 0.02), z])
+        q = rng.normal(size=4)
+        rotations.append(q / np.linalg.norm(q))
+    return positions, rotations
+
+
 def stack_positions(n: int = 10):
     return [[0.0, HALF + 0.201 * i, 0.0] for i in range(n)], [[0, 0, 0, 1.0]] * n
 
@@ -87,6 +119,34 @@ def pyramid_positions(base: int = 6):
         for i in range(base - level):
             positions.append([(i - (base - 1 - level) / 2) * 0.202, HALF + level * 0.201, 0.0])
     return positions, [[0, 0, 0, 1.0]] * len(positions)
+
+
+def stage_triangles(stage: str) -> tuple[np.ndarray, np.ndarray]:
+    """World-frame ``(vertices (V, 3), faces (F, 3))`` of a benchmark stage (module docstring)."""
+    if stage == "box":
+        from helpers import floor_mesh
+
+        mesh = floor_mesh(20.0)
+        return np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces)
+    if stage == "plane":
+        # Habitat's plane.glb as rigidsim's Simulator places it (its stage frame: y up)
+        from engine import Configuration, Simulator, SimulatorConfiguration
+
+        sim = Simulator(Configuration(SimulatorConfiguration(scene_id=str(PLANE_GLB))))
+        tris = sim.get_physics_world().bodies.shapes[0][0].ray_triangles  # (F, 3, 3) world
+        sim.close()
+        return tris.reshape(-1, 3).copy(), np.arange(3 * len(tris)).reshape(-1, 3)
+    if stage == "apartment":
+        from engine.demo import demo_data_path
+
+        meshes = load_meshes(demo_data_path() / "scene_datasets" / "demo" / "apartment.glb")
+        vertices, faces, offset = [], [], 0
+        for mesh in meshes:
+            vertices.append(np.asarray(mesh.vertices, dtype=np.float64))
+            faces.append(np.asarray(mesh.faces) + offset)
+            offset += len(mesh.vertices)
+        return np.concatenate(vertices), np.concatenate(faces)
+    raise KeyError(f"unknown benchmark stage {stage!r}: use 'box', 'plane' or 'apartment'")
 
 
 @contextlib.contextmanager
@@ -104,11 +164,16 @@ def sleeping_disabled(disabled: bool):
 # ------------------------------------------------------------------------------------------
 # measurements
 # ------------------------------------------------------------------------------------------
-def penetration(world) -> tuple[float, float]:
-    """Deepest true overlaps of the cubes, m: ``(floor, pair)``, below the floor (y = 0) by
-    their lowest corner, and between touching cubes by the separating-axis overlap (the
-    smallest overlap over the 15 axes of two boxes, Ericson 4.4.1), not the manifold's
-    bookkept point depths."""
+def floor_height(stage: str) -> float:
+    """m, the floor's height in a benchmark stage."""
+    return APARTMENT_FLOOR if stage == "apartment" else 0.0
+
+
+def penetration(world, floor: float = 0.0) -> tuple[float, float]:
+    """Deepest true overlaps of the cubes, m: ``(floor, pair)``, below the floor (y =
+    ``floor``; a table top is not checked) by their lowest corner, and between touching
+    cubes by the separating-axis overlap (the smallest overlap over the 15 axes of two
+    boxes, Ericson 4.4.1), not the manifold's bookkept point depths."""
     b, n = world.bodies, world.bodies.count
     ids = np.arange(1, n)[b.body_alive[1:n]]
     if len(ids) == 0:
@@ -118,7 +183,7 @@ def penetration(world) -> tuple[float, float]:
     center = b.body_position[:n] + np.einsum("nij,nj->ni", rotation, b.body_shape_center[:n])
     # lowest corner: y of the center minus the box's half height along world Y
     lowest = center[ids, 1] - (np.abs(rotation[ids, 1, :]) * half[ids]).sum(axis=1)
-    floor, deepest = max(0.0, float(-lowest.min())), 0.0
+    floor, deepest = max(0.0, float(floor - lowest.min())), 0.0
     store = world.manifolds
     rows = store.rows_with_points()
     pairs = store.bodies[rows]
@@ -156,10 +221,16 @@ def energy(world) -> float:
 WATCH_FROM = 1.0
 
 
-def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True, vectorized=True):
+def run_rigidsim(
+    positions, rotations, seconds, sleep=True, watch=True, vectorized=True, stage="box"
+):
     """Step a scene; wall time counts ``step_physics`` only (measurements are outside)."""
     with sleeping_disabled(not sleep):
-        world, templates = make_world(floor_half=20.0)
+        world, templates = make_world(floor=False)
+        vertices, faces = stage_triangles(stage)
+        stage_attributes = StageAttributes()
+        stage_attributes.friction_coefficient, stage_attributes.restitution_coefficient = 0.4, 0.1
+        world.set_stage([MeshData(vertices=vertices, faces=faces)], stage_attributes)
         world.settings.use_vectorized = vectorized
         handle = register_primitive(templates, "cubeSolid", (HALF, HALF, HALF))
         boxes = []
@@ -180,7 +251,7 @@ def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True, vectoriz
                 if energy_start is None:
                     energy_start = energy(world)
                 if watch:
-                    deepest = np.maximum(deepest, penetration(world))
+                    deepest = np.maximum(deepest, penetration(world, floor_height(stage)))
             if settled is None and not world.bodies.body_awake[1 : world.bodies.count].any():
                 settled = ((frame + 1) * FRAME, wall)
         steps = int(round((world._time - steps_before) / STEP))
@@ -195,21 +266,31 @@ def run_rigidsim(positions, rotations, seconds, sleep=True, watch=True, vectoriz
             "asleep": sum(not box.awake for box in boxes),
             "profile": dict(world.profile),
             "deepest": deepest,
-            "resting_depth": np.array(penetration(world)),
+            "resting_depth": np.array(penetration(world, floor_height(stage))),
             "energy_change": energy(world) - (energy_start or energy(world)),
             "touching_pairs": len(world.manifolds.rows_with_points()),
             "end_speed": float(speed),
         }
 
 
-def run_pybullet(positions, rotations, seconds, sleep=True):
+def run_pybullet(positions, rotations, seconds, sleep=True, stage="box"):
+    """The scene in pybullet (btRigidBody, as Habitat uses), the stage's triangles as a
+    static concave mesh; ``settled``: simulated seconds until every velocity is exactly
+    zero (Bullet zeroes the velocities of sleeping islands), checked outside the timing."""
     import pybullet as p
 
     client = p.connect(p.DIRECT)
     p.setGravity(0, -GRAVITY, 0, physicsClientId=client)
     p.setTimeStep(STEP, physicsClientId=client)
-    plane = p.createCollisionShape(p.GEOM_BOX, halfExtents=[20, 0.05, 20], physicsClientId=client)
-    p.createMultiBody(0, plane, basePosition=[0, -0.05, 0], physicsClientId=client)
+    vertices, faces = stage_triangles(stage)
+    floor = p.createCollisionShape(
+        p.GEOM_MESH,
+        vertices=vertices.tolist(),
+        indices=faces.reshape(-1).tolist(),
+        flags=p.GEOM_FORCE_CONCAVE_TRIMESH,
+        physicsClientId=client,
+    )
+    p.createMultiBody(0, floor, physicsClientId=client)
     box = p.createCollisionShape(p.GEOM_BOX, halfExtents=[HALF] * 3, physicsClientId=client)
     bodies = [
         p.createMultiBody(
@@ -225,20 +306,28 @@ def run_pybullet(positions, rotations, seconds, sleep=True):
                 activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
                 physicsClientId=client,
             )
-    steps, accumulated = 0, 0.0
-    start, start_cpu = time.perf_counter(), time.process_time()
-    for _ in range(int(round(seconds / FRAME))):  # the same accumulator as step_physics
+    steps, accumulated, wall, cpu, settled = 0, 0.0, 0.0, 0.0, None
+    for frame in range(int(round(seconds / FRAME))):  # the same accumulator as step_physics
+        start, start_cpu = time.perf_counter(), time.process_time()
         accumulated += FRAME
         while accumulated >= STEP:
             p.stepSimulation(physicsClientId=client)
             accumulated -= STEP
             steps += 1
-    wall, cpu = time.perf_counter() - start, time.process_time() - start_cpu
+        wall += time.perf_counter() - start
+        cpu += time.process_time() - start_cpu
+        if sleep and settled is None and frame % 6 == 5:  # every 0.1 s
+            moving = any(
+                any(p.getBaseVelocity(body, physicsClientId=client)[k])
+                for body in bodies
+                for k in (0, 1)
+            )
+            settled = None if moving else (frame + 1) * FRAME
     final = np.array(
         [p.getBasePositionAndOrientation(b, physicsClientId=client)[0] for b in bodies]
     )
     p.disconnect(client)
-    return {"wall": wall, "cpu": cpu, "steps": steps, "final": final}
+    return {"wall": wall, "cpu": cpu, "steps": steps, "final": final, "settled": settled}
 
 
 def have_pybullet() -> bool:

@@ -12,8 +12,9 @@ Narrow phase returns, per pair, world-frame arrays
 * ``normal (k, 3)``: unit, **from A to B**,
 
 so the penetration depth is ``(point_a - point_b) . normal`` (positive = overlapping).
-Contacts are generated three ways (methods 1 and 2 for polyhedra run batched over all pairs
-of a step in :mod:`narrow_phase`):
+Contacts are generated three ways; the pair table (:mod:`pair_table`) picks the way for
+two shape kinds (methods 1 and 2 for polyhedra run batched over all pairs of a step in
+:mod:`batched_pairs` and :mod:`batched_stage`):
 
 1. polyhedron vs polyhedron (boxes, hulls, tessellated cylinders/cones): python-fcl gives
    the normal and depth; we then keep every vertex of one body that lies inside the other
@@ -23,19 +24,21 @@ of a step in :mod:`narrow_phase`):
    body's hull vertices lying in a triangle's prism just below its plane, with the
    triangle's normal (stable resting on a 2-triangle floor), spheres use the exact closest
    point on the triangle (Ericson, Real-Time Collision Detection, 5.1.5).
-3. anything else (capsules, edge-edge cases): fcl's points.
+3. anything else (capsules, edge-edge cases): fcl's points (:mod:`contact_helpers`).
 """
 
 from __future__ import annotations
 
-import fcl
 import numpy as np
 
 from . import settings
+from .contact_helpers import (
+    contact_arrays,
+    fcl_raw_contacts,
+    midpoint_contacts,
+    triangle_table,
+)
 from .quaternions import cross, quat_to_matrix
-
-_REQUEST = fcl.CollisionRequest(num_max_contacts=settings.MAX_FCL_CONTACTS, enable_contact=True)
-_POLYHEDRA = ("box", "convex", "cylinder", "cone")
 
 
 def world_aabbs(
@@ -169,45 +172,6 @@ def boxes_separated(
     return apart
 
 
-def fcl_raw_contacts(object_a, object_b) -> list:
-    """fcl's contact records of two collision objects (empty list when apart)."""
-    result = fcl.CollisionResult()
-    if fcl.collide(object_a, object_b, _REQUEST, result) == 0:
-        return []
-    return result.contacts
-
-
-def contact_arrays(contacts: list) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """fcl contact records as arrays: midpoints, normals A->B, depths, b1 (triangle) ids."""
-    if not contacts:
-        empty = np.zeros((0, 3))
-        return empty, empty, np.zeros(0), np.zeros(0, dtype=np.int64)
-    pos = np.array([c.pos for c in contacts])
-    normal = np.array([c.normal for c in contacts])
-    depth = np.abs(np.array([c.penetration_depth for c in contacts]))
-    ids = np.array([c.b1 for c in contacts], dtype=np.int64)
-    return pos, normal, depth, ids
-
-
-def fcl_contacts(object_a, object_b) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """fcl's contacts of two collision objects: midpoints, normals A->B, depths, b1 ids."""
-    return contact_arrays(fcl_raw_contacts(object_a, object_b))
-
-
-def _midpoint_contacts(mid, normals, depths):
-    """fcl midpoints -> (point_a, point_b, normal): A's point is half a depth along +n."""
-    half = 0.5 * depths[:, None] * normals
-    return mid + half, mid - half, normals
-
-
-def generic_contacts(object_a, object_b):
-    """fcl's own points (method 3)."""
-    mid, normals, depths, _ = fcl_contacts(object_a, object_b)
-    if len(depths) == 0:
-        return None
-    return _midpoint_contacts(mid, normals, depths)
-
-
 def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     """Contacts of a round body shape B (sphere, capsule) with the stage mesh A (method 2).
 
@@ -215,7 +179,7 @@ def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     near B; a sphere then gets the exact closest point, other round shapes fcl's points with
     the deepest triangle's normal. (Polyhedra are batched in :mod:`narrow_phase`.)
     """
-    mid, _, depths, tri_ids = fcl_contacts(object_stage, probe_b)
+    mid, _, depths, tri_ids = contact_arrays(fcl_raw_contacts(object_stage, probe_b))
     if len(depths) == 0:
         return None
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
@@ -224,38 +188,11 @@ def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
     # triangle normals face the shape's center
-    normal = _flip_towards(_triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], center)
+    normal = _flip_towards(triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], center)
     if shape_b.kind == "sphere":
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
     fcl_normal = normal[np.argmax(depths)]
-    return _midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
-
-
-def _triangle_table(mesh_shape) -> dict:
-    """Constants of all triangles of a static mesh, computed once and kept on the shape.
-
-    ``normal (t, 3)`` unit face normals (winding order), ``e0, e1 (t, 3)`` edges from vertex
-    0, and the Gram entries ``d00, d01, d11, denom (t,)`` of the barycentric solve.
-    """
-    table = getattr(mesh_shape, "_triangle_table", None)
-    if table is None:
-        tris = mesh_shape.ray_triangles
-        e0, e1 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
-        normal = cross(e0, e1)
-        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), settings.TINY)
-        # Gram matrix [d00 d01; d01 d11] of the two edges: d_ij = e_i . e_j
-        d00, d01, d11 = (e0 * e0).sum(1), (e0 * e1).sum(1), (e1 * e1).sum(1)
-        table = {
-            "normal": normal,
-            "e0": e0,
-            "e1": e1,
-            "d00": d00,
-            "d01": d01,
-            "d11": d11,
-            "denom": d00 * d11 - d01 * d01,
-        }
-        mesh_shape._triangle_table = table
-    return table
+    return midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
 
 
 def _flip_towards(normal, origin, point):
@@ -313,13 +250,3 @@ def closest_points_on_triangles(tris: np.ndarray, point: np.ndarray) -> np.ndarr
         better = (dist < best_dist) & ~inside
         best[better], best_dist[better] = candidate[better], dist[better]
     return best
-
-
-def round_contacts(shape_a, object_a, shape_b, pose_b, object_b, probe_b):
-    """Contacts of a pair that is not two polyhedra (scalar path); None when apart.
-
-    The stage (body 0, the only mesh shape) is always A; ``probe_b`` is B's grown fcl object.
-    """
-    if shape_a.kind == "mesh":
-        return round_stage_contacts(shape_a, object_a, shape_b, pose_b, probe_b)
-    return generic_contacts(object_a, object_b)

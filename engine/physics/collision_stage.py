@@ -30,22 +30,22 @@ Sub-stages, in order:
 
 from __future__ import annotations
 
-import math
-
 import fcl
 import numpy as np
 
 from .bodies import DYNAMIC, STAGE_ID, Bodies
 from .collide import boxes_separated, overlapping_pairs, world_aabbs
 from .collision_groups import filter_pairs
-from .contacts import FreshPoints, ManifoldStore, feature_length
+from .contacts import FreshPoints, ManifoldStore
+from .manifold_rows import add_manifold_row
 from .narrow_phase import narrow_phase
+from .pair_table import PAIR_TABLE
 from .profiling import StageTimer
 from .quaternions import live_rotations
+from .reference_contacts import update_manifolds_reference
 from .settings import (
     AABB_MARGIN,
     CONTACT_CACHE_DISTANCE,
-    MAX_MANIFOLD_POINTS,
     MIN_PAIRS_FOR_BOX_TEST,
     SLEEP_MAX_PENETRATION,
     STAGE_SPECULATIVE_DISTANCE,
@@ -68,14 +68,14 @@ class CollisionObjects:
     def __init__(self) -> None:
         self.shape_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
-        self.box_only: dict[int, bool] = {}  # every shape of the body is a box
+        self.kinds: dict[int, tuple[str, ...]] = {}  # the kinds of every body's shapes
         # bodies of one box shape: its body_from_shape (4, 4) and half extents (3,), by body
         # index, so the box batch gathers them with one indexing call
         self.box_offset, self.box_half = np.zeros((0, 4, 4)), np.zeros((0, 3))
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
-        self.box_only[index] = all(s.kind == "box" for s in shapes)
+        self.kinds[index] = tuple(s.kind for s in shapes)
         if len(shapes) == 1 and shapes[0].kind == "box":
             if len(self.box_half) <= index:
                 size = max(index + 1, 2 * len(self.box_half))
@@ -100,7 +100,7 @@ class CollisionObjects:
     def remove(self, index: int) -> None:
         self.shape_objects.pop(index, None)
         self.probe_objects.pop(index, None)
-        self.box_only.pop(index, None)
+        self.kinds.pop(index, None)
 
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
@@ -176,8 +176,6 @@ def collision_stage(
     if settings.use_vectorized:
         update_manifolds(bodies, objects, store, touching, rotation, timer)
     else:
-        from .reference_contacts import update_manifolds_reference
-
         timer.run(
             "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
         )
@@ -196,18 +194,21 @@ def move_fcl_users(
     rotation: np.ndarray,
 ) -> None:
     """Move the fcl objects of the bodies in ``pairs`` that the narrow phase will ask fcl
-    about: both bodies of every pair except two all-box bodies (analytic contacts); the
-    probes (grown shapes) of the bodies paired with the stage. The stage never moves.
+    about: both bodies of every pair whose shape kinds need a rule that uses fcl
+    (:meth:`pair_rules.PairTable.needs_fcl`; two boxes, say, have analytic contacts); the
+    probes (grown shapes) of the bodies paired with the stage by such a rule (hulls find
+    their stage triangles in the stage grid). The stage never moves.
 
-    A box pair that the analytic path hands to fcl after all (coincident or deep) moves its
-    two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
-    box_only = objects.box_only
+    A job that an analytic rule declines to an fcl rule after all (coincident or deep box
+    pairs) moves its two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
+    kinds = objects.kinds
     users: set[int] = set()
     near_stage: set[int] = set()
     for a, c in pairs:
         if a == STAGE_ID:
-            near_stage.add(c)
-        elif not (box_only[a] and box_only[c]):
+            if PAIR_TABLE.needs_fcl(kinds[a], kinds[c]):  # hulls use the stage grid
+                near_stage.add(c)
+        elif PAIR_TABLE.needs_fcl(kinds[a], kinds[c]):
             users.update((a, c))
     if users or near_stage:
         involved = np.array(sorted(users | near_stage), dtype=np.int64)
@@ -387,14 +388,6 @@ def _merge_into_store(
     row_position[updated] = np.arange(len(updated))  # pair position -> row position
     fresh = FreshPoints(len(rows), row_position[pair_position], point_a, point_b, normal)
     store.update(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
-
-
-def add_manifold_row(bodies: Bodies, store: ManifoldStore, key: tuple[int, int]) -> int:
-    """A new manifold row for pair ``key``: 1 point when a sphere rolls, else 4; its feature
-    length from the bodies' thickness (the stage counts as infinitely thick)."""
-    rolling = any(s.kind == "sphere" for s in bodies.shapes[key[0]] + bodies.shapes[key[1]])
-    thickness = [math.inf if i == STAGE_ID else 2.0 * bodies.body_min_half_extent[i] for i in key]
-    return store.add(key, 1 if rolling else MAX_MANIFOLD_POINTS, feature_length(*thickness))
 
 
 def drop_stale_manifolds(

@@ -281,7 +281,7 @@ class ConstraintStore:
         velocity, inv_mass, inv_inertia = _body_state(bodies, bodies.count, moving)
         rows = order_by_color(self.build_rows(bodies, inv_mass, inv_inertia, h), inv_mass)
         rows.bias = point_bias(rows, velocity, h)
-        iterations = settings.velocity_iterations
+        iterations = settings.constraint_iterations
         if settings.use_vectorized:
             solve_constraints_vectorized(rows, velocity, inv_mass, inv_inertia, h, iterations)
         else:

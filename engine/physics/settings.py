@@ -29,6 +29,12 @@ class SolverSettings:
     ----------
     velocity_iterations : int
         Gauss-Seidel sweeps over all contacts per fixed step (Catto 2005). Range 1..50.
+        10 as in Bullet (Habitat's engine) and Jolt; the stage-priority pass
+        (``stage_iterations``) keeps the floor winning at this count.
+    constraint_iterations : int
+        Sweeps of the rigid-constraint solver (:mod:`constraints`) per fixed step: chains
+        of Fixed constraints under gravity need more than the contacts (15 keeps a pinned
+        cube within 1 mm of its pivot).
     position_iterations : int
         Sweeps of the split-impulse (pseudo velocity) position solve. 0 disables it.
     substeps : int
@@ -67,7 +73,8 @@ class SolverSettings:
         The reference is 10-50x slower: it exists to be read and stepped through.
     """
 
-    velocity_iterations: int = 15
+    velocity_iterations: int = 10
+    constraint_iterations: int = 15
     position_iterations: int = 2
     substeps: int = 1
     warm_starting: bool = True
@@ -164,6 +171,16 @@ BOX_TEST_PARALLEL_GUARD = 1e-9
 #: m, a sphere center closer than this to its nearest stage triangle point has no offset
 #: direction: the sphere-triangle contact takes the triangle's normal instead.
 SPHERE_CENTER_ON_SURFACE = 1e-9
+
+#: m, the stage grid names the triangles within this of a body's AABB: a probe (the shape
+#: grown by ``STAGE_SPECULATIVE_DISTANCE`` along each of its own axes, shapes.probe_geometry)
+#: reaches at most sqrt(3) times that distance beyond the body, at a rotated box's corner.
+STAGE_NEAR_DISTANCE = 3.0**0.5 * STAGE_SPECULATIVE_DISTANCE
+#: m, side of the square X-Z cells of the stage's triangle grid (stage_grid.py): about a few
+#: bodies wide, so a body's box meets one to four cells.
+STAGE_GRID_CELL = 1.0
+#: cells, the most the stage grid holds; a larger stage gets coarser cells (doubled).
+STAGE_GRID_MAX_CELLS = 1_000_000
 
 # --- broad phase ------------------------------------------------------------------------
 #: m, broad-phase AABB inflation of every body (keeps touching pairs found).

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from enum import Enum
 from typing import Any
 
 import fcl
@@ -43,11 +44,32 @@ ROUND_SEGMENTS = 24
 Z_TO_Y = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 
 
+class ShapeKind(str, Enum):
+    """What a collision shape is; the contact pair table (:mod:`pair_table`) picks a pair's
+    contact rule by the two kinds. A member equals its string (``ShapeKind.BOX == "box"``)."""
+
+    MESH = "mesh"  # the static stage: a triangle mesh (fcl BVHModel)
+    BOX = "box"
+    CONVEX = "convex"  # a convex hull (mesh objects, non-uniformly scaled round primitives)
+    CYLINDER = "cylinder"
+    CONE = "cone"
+    SPHERE = "sphere"
+    CAPSULE = "capsule"
+
+
+#: the kinds with hull vertices and face planes (vertex and face contacts)
+POLYHEDRA: frozenset[ShapeKind] = frozenset(
+    {ShapeKind.BOX, ShapeKind.CONVEX, ShapeKind.CYLINDER, ShapeKind.CONE}
+)
+#: the kinds described by a radius around a point or a segment
+ROUND: frozenset[ShapeKind] = frozenset({ShapeKind.SPHERE, ShapeKind.CAPSULE})
+
+
 @dataclass
 class Shape:
     """One collision shape of a body (see the module docstring for the fields)."""
 
-    kind: str
+    kind: ShapeKind
     geometry: Any  # an fcl geometry (Box, Sphere, Cylinder, Cone, Capsule, Convex, BVHModel)
     body_from_shape: np.ndarray
     hull_vertices: np.ndarray
@@ -60,9 +82,10 @@ class Shape:
     def __post_init__(self) -> None:
         """Plain float64 arrays (trimesh's tracked arrays are slow to index), and the hull's
         outward face planes ``n . x <= c`` (body frame), for containment tests."""
+        self.kind = ShapeKind(self.kind)  # ValueError naming an unknown kind
         self.hull_vertices = np.array(self.hull_vertices, dtype=np.float64)
         self.ray_triangles = np.array(self.ray_triangles, dtype=np.float64)
-        if self.kind in ("mesh", "sphere", "capsule"):
+        if self.kind == ShapeKind.MESH or self.kind in ROUND:
             return
         hull = trimesh.convex.convex_hull(self.hull_vertices)
         self.plane_normals = np.array(hull.face_normals, dtype=np.float64)
@@ -85,15 +108,15 @@ def probe_geometry(shape: Shape, margin: float):
     centroid (a conservative approximation).
     """
     g = shape.geometry
-    if shape.kind == "box":
+    if shape.kind == ShapeKind.BOX:
         return fcl.Box(*(np.asarray(g.side, dtype=np.float64) + 2 * margin))
-    if shape.kind == "sphere":
+    if shape.kind == ShapeKind.SPHERE:
         return fcl.Sphere(shape.radius + margin)
-    if shape.kind in ("cylinder", "cone"):
+    if shape.kind in (ShapeKind.CYLINDER, ShapeKind.CONE):
         extent = shape.hull_vertices.max(0) - shape.hull_vertices.min(0)
         radius, length = extent[0] / 2 + margin, extent[1] + 2 * margin
-        return (fcl.Cylinder if shape.kind == "cylinder" else fcl.Cone)(radius, length)
-    if shape.kind == "capsule":
+        return (fcl.Cylinder if shape.kind == ShapeKind.CYLINDER else fcl.Cone)(radius, length)
+    if shape.kind == ShapeKind.CAPSULE:
         return fcl.Capsule(g.radius + margin, g.lz)
     center = shape.hull_vertices.mean(0)
     offset = shape.hull_vertices - center
@@ -136,7 +159,7 @@ def _pose(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
     return pose
 
 
-def _round_shape(kind: str, geometry, mesh: trimesh.Trimesh, center: np.ndarray) -> Shape:
+def _round_shape(kind: ShapeKind, geometry, mesh: trimesh.Trimesh, center: np.ndarray) -> Shape:
     """Wrap an fcl round shape built along Z; ``mesh`` is its Y-axis tessellation."""
     return Shape(
         kind,
@@ -167,7 +190,7 @@ def primitive_shape(handle: str, scale: np.ndarray, center: np.ndarray) -> Shape
         half = scale.copy()
         mesh = trimesh.creation.box(extents=2 * half)
         return Shape(
-            "box",
+            ShapeKind.BOX,
             fcl.Box(*(2 * half)),
             _pose(np.eye(3), center),
             mesh.vertices + center,
@@ -178,7 +201,7 @@ def primitive_shape(handle: str, scale: np.ndarray, center: np.ndarray) -> Shape
         radius = float(scale[0])
         mesh = trimesh.creation.icosphere(subdivisions=2, radius=radius)
         shape = Shape(
-            "sphere",
+            ShapeKind.SPHERE,
             fcl.Sphere(radius),
             _pose(np.eye(3), center),
             mesh.vertices + center,
@@ -190,16 +213,16 @@ def primitive_shape(handle: str, scale: np.ndarray, center: np.ndarray) -> Shape
     if handle.startswith("cylinder") and np.isclose(scale[0], scale[2]):
         mesh = trimesh.creation.cylinder(radius, 2 * half_y, sections=ROUND_SEGMENTS)
         mesh.apply_transform(_pose(Z_TO_Y, np.zeros(3)))
-        return _round_shape("cylinder", fcl.Cylinder(radius, 2 * half_y), mesh, center)
+        return _round_shape(ShapeKind.CYLINDER, fcl.Cylinder(radius, 2 * half_y), mesh, center)
     if handle.startswith("cone") and np.isclose(scale[0], scale[2]):
         mesh = trimesh.creation.cone(radius, 2 * half_y, sections=ROUND_SEGMENTS)
         mesh.apply_translation([0, 0, -half_y])  # trimesh's cone starts at z = 0
         mesh.apply_transform(_pose(Z_TO_Y, np.zeros(3)))
-        return _round_shape("cone", fcl.Cone(radius, 2 * half_y), mesh, center)
+        return _round_shape(ShapeKind.CONE, fcl.Cone(radius, 2 * half_y), mesh, center)
     if handle.startswith("capsule") and uniform:
         mesh = trimesh.creation.capsule(2 * half_y, radius, count=[ROUND_SEGMENTS, 8])
         mesh.apply_transform(_pose(Z_TO_Y, np.zeros(3)))
-        return _round_shape("capsule", fcl.Capsule(radius, 2 * half_y), mesh, center)
+        return _round_shape(ShapeKind.CAPSULE, fcl.Capsule(radius, 2 * half_y), mesh, center)
     # non-uniformly scaled round primitive: hull of its scaled unit tessellation
     unit = _unit_primitive_mesh(handle, half_length)
     return convex_shape(unit.vertices * scale + center, f"primitive {handle}")
@@ -237,7 +260,7 @@ def convex_shape(points: np.ndarray, name: str) -> Shape:
     vertices, faces = np.asarray(hull.vertices), np.asarray(hull.faces, dtype=np.int64)
     fcl_faces = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
     geometry = fcl.Convex(vertices, len(faces), fcl_faces)
-    return Shape("convex", geometry, np.eye(4), vertices, vertices[faces])
+    return Shape(ShapeKind.CONVEX, geometry, np.eye(4), vertices, vertices[faces])
 
 
 def _thicken_if_flat(points: np.ndarray) -> np.ndarray:
@@ -263,7 +286,7 @@ def mesh_shape(vertices: np.ndarray, faces: np.ndarray, name: str) -> Shape:
     model.beginModel(len(vertices), len(faces))
     model.addSubModel(vertices, faces)
     model.endModel()
-    shape = Shape("mesh", model, np.eye(4), vertices, vertices[faces])
+    shape = Shape(ShapeKind.MESH, model, np.eye(4), vertices, vertices[faces])
     shape.faces = faces
     return shape
 
@@ -275,11 +298,11 @@ def unit_mass_inertia(shape: Shape) -> tuple[np.ndarray, np.ndarray]:
     (off-diagonal products are dropped, as Habitat's ``inertia`` vector does).
     """
     center = shape.body_from_shape[:3, 3]
-    if shape.kind == "box":
+    if shape.kind == ShapeKind.BOX:
         half = np.asarray(shape.geometry.side, dtype=np.float64) / 2.0
         a2, b2, c2 = half**2
         return center, np.array([b2 + c2, a2 + c2, a2 + b2]) / 3.0  # I = m (b^2 + c^2) / 3
-    if shape.kind == "sphere":
+    if shape.kind == ShapeKind.SPHERE:
         return center, np.full(3, 0.4 * shape.radius**2)  # I = 2/5 m r^2
     hull = trimesh.convex.convex_hull(shape.hull_vertices)
     inertia = np.asarray(hull.moment_inertia) / max(hull.volume, MIN_INERTIA_VOLUME)  # per kg

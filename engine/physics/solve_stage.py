@@ -33,7 +33,15 @@ from .rolling_friction import (
     needs_rolling_friction,
 )
 from .settings import IMPACT_SPEED, PENETRATION_SLOP, SLEEP_MAX_PENETRATION, TINY, SolverSettings
-from .solver import SLOTS, build_batch, solve_contacts
+from .solver import (
+    SLOTS,
+    ColorOrder,
+    ManifoldPoints,
+    PairCoefficients,
+    SolverBodies,
+    build_batch,
+    solve_contacts,
+)
 
 
 @dataclass
@@ -178,24 +186,13 @@ def _solve_batched(
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(
-        points_a,
-        points_b,
-        normals,
-        counts,
-        body_a,
-        body_b,
-        b.body_position[:n],
-        problem.inv_mass,
-        problem.inv_inertia,
-        friction,
-        restitution,
-        store.impulse[rows],
-        problem.approach_velocity,
-        problem.color_slices,
+        ManifoldPoints(points_a, points_b, normals, counts, body_a, body_b),
+        SolverBodies(
+            b.body_position[:n], problem.inv_mass, problem.inv_inertia, problem.approach_velocity
+        ),
+        PairCoefficients(friction, restitution, store.impulse[rows], problem.slop),
+        ColorOrder(problem.color_slices, problem.priority_starts, problem.lower),
         split_mass=settings.block_jacobi,
-        priority_starts=problem.priority_starts,
-        lower=problem.lower,
-        slop=problem.slop,
     )
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
     loads = None

@@ -24,12 +24,13 @@ Jacobians and effective masses, one point at a time); tests check both agree to 
 
 The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the inner loop
 is kept to few calls: each color's :class:`RowBlock` views are made once per batch, the
-effective masses are folded into the Jacobians (``-m_eff J``: one matmul gives
-``d_lambda``), body velocities are gathered with one flat index, and the normal clamp
-keeps the negated impulse ``-lambda``: ``d_lambda = max(d_lambda, -lambda)``, the same as
-clamping ``lambda + d_lambda >= 0``. About 21 calls per color and sweep, 13 us at the
-least (four stacked matmuls cost ~50 ns per manifold each): the solve's floor is colors x
-iterations, not the array sizes (README, issue 13, round 3).
+effective masses are folded into the Jacobians (``-m_eff J``: one matmul gives the
+``-m_eff J V`` part of ``d_lambda``) and body velocities are gathered with one flat index.
+About 22 calls per color and sweep, 13 us at the least (four stacked matmuls cost ~50 ns per
+manifold each): the solve's floor is colors x iterations, not the array sizes. The
+accumulated impulses are kept with their own sign (``lambda >= 0``), as the formulas read;
+a version that kept ``-lambda`` to save one negation per color and sweep had no measurable
+gain and was reverted.
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
 pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
@@ -69,7 +70,7 @@ from .settings import (
     TINY,
     SolverSettings,
 )
-from .stage_priority import stage_rows_last
+from .stage_priority import LumpedRows, stage_rows_last
 
 SLOTS = MAX_MANIFOLD_POINTS
 
@@ -88,8 +89,7 @@ class ContactBatch:
     point; ``split (m, 1)`` the mass-splitting count of each manifold; ``priority_starts``
     per color, the first of its stage rows; ``lower (m, 2)`` the body nearer the stage (shock
     propagation, None: no shock pass); ``slop`` (m, 1) m, penetration left by the position
-    solve. For the vectorized loop: ``colors``, the :class:`ColorBlocks` of each color keyed
-    by ``block_jacobi``, and the cached lumped rows (filled on first use).
+    solve. ``cache``: the loop's per-batch views (:class:`SolverCache`, filled on first use).
     """
 
     body_a: np.ndarray
@@ -113,7 +113,22 @@ class ContactBatch:
     priority_starts: list = field(default_factory=list)
     lower: np.ndarray | None = None
     slop: np.ndarray | float = PENETRATION_SLOP
-    colors: dict = field(default_factory=dict)
+    cache: SolverCache = field(default_factory=lambda: SolverCache())
+
+
+@dataclass
+class SolverCache:
+    """What the solver loops derive from a :class:`ContactBatch` once and reuse in every
+    sweep: the :class:`ColorBlocks` of each color for block Jacobi (``jacobi_colors``) and
+    for Gauss-Seidel over the slots (``slot_colors``), and the stage-priority pass's lumped
+    rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a computed None, no
+    shock pass, from one not computed yet). None: not made yet."""
+
+    jacobi_colors: list[ColorBlocks] | None = None
+    slot_colors: list[ColorBlocks] | None = None
+    lumped: LumpedRows | None = None
+    shock: LumpedRows | None = None
+    shock_ready: bool = False
 
 
 @dataclass
@@ -124,10 +139,11 @@ class RowBlock:
     ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
     are views (or small copies) made once per batch, not per iteration, so the inner loop
     only does algebra. The effective masses are folded into the Jacobians: one matmul gives
-    a row's unclamped ``d_lambda = -m_eff J V``. Shapes: ``scaled_normal_jac (k, r, 12)``
-    (``-m_eff J``), ``normal_jac`` (``J``, for the one restitution pass), ``normal_w (k, 12,
-    r)``, ``neg_normal_mass (k, r, 1)`` (``-m_eff``), ``neg_friction (k, 1, 1)`` (``-mu``),
-    ``scaled_tangent_jac (k, 2r, 12)``, ``tangent_w (k, 12, 2r)``.
+    the ``-m_eff J V`` part of ``d_lambda = -m_eff (J V + b)``. Shapes:
+    ``scaled_normal_jac (k, r, 12)`` (``-m_eff J``), ``normal_jac`` (``J``, for the one
+    restitution pass), ``normal_w (k, 12, r)``, ``normal_mass (k, r, 1)`` (``m_eff``),
+    ``friction (k, 1, 1)`` (``mu``), ``scaled_tangent_jac (k, 2r, 12)``, ``tangent_w (k, 12,
+    2r)``.
     """
 
     normal_index: tuple[slice, slice]
@@ -135,8 +151,8 @@ class RowBlock:
     scaled_normal_jac: np.ndarray
     normal_jac: np.ndarray
     normal_w: np.ndarray
-    neg_normal_mass: np.ndarray
-    neg_friction: np.ndarray
+    normal_mass: np.ndarray
+    friction: np.ndarray
     scaled_tangent_jac: np.ndarray
     tangent_w: np.ndarray
 
@@ -187,45 +203,71 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
     return jac, w
 
 
+@dataclass
+class ManifoldPoints:
+    """Padded contact points of ``m`` manifolds, ``S = 4`` slots each: world anchors
+    ``points_a, points_b (m, S, 3)``, unit ``normals (m, S, 3)`` from A to B, used slots
+    ``counts (m,)`` and the bodies ``body_a, body_b (m,)`` of each pair."""
+
+    points_a: np.ndarray
+    points_b: np.ndarray
+    normals: np.ndarray
+    counts: np.ndarray
+    body_a: np.ndarray
+    body_b: np.ndarray
+
+
+@dataclass
+class SolverBodies:
+    """What the solver reads of the ``n`` bodies: ``position (n, 3)`` m, ``inv_mass (n,)``
+    1/kg and ``inv_inertia (n, 3, 3)`` world frame (zero for bodies the solver does not
+    move), ``velocity (n, 6)`` [v, w] at the start of the step (the approach speed)."""
+
+    position: np.ndarray
+    inv_mass: np.ndarray
+    inv_inertia: np.ndarray
+    velocity: np.ndarray
+
+
+@dataclass
+class PairCoefficients:
+    """Per manifold: ``friction, restitution (m,)`` pair values, cached ``impulse (m, S,
+    3)`` (normal, t1, t2) in N s, and ``slop (m,)`` m, the penetration its position solve
+    leaves (None: ``PENETRATION_SLOP``; small bodies get less, see ``ManifoldStore.feature``)."""
+
+    friction: np.ndarray
+    restitution: np.ndarray
+    impulse: np.ndarray
+    slop: np.ndarray | None = None
+
+
+@dataclass
+class ColorOrder:
+    """How the manifolds are ordered: ``color_slices`` ``(start, stop)`` per graph color;
+    ``priority_starts`` per color, the first of its stage rows (they end each color; None:
+    no stage rows); ``lower (m, 2)`` bool, which body of a dynamic pair is nearer the stage
+    through contacts (shock propagation; None: no shock pass)."""
+
+    color_slices: list[tuple[int, int]]
+    priority_starts: list[int] | None = None
+    lower: np.ndarray | None = None
+
+
 def build_batch(
-    points_a,
-    points_b,
-    normals,
-    counts,
-    body_a,
-    body_b,
-    position,
-    inv_mass,
-    inv_inertia,
-    friction,
-    restitution,
-    impulse,
-    velocity,
-    color_slices,
+    contacts: ManifoldPoints,
+    bodies: SolverBodies,
+    pairs: PairCoefficients,
+    order: ColorOrder,
     split_mass: bool = False,
-    priority_starts: list | None = None,
-    lower: np.ndarray | None = None,
-    slop: np.ndarray | None = None,
-):
-    """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays.
+) -> ContactBatch:
+    """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays; with
+    ``split_mass`` each point's effective mass is divided by its manifold's touching points.
 
     Reference: :func:`reference_solver.build_rows` (one point at a time).
-
-    Parameters
-    ----------
-    points_a, points_b, normals : (m, S, 3) world anchors and unit normals A -> B.
-    counts : (m,) int, used slots per manifold.
-    body_a, body_b : (m,) int. position : (n, 3). inv_mass : (n,).
-    inv_inertia : (n, 3, 3) world inverse inertia (zero for non-dynamic bodies).
-    friction, restitution : (m,) pair coefficients. impulse : (m, S, 3) cached impulses.
-    velocity : (n, 6) body velocities [v, w], to record the approach speed.
-    priority_starts : per color, the first of its stage rows (they end each color), or
-        None: no stage rows.
-    lower : (m, 2) bool, which body of a dynamic pair is nearer the stage through contacts
-        (for shock propagation; None: no shock pass).
-    slop : (m,) m, penetration left to each manifold by the position solve (None:
-        ``PENETRATION_SLOP``; small bodies get less, see ``ManifoldStore.feature``).
     """
+    points_a, points_b, normals = contacts.points_a, contacts.points_b, contacts.normals
+    counts, body_a, body_b = contacts.counts, contacts.body_a, contacts.body_b
+    position, inv_mass, inv_inertia = bodies.position, bodies.inv_mass, bodies.inv_inertia
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
     point = 0.5 * (points_a + points_b)
     r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
@@ -247,7 +289,7 @@ def build_batch(
     tangent_mass = np.where(
         np.repeat(mask, 2, axis=1), 1.0 / (split * np.maximum(k_tangent, TINY)), 0.0
     )
-    vab = np.concatenate([velocity[body_a], velocity[body_b]], axis=1)
+    vab = np.concatenate([bodies.velocity[body_a], bodies.velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
     return ContactBatch(
         body_a,
@@ -259,18 +301,20 @@ def build_batch(
         tangent_jac,
         np.swapaxes(tangent_w, 1, 2),
         tangent_mass,
-        friction[:, None],
-        restitution[:, None],
+        pairs.friction[:, None],
+        pairs.restitution[:, None],
         np.where(mask, depth, 0.0),
         approach,
-        np.where(mask[..., None], impulse, 0.0),
-        color_slices,
-        [int(counts[a:b].max()) for a, b in color_slices],
+        np.where(mask[..., None], pairs.impulse, 0.0),
+        order.color_slices,
+        [int(counts[a:b].max()) for a, b in order.color_slices],
         np.stack([body_a, body_b], axis=1),
         split,
-        [stop for _, stop in color_slices] if priority_starts is None else list(priority_starts),
-        lower,
-        PENETRATION_SLOP if slop is None else slop[:, None],
+        [stop for _, stop in order.color_slices]
+        if order.priority_starts is None
+        else list(order.priority_starts),
+        order.lower,
+        PENETRATION_SLOP if pairs.slop is None else pairs.slop[:, None],
     )
 
 
@@ -291,7 +335,8 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
     color's fullest manifold: the slots after it are empty in every manifold of the color);
     Gauss-Seidel over the slots makes one block per used slot, solved in slot order.
     """
-    if block_jacobi not in batch.colors:
+    cached = batch.cache.jacobi_colors if block_jacobi else batch.cache.slot_colors
+    if cached is None:
         scaled = (
             -batch.normal_mass[..., None] * batch.normal_jac,  # -m_n J_n, (m, S, 12)
             -batch.tangent_mass[..., None] * batch.tangent_jac,  # -m_t J_t, (m, 2S, 12)
@@ -308,8 +353,12 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
                     [_row_block(batch, scaled, s, rows) for rows in slots],
                 )
             )
-        batch.colors[block_jacobi] = colors
-    return batch.colors[block_jacobi]
+        if block_jacobi:
+            batch.cache.jacobi_colors = colors
+        else:
+            batch.cache.slot_colors = colors
+        cached = colors
+    return cached
 
 
 def _row_block(batch: ContactBatch, scaled, s: slice, rows: slice) -> RowBlock:
@@ -322,8 +371,8 @@ def _row_block(batch: ContactBatch, scaled, s: slice, rows: slice) -> RowBlock:
         scaled[0][s, rows],
         batch.normal_jac[s, rows],
         batch.normal_w[s, :, rows],
-        -batch.normal_mass[s, rows][..., None],
-        -batch.friction[s][:, :, None],
+        batch.normal_mass[s, rows][..., None],
+        batch.friction[s][:, :, None],
         scaled[1][s, t_rows],
         batch.tangent_w[s, :, t_rows],
     )
@@ -342,18 +391,18 @@ def _scatter(flat_velocity, color, vab):
     flat_velocity[color.gather] = vab
 
 
-def _normal_rows(block, vab, neg_bias, neg_lam, accumulate):
-    """One normal-impulse update of a block; updates ``vab (k, 12, 1)`` and the negated
-    accumulated impulses ``neg_lam (k, r, 1)`` in place; ``neg_bias`` is ``-m_eff b``."""
-    step = block.scaled_normal_jac @ vab  # -m_eff J V, (k, r, 1)
-    step += neg_bias  # d_lambda = -m_eff (J V + b)
+def _normal_rows(block, vab, mass_bias, lam, accumulate):
+    """One normal-impulse update of a block; updates ``vab (k, 12, 1)`` and the accumulated
+    impulses ``lam (k, r, 1)`` in place; ``mass_bias (k, r, 1)`` is ``m_eff b``."""
+    d_lambda = block.scaled_normal_jac @ vab  # -m_eff J V, (k, r, 1)
+    d_lambda -= mass_bias  # d_lambda = -m_eff (J V + b)
     # clamp: the accumulated lam + d_lambda stays >= 0 (or each increment: box2d-lite)
-    np.maximum(step, neg_lam if accumulate else 0.0, out=step)
-    neg_lam -= step
-    vab += block.normal_w @ step  # V += W d_lambda
+    np.maximum(d_lambda, -lam if accumulate else 0.0, out=d_lambda)
+    lam += d_lambda
+    vab += block.normal_w @ d_lambda  # V += W d_lambda
 
 
-def _friction_rows(block, vab, neg_lam_n, lam_t, accumulate):
+def _friction_rows(block, vab, lam_n, lam_t, accumulate):
     """Friction update of a block; ``lam_t (k, 2r, 1)`` holds (t1, t2) of each slot.
 
     The 2-D impulse of a slot is clamped to the Coulomb circle ``|lambda_t| <= mu lambda_n``.
@@ -364,7 +413,7 @@ def _friction_rows(block, vab, neg_lam_n, lam_t, accumulate):
     t1, t2 = new[:, 0::2], new[:, 1::2]  # (k, r, 1) views
     scale = np.hypot(t1, t2)  # |lambda_t|
     np.maximum(scale, TINY, out=scale)
-    np.divide(block.neg_friction * neg_lam_n, scale, out=scale)  # mu lambda_n / |lambda_t|
+    np.divide(block.friction * lam_n, scale, out=scale)  # mu lambda_n / |lambda_t|
     np.minimum(scale, 1.0, out=scale)  # back onto the circle: the same scale for t1 and t2
     t1 *= scale
     t2 *= scale
@@ -383,16 +432,16 @@ def solve_velocities(
     flat = velocity.reshape(-1)  # (n * 6,), a view when velocity is contiguous
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
     bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
-    neg_bias = -batch.normal_mass[..., None] * bias  # -m_eff b
-    neg_lam_n = -batch.impulse[..., :1]  # (m, S, 1) negated normal impulses
-    lam_t = batch.impulse[..., 1:].reshape(len(neg_lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy
+    mass_bias = batch.normal_mass[..., None] * bias  # m_eff b
+    lam_n = batch.impulse[..., :1].copy()  # (m, S, 1) accumulated normal impulses
+    lam_t = batch.impulse[..., 1:].reshape(len(lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy
     colors = _color_blocks(batch, settings.block_jacobi)
     work = [
         [
             (
                 block,
-                neg_bias[block.normal_index],
-                neg_lam_n[block.normal_index],
+                mass_bias[block.normal_index],
+                lam_n[block.normal_index],
                 lam_t[block.tangent_index],
             )
             for block in color.blocks
@@ -407,17 +456,17 @@ def solve_velocities(
                 _normal_rows(block, vab, b, ln, accumulate)
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
-    _restitution(batch, flat, colors, neg_lam_n)
+    _restitution(batch, flat, colors, lam_n)
     stage_rows_last(batch, flat, bias, settings)
-    batch.impulse[..., :1] = -neg_lam_n
+    batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
 
 
-def _restitution(batch, flat, colors, neg_lam_n):
+def _restitution(batch, flat, colors, lam_n):
     """Bounce pass: target ``v_n = -e v_n0`` on the loaded, fast-approaching points."""
     fast = batch.approach_speed < -RESTITUTION_VELOCITY_THRESHOLD
-    bounce = (batch.restitution > 0) & fast & (neg_lam_n[..., 0] < 0)
+    bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
     if not bounce.any():
         return
     # bias b = e v_n0 where bouncing, NaN marks the other points
@@ -426,19 +475,21 @@ def _restitution(batch, flat, colors, neg_lam_n):
         vab = _gather(flat, color)
         for block in color.blocks:
             index = block.normal_index
-            _restitution_rows(block, vab, target[index], neg_lam_n[index])
+            _restitution_rows(block, vab, target[index], lam_n[index])
         _scatter(flat, color, vab)
 
 
-def _restitution_rows(block, vab, target, neg_lam):
+def _restitution_rows(block, vab, target, lam):
+    """Rows where ``target`` is not NaN: ``d_lambda = -m_eff (v_n + e v_n0)``, accumulated
+    impulse clamped ``>= 0``; the others get no impulse."""
     active = ~np.isnan(target)
     vn = block.normal_jac @ vab
     goal = np.where(active, target, 0.0)
-    step = np.where(active, block.neg_normal_mass * (vn + goal), 0.0)
-    new = np.maximum(step - neg_lam, 0.0)  # the accumulated lam + d_lambda >= 0
-    step = new + neg_lam  # the increment new - lam
-    neg_lam[...] = -new
-    vab += block.normal_w @ step
+    d_lambda = np.where(active, -block.normal_mass * (vn + goal), 0.0)
+    new = np.maximum(lam + d_lambda, 0.0)  # the accumulated lam + d_lambda >= 0
+    d_lambda = new - lam  # the clamped increment
+    lam[...] = new
+    vab += block.normal_w @ d_lambda
 
 
 def solve_positions(
@@ -462,11 +513,11 @@ def solve_positions(
         iterations = max(iterations, settings.overlap_position_iterations)
     target = np.minimum(beta * excess / h, MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
-    neg_bias = batch.normal_mass[..., None] * target[..., None]  # -m_eff b
-    neg_lam = np.zeros_like(bias)  # negated accumulated pseudo impulses
+    mass_bias = batch.normal_mass[..., None] * bias  # m_eff b
+    lam = np.zeros_like(bias)  # accumulated pseudo impulses
     colors = _color_blocks(batch, settings.block_jacobi)
     work = [
-        [(block, neg_bias[block.normal_index], neg_lam[block.normal_index]) for block in c.blocks]
+        [(block, mass_bias[block.normal_index], lam[block.normal_index]) for block in c.blocks]
         for c in colors
     ]
     for _ in range(iterations):

@@ -100,10 +100,10 @@ def lumped_rows(batch: ContactBatch, bias: np.ndarray) -> LumpedRows:
 
 def _lumped(batch: ContactBatch) -> LumpedRows:
     """The lumped rows without bias, made once per batch and cached."""
-    if "lumped" not in batch.colors:
+    if batch.cache.lumped is None:
         active = batch.mask & (batch.normal_mass > 0)
-        batch.colors["lumped"] = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
-    return batch.colors["lumped"]
+        batch.cache.lumped = LumpedRows.of(batch.normal_jac, batch.normal_w, active)
+    return batch.cache.lumped
 
 
 def shock_rows(batch: ContactBatch) -> LumpedRows | None:
@@ -111,7 +111,7 @@ def shock_rows(batch: ContactBatch) -> LumpedRows | None:
     made once and cached: in each dynamic pair the body nearer the stage (``lower``) gets
     infinite mass (its half of ``W`` is zeroed); the other rows get ``m_eff = 0``. None when
     no pair has a lower body."""
-    if "shock" not in batch.colors:
+    if not batch.cache.shock_ready:
         shock = None
         lower = batch.lower
         if lower is not None and bool(np.any(lower)):
@@ -123,8 +123,8 @@ def shock_rows(batch: ContactBatch) -> LumpedRows | None:
             shock = LumpedRows.with_mobility(
                 lumped.jac[:, 0], lumped.w[:, :, 0] * keep, active, lumped.weight
             )
-        batch.colors["shock"] = shock
-    return batch.colors["shock"]
+        batch.cache.shock, batch.cache.shock_ready = shock, True
+    return batch.cache.shock
 
 
 def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> None:

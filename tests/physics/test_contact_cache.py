@@ -173,8 +173,8 @@ def test_sweep_and_prune_finds_the_brute_force_pairs():
 def test_deepest_record_matches_the_numpy_tie_rule():
     from types import SimpleNamespace
 
+    from engine.physics.contact_helpers import deepest_record
     from engine.physics.contacts import tie_key
-    from engine.physics.narrow_phase import deepest_record
 
     rng = np.random.default_rng(7)
     for _ in range(200):

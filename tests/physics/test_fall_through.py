@@ -174,6 +174,29 @@ def test_box_created_half_inside_the_floor_is_pushed_out_upwards_calmly(sunk):
     assert max(speeds) < 5.0
 
 
+@pytest.mark.parametrize("on_apartment", [True, False])
+def test_cube_teleported_15_cm_into_the_floor_comes_out_upwards_at_a_bounded_speed(
+    apartment_meshes, on_apartment
+):
+    """Issue 22: a 0.2 m cube teleported 15 cm into the apartment's floor (its center 5 cm
+    below the surface) left through the floor at 8.7 m/s. A new stage contact takes the
+    triangle's front when part of the body is in front of it, so the cube is pushed up;
+    the position solve's push is capped at MAX_CORRECTION_SPEED (2 m/s)."""
+    world, templates = apartment_world(apartment_meshes) if on_apartment else make_world()
+    floor = FLOOR if on_apartment else 0.0
+    cube = add(world, templates, register_primitive(templates), [1.75, floor + 0.1, 0.4])
+    # teleported before any step: no manifold remembers the side it came from
+    cube.translation = [1.75, floor + 0.1 - 0.15, 0.4]
+    path, speeds = [], []
+    for _ in range(120):
+        world.step_physics(FRAME)
+        path.append(cube.translation[1] - floor)
+        speeds.append(np.linalg.norm(np.asarray(cube.linear_velocity)))
+    assert min(path) > -0.05 - 0.002  # never pushed down (the center started at -5 cm)
+    assert max(speeds) <= settings.MAX_CORRECTION_SPEED
+    assert abs(path[-1] - 0.1) < 0.005  # out and resting on the floor (hand geometry)
+
+
 def test_plate_created_half_inside_a_thin_floor_comes_out_on_its_side():
     """A 1 mm plate sunk by half its thickness into a floor: the manifold remembers the
     outward side, so it comes out upwards."""

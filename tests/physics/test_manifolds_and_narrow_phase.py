@@ -232,7 +232,13 @@ def test_effective_mass_under_the_center_of_mass_is_the_body_mass():
 def test_batched_jacobians_and_effective_masses_match_the_reference_build():
     from engine.physics.reference_solver import Bodies6, build_rows
     from engine.physics.solve_stage import gather_solver_input
-    from engine.physics.solver import build_batch
+    from engine.physics.solver import (
+        ColorOrder,
+        ManifoldPoints,
+        PairCoefficients,
+        SolverBodies,
+        build_batch,
+    )
 
     world = tumbling_world(0.5)
     b, store = world.bodies, world.manifolds
@@ -245,20 +251,15 @@ def test_batched_jacobians_and_effective_masses_match_the_reference_build():
     normals = np.where((np.arange(4) >= counts[:, None])[..., None], [0, 1.0, 0], normals)
     pair = store.bodies[rows]
     batch = build_batch(
-        points_a,
-        points_b,
-        normals,
-        counts,
-        pair[:, 0],
-        pair[:, 1],
-        b.body_position[: b.count],
-        problem.inv_mass,
-        problem.inv_inertia,
-        np.ones(len(rows)),
-        np.zeros(len(rows)),
-        store.impulse[rows],
-        problem.approach_velocity,
-        problem.color_slices,
+        ManifoldPoints(points_a, points_b, normals, counts, pair[:, 0], pair[:, 1]),
+        SolverBodies(
+            b.body_position[: b.count],
+            problem.inv_mass,
+            problem.inv_inertia,
+            problem.approach_velocity,
+        ),
+        PairCoefficients(np.ones(len(rows)), np.zeros(len(rows)), store.impulse[rows]),
+        ColorOrder(problem.color_slices),
         split_mass=True,
     )
     state = Bodies6(problem.velocity, problem.inv_mass, problem.inv_inertia)

@@ -9,8 +9,8 @@ poses agreeing to 1e-9 (m, and quaternion components) over 2 s of contact-rich m
 far below any physical scale. Every scene runs 2 s (120 frames of 1/60 s). Measured worst
 differences over those 2 s (poses; velocities): stack 3e-16; 6e-15, box pile 1e-11;
 2.4e-9, mixed pile 7.1e-10; 5.4e-8, stage contacts 2.6e-14; 4.4e-13, tutorial's kinematic
-scene 1e-16; 3.6e-15. One documented exception, held to 1e-8: the tutorial's dynamic_control
-(3.8e-9; 3e-8), whose floating boxes keep whatever round-off a 13 m/s impact leaves them.
+scene 1e-16; 3.6e-15. One documented exception, held to 5e-7: the tutorial's dynamic_control
+(1.9e-7; 2.5e-6), whose floating boxes keep whatever round-off a 13 m/s impact leaves them.
 Velocities are held to 1e-9 / h (1.25e-7 m/s, rad/s): a velocity is a change of position
 per step, so it carries the poses' round-off divided by ``h`` (the piles' velocities do
 differ by more than 1e-9 while their poses agree to 1e-9).
@@ -229,9 +229,10 @@ def dynamic_control_scene(demo_data, test_assets):
 
 
 def test_tutorial_dynamic_control_gives_the_same_contacts_and_trajectory(demo_data, test_assets):
-    # The one scene held to 1e-8, not 1e-9: the boxes float (the force cancels gravity), so
+    # The one scene held to 5e-7, not 1e-9: the boxes float (the force cancels gravity), so
     # nothing pulls a difference back. The 13 m/s impact leaves velocities differing by
-    # ~1e-9 of the impact speed (2.7e-8 m/s, the paths' other sum order over 15 iterations),
-    # and the floating boxes integrate that into a pose drift that grows steadily: 1e-9 at
-    # 0.8 s, 3.8e-9 at 2 s (measured), with the same contacts every frame.
-    assert_paths_agree(dynamic_control_scene(demo_data, test_assets), 2.0, tolerance=1e-8)
+    # round-off of the impact speed (the paths' other sum order; at 10 velocity iterations
+    # the impact's contacts are less converged than at 15, so more of it is left), and the
+    # floating boxes integrate that into a pose drift that grows steadily: 1.9e-7 m at 2 s
+    # (measured; 3.8e-9 at 15 iterations), with the same contacts every frame.
+    assert_paths_agree(dynamic_control_scene(demo_data, test_assets), 2.0, tolerance=5e-7)

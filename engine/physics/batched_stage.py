@@ -1,0 +1,219 @@
+r"""Batched contacts of hulls resting on the stage mesh (rule ``stage-hull`` of :mod:`pair_table`).
+
+The stage's triangle grid (:mod:`stage_grid`, built once) names the triangles near every
+body at once: those whose box overlaps the body's AABB grown by
+``STAGE_NEAR_DISTANCE`` (a superset of what fcl's BVH reports for the body's *probe*, the
+shape grown by ``STAGE_SPECULATIVE_DISTANCE``, which reaches at most that far). The contacts
+are the body's hull vertices lying in the prism of a nearby triangle, just below its plane
+(method 2 of :mod:`collide`). For vertex ``v`` and triangle ``t`` (unit normal ``n_t``,
+corner ``p0_t``) the signed height is
+
+$$ h_{tv} = n_t \cdot (x_v - p_{0t}), $$
+
+and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
+* extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each
+vertex keeps its shallowest triangle, the contact depth is ``-h``. The triangle's normal is
+turned to the stage's *outward side*: the side the body was on when the contact began,
+remembered by the pair's manifold (its cached normals point from the stage to the body).
+Only a new contact falls back to the triangle's front (its winding normal, outward on a
+closed or one-sided surface) when some hull vertex lies in front of the plane, else to its
+back (a body wholly behind a one-sided wall). The body's center is never used: a body
+spawned or teleported with its center below a floor is pushed up, never down through it,
+and a thin plate pushed past the surface's plane is still pushed back out.
+
+A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
+vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
+it. A job whose hull has no vertex in contact (an edge crossing a face) asks fcl after all
+and takes fcl's points, as before the grid. Jobs are grouped by the hull's vertex count
+``V``; each group is a handful of ``(g, T, V)`` array operations, whatever its size ``g``.
+Reference: :func:`reference_pairs.stage_hull_pair`.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from itertools import chain
+
+import numpy as np
+
+from . import settings
+from .contact_helpers import (
+    body_poses,
+    contact_arrays,
+    fcl_raw_contacts,
+    midpoint_contacts,
+    to_world,
+    triangle_table,
+)
+from .pair_rules import ContactBatch, PairContext, PairJob
+from .stage_grid import stage_grid
+
+
+def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
+    """Contacts of hull shapes (box, convex, cylinder, cone) with the stage mesh (A)."""
+    nearby = nearby_triangles(jobs, context)
+    edge_jobs = _vertex_contacts(jobs, nearby, context, out, edges_from_fcl=False)
+    if edge_jobs:  # no vertex in contact: fcl's triangles and points for these few
+        bodies = np.array(sorted({job.body_b for job in edge_jobs}), dtype=np.int64)
+        context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
+        asked = [
+            job._replace(records=fcl_raw_contacts(job.object_a, job.probe_b)) for job in edge_jobs
+        ]
+        asked = [job for job in asked if job.records]
+        touched = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
+        _vertex_contacts(asked, touched, context, out, edges_from_fcl=True)
+    return []
+
+
+def nearby_triangles(jobs: list[PairJob], context: PairContext) -> list[np.ndarray]:
+    """Ids of the stage triangles near each job's body B: their box overlaps B's world AABB
+    grown by ``STAGE_NEAR_DISTANCE`` (all jobs in one grid query, :mod:`stage_grid`)."""
+    bodies = context.bodies
+    body = np.array([job.body_b for job in jobs], dtype=np.int64)
+    lo = bodies.body_aabb_min[body] - settings.STAGE_NEAR_DISTANCE
+    hi = bodies.body_aabb_max[body] + settings.STAGE_NEAR_DISTANCE
+    owner, triangle = stage_grid(jobs[0].shape_a).candidates(lo, hi)
+    bounds = np.searchsorted(owner, np.arange(len(jobs) + 1))  # owner is sorted
+    return [triangle[bounds[k] : bounds[k + 1]] for k in range(len(jobs))]
+
+
+def _vertex_contacts(jobs, triangle_ids, context, out, edges_from_fcl: bool) -> list[PairJob]:
+    """Contacts of ``jobs`` with their ``triangle_ids`` (one id array per job), grouped by
+    hull size; returns the jobs with triangles but no vertex in contact (unless
+    ``edges_from_fcl``: then those take fcl's points, see :func:`_stage_group`)."""
+    groups: defaultdict[int, list[tuple[PairJob, np.ndarray]]] = defaultdict(list)
+    for job, ids in zip(jobs, triangle_ids, strict=True):
+        if len(ids):
+            groups[len(job.shape_b.hull_vertices)].append((job, ids))
+    edge_jobs: list[PairJob] = []
+    for group in groups.values():
+        members = [job for job, _ in group]
+        cached = _cached_normals(context.store, [job.body_b for job in members])
+        edge_jobs += _stage_group(
+            members,
+            [ids for _, ids in group],
+            (context.rotation, context.bodies.body_position),
+            out,
+            cached,
+            edges_from_fcl,
+        )
+    return edge_jobs
+
+
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body), stage points ``(g, S, 3)`` and ``valid
+    (g, S)`` of the manifolds of the stage with ``bodies`` (the stage frame is the world
+    frame)."""
+    rows = store.rows_of([(0, body) for body in bodies])
+    known = np.array([row is not None for row in rows])
+    index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
+    slots = np.arange(store.normal_local.shape[1])
+    valid = known[:, None] & (slots < store.count[index][:, None])
+    return store.normal_local[index], store.local_a[index], valid
+
+
+def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+    """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to the triangle's decides when it is within 60
+    degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
+    vertex of each triangle); otherwise (a new contact) the triangle's front (winding
+    normal) when some hull vertex is in front of its plane, else its back.
+    """
+    cached_normal, cached_point, valid = cached
+    # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
+    offset = np.abs(
+        np.einsum("gti,gki->gtk", normal, cached_point) - (normal * corner).sum(axis=2)[..., None]
+    )
+    on_plane = valid[:, None, :] & (offset < settings.OUTWARD_SIDE_PLANE_DISTANCE)
+    # n_t . c_k for every triangle t and cached normal k, (g, T, S)
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * on_plane
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
+        ..., 0
+    ]
+    # a new contact: the front, unless the whole hull is behind the plane (max_v h_tv <= 0)
+    front = np.where(height.max(axis=2) > 0, 1.0, -1.0)
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), front)
+
+
+def _stage_group(
+    jobs, triangle_ids: list, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
+) -> list[PairJob]:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
+    triangles ``triangle_ids`` (one id array per job; ``poses``: every body's rotation
+    ``(n, 3, 3)`` and position ``(n, 3)``; ``cached``: the pairs' cached manifold normals,
+    see :func:`_cached_normals`). Returns the jobs without a vertex in contact, or with
+    ``edges_from_fcl`` gives them fcl's points (their ``records``) and returns none.
+
+    Reference: :func:`reference_pairs.stage_polyhedron_contacts` (one shape pair)."""
+    rotation, position = poses
+    stage = jobs[0].shape_a
+    table = triangle_table(stage)
+    seq = np.array([job.seq for job in jobs], dtype=np.int64)
+    ids = _touched_triangles(triangle_ids, len(stage.ray_triangles))
+    tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
+    r, x = body_poses([job.body_b for job in jobs], rotation, position)
+    hull = np.stack([job.shape_b.hull_vertices for job in jobs])
+    verts = to_world(r, x, hull)  # (g, V, 3)
+    normal = table["normal"][ids]
+    # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
+    height = (
+        np.einsum("gti,gvi->gtv", normal, verts) - (normal * tris[:, :, 0]).sum(axis=2)[..., None]
+    )
+    side = _outward_side(normal, tris[:, :, 0], height, cached)  # (g, T)
+    normal, height = normal * side[..., None], height * side[..., None]
+    extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
+    # a vertex far below a thin triangle is on the other side of it, not in contact
+    candidate = (
+        (height < settings.STAGE_SPECULATIVE_DISTANCE)
+        & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
+        & _in_prisms(table, ids, tris, verts)
+    )
+    # each vertex keeps its shallowest triangle (the surface it is really resting on)
+    best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
+    g, v = np.nonzero(candidate.any(axis=1))
+    t = best[g, v]
+    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
+    contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
+    untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
+    if not edges_from_fcl:
+        return [jobs[k] for k in untouched]
+    for k in untouched:
+        # an edge crossing a face: fcl's points with the first triangle's normal
+        mid, _, depths, _ = contact_arrays(jobs[k].records)
+        depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+        contacts.add_one(
+            seq[k], midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
+        )
+    return []
+
+
+def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:
+    """(g, T) ids of the distinct triangles each job touches, ascending.
+
+    Rows are padded by repeating their last id (a duplicate triangle changes no result).
+    """
+    lengths = [len(ids) for ids in triangle_ids]
+    job = np.repeat(np.arange(len(triangle_ids)), lengths)
+    tri = np.fromiter(chain.from_iterable(triangle_ids), dtype=np.int64, count=sum(lengths))
+    # one key per (job, triangle): unique keys are sorted by job, then by triangle
+    key = np.unique((job * n_triangles + tri)[tri >= 0])
+    job, tri = np.divmod(key, n_triangles)
+    counts = np.bincount(job, minlength=len(triangle_ids))
+    starts = np.cumsum(counts) - counts
+    slot = np.minimum(np.arange(counts.max()), counts[:, None] - 1)
+    return tri[starts[:, None] + slot]
+
+
+def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray) -> np.ndarray:
+    """(g, T, V) bool: vertex v projected on triangle t's plane falls inside the triangle."""
+    e0, e1, denom = table["e0"][ids], table["e1"][ids], table["denom"][ids]
+    d00, d01, d11 = table["d00"][ids], table["d01"][ids], table["d11"][ids]
+    rel = verts[:, None, :, :] - tris[:, :, None, 0]  # x_v - p0_t, (g, T, V, 3)
+    d20 = (rel * e0[:, :, None]).sum(axis=3)
+    d21 = (rel * e1[:, :, None]).sum(axis=3)
+    # barycentric (v, w) of the projection: [d00 d01; d01 d11] [v; w] = [d20; d21]
+    bary_v = (d11[..., None] * d20 - d01[..., None] * d21) / denom[..., None]
+    bary_w = (d00[..., None] * d21 - d01[..., None] * d20) / denom[..., None]
+    tolerance = settings.BARYCENTRIC_TOLERANCE
+    return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)
