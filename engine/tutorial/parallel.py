@@ -32,8 +32,8 @@ from typing import Any
 
 from engine.batch import run_batch
 from engine.demo import demo_data_path
-from engine.tutorial.cli import SECTION_NAMES, run_sections
 from engine.tutorial.context import SectionResult
+from engine.tutorial.runner import SECTION_NAMES, run_sections
 
 # Sections recorded together by one worker. A group replays (physics only) every section
 # before its first one, so groups that start late pay for it: the navmesh pair replays the
@@ -126,7 +126,7 @@ def run_in_parallel(
     """Run the groups of ``selected`` sections on ``jobs`` processes; results in order.
 
     ``settings``: ``output_dir``, ``make_video``, ``fast``, ``seed``, ``progress``,
-    ``keep_observations`` as for :func:`engine.tutorial.cli.run_sections`. With
+    ``keep_observations`` as for :func:`engine.tutorial.runner.run_sections`. With
     ``group_report`` (a list), one dict per group is appended: its sections, estimated,
     wall and CPU seconds and render threads.
     """
