@@ -22,7 +22,7 @@ Sub-stages, in order:
    narrow phase. The same pairs are skipped on both paths;
 4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
    into each pair's persistent manifold. ``settings.use_vectorized`` chooses the batched
-   path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.update`) or the per-pair
+   path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.merge_fresh`) or the per-pair
    reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
 5. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
    one of their bodies moved lose their manifold; a sleeping pair keeps it for waking.
@@ -372,7 +372,7 @@ def _merge_into_store(
     point_b: np.ndarray,
     normal: np.ndarray,
 ) -> None:
-    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
+    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.merge_fresh`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
     for k, (key, row) in enumerate(zip(pairs, store.rows_of(pairs), strict=True)):
@@ -385,7 +385,7 @@ def _merge_into_store(
     row_position = np.full(len(pairs), -1, dtype=np.int64)
     row_position[updated] = np.arange(len(updated))  # pair position -> row position
     fresh = FreshPoints(len(rows), row_position[pair_position], point_a, point_b, normal)
-    store.update(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
+    store.merge_fresh(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
 
 
 def drop_stale_manifolds(

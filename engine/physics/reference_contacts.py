@@ -2,7 +2,7 @@
 
 This is the plain version of :mod:`narrow_phase` (batched contact generation; box pairs
 in :mod:`reference_box_box`) and, with :mod:`reference_manifolds`, of
-:meth:`contacts.ManifoldStore.update` (batched manifold refresh, merge and reduction), the
+:meth:`contacts.ManifoldStore.merge_fresh` (batched manifold refresh, merge and reduction), the
 size of box2d-lite's ``Collide`` + ``Arbiter::Update``: loops over shapes, vertices and
 triangles a student can step through in a debugger. ``SolverSettings.use_vectorized =
 False`` routes the world through it, and tests prove that both paths produce the same
@@ -56,7 +56,7 @@ def pair_contacts(
 
 
 # ------------------------------------------------------------------------------------------
-# manifold update (mirrors ManifoldStore.update)
+# manifold update (mirrors ManifoldStore.merge_fresh)
 # ------------------------------------------------------------------------------------------
 def update_manifolds_reference(
     bodies: Bodies,
