@@ -44,12 +44,15 @@ def narrow_phase(
     jobs: dict[str, list[PairJob]] = {rule.name: [] for rule in PAIR_TABLE.rules}
     pair_of_seq: list[int] = []  # the body pair of every job, by sequence number
     shapes, shape_objects, probes = bodies.shapes, objects.shape_objects, objects.probe_objects
+    by_kinds = PAIR_TABLE.by_kinds
     for position, (a, c) in enumerate(pairs):
         for shape_a, object_a in zip(shapes[a], shape_objects[a], strict=True):
             for shape_c, object_c, probe_c in zip(
                 shapes[c], shape_objects[c], probes[c], strict=True
             ):
-                rule = PAIR_TABLE.rule_for(shape_a.kind, shape_c.kind)
+                rule = by_kinds.get((shape_a.kind, shape_c.kind))
+                if rule is None:  # KeyError naming the two kinds
+                    rule = PAIR_TABLE.rule_for(shape_a.kind, shape_c.kind)
                 seq = len(pair_of_seq)
                 jobs[rule.name].append(
                     PairJob(seq, shape_a, a, object_a, shape_c, c, object_c, probe_c)
