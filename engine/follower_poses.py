@@ -33,8 +33,8 @@ import numpy as np
 
 from engine import mn
 from engine.agent.controls import ActuationSpec
-from engine.agent.controls.default_controls import LookLeft, LookRight, MoveForward
 from engine.agent.controls.object_controls import EPS
+from engine.default_controls import LookLeft, LookRight, MoveForward
 from engine.registry import registry
 from engine.scene_node import SceneNode
 

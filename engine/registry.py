@@ -19,6 +19,9 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from engine.control_base import SceneNodeControl
+from engine.default_controls import DEFAULT_CONTROLS
+
 __all__ = ["registry"]
 
 
@@ -33,6 +36,8 @@ class _Registry:
 
     def __init__(self) -> None:
         self._move_fns: dict[str, Any] = {}
+        for control, name, body_action in DEFAULT_CONTROLS:  # Habitat's default controls
+            self.register_move_fn(control, name=name, body_action=body_action)
 
     def register_move_fn(
         self,
@@ -44,7 +49,6 @@ class _Registry:
         """Register a ``SceneNodeControl`` subclass (usable as a decorator, with or without
         arguments). ``body_action`` must be given, as in Habitat (an AssertionError otherwise)."""
         assert body_action is not None, "body_action must be explicitly set to True or False"
-        from engine.agent.controls.controls import SceneNodeControl
 
         def register(control_class: type) -> type:
             is_control = isinstance(control_class, type) and issubclass(
@@ -59,18 +63,11 @@ class _Registry:
 
     def get_move_fn(self, name: str) -> Any:
         """The control registered under ``name``, or None."""
-        _load_default_controls()
         return self._move_fns.get(name)
 
     def move_fn_names(self) -> list[str]:
         """Every registered control name, sorted (rigidsim addition, for error messages)."""
-        _load_default_controls()
         return sorted(self._move_fns)
-
-
-def _load_default_controls() -> None:
-    """Register Habitat's default controls (importing them registers them; once)."""
-    import engine.agent.controls  # noqa: F401
 
 
 registry = _Registry()

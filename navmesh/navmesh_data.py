@@ -37,9 +37,8 @@ from navmesh.settings import MAX_NAV_NODES, NavMeshSettings, check_budget
 FORMAT_NAME = "rigidsim-navmesh"
 FORMAT_VERSION = 1
 
-# The four cell sides as (dx, dz) steps: +X, -X, +Z, -Z. OPPOSITE[d] is the reverse side.
+# The four cell sides as (dx, dz) steps: +X, -X, +Z, -Z.
 DIRECTIONS = np.array([[1, 0], [-1, 0], [0, 1], [0, -1]], dtype=np.int64)
-OPPOSITE = np.array([1, 0, 3, 2], dtype=np.int64)
 
 
 @dataclass

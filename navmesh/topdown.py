@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.colors import ListedColormap
 
 from navmesh.navmesh_data import NavMeshData
 
@@ -92,9 +91,3 @@ def plot_topdown(
     if title:
         ax.set_title(title)
     return ax
-
-
-def colormap_for_islands(n_islands: int) -> ListedColormap:
-    """The island colours used by ``plot_topdown``, as a ListedColormap of n colours."""
-    colors = plt.get_cmap("tab10" if n_islands <= 10 else "tab20")
-    return ListedColormap([colors(k % colors.N) for k in range(max(1, n_islands))])

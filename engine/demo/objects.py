@@ -34,7 +34,6 @@ CHEF_CAN_RADIUS = 0.051
 CHEF_CAN_HEIGHT = 0.14
 SPHERE_RADIUS = 0.25
 LOCOBOT_RADIUS = 0.175
-LOCOBOT_HEIGHT = 0.56
 LOCOBOT_COM_HEIGHT = 0.0  # COM at the wheels' floor contact: translation = footprint
 
 

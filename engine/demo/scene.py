@@ -42,7 +42,6 @@ CEILING_Y = 1.3  # underside of the ceiling (2.75 m rooms)
 TABLE_TOP_Y = -1.05  # coffee-table top surface
 TABLE_X = (2.25, 2.85)
 TABLE_Z = (-0.4, 0.5)
-ROBOT_START_XZ = (1.75, 0.4)  # clear floor where the tutorial's robot starts
 MAIN_ROOM = ((-1.0, 5.0), (-3.5, 2.5))  # (x range, z range), interior
 SECOND_ROOM = ((5.1, 8.5), (-1.0, 2.5))
 DOORWAY_Z = (1.2, 2.1)

@@ -38,7 +38,7 @@ from .contact_helpers import (
     to_world,
 )
 from .contacts import tie_key
-from .pair_rules import ContactBatch, PairContext, PairJob
+from .pair_rules import ContactBatch, JobColumns, PairContext, PairJob, job_columns
 from .shapes import Shape
 
 
@@ -48,14 +48,13 @@ def box_pair_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch)
     overlaps deeper than ``BOX_DEEP_OVERLAP``, their fcl objects moved (the analytic path
     does not move them)."""
     bodies, objects = context.bodies, context.objects
-    a = np.array([job.body_a for job in jobs], dtype=np.int64)
-    c = np.array([job.body_b for job in jobs], dtype=np.int64)
+    column = job_columns(jobs)
+    a = np.array(column.body_a, dtype=np.int64)
+    c = np.array(column.body_b, dtype=np.int64)
     general = coincident_mask(bodies, a, c)
     analytic = np.flatnonzero(~general)
     if len(analytic):
-        general[analytic] = _analytic_boxes(
-            [jobs[k] for k in analytic.tolist()], a, c, analytic, context, out
-        )
+        general[analytic] = _analytic_boxes(column, analytic, a, c, context, out)
     declined = [jobs[k] for k in np.flatnonzero(general).tolist()]
     if declined:
         ends = [job.body_a for job in declined] + [job.body_b for job in declined]
@@ -63,26 +62,26 @@ def box_pair_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch)
     return declined
 
 
-def _analytic_boxes(chosen, a, c, analytic, context, out: ContactBatch) -> np.ndarray:
-    """Contacts of the box jobs ``chosen`` (bodies ``a[analytic]``, ``c[analytic]``);
-    returns ``deep (g,)`` bool, the pairs overlapping deeper than ``BOX_DEEP_OVERLAP``."""
+def _analytic_boxes(column: JobColumns, analytic, a, c, context, out: ContactBatch) -> np.ndarray:
+    """Contacts of the box jobs ``analytic`` (indices into the job ``column``s, bodies
+    ``a``, ``c``); returns ``deep (g,)`` bool, the pairs overlapping deeper than
+    ``BOX_DEEP_OVERLAP``."""
     bodies, objects, rotation = context.bodies, context.objects, context.rotation
-    shapes = bodies.shapes
-    one_box_bodies = all(len(shapes[j.body_a]) == 1 == len(shapes[j.body_b]) for j in chosen)
+    a, c = a[analytic], c[analytic]
     frames = []
-    for side, index in (("a", a), ("b", c)):
-        body = index[analytic]
+    single = bool((objects.single_box[a] & objects.single_box[c]).all())
+    for shapes, body in ((column.shape_a, a), (column.shape_b, c)):
         r, x = rotation[body], bodies.body_position[body]
-        if one_box_bodies:  # each body's only box, kept by CollisionObjects
+        if single:  # each body's only box, kept by CollisionObjects
             offset, half = objects.box_offset[body], objects.box_half[body]
         else:
-            boxes = [job.shape_a if side == "a" else job.shape_b for job in chosen]
+            boxes = [shapes[k] for k in analytic.tolist()]
             offset = np.array([box.body_from_shape for box in boxes])  # (g, 4, 4)
             half = np.array([box.geometry.side for box in boxes], dtype=np.float64) / 2.0
         center, world = box_shape_frames(r, x, offset)
         frames += [center, world, half]
     pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
-    seq = np.array([job.seq for job in chosen], dtype=np.int64)
+    seq = np.array(column.seq, dtype=np.int64)[analytic]
     out.add(seq[pair], local, point_a, point_b, normal)
     return deep
 

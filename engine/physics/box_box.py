@@ -48,9 +48,6 @@ import numpy as np
 from . import settings
 from .contacts import tie_key
 
-#: candidate contact points of a face-face pair: 4 incident corners, 4 reference corners,
-#: 4 incident edges x 4 rectangle sides.
-FACE_CANDIDATES = 24
 #: the reference rectangle's corners (in units of its half extents), counter-clockwise,
 #: and the incident quad's corners in the same order.
 CORNER_SIGNS = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]])

@@ -36,9 +36,11 @@ from .contact_helpers import (
     contact_arrays,
     fcl_raw_contacts,
     midpoint_contacts,
+    segment_in_body,
     triangle_table,
 )
 from .quaternions import cross, quat_to_matrix
+from .shapes import ShapeKind
 
 
 def world_aabbs(
@@ -176,8 +178,9 @@ def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     """Contacts of a round body shape B (sphere, capsule) with the stage mesh A (method 2).
 
     ``probe_b`` is B's shape grown by ``STAGE_SPECULATIVE_DISTANCE``: fcl finds the triangles
-    near B; a sphere then gets the exact closest point, other round shapes fcl's points with
-    the deepest triangle's normal. (Polyhedra are batched in :mod:`narrow_phase`.)
+    near B; a sphere then gets the exact closest point, a capsule the exact closest points of
+    its two end spheres (only when neither touches, a ridge under its middle: fcl's points
+    with the deepest triangle's normal). (Polyhedra are batched in :mod:`batched_stage`.)
     """
     mid, _, depths, tri_ids = contact_arrays(fcl_raw_contacts(object_stage, probe_b))
     if len(depths) == 0:
@@ -189,10 +192,30 @@ def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
     # triangle normals face the shape's center
     normal = _flip_towards(triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], center)
-    if shape_b.kind == "sphere":
+    if shape_b.kind == ShapeKind.SPHERE:
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
+    if shape_b.kind == ShapeKind.CAPSULE:  # its two end spheres (fcl's capsule depths are off)
+        ends = _capsule_end_contacts(tris, normal, shape_b, pose_b)
+        if ends is not None:
+            return ends
     fcl_normal = normal[np.argmax(depths)]
     return midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
+
+
+def _capsule_end_contacts(tris, normal, capsule, pose):
+    """Contacts of a capsule's two end spheres (centers: the ends of its axis segment,
+    :func:`contact_helpers.segment_in_body`) with the triangles, each the exact closest
+    point (:func:`_sphere_triangle_contacts`); None when neither end touches."""
+    rotation, position = pose
+    start, end, radius = segment_in_body(capsule)
+    found = [
+        _sphere_triangle_contacts(tris, normal, rotation @ point + position, radius)
+        for point in (start, end)
+    ]
+    found = [contact for contact in found if contact is not None]
+    if not found:
+        return None
+    return tuple(np.concatenate(part) for part in zip(*found, strict=True))
 
 
 def _flip_towards(normal, origin, point):

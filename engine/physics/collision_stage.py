@@ -22,13 +22,15 @@ Sub-stages, in order:
    narrow phase. The same pairs are skipped on both paths;
 4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
    into each pair's persistent manifold. ``settings.use_vectorized`` chooses the batched
-   path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.update`) or the per-pair
+   path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.merge_fresh`) or the per-pair
    reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
 5. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
    one of their bodies moved lose their manifold; a sleeping pair keeps it for waking.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import fcl
 import numpy as np
@@ -62,29 +64,36 @@ class CollisionObjects:
 
     ``shape_objects[i]``: one ``fcl.CollisionObject`` per shape of body ``i``;
     ``probe_objects[i]``: the same shapes grown by ``STAGE_SPECULATIVE_DISTANCE`` (None for
-    the stage mesh), used to find stage triangles near a body (speculative contacts).
+    the stage mesh), used to find stage triangles near a body (speculative contacts);
+    ``shape_entries[i]``: ``(shape, shape object, probe object)`` of each shape of body ``i``.
     """
 
     def __init__(self) -> None:
         self.shape_objects: dict[int, list] = {}
         self.probe_objects: dict[int, list] = {}
+        self.shape_entries: dict[int, list[tuple[Shape, Any, Any]]] = {}
         self.kinds: dict[int, tuple[str, ...]] = {}  # the kinds of every body's shapes
-        # bodies of one box shape: its body_from_shape (4, 4) and half extents (3,), by body
-        # index, so the box batch gathers them with one indexing call
+        # bodies of one box shape (single_box): its body_from_shape (4, 4) and half extents
+        # (3,), by body index, so the box batch gathers them with one indexing call
+        self.single_box = np.zeros(0, dtype=bool)
         self.box_offset, self.box_half = np.zeros((0, 4, 4)), np.zeros((0, 3))
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
         self.kinds[index] = tuple(s.kind for s in shapes)
-        if len(shapes) == 1 and shapes[0].kind == "box":
-            if len(self.box_half) <= index:
-                size = max(index + 1, 2 * len(self.box_half))
-                self.box_offset = np.concatenate(
-                    [self.box_offset, np.zeros((size - len(self.box_offset), 4, 4))]
-                )
-                self.box_half = np.concatenate(
-                    [self.box_half, np.zeros((size - len(self.box_half), 3))]
-                )
+        if len(self.single_box) <= index:
+            size = max(index + 1, 2 * len(self.single_box))
+            self.single_box = np.concatenate(
+                [self.single_box, np.zeros(size - len(self.single_box), dtype=bool)]
+            )
+            self.box_offset = np.concatenate(
+                [self.box_offset, np.zeros((size - len(self.box_offset), 4, 4))]
+            )
+            self.box_half = np.concatenate(
+                [self.box_half, np.zeros((size - len(self.box_half), 3))]
+            )
+        self.single_box[index] = len(shapes) == 1 and shapes[0].kind == "box"
+        if self.single_box[index]:
             self.box_offset[index] = shapes[0].body_from_shape
             self.box_half[index] = np.array(shapes[0].geometry.side, dtype=np.float64) / 2.0
         self.shape_objects[index] = [
@@ -96,11 +105,16 @@ class CollisionObjects:
             else fcl.CollisionObject(probe_geometry(s, STAGE_SPECULATIVE_DISTANCE), fcl.Transform())
             for s in shapes
         ]
+        entries = zip(shapes, self.shape_objects[index], self.probe_objects[index], strict=True)
+        self.shape_entries[index] = list(entries)
 
     def remove(self, index: int) -> None:
         self.shape_objects.pop(index, None)
         self.probe_objects.pop(index, None)
+        self.shape_entries.pop(index, None)
         self.kinds.pop(index, None)
+        if index < len(self.single_box):
+            self.single_box[index] = False
 
     def __contains__(self, index: int) -> bool:
         return index in self.shape_objects
@@ -374,7 +388,7 @@ def _merge_into_store(
     point_b: np.ndarray,
     normal: np.ndarray,
 ) -> None:
-    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.update`."""
+    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.merge_fresh`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     rows, updated = [], []
     for k, (key, row) in enumerate(zip(pairs, store.rows_of(pairs), strict=True)):
@@ -387,7 +401,7 @@ def _merge_into_store(
     row_position = np.full(len(pairs), -1, dtype=np.int64)
     row_position[updated] = np.arange(len(updated))  # pair position -> row position
     fresh = FreshPoints(len(rows), row_position[pair_position], point_a, point_b, normal)
-    store.update(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
+    store.merge_fresh(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
 
 
 def drop_stale_manifolds(

@@ -10,6 +10,7 @@ use them (and neither imports private names of the other):
   ``COINCIDENT_FRACTION`` of the thinner body's smallest dimension), whose fcl normal is
   arbitrary: :func:`spread_direction` turns by the golden angle with the pair's ids, and
   :func:`coincident_spheres` pushes two spheres apart along it;
+* :func:`segment_in_body`: a capsule's axis segment and radius (a sphere's: one point);
 * :func:`body_poses`, :func:`to_world`: body poses and world points of ``g`` jobs at once;
 * :func:`triangle_table`: the per-triangle constants of the stage mesh (normals, edges and
   the Gram entries of the barycentric solve, Ericson 3.4), computed once.
@@ -22,6 +23,7 @@ import numpy as np
 
 from . import settings
 from .quaternions import cross
+from .shapes import Shape, ShapeKind
 
 _REQUEST = fcl.CollisionRequest(num_max_contacts=settings.MAX_FCL_CONTACTS, enable_contact=True)
 
@@ -156,3 +158,12 @@ def triangle_table(mesh_shape) -> dict:
         }
         mesh_shape._triangle_table = table
     return table
+
+
+def segment_in_body(shape: Shape) -> tuple[np.ndarray, np.ndarray, float]:
+    """Body-frame axis segment ``(p, q)`` and radius of a capsule (``p = q``: a sphere)."""
+    center = shape.body_from_shape[:3, 3]
+    if shape.kind == ShapeKind.SPHERE:
+        return center, center, float(shape.radius)
+    half = 0.5 * float(shape.geometry.lz) * shape.body_from_shape[:3, 2]  # fcl's axis is Z
+    return center - half, center + half, float(shape.geometry.radius)

@@ -267,7 +267,7 @@ class ManifoldStore(MutableMapping):
         )
 
     # -- the per-step update ---------------------------------------------------------------
-    def update(  # type: ignore[override]  # not MutableMapping.update: the step's merge
+    def merge_fresh(
         self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray, fresh: FreshPoints
     ) -> None:
         """Refresh, merge the fresh points into and reduce the manifolds ``rows``.

@@ -1,6 +1,6 @@
 """Merging fresh narrow-phase points into manifolds, one batch for all rows.
 
-The array steps of :meth:`contacts.ManifoldStore.update` (whose docstring gives the rules):
+The array steps of :meth:`contacts.ManifoldStore.merge_fresh` (whose docstring gives the rules):
 :class:`FreshPoints` (this step's points padded per row) and :class:`LocalPoints` (points in
 the body frames), then :func:`select_fresh` (too many fresh points: the supporting polygon),
 :func:`distinct_points`, :func:`to_local`, :func:`inherit_impulses` (warm starting),

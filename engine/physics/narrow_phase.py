@@ -42,18 +42,20 @@ def narrow_phase(
     :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
     """
     jobs: dict[str, list[PairJob]] = {rule.name: [] for rule in PAIR_TABLE.rules}
+    # the job list of every kind pair's rule, looked up once per shape pair
+    jobs_of_kinds = {kinds: jobs[rule.name] for kinds, rule in PAIR_TABLE.by_kinds.items()}
     pair_of_seq: list[int] = []  # the body pair of every job, by sequence number
-    shapes, shape_objects, probes = bodies.shapes, objects.shape_objects, objects.probe_objects
+    entries = objects.shape_entries  # every body's (shape, fcl object, probe object)
     for position, (a, c) in enumerate(pairs):
-        for shape_a, object_a in zip(shapes[a], shape_objects[a], strict=True):
-            for shape_c, object_c, probe_c in zip(
-                shapes[c], shape_objects[c], probes[c], strict=True
-            ):
-                rule = PAIR_TABLE.rule_for(shape_a.kind, shape_c.kind)
-                seq = len(pair_of_seq)
-                jobs[rule.name].append(
-                    PairJob(seq, shape_a, a, object_a, shape_c, c, object_c, probe_c)
-                )
+        for shape_a, object_a, _ in entries[a]:
+            for shape_c, object_c, probe_c in entries[c]:
+                kinds = (shape_a.kind, shape_c.kind)
+                if kinds not in jobs_of_kinds:
+                    PAIR_TABLE.rule_for(*kinds)  # raises the KeyError naming them
+                # PairJob(seq, shape_a, a, ...) without its Python-level __new__: a C-level
+                # tuple of the same type and fields (measured: 3.6 -> 1.6 us per job)
+                job = (len(pair_of_seq), shape_a, a, object_a, shape_c, c, object_c, probe_c, ())
+                jobs_of_kinds[kinds].append(tuple.__new__(PairJob, job))
                 pair_of_seq.append(position)
     context, out = PairContext(bodies, objects, store, rotation), ContactBatch()
     for rule in PAIR_TABLE.rules:  # in order: a fallback rule runs after the rules feeding it

@@ -48,6 +48,25 @@ class PairJob(NamedTuple):
     records: Sequence[Any] = ()
 
 
+class JobColumns(NamedTuple):
+    """The fields of a list of jobs as columns: ``columns.body_a[k] == jobs[k].body_a``."""
+
+    seq: tuple[int, ...]
+    shape_a: tuple[Shape, ...]
+    body_a: tuple[int, ...]
+    object_a: tuple[Any, ...]
+    shape_b: tuple[Shape, ...]
+    body_b: tuple[int, ...]
+    object_b: tuple[Any, ...]
+    probe_b: tuple[Any, ...]
+    records: tuple[Sequence[Any], ...]
+
+
+def job_columns(jobs: list[PairJob]) -> JobColumns:
+    """``jobs`` (at least one) as :class:`JobColumns` (one transposition, no Python loop)."""
+    return JobColumns(*zip(*jobs, strict=True))
+
+
 @dataclass
 class PairContext:
     """What a rule may read besides its jobs: the bodies, their fcl objects

@@ -21,6 +21,7 @@ from .batched_pairs import (
     stage_round_batch,
 )
 from .batched_stage import stage_hull_batch
+from .capsule_contacts import capsule_pair, capsule_pair_batch
 from .pair_rules import PairRule, PairTable
 from .reference_pairs import (
     box_pair,
@@ -35,6 +36,7 @@ from .shapes import POLYHEDRA, ROUND, ShapeKind
 MESH: frozenset[ShapeKind] = frozenset({ShapeKind.MESH})
 BOX: frozenset[ShapeKind] = frozenset({ShapeKind.BOX})
 SPHERE: frozenset[ShapeKind] = frozenset({ShapeKind.SPHERE})
+CAPSULE: frozenset[ShapeKind] = frozenset({ShapeKind.CAPSULE})
 
 PAIR_TABLE = PairTable(
     [
@@ -43,6 +45,17 @@ PAIR_TABLE = PairTable(
         PairRule(30, "box-box", BOX, BOX, box_pair_batch, box_pair, False, fallback="hull-hull"),
         PairRule(40, "hull-hull", POLYHEDRA, POLYHEDRA, hull_pair_batch, hull_pair, True),
         PairRule(50, "sphere-sphere", SPHERE, SPHERE, sphere_pair_batch, sphere_pair, True),
+        PairRule(60, "capsule-capsule", CAPSULE, CAPSULE, capsule_pair_batch, capsule_pair, False),
+        PairRule(
+            70,
+            "sphere-capsule",
+            SPHERE,
+            CAPSULE,
+            capsule_pair_batch,
+            capsule_pair,
+            False,
+            either_order=True,
+        ),
         PairRule(
             90,
             "fcl",

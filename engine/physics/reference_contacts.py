@@ -1,17 +1,13 @@
 """Reference path of the collision stage: contacts and manifolds one body pair at a time.
 
-This is the plain version of :mod:`narrow_phase` (batched contact generation; box pairs
-in :mod:`reference_box_box`) and, with :mod:`reference_manifolds`, of
-:meth:`contacts.ManifoldStore.update` (batched manifold refresh, merge and reduction), the
-size of box2d-lite's ``Collide`` + ``Arbiter::Update``: loops over shapes, vertices and
-triangles a student can step through in a debugger. ``SolverSettings.use_vectorized =
-False`` routes the world through it, and tests prove that both paths produce the same
-contact points, manifolds and trajectories (to rounding). The rules are those of
-:mod:`collide` and :mod:`contacts`; each function names the batched code it mirrors.
-
-Vectors are ``(3,)`` float arrays in the world frame unless named ``_local`` (body frame).
-Matrix-vector products are written out as three dot products (:func:`rotate`,
-:func:`unrotate`) so they round exactly like the batched ``einsum`` calls.
+This is the plain version of :mod:`narrow_phase` (batched contact generation) and, with
+:mod:`reference_manifolds`, of :meth:`contacts.ManifoldStore.merge_fresh` (batched manifold
+refresh, merge and reduction), the size of box2d-lite's ``Collide`` + ``Arbiter::Update``:
+loops a student can step through in a debugger. :func:`pair_contacts` reads the same pair
+table (:mod:`pair_table`) as the batched narrow phase and calls each rule's reference
+function (:mod:`reference_pairs`, :mod:`reference_box_box`, :mod:`capsule_contacts`).
+``SolverSettings.use_vectorized = False`` routes the world through it, and tests prove that
+both paths produce the same contact points, manifolds and trajectories (to rounding).
 """
 
 from __future__ import annotations
@@ -40,11 +36,13 @@ def pair_contacts(
     on the side it began on."""
     context = PairContext(bodies, objects, store, rotation)
     contacts: list[Contact] = []
+    seq = 0  # the shape pair's number inside this body pair
     for shape_a, obj_a in zip(bodies.shapes[a], objects.shape_objects[a], strict=True):
         for shape_c, obj_c, probe_c in zip(
             bodies.shapes[c], objects.shape_objects[c], objects.probe_objects[c], strict=True
         ):
-            job = PairJob(len(contacts), shape_a, a, obj_a, shape_c, c, obj_c, probe_c)
+            job = PairJob(seq, shape_a, a, obj_a, shape_c, c, obj_c, probe_c)
+            seq += 1
             rule: PairRule | None = PAIR_TABLE.rule_for(shape_a.kind, shape_c.kind)
             while rule is not None:
                 found = rule.reference(job, context)
@@ -56,7 +54,7 @@ def pair_contacts(
 
 
 # ------------------------------------------------------------------------------------------
-# manifold update (mirrors ManifoldStore.update)
+# manifold update (mirrors ManifoldStore.merge_fresh)
 # ------------------------------------------------------------------------------------------
 def update_manifolds_reference(
     bodies: Bodies,

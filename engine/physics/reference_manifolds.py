@@ -1,6 +1,6 @@
 """Reference path of the manifold update: one manifold at a time, in plain loops.
 
-The plain version of :meth:`contacts.ManifoldStore.update` (the batched refresh, merge and
+The plain version of :meth:`contacts.ManifoldStore.merge_fresh` (the batched refresh, merge and
 reduction of :mod:`manifold_merge`), box2d-lite's ``Arbiter::Update`` size: a persistent
 :class:`ManifoldPoint` list per body pair, refreshed (:func:`still_touching`), merged with
 this step's contacts (:func:`update_manifold`) and cut to the supporting polygon

@@ -171,6 +171,9 @@ BOX_TEST_PARALLEL_GUARD = 1e-9
 #: m, a sphere center closer than this to its nearest stage triangle point has no offset
 #: direction: the sphere-triangle contact takes the triangle's normal instead.
 SPHERE_CENTER_ON_SURFACE = 1e-9
+#: sine of the angle below which two capsule axes count as parallel: capsules lying side
+#: by side then touch along a line and get two contacts, the ends of the axes' overlap.
+CAPSULE_PARALLEL_SINE = 1e-3
 
 #: m, the stage grid names the triangles within this of a body's AABB: a probe (the shape
 #: grown by ``STAGE_SPECULATIVE_DISTANCE`` along each of its own axes, shapes.probe_geometry)

@@ -37,8 +37,8 @@ from tqdm.auto import tqdm
 
 from engine.batch import run_batch
 from engine.demo import demo_data_path
-from engine.tutorial.cli import BAR_FORMAT, SECTION_NAMES, SECTIONS, run_sections
 from engine.tutorial.context import SectionResult
+from engine.tutorial.runner import BAR_FORMAT, SECTION_NAMES, SECTIONS, run_sections
 
 # Sections recorded together by one worker. A group replays (physics only) every section
 # before its first one, so groups that start late pay for it: the navmesh pair replays the

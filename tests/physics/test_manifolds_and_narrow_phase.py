@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import copy
+from collections.abc import MutableMapping
 
 import numpy as np
 import pytest
@@ -140,11 +141,19 @@ def store_with_row(max_points: int = 4):
     return store, rotation, position
 
 
+def test_the_store_is_a_mapping_whose_update_keeps_its_mapping_meaning():
+    # the step's merge is merge_fresh; update is MutableMapping's (key -> manifold)
+    assert ManifoldStore.update is MutableMapping.update
+    store, _, _ = store_with_row()
+    store.update({})  # nothing to set: no error, no change
+    assert len(store) == 1
+
+
 def test_nine_coplanar_points_reduce_to_the_four_corners():
     # a 20 cm square face on the floor: corners, edge midpoints and center, all equally deep
     grid = [[x, 0.0, z] for x in (-0.1, 0.0, 0.1) for z in (-0.1, 0.0, 0.1)]
     store, rotation, position = store_with_row()
-    store.update(np.array([0]), rotation, position, fresh_points(grid))
+    store.merge_fresh(np.array([0]), rotation, position, fresh_points(grid))
     corners = {(x, z) for x in (-0.1, 0.1) for z in (-0.1, 0.1)}
     kept = {(round(p[0], 9), round(p[2], 9)) for p in store.local_b[0, : store.count[0]]}
     assert store.count[0] == 4 and kept == corners  # the largest supporting area
@@ -163,11 +172,11 @@ def test_nine_coplanar_points_reduce_to_the_four_corners():
 
 def test_matched_points_inherit_impulses_and_separated_points_are_dropped():
     store, rotation, position = store_with_row()
-    store.update(np.array([0]), rotation, position, fresh_points([[0.0, 0, 0], [0.1, 0, 0]]))
+    store.merge_fresh(np.array([0]), rotation, position, fresh_points([[0.0, 0, 0], [0.1, 0, 0]]))
     store.impulse[0, :2] = [[1.0, 0.1, 0.2], [2.0, 0.3, 0.4]]
     # a fresh point 5 mm from the first cached one inherits its impulse (warm start); the
     # second cached point is still touching and kept with its own impulse
-    store.update(np.array([0]), rotation, position, fresh_points([[0.005, 0, 0]]))
+    store.merge_fresh(np.array([0]), rotation, position, fresh_points([[0.005, 0, 0]]))
     impulses = {
         round(p[0], 3): i.tolist()
         for p, i in zip(store.local_b[0], store.impulse[0], strict=True)
@@ -176,7 +185,7 @@ def test_matched_points_inherit_impulses_and_separated_points_are_dropped():
     assert impulses == {0.005: [1.0, 0.1, 0.2], 0.1: [2.0, 0.3, 0.4]}
     # B moves 3 cm away along the normal (+Y), beyond CONTACT_BREAKING_DISTANCE: all dropped
     position[1] = [0.0, 1.5 * settings.CONTACT_BREAKING_DISTANCE, 0.0]
-    store.update(np.array([0]), rotation, position, fresh_points(np.zeros((0, 3))))
+    store.merge_fresh(np.array([0]), rotation, position, fresh_points(np.zeros((0, 3))))
     assert store.count[0] == 0
 
 
@@ -194,7 +203,7 @@ def test_reference_manifold_update_matches_store_on_the_same_history():
             points,
             np.tile([0.0, 1.0, 0.0], (len(points), 1)),
         )
-        store.update(np.array([0]), rotation, position, fresh)
+        store.merge_fresh(np.array([0]), rotation, position, fresh)
         contacts = [
             Contact(a, b, n)
             for a, b, n in zip(fresh.point_a[0], fresh.point_b[0], fresh.normal[0], strict=True)

@@ -25,3 +25,115 @@ def test_render_never_imports_engine_or_navmesh():
     for path in files:
         forbidden = imported_top_level_packages(path) & {"engine", "navmesh"}
         assert not forbidden, f"{path.name} imports {forbidden}"
+
+
+# ------------------------------------------------------------------------------------------
+# no import cycle at run time, imports inside functions included
+# ------------------------------------------------------------------------------------------
+REPOSITORY = RENDER_DIR.parent
+PACKAGES = ("engine", "render", "navmesh")
+
+
+def module_files() -> dict[str, Path]:
+    """Dotted module name -> file of every module of the three packages."""
+    modules = {}
+    for package in PACKAGES:
+        for path in sorted((REPOSITORY / package).rglob("*.py")):
+            parts = path.relative_to(REPOSITORY).with_suffix("").parts
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            modules[".".join(parts)] = path
+    return modules
+
+
+def runtime_imports(tree: ast.AST):
+    """Every import statement that can run: all of them, at any depth (inside functions
+    too), except the bodies of ``if TYPE_CHECKING:`` blocks."""
+    for node in ast.iter_child_nodes(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            yield from (n for child in node.orelse for n in runtime_imports_of(child))
+            continue
+        yield from runtime_imports_of(node)
+
+
+def runtime_imports_of(node: ast.AST):
+    if isinstance(node, ast.Import | ast.ImportFrom):
+        yield node
+    yield from runtime_imports(node)
+
+
+def imported_modules(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """The project modules that importing module ``name`` runs directly: each imported
+    module, a ``from package import submodule``'s submodule, and the packages on the way
+    (their ``__init__`` runs first) unless they enclose ``name`` (already running)."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in runtime_imports(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names]
+        else:
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            targets = [f"{base}.{alias.name}" for alias in node.names]
+            targets = [t if t in modules else base for t in targets]
+        for target in targets:
+            parts = target.split(".")
+            for end in range(1, len(parts) + 1):
+                module = ".".join(parts[:end])
+                encloses = name == module or name.startswith(module + ".")
+                if module in modules and not encloses:
+                    found.add(module)
+    return found
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every strongly connected group of modules with more than one member (Tarjan)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    cycles = []
+
+    def visit(module: str) -> None:
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        for target in sorted(graph[module]):
+            if target not in index:
+                visit(target)
+                low[module] = min(low[module], low[target])
+            elif target in stack:
+                low[module] = min(low[module], index[target])
+        if low[module] == index[module]:
+            group = []
+            while True:
+                member = stack.pop()
+                group.append(member)
+                if member == module:
+                    break
+            if len(group) > 1:
+                cycles.append(sorted(group))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return cycles
+
+
+def test_the_import_graph_finds_a_function_level_cycle(tmp_path):
+    modules = {"a": tmp_path / "a.py", "b": tmp_path / "b.py"}
+    modules["a"].write_text("import b\n")
+    modules["b"].write_text("def late():\n    from a import x\n")
+    graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
+    assert import_cycles(graph) == [["a", "b"]]
+    modules["b"].write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import a\n")
+    graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
+    assert import_cycles(graph) == []
+
+
+def test_no_import_cycles_at_run_time():
+    modules = module_files()
+    assert len(modules) > 100
+    graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
+    assert "engine.physics.reference_contacts" in graph["engine.physics.collision_stage"]
+    assert import_cycles(graph) == []

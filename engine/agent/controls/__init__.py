@@ -1,11 +1,11 @@
 """Agent controls, structured as Habitat's ``habitat_sim.agent.controls``.
 
-``ActuationSpec`` and ``SceneNodeControl`` (:mod:`.controls`), the registered default
-controls (:mod:`.default_controls`, :mod:`.pyrobot_noisy_controls`) and ``ObjectControls``
+``ActuationSpec`` and ``SceneNodeControl`` (:mod:`.controls`), the default controls
+(:mod:`.default_controls`, registered by :mod:`engine.registry`),
+the noisy PyRobot controls (:mod:`.pyrobot_noisy_controls`) and ``ObjectControls``
 (:mod:`.object_controls`).
 """
 
-from engine.agent.controls import default_controls  # noqa: F401  (registers the controls)
 from engine.agent.controls.controls import ActuationSpec, SceneNodeControl
 from engine.agent.controls.object_controls import ObjectControls, UnknownActionError
 from engine.agent.controls.pyrobot_noisy_controls import PyRobotNoisyActuationSpec
