@@ -53,10 +53,18 @@ __all__ = [
 
 
 def get_island_colored_map(island_top_down_map_data: np.ndarray) -> Image.Image:
-    """RGB image of an island index map (-1 = not navigable -> white)."""
+    """RGB image of an island index map (-1 = not navigable -> white), laid out as Habitat's.
+
+    Habitat writes map cell ``[x, y]`` to image pixel ``(x, -y)``: the image is
+    ``shape[0]`` wide and ``shape[1]`` tall, image row ``j`` shows map column ``-j mod H``
+    (column 0 at the top, then the last column upwards). Islands beyond the 40 fixed colors
+    get seeded random colors (deterministic, where Habitat's vary per run).
+    """
     islands = np.asarray(island_top_down_map_data)
     if islands.ndim != 2:
         raise ValueError(f"island map must be 2D, got shape {islands.shape}")
+    # image[j, i] = map[i, (-j) mod H]: Habitat's pixels[x, -y] with PIL's negative wrap
+    islands = islands.T[(-np.arange(islands.shape[1])) % islands.shape[1]]
     n_islands = int(islands.max(initial=-1)) + 1
     extra = np.random.default_rng(0).integers(0, 256, size=(max(0, n_islands - 40), 3))
     palette = np.concatenate([d3_40_colors_rgb[:n_islands], extra.astype(np.uint8)])

@@ -317,7 +317,9 @@ def test_id_colors_and_island_map():
     islands = np.array([[-1, 0], [1, 1]])
     image = np.asarray(vut.get_island_colored_map(islands))
     np.testing.assert_array_equal(image[0, 0], [255, 255, 255])
-    np.testing.assert_array_equal(image[1, 0], d3_40_colors_rgb[1])
+    # Habitat's layout: image[j, i] = islands[i, -j mod H] (transposed, columns upwards)
+    np.testing.assert_array_equal(image[1, 0], d3_40_colors_rgb[0])
+    np.testing.assert_array_equal(image[0, 1], d3_40_colors_rgb[1])
 
 
 def test_topdown_map_border_grid_and_path(apartment_settings):

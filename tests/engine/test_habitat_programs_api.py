@@ -180,3 +180,17 @@ def test_profiling_ranges_nest_and_capture_a_step_window(monkeypatch):
     assert depths == [0, 0, 1, 1, 1, 0, 0]  # steps 2, 3, 4 inside the capture range
     with pytest.raises(ValueError, match="num_steps_to_capture"):
         profiling_utils.configure(capture_start_step=1, num_steps_to_capture=0)
+
+
+def test_island_colored_map_has_habitats_size_and_orientation():
+    from engine.utils.common import d3_40_colors_rgb
+    from engine.utils.viz_utils import get_island_colored_map
+
+    islands = np.full((4, 3), -1)  # 4 map rows, 3 map columns
+    islands[1, 0] = 0  # Habitat writes pixel (x=1, y=-0) -> image row 0, column 1
+    islands[2, 1] = 1  # pixel (x=2, y=-1) -> image row 2 (the last), column 2
+    image = np.asarray(get_island_colored_map(islands))
+    assert image.shape == (3, 4, 3)  # PIL size (4, 3): shape[0] wide, shape[1] tall
+    np.testing.assert_array_equal(image[0, 1], d3_40_colors_rgb[0])
+    np.testing.assert_array_equal(image[2, 2], d3_40_colors_rgb[1])
+    assert (image == 255).all(axis=2).sum() == 10  # everything else white

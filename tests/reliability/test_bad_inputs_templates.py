@@ -28,9 +28,10 @@ TEMPLATE_FIELDS = {
         lambda v: not all(math.isfinite(x) and x > 0 for x in v)
     ),
     "collision_asset_size": st.lists(finite, min_size=3, max_size=3).filter(lambda v: min(v) <= 0),
-    "restitution_coefficient": bad_number(0.0, 1.0),
-    "linear_damping": bad_number(0.0, 1.0),
-    "angular_damping": bad_number(0.0, 1.0),
+    # above 1 is stored with a warning, as Habitat stores it: only negative or non-finite
+    "restitution_coefficient": bad_number(0.0),
+    "linear_damping": bad_number(0.0),
+    "angular_damping": bad_number(0.0),
     "mass": bad_number(0.0, low_open=True),
     "friction_coefficient": bad_number(0.0),
     "inertia": st.tuples(st.floats(1e-3, 10), st.floats(1e-3, 10), st.floats(1e-3, 10)).map(
@@ -73,7 +74,7 @@ BAD_CONFIGS = [
     {"scale": 5.0},
     {"scale": [1.0, math.nan, 1.0]},
     {"collision_asset_size": [1.0, -1.0, 1.0]},
-    {"restitution_coefficient": 5.0},
+    {"restitution_coefficient": math.inf},
     {"restitution_coefficient": -0.1},
     {"inertia": [1.0, 1.0, 10.0]},
     {"inertia": [-1.0, 1.0, 1.0]},
@@ -82,7 +83,7 @@ BAD_CONFIGS = [
     {"up": [0.0, 0.0, 0.0]},
     {"up": [1.0, 1.0, 10.0]},
     {"up": [0, 1, 0], "front": [0, 1, 0]},
-    {"linear_damping": 2.0},
+    {"linear_damping": -2.0},
     {"angular_damping": -1.0},
     {"friction_coefficient": None},
     {"COM": "x"},
