@@ -22,8 +22,10 @@ opens the path it names):
   scene is empty);
 - ``objects/example_objects``, ``objects/locobot_merged``: rigidsim's demo objects;
 - ``test_assets``: Habitat's MIT test assets (``../shared/assets/habitat/data`` or
-  ``RIGIDSIM_HABITAT_DATA``), plus the demo's ``test_assets`` files they lack. Nothing of habitat-sim is
-copied into this repository: the work folder is temporary unless ``--keep`` names one.
+  ``RIGIDSIM_HABITAT_DATA``), plus the demo's ``test_assets`` files they lack.
+
+Nothing of habitat-sim is copied into this repository: the work folder is temporary unless
+``--keep`` names one.
 
 The programs and their arguments are those Habitat's own ``tests/test_examples.py`` runs. Usage:
 
