@@ -201,7 +201,7 @@ def run_in_parallel(
     """Run the groups of ``selected`` sections on ``jobs`` processes; results in order.
 
     ``settings``: ``output_dir``, ``make_video``, ``fast``, ``seed``, ``progress``,
-    ``keep_observations`` as for :func:`engine.tutorial.cli.run_sections`. With
+    ``keep_observations`` as for :func:`engine.tutorial.runner.run_sections`. With
     ``group_report`` (a list), one dict per group is appended: its sections, estimated,
     wall and CPU seconds and render threads.
     """

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from engine.tutorial.cli import BAR_FORMAT, SECTIONS, SectionProgress
+from engine.tutorial.runner import BAR_FORMAT, SECTIONS, SectionProgress
 from engine.tutorial.parallel import GroupBars, ProgressWriter
 from engine.tutorial.report import COLUMNS, SUMMARY_LEGEND
 
