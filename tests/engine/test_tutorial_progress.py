@@ -11,9 +11,9 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from engine.tutorial.runner import BAR_FORMAT, SECTIONS, SectionProgress
 from engine.tutorial.parallel import GroupBars, ProgressWriter
 from engine.tutorial.report import COLUMNS, SUMMARY_LEGEND
+from engine.tutorial.runner import BAR_FORMAT, SECTIONS, SectionProgress
 
 
 def test_section_bar_counts_frames_and_clamps_world_time() -> None:
