@@ -139,9 +139,9 @@ class NavGrid:
         ``(half * cell_size)^2`` is the snap box's answer too (the same node, ties included:
         each window lists its squares in the snap box's order).
         """
+        u, v = (x - self.x0) / self.cell_size, (z - self.z0) / self.cell_size
         inside_cell = (
-            math.floor((x - self.x0) / self.cell_size) == ix
-            and math.floor((z - self.z0) / self.cell_size) == iz
+            math.isfinite(u) and math.isfinite(v) and (math.floor(u), math.floor(v)) == (ix, iz)
         )
         for half, window in self._windows:
             found = self._best_in_window(window, x, y, z, ix, iz, island_index)

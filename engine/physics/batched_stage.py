@@ -8,7 +8,9 @@ are the body's hull vertices lying in the prism of a nearby triangle, just below
 (method 2 of :mod:`collide`). For vertex ``v`` and triangle ``t`` (unit normal ``n_t``,
 corner ``p0_t``) the signed height is
 
-$$ h_{tv} = n_t \cdot (x_v - p_{0t}), $$
+::
+
+    h_{tv} = n_t \cdot (x_v - p_{0t}),
 
 and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
 * extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each

@@ -11,7 +11,9 @@ cells of side ``c`` (``STAGE_GRID_CELL``, grown if the grid would hold more than
 ``STAGE_GRID_MAX_CELLS`` cells); every triangle is filed under each cell its axis-aligned box
 covers,
 
-$$ i_x \\in [\\lfloor (x_{min} - o_x) / c \\rfloor, \\lfloor (x_{max} - o_x) / c \\rfloor], $$
+::
+
+    i_x \\in [\\lfloor (x_{min} - o_x) / c \\rfloor, \\lfloor (x_{max} - o_x) / c \\rfloor],
 
 likewise for z, with ``o`` the stage's lowest corner. The cell lists are one CSR table:
 ``cell_start (n_cells + 1,)`` offsets into ``cell_triangles``.

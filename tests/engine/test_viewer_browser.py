@@ -117,5 +117,5 @@ def test_live_page_follows_the_simulation_steps(page, test_assets):
         page.wait_for_timeout(500)
         after = screenshot(page)
         assert changed_fraction(before, after) > 0.005
-        assert contact_pixels(after) > 30
+        assert contact_pixels(after) > 10  # on the floor: the normals are drawn
         assert remote == [] and page.console_errors == []

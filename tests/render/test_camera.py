@@ -179,7 +179,8 @@ def test_camera_defaults_are_habitats_and_the_camera_is_frozen():
 
 def test_orthographic_focal_length_is_pixels_per_meter():
     camera = Camera((40, 100), subtype="orthographic", ortho_scale=0.2)
-    assert camera.fx == camera.fy == pytest.approx(8.0)  # H ortho_scale = 40 * 0.2
+    # Habitat's orthographic view is 1 / ortho_scale meters wide: W ortho_scale = 100 * 0.2
+    assert camera.fx == camera.fy == pytest.approx(20.0)
 
 
 @pytest.mark.parametrize(
