@@ -258,22 +258,36 @@ class EquirectangularSensor(CubeMapSensorBase):
 
 
 def observe_with_cube_maps(
-    observe: Callable[[list], dict[str, np.ndarray]], sensors: list
+    observe: Callable[[list], dict[str, np.ndarray]], sensors: list, overlay: Any = None
 ) -> dict[str, np.ndarray]:
     """Observations of ``sensors`` (uuid -> array): cube-map sensors are expanded into their
-    six faces, rendered in the same ``observe`` call as the other sensors, then resampled."""
-    return _resample_cube_maps(sensors, observe(_with_faces(sensors)))
+    six faces, rendered in the same ``observe`` call as the other sensors, then resampled.
+
+    ``overlay`` (an :class:`engine.line_overlay.LineOverlay`, or None): its ``twins`` are
+    rendered too and it draws into the frames (the faces included) before the resampling.
+    """
+    return observe_later_with_cube_maps(lambda flat: lambda: observe(flat), sensors, overlay)()
 
 
 def observe_later_with_cube_maps(
-    observe_later: Callable[[list], Callable[[], dict[str, np.ndarray]]], sensors: list
+    observe_later: Callable[[list], Callable[[], dict[str, np.ndarray]]],
+    sensors: list,
+    overlay: Any = None,
 ) -> Callable[[], dict[str, np.ndarray]]:
     """:func:`observe_with_cube_maps` in two halves (``SceneRenderer.observe_later`` or
     ``observe_in_worker``; None when the latter declines)."""
-    render = observe_later(_with_faces(sensors))
+    twins = list(overlay.twins) if overlay is not None else []
+    render = observe_later(_with_faces(sensors) + twins)
     if render is None:
         return None  # type: ignore[return-value]
-    return lambda: _resample_cube_maps(sensors, render())
+
+    def finish() -> dict[str, np.ndarray]:
+        rendered = render()
+        if overlay is not None:
+            overlay.draw(rendered)
+        return _resample_cube_maps(sensors, rendered)
+
+    return finish
 
 
 def _with_faces(sensors: list) -> list:
