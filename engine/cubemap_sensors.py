@@ -17,7 +17,9 @@ Specs and defaults as Habitat's: ``CubeMapSensorBaseSpec`` (``cubemap_size`` Non
 As in Habitat, the default principal point is ``resolution * 0.5`` read as ``(u, v)`` although
 ``resolution`` is ``[height, width]``: the image center only for square images.
 DEPTH is the z-depth along the axis of the cube face the ray hits (what Habitat's cube map of
-depth buffers holds); pixels outside the fisheye's image circle read 0 (black, id 0).
+depth buffers holds); pixels outside the fisheye's image circle read 0 (black, id 0). COLOR
+is filtered bilinearly within a face, DEPTH and SEMANTIC take the nearest texel
+(:mod:`render.cubemap`).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ import numpy as np
 
 from engine import mn
 from engine.scene_node import SceneNode
-from engine.sensors import Sensor, SensorSubType, VisualSensorSpec
+from engine.sensors import Sensor, SensorSubType, SensorType, VisualSensorSpec
 from render import camera_models, cubemap
 
 __all__ = [
@@ -219,10 +221,14 @@ class CubeMapSensorBase(Sensor):
         return self._rays
 
     def resample(self, face_observations: list[np.ndarray]) -> np.ndarray:
-        """This sensor's observation from its six faces' observations (Habitat's order)."""
+        """This sensor's observation from its six faces' observations (Habitat's order):
+        COLOR filtered bilinearly, DEPTH and SEMANTIC from the nearest texel."""
         rays, valid = self.rays()
         faces = np.stack(face_observations)
-        return cubemap.resample(faces, rays, valid, 0, reference=self.reference_resampling)
+        bilinear = self.spec.sensor_type is SensorType.COLOR
+        return cubemap.resample(
+            faces, rays, valid, 0, reference=self.reference_resampling, bilinear=bilinear
+        )
 
 
 class FisheyeSensor(CubeMapSensorBase):
