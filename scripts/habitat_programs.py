@@ -35,6 +35,8 @@ The programs and their arguments are those Habitat's own ``tests/test_examples.p
 
     python scripts/habitat_programs.py --habitat-sim PATH [--only NAME] [--tests [PYTEST_ARGS]]
 
+(``--tests tests/test_sensors.py -x`` runs the files named, ``--tests -k gfx`` all of them)
+
 prints one line per program (ran to the end, or the last line of its error) and the count.
 """
 
@@ -290,8 +292,10 @@ def main() -> int:
         link_data(work, demo_data_path().resolve(), assets.resolve())
     if options.tests is not None:
         env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO_ROOT), str(work / "tests")]))
-        pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"]
-        return subprocess.run([*pytest, *options.tests], cwd=work, env=env).returncode
+        pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"]
+        named = any(arg.startswith("tests/") for arg in options.tests)  # else every test file
+        paths = [] if named else ["tests"]
+        return subprocess.run([*pytest, *paths, *options.tests], cwd=work, env=env).returncode
     programs = [p for p in example_programs() if not options.only or options.only in p[0]]
     passed = 0
     for name, script, argv in programs:
