@@ -17,7 +17,8 @@ render scenes' mesh poses, each camera's pose; the meshes themselves are immutab
 submits every camera group to the **render worker process** (:mod:`render.worker`), which
 renders from that snapshot while this process steps the physics: two processes, two cores,
 no shared mutable state. ``finish`` collects the frames (and resamples the cube maps of
-wide-angle sensors). A group rendered asynchronously stays in the worker afterwards.
+wide-angle sensors, after drawing the debug lines taken at ``start``,
+:mod:`engine.line_overlay`). A group rendered asynchronously stays in the worker afterwards.
 Without a worker (``processes = 0``) the snapshot renders on a thread (``threaded``: the
 renderer's NumPy passes hold the GIL most of the time, so little overlaps) or, with
 ``threaded = False``, synchronously at ``start`` (the plain path). All three give the same
@@ -31,6 +32,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from typing import Any
 
 from engine.cubemap_sensors import observe_later_with_cube_maps, observe_with_cube_maps
+from engine.line_overlay import LineOverlay
 
 __all__ = ["AsyncRender"]
 
@@ -83,18 +85,20 @@ class AsyncRender:
                 sensor.render_async()
         sensors, self._queued = self._queued, []
         objects = [sensor.sensor_object for sensor in sensors]
+        lines = sim.take_debug_lines()  # drawn as the world is now, like the frames
+        overlay = LineOverlay(lines, objects) if lines is not None else None
         renderer = sim._renderer
         in_worker = None
         if self.use_worker:
-            in_worker = observe_later_with_cube_maps(renderer.observe_in_worker, objects)
+            in_worker = observe_later_with_cube_maps(renderer.observe_in_worker, objects, overlay)
         if in_worker is not None:  # rendering in the worker process already
             self._pending = self._collect_later(in_worker)
         elif self.threaded:
-            render = observe_later_with_cube_maps(renderer.observe_later, objects)
+            render = observe_later_with_cube_maps(renderer.observe_later, objects, overlay)
             self._pending = self._thread_pool().submit(render)
         else:
             self._pending = Future()
-            self._pending.set_result(observe_with_cube_maps(renderer.observe, objects))
+            self._pending.set_result(observe_with_cube_maps(renderer.observe, objects, overlay))
         self._agent_ids = agent_ids
         self._sensors = sensors
         if dt is not None:

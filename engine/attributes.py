@@ -25,11 +25,13 @@ import numpy as np
 from engine import mn
 from engine.fixed_fields import public_names, unknown_attribute_error
 from engine.logging import get_logger
+from engine.named_enum import NamedIntEnum
 from engine.primitives import is_primitive_handle
 from engine.user_config import Configuration
 
 __all__ = [
     "AbstractAttributes",
+    "AssetType",
     "ObjectAttributes",
     "PhysicsManagerAttributes",
     "PrimitiveAssetAttributes",
@@ -37,6 +39,17 @@ __all__ = [
     "is_primitive_handle",
     "read_json_object",
 ]
+
+
+class AssetType(NamedIntEnum):
+    """What kind of asset a template renders or collides with (Habitat's ``AssetType``;
+    rigidsim tells only primitives from meshes, which Habitat reports as ``UNKNOWN``)."""
+
+    UNKNOWN = 0
+    MP3D = 1
+    SEMANTIC = 2
+    NAVMESH = 3
+    PRIMITIVE = 4
 
 
 #: longest path string accepted (Linux PATH_MAX); longer text is not a file name
@@ -195,6 +208,7 @@ class AbstractAttributes:
         object.__setattr__(self, "template_id", -1)
         object.__setattr__(self, "file_directory", "")
         object.__setattr__(self, "_explicit", set())
+        object.__setattr__(self, "_paths_dirty", False)
 
     # -- typed field access -----------------------------------------------------------------------
     def __getattr__(self, name: str) -> Any:
@@ -217,6 +231,8 @@ class AbstractAttributes:
         elif name in self.FIELDS:
             self._values[name] = _validate(name, self.FIELDS[name].kind, value)
             self._explicit.add(name)
+            if self.FIELDS[name].kind == "asset":
+                object.__setattr__(self, "_paths_dirty", True)
         elif name in ("handle", "file_directory"):
             object.__setattr__(self, name, _validate(name, "str", value))
         elif name == "template_id":
@@ -227,6 +243,21 @@ class AbstractAttributes:
     @property
     def ID(self) -> int:  # noqa: N802 - Habitat's spelling
         return self.template_id
+
+    @property
+    def filenames_are_dirty(self) -> bool:
+        """True when an asset path was set since the template was made or registered (Habitat:
+        it must be registered again before objects are built from it)."""
+        return bool(self.__dict__.get("_paths_dirty", False))
+
+    def _mark_paths_clean(self) -> None:
+        object.__setattr__(self, "_paths_dirty", False)
+
+    @property
+    def template_class(self) -> str:
+        """Habitat's class key of the template (read only): ``"ObjectAttributes"``,
+        ``"StageAttributes"``, ``"PhysicsManagerAttributes"``, ``"CubePrimitiveAttributes"``..."""
+        return type(self).__name__
 
     @property
     def num_user_configs(self) -> int:
@@ -382,6 +413,18 @@ class _AssetPaths:
         if not handle or is_primitive_handle(handle) or Path(handle).is_absolute():
             return handle
         return str(Path(self.file_directory or ".") / handle)
+
+    @property
+    def render_asset_type(self) -> AssetType:
+        """``PRIMITIVE`` for a built-in primitive, else ``UNKNOWN`` (a mesh file), as Habitat."""
+        handle = self.render_asset_handle
+        return AssetType.PRIMITIVE if is_primitive_handle(handle) else AssetType.UNKNOWN
+
+    @property
+    def collision_asset_type(self) -> AssetType:
+        """As ``render_asset_type``, for the collision asset (the render asset when empty)."""
+        handle = self.collision_asset_handle or self.render_asset_handle
+        return AssetType.PRIMITIVE if is_primitive_handle(handle) else AssetType.UNKNOWN
 
     @property
     def render_asset_fullpath(self) -> str:
@@ -570,6 +613,11 @@ class PrimitiveAssetAttributes(AbstractAttributes):
     @property
     def is_wireframe(self) -> bool:
         return "Wireframe" in self._prefix
+
+    @property
+    def template_class(self) -> str:
+        """Habitat's class key: ``CapsulePrimitiveAttributes``, ``CubePrimitiveAttributes``..."""
+        return f"{self.primitive_class.removesuffix('3D')}PrimitiveAttributes"
 
     @property
     def prim_obj_class_name(self) -> str:

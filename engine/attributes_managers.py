@@ -38,7 +38,7 @@ from engine.attributes import (
     StageAttributes,
     checked_path,
 )
-from engine.primitives import PRIMITIVE_ASSET_HANDLES
+from engine.primitives import PRIMITIVE_ASSET_HANDLES, is_primitive_handle, parse_primitive_handle
 
 __all__ = [
     "PRIMITIVE_ASSET_HANDLES",
@@ -167,6 +167,7 @@ class _AttributesManager(Generic[T]):
             self._next_id += 1
         template.handle = handle
         template.template_id = template_id
+        template._mark_paths_clean()
         self._templates[handle] = template.copy()
         self._ids[handle] = template_id
         return template_id
@@ -318,6 +319,16 @@ class AssetAttributesManager(_AttributesManager[PrimitiveAssetAttributes]):
         return self._default("UVSphere", is_wireframe)
 
 
+def primitive_object_template(handle: str) -> ObjectAttributes:
+    """The object template built on primitive asset ``handle``: rendered and collided as that
+    primitive, scaled by :data:`PRIMITIVE_OBJECT_SCALE` (Habitat's prim-based templates)."""
+    template = ObjectAttributes(handle)
+    template.render_asset_handle = handle
+    template.collision_asset_handle = handle
+    template.scale = [PRIMITIVE_OBJECT_SCALE] * 3
+    return template
+
+
 class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):
     """Object templates: the 12 primitive-based defaults plus those loaded from files."""
 
@@ -327,12 +338,30 @@ class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):
     def __init__(self) -> None:
         super().__init__()
         for handle in PRIMITIVE_ASSET_HANDLES:
-            template = ObjectAttributes(handle)
-            template.render_asset_handle = handle
-            template.collision_asset_handle = handle
-            template.scale = [PRIMITIVE_OBJECT_SCALE] * 3
-            self.register_template(template)
+            self.register_template(primitive_object_template(handle))
             self._undeletable.add(handle)
+
+    def create_template(
+        self, handle: str, register_template: bool = True
+    ) -> ObjectAttributes | None:
+        """Habitat's ``create_template``: an object template for a primitive asset handle
+        (``cubeSolid``, ``capsule3DSolid_hemiRings_4_...``; scale 0.1 as the defaults), else
+        as :meth:`create_new_template` (a config file, a mesh file, or defaults). Registered
+        unless ``register_template`` is False. An invalid primitive handle gives None with a
+        warning, as Habitat logs an error and returns no template."""
+        if not isinstance(handle, str):
+            raise TypeError(f"handle must be a str, got {handle!r}")
+        if not is_primitive_handle(handle):
+            return self.create_new_template(handle, register_template)
+        try:
+            parse_primitive_handle(handle)
+        except ValueError as error:
+            warnings.warn(f"no object template made for {handle!r}: {error}", stacklevel=2)
+            return None
+        template = primitive_object_template(handle)
+        if register_template:
+            self.register_template(template)
+        return template
 
     def create_new_template(self, handle: str, register_template: bool = False) -> ObjectAttributes:
         """A new template named ``handle`` (Habitat's ``create_new_template``).

@@ -17,7 +17,9 @@ Specs and defaults as Habitat's: ``CubeMapSensorBaseSpec`` (``cubemap_size`` Non
 As in Habitat, the default principal point is ``resolution * 0.5`` read as ``(u, v)`` although
 ``resolution`` is ``[height, width]``: the image center only for square images.
 DEPTH is the z-depth along the axis of the cube face the ray hits (what Habitat's cube map of
-depth buffers holds); pixels outside the fisheye's image circle read 0 (black, id 0).
+depth buffers holds); pixels outside the fisheye's image circle read 0 (black, id 0). COLOR
+is filtered bilinearly within a face, DEPTH and SEMANTIC take the nearest texel
+(:mod:`render.cubemap`).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ import numpy as np
 
 from engine import mn
 from engine.scene_node import SceneNode
-from engine.sensors import Sensor, SensorSubType, VisualSensorSpec
+from engine.sensors import Sensor, SensorSubType, SensorType, VisualSensorSpec
 from render import camera_models, cubemap
 
 __all__ = [
@@ -219,10 +221,14 @@ class CubeMapSensorBase(Sensor):
         return self._rays
 
     def resample(self, face_observations: list[np.ndarray]) -> np.ndarray:
-        """This sensor's observation from its six faces' observations (Habitat's order)."""
+        """This sensor's observation from its six faces' observations (Habitat's order):
+        COLOR filtered bilinearly, DEPTH and SEMANTIC from the nearest texel."""
         rays, valid = self.rays()
         faces = np.stack(face_observations)
-        return cubemap.resample(faces, rays, valid, 0, reference=self.reference_resampling)
+        bilinear = self.spec.sensor_type is SensorType.COLOR
+        return cubemap.resample(
+            faces, rays, valid, 0, reference=self.reference_resampling, bilinear=bilinear
+        )
 
 
 class FisheyeSensor(CubeMapSensorBase):
@@ -258,22 +264,36 @@ class EquirectangularSensor(CubeMapSensorBase):
 
 
 def observe_with_cube_maps(
-    observe: Callable[[list], dict[str, np.ndarray]], sensors: list
+    observe: Callable[[list], dict[str, np.ndarray]], sensors: list, overlay: Any = None
 ) -> dict[str, np.ndarray]:
     """Observations of ``sensors`` (uuid -> array): cube-map sensors are expanded into their
-    six faces, rendered in the same ``observe`` call as the other sensors, then resampled."""
-    return _resample_cube_maps(sensors, observe(_with_faces(sensors)))
+    six faces, rendered in the same ``observe`` call as the other sensors, then resampled.
+
+    ``overlay`` (an :class:`engine.line_overlay.LineOverlay`, or None): its ``twins`` are
+    rendered too and it draws into the frames (the faces included) before the resampling.
+    """
+    return observe_later_with_cube_maps(lambda flat: lambda: observe(flat), sensors, overlay)()
 
 
 def observe_later_with_cube_maps(
-    observe_later: Callable[[list], Callable[[], dict[str, np.ndarray]]], sensors: list
+    observe_later: Callable[[list], Callable[[], dict[str, np.ndarray]]],
+    sensors: list,
+    overlay: Any = None,
 ) -> Callable[[], dict[str, np.ndarray]]:
     """:func:`observe_with_cube_maps` in two halves (``SceneRenderer.observe_later`` or
     ``observe_in_worker``; None when the latter declines)."""
-    render = observe_later(_with_faces(sensors))
+    twins = list(overlay.twins) if overlay is not None else []
+    render = observe_later(_with_faces(sensors) + twins)
     if render is None:
         return None  # type: ignore[return-value]
-    return lambda: _resample_cube_maps(sensors, render())
+
+    def finish() -> dict[str, np.ndarray]:
+        rendered = render()
+        if overlay is not None:
+            overlay.draw(rendered)
+        return _resample_cube_maps(sensors, rendered)
+
+    return finish
 
 
 def _with_faces(sensors: list) -> list:

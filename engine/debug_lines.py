@@ -3,8 +3,9 @@ color observations, for teaching and debugging (axes, paths, contact normals, bo
 
 Lines are collected in world coordinates (each call's points go through the transform stack
 first: ``push_transform(m)`` multiplies ``m`` onto it, ``pop_transform()`` removes the last)
-and drawn, depth-tested, into every pinhole or orthographic COLOR observation of the next
-``get_sensor_observations`` / ``draw_observation`` call, then forgotten, as Habitat's
+and drawn, depth-tested, into every COLOR observation (pinhole, orthographic, fisheye and
+equirectangular: :mod:`engine.line_overlay`) of the next ``get_sensor_observations`` /
+``draw_observation`` call or asynchronous render, then forgotten, as Habitat's
 immediate-mode lines are (:mod:`render.lines` draws them; hidden parts show faintly).
 Colors are Magnum ``Color4`` / RGBA floats in [0, 1] (``Color3`` gets alpha 1).
 

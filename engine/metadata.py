@@ -7,8 +7,9 @@ built-in primitives. The simulator uses the active dataset's managers, so
 ``sim_cfg.scene_dataset_config_file = ".../my.scene_dataset_config.json"`` makes its objects
 available by handle, and ``scene_id`` may name one of its stage templates.
 
-What a dataset file may say, per section (``"objects"``, ``"stages"``; other sections such as
-lights, scene instances, navmeshes and articulated objects are listed but not loaded):
+What a dataset file may say, per section (``"objects"``, ``"stages"``, ``"scene_instances"``;
+other sections such as lights, navmeshes and articulated objects are listed but not loaded;
+scene instance files are read when ``scene_id`` names one, :mod:`engine.scene_instance`):
 
 * ``"paths": {".json": [folder, "folder/*", file, ...]}`` (relative to the dataset file):
   every ``*.object_config.json`` / ``*.stage_config.json`` found there (a ``*`` entry means
@@ -136,7 +137,7 @@ class MetadataMediator:
         return self._current.physics_template_manager
 
     def get_scene_handles(self) -> list[str]:
-        """The scene instance files the active dataset lists (not loaded by rigidsim)."""
+        """The scene instance files the active dataset lists (``*.scene_instance.json``)."""
         return list(self._current.scene_instance_handles)
 
     @property

@@ -36,7 +36,7 @@ from engine import mn
 from engine.geo import Ray
 from render.camera import Camera
 
-__all__ = ["RenderCamera", "projection_matrix"]
+__all__ = ["RenderCamera", "camera_from_key", "projection_matrix"]
 
 
 def projection_matrix(camera_key: tuple) -> np.ndarray:
@@ -56,6 +56,14 @@ def projection_matrix(camera_key: tuple) -> np.ndarray:
     matrix[2, 2], matrix[2, 3] = (far + near) / (near - far), 2.0 * far * near / (near - far)
     matrix[3, 2] = -1.0
     return matrix
+
+
+def camera_from_key(key: tuple) -> Camera:
+    """The :class:`render.camera.Camera` of a sensor's ``camera_key()``: ``((H, W), hfov,
+    near, far, subtype, ortho_scale)`` (orthographic for ORTHOGRAPHIC, else pinhole)."""
+    (height, width), hfov, near, far, subtype, ortho_scale = key
+    kind = "orthographic" if subtype.name == "ORTHOGRAPHIC" else "pinhole"
+    return Camera((height, width), hfov, near, far, kind, ortho_scale)
 
 
 class RenderCamera:
@@ -93,9 +101,7 @@ class RenderCamera:
 
     def render_camera_model(self):
         """The :class:`render.camera.Camera` the renderer draws this sensor with."""
-        (height, width), hfov, near, far, subtype, ortho_scale = self._sensor.camera_key()
-        kind = "orthographic" if subtype.name == "ORTHOGRAPHIC" else "pinhole"
-        return Camera((height, width), hfov, near, far, kind, ortho_scale)
+        return camera_from_key(self._sensor.camera_key())
 
     def unproject(self, viewport_point: Any, normalized: bool = True) -> Ray:
         """The world ray through pixel ``viewport_point = (x, y)`` (module docstring)."""

@@ -19,13 +19,25 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from engine import mn
 from engine.assets import MeshData, load_meshes, merge_meshes
 from engine.attributes import PhysicsManagerAttributes, StageAttributes
-from engine.attributes_managers import PhysicsAttributesManager, StageAttributesManager
+from engine.attributes_managers import (
+    ObjectAttributesManager,
+    PhysicsAttributesManager,
+    StageAttributesManager,
+)
 from engine.logging import get_logger
+from engine.physics.motion_type import MotionType
+from engine.scene_instance import (
+    SceneInstanceAttributes,
+    SceneObjectInstanceAttributes,
+    full_handle_from_substring,
+)
 from navmesh import PathFinder
 
 __all__ = [
@@ -33,6 +45,8 @@ __all__ = [
     "load_navmesh_beside_stage",
     "load_physics_config",
     "load_stage",
+    "place_instance",
+    "place_scene_objects",
     "stage_triangles",
 ]
 
@@ -56,11 +70,14 @@ def load_physics_config(manager: PhysicsAttributesManager, path: str) -> Physics
 
 
 def load_stage(
-    stages: StageAttributesManager, scene_id: str
+    stages: StageAttributesManager, scene_id: str, scale: np.ndarray | None = None
 ) -> tuple[StageAttributes | None, list[MeshData]]:
     """The stage's template and its meshes in the world frame (none for ``"NONE"``).
 
-    A ``scene_id`` that is not a template of the dataset is registered as a new one.
+    ``scene_id`` is a stage template handle, or a part of one (Habitat's substring match, as
+    a scene instance's ``template_name`` names its stage); any other name is an asset file,
+    registered as a new template. ``scale`` multiplies the template's scale (a scene
+    instance's ``uniform_scale * non_uniform_scale``).
     """
     if not isinstance(scene_id, str):
         raise TypeError(f"scene_id must be a string, got {scene_id!r}")
@@ -69,12 +86,13 @@ def load_stage(
         get_logger("sim").info("scene_id %r: an empty scene without a stage", scene_id)
         return None, []
     # a stage template of the dataset (a copy), else one made for the asset file
-    stage = (
-        stages.get_template_by_handle(scene_id) if stages.get_library_has_handle(scene_id) else None
-    )
+    handle = full_handle_from_substring(stages.get_template_handles(), scene_id)
+    stage = stages.get_template_by_handle(handle) if handle is not None else None
     if stage is None:
         stage = stages.create_template_for_asset(scene_id)
         stages.register_template(stage)
+    if scale is not None:
+        stage.scale = np.asarray(stage.scale) * scale
     meshes = load_meshes(
         stage.render_asset_handle,
         up=stage.orient_up,
@@ -83,6 +101,53 @@ def load_stage(
         units_to_meters=stage.units_to_meters,
     )
     return stage, meshes
+
+
+def place_scene_objects(
+    scene: SceneInstanceAttributes, objects: Any, templates: ObjectAttributesManager, light: str
+) -> list[Any]:
+    """Add the scene instance's objects with ``objects`` (the rigid object manager) and put
+    each at its instance pose (:mod:`engine.scene_instance`); the poses become the objects'
+    reset poses. An unknown ``template_name`` raises KeyError before any object is added."""
+    handles = templates.get_template_handles()
+    chosen = []
+    for instance in scene.object_instances:
+        handle = full_handle_from_substring(handles, instance.handle)
+        if handle is None:
+            raise KeyError(
+                f"scene instance {scene.handle}: object template {instance.handle!r} is not "
+                f"in the dataset's object templates"
+            )
+        chosen.append(handle)
+    placed = []
+    for instance, handle in zip(scene.object_instances, chosen, strict=True):
+        template = templates.get_template_by_handle(handle)
+        assert template is not None  # the handle was found above
+        template.scale = np.asarray(template.scale) * instance.scale
+        if instance.apply_scale_to_mass:
+            template.mass = template.mass * float(np.prod(np.asarray(template.scale)))
+        template.mass = template.mass * instance.mass_scale
+        if instance.is_instance_visible is not None:
+            template.is_visibile = instance.is_instance_visible
+        obj = objects.add_object_instance(template, light)
+        place_instance(obj, instance, instance.is_com_corrected(scene.translation_origin))
+        objects.save_reset_pose(obj)
+        placed.append(obj)
+    return placed
+
+
+def place_instance(obj: Any, instance: SceneObjectInstanceAttributes, com_corrected: bool) -> None:
+    """Pose ``obj`` as the instance says (``p = translation + R c`` when COM corrected), then
+    set its motion type (after the pose: a STATIC object ignores pose setters)."""
+    w, x, y, z = instance.rotation
+    rotation = mn.Quaternion(mn.Vector3(x, y, z), w)
+    translation = np.asarray(instance.translation, dtype=float)
+    if com_corrected:
+        translation = translation + np.asarray(rotation.transform_vector(obj.com))
+    obj.translation = mn.Vector3(translation)
+    obj.rotation = rotation
+    if instance.motion_type != "undefined":
+        obj.motion_type = MotionType[instance.motion_type.upper()]
 
 
 def stage_triangles(stage_meshes: Sequence[MeshData]) -> tuple[np.ndarray, np.ndarray]:

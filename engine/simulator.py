@@ -3,9 +3,11 @@
 ``Simulator(Configuration(sim_cfg, [agent_cfg]))`` does what ``habitat_sim.Simulator`` does:
 
 1. reads the physics config and builds the template managers;
-2. loads the stage named by ``sim_cfg.scene_id`` (a ``.glb``/``.obj``/``.ply``, or its
-   ``*.stage_config.json``; ``"NONE"`` for an empty world) into the scene graph (drawn flat)
-   and into the physics world (an exact static triangle mesh);
+2. loads the scene named by ``sim_cfg.scene_id``: a scene instance of the dataset
+   (:mod:`engine.scene_instance`: its stage, then its objects placed), else the stage it
+   names (a ``.glb``/``.obj``/``.ply``, or its ``*.stage_config.json``; ``"NONE"`` for an
+   empty world) into the scene graph (drawn flat) and into the physics world (an exact
+   static triangle mesh);
 3. loads ``<stage stem>.navmesh`` beside the stage if present, or builds a navmesh when
    ``sim_cfg.navmesh_settings`` is set;
 4. creates the agents and their camera sensors.
@@ -49,11 +51,13 @@ from engine.metadata import MetadataMediator
 from engine.pathfinder import PathFinder
 from engine.physics.objects import MotionType
 from engine.physics.world import PhysicsWorld
+from engine.scene_instance import SceneInstanceAttributes, find_scene_instance, read_scene_instance
 from engine.scene_loading import (
     append_triangles,
     load_navmesh_beside_stage,
     load_physics_config,
     load_stage,
+    place_scene_objects,
     stage_triangles,
 )
 from engine.scene_node import Drawable, SceneGraph, SceneNode
@@ -95,7 +99,18 @@ class Simulator(SimulatorSensors, SimulatorQueries):
         physics_attributes = load_physics_config(
             self._physics_template_manager, sim_cfg.physics_config_file
         )
-        stage_attributes, stage_meshes = load_stage(self._stage_template_manager, sim_cfg.scene_id)
+        # a scene instance (stage + placed objects, engine.scene_instance), else a stage
+        scene_file = find_scene_instance(
+            self.metadata_mediator.get_scene_handles(), sim_cfg.scene_id
+        )
+        self._scene_instance = read_scene_instance(scene_file) if scene_file else None
+        stage_name, stage_scale = sim_cfg.scene_id, None
+        if self._scene_instance is not None:
+            stage_name = self._scene_instance.stage_instance.handle
+            stage_scale = self._scene_instance.stage_instance.scale
+        stage_attributes, stage_meshes = load_stage(
+            self._stage_template_manager, stage_name, stage_scale
+        )
         self._stage_attributes = stage_attributes
         self._semantic_scene = None
 
@@ -116,6 +131,14 @@ class Simulator(SimulatorSensors, SimulatorQueries):
             self._asset_template_manager,
         )
         self._world.set_stage(stage_meshes or None, stage_attributes)
+        if self._scene_instance is not None:
+            self._warn_unloaded_scene_parts(self._scene_instance)
+            place_scene_objects(
+                self._scene_instance,
+                self._world.rigid_object_manager,
+                self._object_template_manager,
+                sim_cfg.scene_light_setup,
+            )
         self._renderer = SceneRenderer(
             self.root_node, self._static_drawable_ids, lights_for=self._lights.render_lights
         )
@@ -142,6 +165,17 @@ class Simulator(SimulatorSensors, SimulatorQueries):
         self._last_states: dict[int, AgentState] = {}
         for agent_id in range(len(self.agents)):
             self.initialize_agent(agent_id)
+
+    @staticmethod
+    def _warn_unloaded_scene_parts(scene: SceneInstanceAttributes) -> None:
+        """Warn about what a scene instance lists that rigidsim does not load."""
+        if scene.num_articulated_instances:
+            warnings.warn(
+                f"scene instance {scene.handle}: its {scene.num_articulated_instances} "
+                f"articulated object instances are not loaded (rigidsim has no articulated "
+                f"objects)",
+                stacklevel=4,
+            )
 
     # ------------------------------------------------------------------------------------------
     # managers

@@ -29,11 +29,11 @@ from typing import Any
 from engine.async_render import AsyncRender
 from engine.cubemap_sensors import observe_with_cube_maps
 from engine.debug_lines import DebugLineRender
+from engine.line_overlay import LineOverlay
 from engine.scene_node import SceneNode
 from engine.sensor import SensorFactory
 from engine.sensor_wrapper import Sensor
-from engine.sensors import CameraSensor, SensorSpec, SensorType
-from render.lines import draw_lines
+from engine.sensors import SensorSpec
 
 __all__ = ["SimulatorSensors"]
 
@@ -124,19 +124,22 @@ class SimulatorSensors:
         """Render ``sensors`` together into their wrappers' buffers."""
         self._check_open()  # type: ignore[attr-defined]
         self._async_render.check_idle("drawing an observation")
-        lines = self._debug_lines.take_lines() if self._debug_lines.has_lines() else None
+        lines = self.take_debug_lines()
         for batch in _unique_uuid_batches(sensors):  # observations are keyed by uuid
             objects = [sensor.sensor_object for sensor in batch]
-            proxies = _line_depth_proxies(objects) if lines is not None else []
-            frames = observe_with_cube_maps(self._renderer.observe, objects + proxies)  # type: ignore[attr-defined]
-            for proxy in proxies:  # debug lines, depth-tested against the frame's depth
-                proxy.draw(frames[proxy.owner.uuid], frames[proxy.uuid], lines)  # type: ignore[arg-type]
+            overlay = LineOverlay(lines, objects) if lines is not None else None
+            frames = observe_with_cube_maps(self._renderer.observe, objects, overlay)  # type: ignore[attr-defined]
             for sensor in batch:
                 sensor._buffer = frames[sensor.uuid]
 
     def get_debug_line_render(self) -> DebugLineRender:
         """The simulator's debug line renderer (:mod:`engine.debug_lines`)."""
         return self._debug_lines
+
+    def take_debug_lines(self) -> tuple | None:
+        """The debug lines collected since the last draw (None if none), forgotten here:
+        each draw of observations takes them once (:mod:`engine.line_overlay`)."""
+        return self._debug_lines.take_lines() if self._debug_lines.has_lines() else None
 
     def render_sensors(self, sensors: list[Sensor] | None = None) -> dict[str, Any]:
         """Draw ``sensors`` (default: every registered one), then read them by uuid."""
@@ -184,44 +187,3 @@ def _unique_uuid_batches(sensors: list[Sensor]) -> list[list[Sensor]]:
             batches.append([])
         batches[-1].append(sensor)
     return [batch for batch in batches if batch]
-
-
-class _LineDepth:
-    """A hidden DEPTH twin of a COLOR camera (same intrinsics and pose, so the renderer
-    shares the rasterization): the depth the debug lines are tested against."""
-
-    def __init__(self, owner: CameraSensor) -> None:
-        self.owner = owner
-        self.uuid = f"{owner.uuid}:depth-for-debug-lines"
-        self.spec = _DepthSpec()
-
-    def camera_key(self) -> tuple:
-        return self.owner.camera_key()
-
-    def world_from_camera(self) -> Any:
-        return self.owner.world_from_camera()
-
-    def draw(self, rgba: Any, depth: Any, lines: tuple) -> None:
-        camera = self.owner.render_camera.render_camera_model()
-        starts, ends, start_colors, end_colors, width = lines
-        draw_lines(
-            rgba, depth, camera, self.world_from_camera(), starts, ends, start_colors,
-            end_colors, width,
-        )  # fmt: skip
-
-
-class _DepthSpec:
-    sensor_type = SensorType.DEPTH
-
-
-def _line_depth_proxies(objects: list) -> list[_LineDepth]:
-    """One depth twin per pinhole / orthographic COLOR sensor."""
-    proxies = []
-    for sensor in objects:
-        if isinstance(sensor, CameraSensor) and sensor.spec.sensor_type is SensorType.COLOR:
-            proxy = getattr(sensor, "_line_depth", None)
-            if proxy is None:  # one per sensor: the renderer keeps group state by identity
-                proxy = _LineDepth(sensor)
-                setattr(sensor, "_line_depth", proxy)  # noqa: B010 - a private cache
-            proxies.append(proxy)
-    return proxies

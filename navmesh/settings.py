@@ -25,7 +25,7 @@ from pathlib import Path
 _FIELD_SPECS: tuple[tuple[str, str, str], ...] = (
     ("cell_size", "cellSize", "length"),
     ("cell_height", "cellHeight", "length"),
-    ("agent_height", "agentHeight", "length"),
+    ("agent_height", "agentHeight", "nonneg"),  # Habitat accepts 0 (no clearance needed)
     ("agent_radius", "agentRadius", "nonneg"),
     ("agent_max_climb", "agentMaxClimb", "nonneg"),
     ("agent_max_slope", "agentMaxSlope", "angle"),
@@ -88,7 +88,8 @@ class NavMeshSettings:
         Vertical resolution, meters: solid samples closer than this in one column merge into
         one span (default 0.2).
     agent_height : float
-        Minimum floor-to-ceiling clearance the agent needs, meters (default 1.5).
+        Minimum floor-to-ceiling clearance the agent needs, meters (default 1.5); 0 (accepted
+        as Habitat, whose ``make_cfg`` copies ``sensor_height`` here) keeps every floor.
     agent_radius : float
         Walkable area is eroded by this distance from obstacles and drops, meters, rounded up
         to whole cells (default 0.1).

@@ -16,13 +16,22 @@ A wide-angle camera (fisheye, equirectangular panorama) is rendered as Habitat's
        px = S/2 + f x_face / (-z_face),   py = S/2 - f y_face / (-z_face)
        col = clamp(floor(px), 0, S - 1),  row = clamp(floor(py), 0, S - 1)
 
-   The output pixel takes that texel (nearest sampling) of the face's color, depth or
-   semantic ids. Depth is the face's z-depth, the distance along the axis of the face the
-   ray hits (what a cube map of z-buffers holds, as in Habitat).
+   Depth and semantic ids take that texel (nearest sampling). Depth is the face's z-depth,
+   the distance along the axis of the face the ray hits (what a cube map of z-buffers
+   holds, as in Habitat).
+3. **Bilinear color.** Color is filtered as a GPU's linear texture sampling does (Habitat
+   samples its color cube map with linear filtering): with texel centers at ``i + 1/2``,
+   ``u = px - 1/2``, ``v = py - 1/2``, ``i = floor(u)``, ``j = floor(v)``, ``a = u - i``,
+   ``b = v - j``, the four texels around the point are weighted::
+
+       c = (1-a)(1-b) t[j, i] + a (1-b) t[j, i+1] + (1-a) b t[j+1, i] + a b t[j+1, i+1]
+
+   with indices clamped to the face (no filtering across a face seam), each 8-bit channel
+   rounded, ``floor(c + 1/2)``.
 
 :func:`resample` is the vectorized version; :func:`resample_reference` is the same, one
 pixel at a time in plain Python (slow; the tests check they agree bit for bit). One switch
-selects between them: ``resample(..., reference=True)``.
+selects between them: ``resample(..., reference=True)``; ``bilinear=True`` selects step 3.
 """
 
 from __future__ import annotations
@@ -35,6 +44,7 @@ __all__ = [
     "FACE_NAMES",
     "FACE_ROTATIONS",
     "cubemap_size",
+    "face_points",
     "face_poses",
     "face_texels",
     "resample",
@@ -76,8 +86,9 @@ def face_poses(world_from_camera: np.ndarray) -> np.ndarray:
     return faces
 
 
-def face_texels(rays: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Face index, row and column hit by each ray (vectorized; module docstring).
+def face_points(rays: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Face index and continuous face image coordinates ``(px, py)`` of each ray
+    (vectorized; module docstring, step 2).
 
     Parameters
     ----------
@@ -86,7 +97,7 @@ def face_texels(rays: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np
 
     Returns
     -------
-    face, row, col : (...) int64 arrays.
+    face : (...) int64; px, py : (...) float64.
     """
     axis = np.argmax(np.abs(rays), axis=-1)  # first axis wins a tie
     component = np.take_along_axis(rays, axis[..., None], axis=-1)[..., 0]
@@ -97,9 +108,34 @@ def face_texels(rays: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np
     half = size / 2.0
     px = half + half * d_face[..., 0] / forward  # px = S/2 + f x / z
     py = half - half * d_face[..., 1] / forward  # py = S/2 - f y / z
+    return face, px, py
+
+
+def face_texels(rays: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Face index, row and column hit by each ray (the nearest texel), ``(...)`` int64."""
+    face, px, py = face_points(rays, size)
     col = np.clip(np.floor(px), 0, size - 1).astype(np.int64)
     row = np.clip(np.floor(py), 0, size - 1).astype(np.int64)
     return face, row, col
+
+
+def _bilinear(faces: np.ndarray, face: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    """Step 3 for points ``(N,)`` of 8-bit color faces ``(6, S, S, C)``: ``(N, C)``."""
+    size = faces.shape[1]
+    u, v = px - 0.5, py - 0.5
+    i, j = np.floor(u), np.floor(v)
+    a, b = (u - i)[:, None], (v - j)[:, None]
+    i0, j0 = np.clip(i, 0, size - 1).astype(np.int64), np.clip(j, 0, size - 1).astype(np.int64)
+    i1, j1 = (
+        np.clip(i + 1, 0, size - 1).astype(np.int64),
+        np.clip(j + 1, 0, size - 1).astype(np.int64),
+    )
+    t = faces.astype(np.float64)
+    c = (1.0 - a) * (1.0 - b) * t[face, j0, i0]
+    c = c + a * (1.0 - b) * t[face, j0, i1]
+    c = c + (1.0 - a) * b * t[face, j1, i0]
+    c = c + a * b * t[face, j1, i1]
+    return np.floor(c + 0.5).astype(faces.dtype)
 
 
 def resample(
@@ -108,8 +144,9 @@ def resample(
     valid: np.ndarray | None = None,
     background: object = 0,
     reference: bool = False,
+    bilinear: bool = False,
 ) -> np.ndarray:
-    """Look every ray up in a cube map (nearest texel).
+    """Look every ray up in a cube map (nearest texel, or bilinear for 8-bit color).
 
     Parameters
     ----------
@@ -119,19 +156,30 @@ def resample(
     valid : (H, W) bool, the pixels that see anything (None: all).
     background : the value of invalid pixels (broadcast to one texel).
     reference : True: :func:`resample_reference` (plain loops, same result).
+    bilinear : True: filter color bilinearly (module docstring, step 3; ``(6, S, S, C)``
+        uint8 faces only).
 
     Returns
     -------
     (H, W, ...) array of ``faces.dtype``.
     """
+    if bilinear and (faces.dtype != np.uint8 or faces.ndim != 4):
+        raise ValueError(
+            f"bilinear resampling needs (6, S, S, C) uint8 color faces, got "
+            f"{faces.shape} {faces.dtype}"
+        )
     if reference:
-        return resample_reference(faces, rays, valid, background)
+        return resample_reference(faces, rays, valid, background, bilinear)
     height, width = rays.shape[:2]
     if valid is None:
         valid = np.ones((height, width), bool)
     out = np.empty((height, width, *faces.shape[3:]), faces.dtype)
     out[...] = background
     safe = np.where(valid[..., None], rays, (0.0, 0.0, -1.0))  # no zero rays
+    if bilinear:
+        face, px, py = face_points(safe, faces.shape[1])
+        out[valid] = _bilinear(faces, face[valid], px[valid], py[valid])
+        return out
     face, row, col = face_texels(safe, faces.shape[1])
     out[valid] = faces[face[valid], row[valid], col[valid]]
     return out
@@ -142,6 +190,7 @@ def resample_reference(
     rays: np.ndarray,
     valid: np.ndarray | None = None,
     background: object = 0,
+    bilinear: bool = False,
 ) -> np.ndarray:
     """Mirrors :func:`resample`, one pixel at a time with scalar arithmetic."""
     height, width = rays.shape[:2]
@@ -162,7 +211,28 @@ def resample_reference(
             half = size / 2.0
             px = half + half * x / -z
             py = half - half * y / -z
+            if bilinear:
+                out[r, c] = _bilinear_texel(faces[face], px, py)
+                continue
             col = min(max(math.floor(px), 0), size - 1)
             row = min(max(math.floor(py), 0), size - 1)
             out[r, c] = faces[face, row, col]
     return out
+
+
+def _bilinear_texel(texels: np.ndarray, px: float, py: float) -> list[int]:
+    """Step 3 for one point of one face ``(S, S, C)``, channel by channel."""
+    size = texels.shape[0]
+    u, v = px - 0.5, py - 0.5
+    i, j = math.floor(u), math.floor(v)
+    a, b = u - i, v - j
+    i0, i1 = min(max(i, 0), size - 1), min(max(i + 1, 0), size - 1)
+    j0, j1 = min(max(j, 0), size - 1), min(max(j + 1, 0), size - 1)
+    channels = []
+    for k in range(texels.shape[2]):
+        c = (1.0 - a) * (1.0 - b) * float(texels[j0, i0, k])
+        c = c + a * (1.0 - b) * float(texels[j0, i1, k])
+        c = c + (1.0 - a) * b * float(texels[j1, i0, k])
+        c = c + a * b * float(texels[j1, i1, k])
+        channels.append(math.floor(c + 0.5))
+    return channels

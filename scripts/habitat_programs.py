@@ -20,6 +20,10 @@ opens the path it names):
 - ``scene_datasets/mp3d_example/mp3d.scene_dataset_config.json``: a generated dataset config
   whose only stage template is the demo apartment's (no semantic annotations: the semantic
   scene is empty);
+- ``replica_cad/``: a generated ReplicaCAD-like scene dataset (``replicaCAD.scene_dataset_config
+  .json``, ``configs/{stages,objects,scenes}``): the demo apartment as ``frl_apartment_stage``,
+  demo objects under ReplicaCAD's names (``frl_apartment_chair_01`` is the cracker box, scaled
+  3x) and a scene instance ``v3_sc0_staging_00`` placing four of them;
 - ``objects/example_objects``, ``objects/locobot_merged``: rigidsim's demo objects;
 - ``test_assets``: Habitat's MIT test assets (``../shared/assets/habitat/data`` or
   ``RIGIDSIM_HABITAT_DATA``), plus the demo's ``test_assets`` files they lack.
@@ -30,6 +34,8 @@ Nothing of habitat-sim is copied into this repository: the work folder is tempor
 The programs and their arguments are those Habitat's own ``tests/test_examples.py`` runs. Usage:
 
     python scripts/habitat_programs.py --habitat-sim PATH [--only NAME] [--tests [PYTEST_ARGS]]
+
+(``--tests tests/test_sensors.py -x`` runs the files named, ``--tests -k gfx`` all of them)
 
 prints one line per program (ran to the end, or the last line of its error) and the count.
 """
@@ -94,6 +100,61 @@ GENERATED_CONFIGS = (
         {"stages": {"paths": {".json": ["../demo"]}}, "objects": {"paths": {".json": []}}},
     ),
 )
+# ReplicaCAD (the coordinate frame tutorial): a scene dataset of the same layout, generated
+_REPLICA = "replica_cad"
+_REPLICA_OBJECTS = {  # stand-in object name -> (demo asset, scale, mass kg)
+    "frl_apartment_chair_01": ("objects/example_objects/cheezit.glb", 3.0, 5.0),
+    "frl_apartment_bowl_07": ("objects/example_objects/chefcan.glb", 1.0, 0.4),
+    "frl_apartment_kitchen_utensil_01": ("objects/example_objects/banana.glb", 1.0, 0.1),
+}
+GENERATED_LINKS = (  # (path under data/, path in the demo data)
+    (f"{_REPLICA}/stages/frl_apartment_stage.glb", "scene_datasets/demo/apartment.glb"),
+    (f"{_REPLICA}/stages/frl_apartment_stage.navmesh", "scene_datasets/demo/apartment.navmesh"),
+    *(
+        (f"{_REPLICA}/objects/{name}.glb", asset)
+        for name, (asset, _, _) in _REPLICA_OBJECTS.items()
+    ),
+)
+GENERATED_CONFIGS += (
+    (
+        f"{_REPLICA}/replicaCAD.scene_dataset_config.json",
+        {
+            "stages": {"paths": {".json": ["configs/stages"]}},
+            "objects": {"paths": {".json": ["configs/objects"]}},
+            "scene_instances": {"paths": {".json": ["configs/scenes"]}},
+        },
+    ),
+    (
+        f"{_REPLICA}/configs/stages/frl_apartment_stage.stage_config.json",
+        {"render_asset": "../../stages/frl_apartment_stage.glb", "up": [0, 1, 0],
+         "front": [0, 0, -1], "nav_asset": "../../stages/frl_apartment_stage.navmesh"},
+    ),
+    *(
+        (
+            f"{_REPLICA}/configs/objects/{name}.object_config.json",
+            {"render_asset": f"../../objects/{name}.glb", "scale": [scale] * 3, "mass": mass},
+        )
+        for name, (_, scale, mass) in _REPLICA_OBJECTS.items()
+    ),
+    (  # the demo apartment's floor is at y = -1.45 m
+        f"{_REPLICA}/configs/scenes/v3_sc0_staging_00.scene_instance.json",
+        {
+            "translation_origin": "asset_local",
+            "stage_instance": {"template_name": "stages/frl_apartment_stage"},
+            "object_instances": [
+                {"template_name": "objects/frl_apartment_chair_01", "motion_type": "DYNAMIC",
+                 "translation": [1.5, -1.13, -0.5], "rotation": [0.924, 0, 0.383, 0]},
+                {"template_name": "objects/frl_apartment_chair_01", "motion_type": "DYNAMIC",
+                 "translation": [0.5, -1.13, 1.5], "rotation": [1, 0, 0, 0]},
+                {"template_name": "objects/frl_apartment_bowl_07", "motion_type": "STATIC",
+                 "translation": [2.0, -0.82, -1.0], "rotation": [1, 0, 0, 0]},
+                {"template_name": "objects/frl_apartment_kitchen_utensil_01",
+                 "motion_type": "DYNAMIC", "translation": [2.2, -0.86, -1.1],
+                 "rotation": [0.707, 0, 0.707, 0]},
+            ],
+        },
+    ),
+)  # fmt: skip
 IMPORT_LINE = re.compile(r"^(\s*)(import|from)\s+(habitat_sim|magnum)\b(.*)$")
 
 
@@ -183,6 +244,9 @@ def link_data(work: Path, demo: Path, assets: Path) -> None:
             link = data / (habitat_name + suffix)
             link.parent.mkdir(parents=True, exist_ok=True)
             link.symlink_to(source.with_suffix(suffix))
+    for relative, target in GENERATED_LINKS:
+        (data / relative).parent.mkdir(parents=True, exist_ok=True)
+        (data / relative).symlink_to(demo / target)
     for relative, content in GENERATED_CONFIGS:
         (data / relative).parent.mkdir(parents=True, exist_ok=True)
         (data / relative).write_text(json.dumps(content, indent=2) + "\n", encoding="utf-8")
@@ -228,8 +292,10 @@ def main() -> int:
         link_data(work, demo_data_path().resolve(), assets.resolve())
     if options.tests is not None:
         env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO_ROOT), str(work / "tests")]))
-        pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"]
-        return subprocess.run([*pytest, *options.tests], cwd=work, env=env).returncode
+        pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"]
+        named = any(arg.startswith("tests/") for arg in options.tests)  # else every test file
+        paths = [] if named else ["tests"]
+        return subprocess.run([*pytest, *paths, *options.tests], cwd=work, env=env).returncode
     programs = [p for p in example_programs() if not options.only or options.only in p[0]]
     passed = 0
     for name, script, argv in programs:

@@ -67,6 +67,21 @@ class RigidObjectManager:
             light_setup_key,
         )
 
+    def add_object_instance(self, template, light_setup_key: str = "") -> ManagedRigidObject:
+        """Add an object from a template that need not be registered (a scene instance's
+        scaled copy, as Habitat's ``PhysicsManager::addObjectInstance``)."""
+        return self._add(template, None, light_setup_key)
+
+    def save_reset_pose(self, obj: ManagedRigidObject) -> None:
+        """Make the object's current pose the one ``sim.reset()`` returns it to (a scene
+        instance's pose, as Habitat's ``resetStateFromSceneInstanceAttr``)."""
+        index = obj._check()
+        bodies = self._world.bodies
+        self._world.creation_state[index] = (
+            bodies.body_position[index].copy(),
+            bodies.body_rotation[index].copy(),
+        )
+
     def _add(self, template, attachment_node, light_setup_key: str = "") -> ManagedRigidObject:
         from engine.scene_node import Drawable, SceneNode
         from engine.visual_nodes import build_visual_nodes

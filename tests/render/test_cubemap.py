@@ -167,3 +167,44 @@ def test_cubemap_size_rule_and_bad_sizes():
     for bad in (0, -3, 2.5, True):
         with pytest.raises(ValueError, match="cubemap_size"):
             cubemap.cubemap_size((48, 96), bad)  # type: ignore[arg-type]
+
+
+# -- bilinear color --------------------------------------------------------------------------
+def gradient_faces(size=4):
+    """Faces whose texel (row j, column i) holds ``10 i + 50 j`` in every channel."""
+    j, i = np.mgrid[0:size, 0:size]
+    values = (10 * i + 50 * j).astype(np.uint8)
+    return np.repeat(np.repeat(values[None, :, :, None], 6, axis=0), 4, axis=3)
+
+
+def test_bilinear_color_weights_the_four_texels_around_the_point():
+    faces = gradient_faces()  # S = 4, the -Z face (index 5) has the identity rotation
+    # ray (x, y, -1) -> px = 2 + 2x, py = 2 - 2y; texel centers at i + 1/2
+    rays = np.array([[[0.0, 0.0, -1.0], [0.25, 0.0, -1.0], [-0.9, 0.0, -1.0], [0.0, 0.125, -1.0]]])
+    out = cubemap.resample(faces, rays, bilinear=True)[0, :, 0]
+    # px = 2: halfway between columns 1 and 2 (10, 20) and rows 1 and 2 (50, 100) -> 15 + 75
+    assert out[0] == 90
+    assert out[1] == 20 + 75  # px = 2.5: exactly column 2's center
+    assert out[2] == 0 + 75  # px = 0.2: left of column 0's center, clamped to the face
+    # py = 1.75: b = 0.25 between rows 1 and 2 (50, 100) -> 62.5; + 15 = 77.5, rounded up
+    assert out[3] == 78
+    nearest = cubemap.resample(faces, rays)[0, :, 0]
+    assert nearest[0] == 20 + 100  # the nearest texel: floor(2) = column 2, row 2
+
+
+@pytest.mark.parametrize("channels", [3, 4])
+def test_bilinear_vectorized_equals_the_reference_bit_for_bit(channels):
+    rng = np.random.default_rng(9)
+    faces = rng.integers(0, 256, size=(6, 5, 5, channels)).astype(np.uint8)
+    rays = rng.normal(size=(8, 10, 3))
+    rays[0, 0] = [1.0, 1.0, -1.0]  # corners and ties
+    valid = rng.random((8, 10)) > 0.2
+    fast = cubemap.resample(faces, rays, valid, background=7, bilinear=True)
+    plain = cubemap.resample(faces, rays, valid, background=7, reference=True, bilinear=True)
+    np.testing.assert_array_equal(fast, plain)
+    assert np.all(fast[~valid] == 7)
+
+
+def test_bilinear_needs_8_bit_color_faces():
+    with pytest.raises(ValueError, match="bilinear"):
+        cubemap.resample(np.zeros((6, 4, 4), np.float32), np.ones((2, 2, 3)), bilinear=True)
