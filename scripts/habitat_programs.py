@@ -188,8 +188,10 @@ def main() -> int:
         link_data(work, demo_data_path().resolve(), assets.resolve())
     if options.tests is not None:
         env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO_ROOT), str(work / "tests")]))
-        pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "tests"]
-        return subprocess.run([*pytest, *options.tests], cwd=work, env=env).returncode
+        pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"]
+        named = any(arg.startswith("tests") for arg in options.tests)  # else every test file
+        chosen = options.tests if named else ["tests", *options.tests]
+        return subprocess.run([*pytest, *chosen], cwd=work, env=env).returncode
     programs = [p for p in example_programs() if not options.only or options.only in p[0]]
     passed = 0
     for name, script, argv in programs:
