@@ -10,47 +10,37 @@ lines there:
     import magnum as mn              ->  from engine import mn
     from magnum import Vector3       ->  from engine.mn import Vector3
 
-Data paths are changed by a folder of links, ``<work>/data`` (the stand-ins; each program still
-opens the path it names):
-
-- ``scene_datasets/habitat-test-scenes/{skokloster-castle,van-gogh-room,apartment_1}.glb`` and
-  ``.navmesh``: rigidsim's demo apartment (so hard-coded positions and path lengths differ);
-- ``scene_datasets/mp3d_example/17DRP5sb8fy/17DRP5sb8fy.glb`` and ``.navmesh`` (the ECCV
-  notebooks' mp3d scene): the demo apartment again;
-- ``scene_datasets/mp3d_example/mp3d.scene_dataset_config.json``: a generated dataset config
-  whose only stage template is the demo apartment's (no semantic annotations: the semantic
-  scene is empty);
-- ``replica_cad/``: a generated ReplicaCAD-like scene dataset (``replicaCAD.scene_dataset_config
-  .json``, ``configs/{stages,objects,scenes}``): the demo apartment as ``frl_apartment_stage``,
-  demo objects under ReplicaCAD's names (``frl_apartment_chair_01`` is the cracker box, scaled
-  3x) and a scene instance ``v3_sc0_staging_00`` placing four of them;
-- ``objects/example_objects``, ``objects/locobot_merged``: rigidsim's demo objects;
-- ``test_assets``: Habitat's MIT test assets (``../shared/assets/habitat/data`` or
-  ``RIGIDSIM_HABITAT_DATA``), plus the demo's ``test_assets`` files they lack.
+Data paths are changed by a folder of stand-ins, ``<work>/data`` (each program still opens the
+path it names; built by ``habitat_stand_ins.py``, which lists them): rigidsim's demo apartment
+for Habitat's test scenes (moved for skokloster-castle so that ``example.py``'s hard-coded goal
+is on its navmesh; hard-coded positions and path lengths still differ), rigidsim's demo
+objects, and Habitat's MIT test assets (``../shared/assets/habitat/data`` or
+``RIGIDSIM_HABITAT_DATA``).
 
 Nothing of habitat-sim is copied into this repository: the work folder is temporary unless
 ``--keep`` names one.
 
 The programs and their arguments are those Habitat's own ``tests/test_examples.py`` runs. Usage:
 
-    python scripts/habitat_programs.py --habitat-sim PATH [--only NAME] [--tests [PYTEST_ARGS]]
+    python scripts/habitat_programs.py --habitat-sim PATH [--only NAME] [--example-frames N]
+                                       [--tests [PYTEST_ARGS]]
 
-(``--tests tests/test_sensors.py -x`` runs the files named, ``--tests -k gfx`` all of them)
-
-prints one line per program (ran to the end, or the last line of its error) and the count.
+prints one line per program (ran to the end, or the last line of its error; its run time) and
+the count. ``--example-frames N`` runs ``example.py`` for N frames (``--max_frames N``) instead
+of its default 1000, for a quicker pass over its 48 flag combinations.
 """
 
 from __future__ import annotations
 
 import argparse
 import itertools
-import json
 import os
 import re
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
@@ -85,76 +75,6 @@ TUTORIALS = (
     ("benchmark", "examples/benchmark.py", ""),
 )  # fmt: skip
 
-#: Habitat's data paths -> the stand-ins (paths relative to the demo data or the test assets)
-STAND_INS = {
-    "scene_datasets/habitat-test-scenes/skokloster-castle": "demo:scene_datasets/demo/apartment",
-    "scene_datasets/habitat-test-scenes/van-gogh-room": "demo:scene_datasets/demo/apartment",
-    "scene_datasets/habitat-test-scenes/apartment_1": "demo:scene_datasets/demo/apartment",
-    "scene_datasets/mp3d_example/17DRP5sb8fy/17DRP5sb8fy": "demo:scene_datasets/demo/apartment",
-}
-#: scene dataset configs Habitat's programs name, generated: (path under data/, JSON content)
-GENERATED_CONFIGS = (
-    # the mp3d example dataset: its one stage, the demo apartment linked above
-    (
-        "scene_datasets/mp3d_example/mp3d.scene_dataset_config.json",
-        {"stages": {"paths": {".json": ["../demo"]}}, "objects": {"paths": {".json": []}}},
-    ),
-)
-# ReplicaCAD (the coordinate frame tutorial): a scene dataset of the same layout, generated
-_REPLICA = "replica_cad"
-_REPLICA_OBJECTS = {  # stand-in object name -> (demo asset, scale, mass kg)
-    "frl_apartment_chair_01": ("objects/example_objects/cheezit.glb", 3.0, 5.0),
-    "frl_apartment_bowl_07": ("objects/example_objects/chefcan.glb", 1.0, 0.4),
-    "frl_apartment_kitchen_utensil_01": ("objects/example_objects/banana.glb", 1.0, 0.1),
-}
-GENERATED_LINKS = (  # (path under data/, path in the demo data)
-    (f"{_REPLICA}/stages/frl_apartment_stage.glb", "scene_datasets/demo/apartment.glb"),
-    (f"{_REPLICA}/stages/frl_apartment_stage.navmesh", "scene_datasets/demo/apartment.navmesh"),
-    *(
-        (f"{_REPLICA}/objects/{name}.glb", asset)
-        for name, (asset, _, _) in _REPLICA_OBJECTS.items()
-    ),
-)
-GENERATED_CONFIGS += (
-    (
-        f"{_REPLICA}/replicaCAD.scene_dataset_config.json",
-        {
-            "stages": {"paths": {".json": ["configs/stages"]}},
-            "objects": {"paths": {".json": ["configs/objects"]}},
-            "scene_instances": {"paths": {".json": ["configs/scenes"]}},
-        },
-    ),
-    (
-        f"{_REPLICA}/configs/stages/frl_apartment_stage.stage_config.json",
-        {"render_asset": "../../stages/frl_apartment_stage.glb", "up": [0, 1, 0],
-         "front": [0, 0, -1], "nav_asset": "../../stages/frl_apartment_stage.navmesh"},
-    ),
-    *(
-        (
-            f"{_REPLICA}/configs/objects/{name}.object_config.json",
-            {"render_asset": f"../../objects/{name}.glb", "scale": [scale] * 3, "mass": mass},
-        )
-        for name, (_, scale, mass) in _REPLICA_OBJECTS.items()
-    ),
-    (  # the demo apartment's floor is at y = -1.45 m
-        f"{_REPLICA}/configs/scenes/v3_sc0_staging_00.scene_instance.json",
-        {
-            "translation_origin": "asset_local",
-            "stage_instance": {"template_name": "stages/frl_apartment_stage"},
-            "object_instances": [
-                {"template_name": "objects/frl_apartment_chair_01", "motion_type": "DYNAMIC",
-                 "translation": [1.5, -1.13, -0.5], "rotation": [0.924, 0, 0.383, 0]},
-                {"template_name": "objects/frl_apartment_chair_01", "motion_type": "DYNAMIC",
-                 "translation": [0.5, -1.13, 1.5], "rotation": [1, 0, 0, 0]},
-                {"template_name": "objects/frl_apartment_bowl_07", "motion_type": "STATIC",
-                 "translation": [2.0, -0.82, -1.0], "rotation": [1, 0, 0, 0]},
-                {"template_name": "objects/frl_apartment_kitchen_utensil_01",
-                 "motion_type": "DYNAMIC", "translation": [2.2, -0.86, -1.1],
-                 "rotation": [0.707, 0, 0.707, 0]},
-            ],
-        },
-    ),
-)  # fmt: skip
 IMPORT_LINE = re.compile(r"^(\s*)(import|from)\s+(habitat_sim|magnum)\b(.*)$")
 
 
@@ -223,35 +143,6 @@ def rewrite_imports(work: Path) -> int:
     return changed
 
 
-def link_data(work: Path, demo: Path, assets: Path) -> None:
-    """Build ``work/data``: Habitat's data layout as links to the demo data and the test assets."""
-    data = work / "data"
-    for sub in ("objects", "scene_datasets/demo"):
-        (data / sub).parent.mkdir(parents=True, exist_ok=True)
-        (data / sub).symlink_to(demo / sub, target_is_directory=True)
-    test_assets = data / "test_assets"
-    shutil.copytree(assets / "test_assets", test_assets, symlinks=True)
-    for extra in (demo / "test_assets").rglob("*"):
-        target = test_assets / extra.relative_to(demo / "test_assets")
-        if extra.is_file() and not target.exists():
-            target.parent.mkdir(parents=True, exist_ok=True)
-            target.symlink_to(extra)
-    for config in assets.glob("*.json"):
-        (data / config.name).symlink_to(config)
-    for habitat_name, stand_in in STAND_INS.items():
-        source = demo / stand_in.removeprefix("demo:")
-        for suffix in (".glb", ".navmesh"):
-            link = data / (habitat_name + suffix)
-            link.parent.mkdir(parents=True, exist_ok=True)
-            link.symlink_to(source.with_suffix(suffix))
-    for relative, target in GENERATED_LINKS:
-        (data / relative).parent.mkdir(parents=True, exist_ok=True)
-        (data / relative).symlink_to(demo / target)
-    for relative, content in GENERATED_CONFIGS:
-        (data / relative).parent.mkdir(parents=True, exist_ok=True)
-        (data / relative).write_text(json.dumps(content, indent=2) + "\n", encoding="utf-8")
-
-
 def run_program(work: Path, script: str, argv: list[str], timeout: float) -> tuple[bool, str]:
     """Run one program as Habitat's tests do (its folder on sys.path); return (ok, last line)."""
     env = dict(
@@ -276,9 +167,14 @@ def main() -> int:
     parser.add_argument("--only", help="run the programs whose name contains this text")
     parser.add_argument("--timeout", type=float, default=600.0, help="seconds per program")
     parser.add_argument("--keep", type=Path, help="work folder to keep (default: temporary)")
+    parser.add_argument(
+        "--example-frames", type=int, help="frames per example.py run (default: its 1000)"
+    )
     parser.add_argument("--tests", nargs=argparse.REMAINDER, help="run Habitat's pytest tests")
     options = parser.parse_args()
     sys.path.insert(0, str(REPO_ROOT))
+    from habitat_stand_ins import link_data
+
     from engine.demo import demo_data_path
 
     assets = Path(
@@ -293,15 +189,19 @@ def main() -> int:
     if options.tests is not None:
         env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO_ROOT), str(work / "tests")]))
         pytest = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"]
-        named = any(arg.startswith("tests/") for arg in options.tests)  # else every test file
-        paths = [] if named else ["tests"]
-        return subprocess.run([*pytest, *paths, *options.tests], cwd=work, env=env).returncode
+        named = any(arg.startswith("tests") for arg in options.tests)  # else every test file
+        chosen = options.tests if named else ["tests", *options.tests]
+        return subprocess.run([*pytest, *chosen], cwd=work, env=env).returncode
     programs = [p for p in example_programs() if not options.only or options.only in p[0]]
     passed = 0
     for name, script, argv in programs:
+        if options.example_frames is not None and script == "examples/example.py":
+            argv = [*argv, "--max_frames", str(options.example_frames)]
+        started = time.monotonic()
         ok, last = run_program(work, script, argv, options.timeout)
+        seconds = time.monotonic() - started
         passed += ok
-        print(f"{'PASS' if ok else 'FAIL'}  {name:<60} {last[:160]}", flush=True)
+        print(f"{'PASS' if ok else 'FAIL'}  {name:<60} {seconds:6.0f} s  {last[:160]}", flush=True)
     print(f"{passed} of {len(programs)} programs ran to the end")
     return 0 if passed == len(programs) else 1
 

@@ -11,6 +11,7 @@ each byte by 255 as is; ``from_srgb_int(0xRRGGBB)`` also undoes the sRGB transfe
 
 from __future__ import annotations
 
+import inspect
 from typing import Any
 
 import numpy as np
@@ -44,6 +45,49 @@ def srgb_to_linear(channels: np.ndarray) -> np.ndarray:
     return np.where(channels <= 0.04045, channels / 12.92, ((channels + 0.055) / 1.055) ** 2.4)
 
 
+#: Magnum's named colors: name -> (the channel its one argument sets, that argument's default).
+#: The other two channels are ``1 - default``: ``red(red=1)`` is ``(red, 0, 0)``, ``cyan(red=0)``
+#: is ``(red, 1, 1)``. The argument is named after its channel.
+NAMED_COLORS = {
+    "red": (0, 1.0),
+    "green": (1, 1.0),
+    "blue": (2, 1.0),
+    "cyan": (0, 0.0),
+    "magenta": (1, 0.0),
+    "yellow": (2, 0.0),
+}
+CHANNEL_NAMES = ("red", "green", "blue")
+
+
+def named_color(name: str, alpha: bool) -> Any:
+    """The static constructor ``Color3.<name>(channel=default)`` or, with ``alpha``,
+    ``Color4.<name>(channel=default, alpha=1.0)`` of :data:`NAMED_COLORS`."""
+    channel, default = NAMED_COLORS[name]
+    parameters = [
+        inspect.Parameter(
+            CHANNEL_NAMES[channel], inspect.Parameter.POSITIONAL_OR_KEYWORD, default=default
+        )
+    ]
+    if alpha:
+        parameters.append(
+            inspect.Parameter("alpha", inspect.Parameter.POSITIONAL_OR_KEYWORD, default=1.0)
+        )
+    signature = inspect.Signature(parameters)
+
+    def constructor(*args: Any, **kwargs: Any) -> Vector3:
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        value, *rest = bound.arguments.values()
+        rgb = [1.0 - default] * 3
+        rgb[channel] = value
+        return Color4(*rgb, *rest) if alpha else Color3(*rgb)
+
+    constructor.__name__ = constructor.__qualname__ = name
+    constructor.__signature__ = signature  # type: ignore[attr-defined]
+    constructor.__doc__ = f"Magnum's ``{name}``: see :data:`NAMED_COLORS`."
+    return staticmethod(constructor)
+
+
 class Color3(Vector3):
     """An RGB color with float channels in [0, 1] (Magnum's ``Color3``, a ``Vector3``)."""
 
@@ -53,29 +97,12 @@ class Color3(Vector3):
     g = Vector3.y
     b = Vector3.z
 
-    @staticmethod
-    def red(red: float = 1.0) -> Color3:
-        return Color3(red, 0.0, 0.0)
-
-    @staticmethod
-    def green(green: float = 1.0) -> Color3:
-        return Color3(0.0, green, 0.0)
-
-    @staticmethod
-    def blue(blue: float = 1.0) -> Color3:
-        return Color3(0.0, 0.0, blue)
-
-    @staticmethod
-    def cyan(red: float = 0.0) -> Color3:
-        return Color3(red, 1.0, 1.0)
-
-    @staticmethod
-    def magenta(green: float = 0.0) -> Color3:
-        return Color3(1.0, green, 1.0)
-
-    @staticmethod
-    def yellow(blue: float = 0.0) -> Color3:
-        return Color3(1.0, 1.0, blue)
+    red = named_color("red", alpha=False)
+    green = named_color("green", alpha=False)
+    blue = named_color("blue", alpha=False)
+    cyan = named_color("cyan", alpha=False)
+    magenta = named_color("magenta", alpha=False)
+    yellow = named_color("yellow", alpha=False)
 
     @staticmethod
     def from_linear_rgb_int(linear: int) -> Color3:
@@ -117,29 +144,12 @@ class Color4(Vector4):
     def rgb(self) -> Color3:
         return Color3(self._data[:3])
 
-    @staticmethod
-    def red(red: float = 1.0, alpha: float = 1.0) -> Color4:
-        return Color4(red, 0.0, 0.0, alpha)
-
-    @staticmethod
-    def green(green: float = 1.0, alpha: float = 1.0) -> Color4:
-        return Color4(0.0, green, 0.0, alpha)
-
-    @staticmethod
-    def blue(blue: float = 1.0, alpha: float = 1.0) -> Color4:
-        return Color4(0.0, 0.0, blue, alpha)
-
-    @staticmethod
-    def cyan(red: float = 0.0, alpha: float = 1.0) -> Color4:
-        return Color4(red, 1.0, 1.0, alpha)
-
-    @staticmethod
-    def magenta(green: float = 0.0, alpha: float = 1.0) -> Color4:
-        return Color4(1.0, green, 1.0, alpha)
-
-    @staticmethod
-    def yellow(blue: float = 0.0, alpha: float = 1.0) -> Color4:
-        return Color4(1.0, 1.0, blue, alpha)
+    red = named_color("red", alpha=True)
+    green = named_color("green", alpha=True)
+    blue = named_color("blue", alpha=True)
+    cyan = named_color("cyan", alpha=True)
+    magenta = named_color("magenta", alpha=True)
+    yellow = named_color("yellow", alpha=True)
 
     @staticmethod
     def from_linear_rgb_int(linear: int, a: float = 1.0) -> Color4:

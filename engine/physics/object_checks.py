@@ -4,8 +4,10 @@ Every setter of a ``ManagedRigidObject`` validates first (ValueError/TypeError n
 value) and only then writes the world's ``body_*`` arrays, so bad input changes nothing.
 Validation includes overflow: a setter computes its candidate result (the new pose, the
 velocity after an impulse, the velocity change a force makes over one fixed step), checks it
-is finite (:func:`finite_result`), and only then commits it, so ``translate([1e308, 0, 0])``
-twice is refused the second time with the body unchanged.
+is finite (:func:`finite_result`), and only then commits it. Positions and velocity-control
+targets must moreover stay within ``MAX_COORDINATE`` (the 32-bit float range Habitat keeps
+them in, :func:`within_range`), so ``translate([1e308, 0, 0])`` or a velocity-control target
+of 1e308 m/s is refused the first time, before anything changes, not at a later use.
 """
 
 from __future__ import annotations
@@ -18,12 +20,15 @@ import numpy as np
 
 from engine import mn
 
+from .settings import MAX_COORDINATE
+
 __all__ = [
     "DeadObjectError",
     "angle_argument",
     "finite_result",
     "number_argument",
     "quiet_overflow",
+    "within_range",
 ]
 
 
@@ -58,6 +63,19 @@ def finite_result(value: np.ndarray, name: str, what: str) -> np.ndarray:
         raise ValueError(
             f"{name} is too large: it would make a non-finite {what} "
             f"({np.asarray(value).tolist()}); the object is unchanged"
+        )
+    return value
+
+
+def within_range(value: np.ndarray, name: str, what: str) -> np.ndarray:
+    """``value`` if every component is finite and at most ``MAX_COORDINATE`` in magnitude,
+    else a ValueError naming the argument ``name`` and the ``what`` it would make."""
+    finite_result(value, name, what)
+    if np.any(np.abs(value) > MAX_COORDINATE):
+        raise ValueError(
+            f"{name} is too large: it would make the {what} {np.asarray(value).tolist()}, "
+            f"beyond +-{MAX_COORDINATE:.8g} (the 32-bit float range Habitat keeps it in); "
+            f"the object is unchanged"
         )
     return value
 

@@ -28,7 +28,13 @@ from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .collision_groups import assign_group
 from .motion_type import MotionType
 from .node_sync import canonical_sign
-from .object_checks import DeadObjectError, angle_argument, finite_result, quiet_overflow
+from .object_checks import (
+    DeadObjectError,
+    angle_argument,
+    finite_result,
+    quiet_overflow,
+    within_range,
+)
 from .quaternions import matrix_to_quat, quat_multiply, quat_to_matrix
 from .queries import contact_test
 from .settings import MIN_AXIS_SCALE, MIN_QUATERNION_NORM, ORTHOGONALITY_TOLERANCE, TIME_TO_SLEEP
@@ -165,7 +171,7 @@ class ManagedPhysicsObject:
         """Validate the candidate pose (finite position, non-zero finite quaternion), then
         teleport the body; ``name`` is the argument blamed when it is not."""
         index = self._check()
-        finite_result(position, name, "position")
+        within_range(position, name, "position")
         norm = float(stable_norm(rotation))
         if not (np.isfinite(norm) and norm > MIN_QUATERNION_NORM):
             raise ValueError(f"{name} would make a degenerate rotation {rotation.tolist()}")

@@ -256,6 +256,11 @@ MAX_LINEAR_SPEED = 200.0
 MAX_ANGULAR_SPEED = 100.0
 #: fixed steps, the most a single step_physics call may run (dt / timestep above it raises).
 MAX_STEPS_PER_CALL = 100_000
+#: m (positions) and m/s or rad/s (velocity-control targets), the largest magnitude of one
+#: component: the largest 32-bit float, the type Habitat keeps them in (beyond it they are
+#: inf there). Poses and targets beyond it are refused before anything changes; within it the
+#: float64 arithmetic on them (squares, the renderer's products) cannot overflow.
+MAX_COORDINATE = 3.4028234663852886e38
 #: 1, a body moving more than this fraction of its smallest half extent per step is swept
 #: against static geometry (continuous collision, sweep.py) so it cannot tunnel through walls.
 CCD_MOTION_FRACTION = 0.5

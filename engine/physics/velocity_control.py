@@ -8,7 +8,9 @@
     w  = q0.rotate(omega) if ang_vel_is_local else omega
     q1 = normalize(dq * q0),  dq = rotation by |w| dt about w / |w|   (only if w != 0)
 
-Each part applies only while its ``controlling_*`` flag is set. The world uses it once per
+Each part applies only while its ``controlling_*`` flag is set. Targets and resulting
+translations beyond ``MAX_COORDINATE`` (Habitat's 32-bit float range) are refused with a
+ValueError naming the value, before anything changes. The world uses it once per
 ``step_physics`` call with the requested ``dt`` for KINEMATIC objects; for DYNAMIC objects it
 overwrites the body velocity once per call (see :mod:`engine.physics.world`).
 """
@@ -21,6 +23,8 @@ import numpy as np
 
 from engine import mn
 from engine.mn.vectors import stable_norm
+
+from .object_checks import within_range
 
 
 class RigidState:
@@ -86,7 +90,8 @@ class VelocityControl:
 
     @linear_velocity.setter
     def linear_velocity(self, value: Any) -> None:
-        self._linear = np.asarray(mn.to_vector3(value, "linear_velocity"))
+        linear = np.asarray(mn.to_vector3(value, "linear_velocity"))
+        self._linear = within_range(linear, "linear_velocity", "target velocity")
 
     @property
     def angular_velocity(self) -> mn.Vector3:
@@ -95,7 +100,8 @@ class VelocityControl:
 
     @angular_velocity.setter
     def angular_velocity(self, value: Any) -> None:
-        self._angular = np.asarray(mn.to_vector3(value, "angular_velocity"))
+        angular = np.asarray(mn.to_vector3(value, "angular_velocity"))
+        self._angular = within_range(angular, "angular_velocity", "target angular velocity")
 
     def __getattr__(self, name: str) -> Any:
         flags = self.__dict__.get("_flags")
@@ -151,11 +157,9 @@ class VelocityControl:
                 dq = np.append(angular / speed * np.sin(half), np.cos(half))
                 rotation = mn.quaternion_multiply(dq, q0)  # q1 = dq * q0
                 rotation /= np.linalg.norm(rotation)
-        if not np.all(np.isfinite(translation)):
-            raise ValueError(
-                f"linear_velocity {self._linear.tolist()} over dt={dt!r} would "
-                f"move the object to a non-finite translation"
-            )
+        within_range(
+            translation, f"linear_velocity {self._linear.tolist()} over dt={dt!r}", "translation"
+        )
         return RigidState(mn.Quaternion.from_xyzw(rotation), translation)
 
     def __repr__(self) -> str:

@@ -38,12 +38,6 @@ from navmesh import NavMeshSettings
 __all__ = ["default_sim_settings", "make_cfg"]
 
 
-def _black() -> Any:
-    """Habitat's ``mn.Color4.from_linear_rgb_int(0)`` (a list where mn has no Color4)."""
-    from_linear_rgb_int = getattr(getattr(mn, "Color4", None), "from_linear_rgb_int", None)
-    return from_linear_rgb_int(0) if from_linear_rgb_int is not None else [0.0, 0.0, 0.0, 1.0]
-
-
 default_sim_settings: dict[str, Any] = {
     # a .scene_dataset_config.json, or "default"
     "scene_dataset_config_file": "default",
@@ -54,7 +48,7 @@ default_sim_settings: dict[str, Any] = {
     "height": 480,
     "hfov": 90,
     "zfar": 1000.0,
-    "clear_color": _black(),
+    "clear_color": mn.Color4.from_linear_rgb_int(0),
     # height of the sensors above the agent's root (m), which is also the agent's height
     "sensor_height": 1.5,
     "default_agent": 0,
@@ -82,17 +76,14 @@ default_sim_settings: dict[str, Any] = {
     "enable_hbao": False,
 }
 
-# uuid -> (sensor type, camera model); the order in which make_cfg adds them
-_CAMERAS = {
+#: the sensors make_cfg can add, in its order: uuid (the settings key) -> (type, camera model)
+SENSOR_MODELS = {
     "color_sensor": (SensorType.COLOR, SensorSubType.PINHOLE),
     "depth_sensor": (SensorType.DEPTH, SensorSubType.PINHOLE),
     "semantic_sensor": (SensorType.SEMANTIC, SensorSubType.PINHOLE),
     "ortho_rgba_sensor": (SensorType.COLOR, SensorSubType.ORTHOGRAPHIC),
     "ortho_depth_sensor": (SensorType.DEPTH, SensorSubType.ORTHOGRAPHIC),
     "ortho_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.ORTHOGRAPHIC),
-}
-#: the wide-angle sensors, in make_cfg's order: uuid -> (sensor type, model)
-_WIDE = {
     "fisheye_rgba_sensor": (SensorType.COLOR, SensorSubType.FISHEYE),
     "fisheye_depth_sensor": (SensorType.DEPTH, SensorSubType.FISHEYE),
     "fisheye_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.FISHEYE),
@@ -100,38 +91,55 @@ _WIDE = {
     "equirect_depth_sensor": (SensorType.DEPTH, SensorSubType.EQUIRECTANGULAR),
     "equirect_semantic_sensor": (SensorType.SEMANTIC, SensorSubType.EQUIRECTANGULAR),
 }
+#: keys make_cfg reads unconditionally (as Habitat's): missing ones raise KeyError
+REQUIRED_KEYS = (
+    "scene",
+    "width",
+    "height",
+    "sensor_height",
+    "hfov",
+    "zfar",
+    "agent_radius",
+    "default_agent_navmesh",
+)
+#: SimulatorConfiguration attributes copied from the settings key of the same name when present
+OPTIONAL_SIM_KEYS = (
+    "scene_dataset_config_file",
+    "enable_physics",
+    "physics_config_file",
+    "scene_light_setup",
+)
 
 
-def _wide_spec(settings: dict[str, Any], uuid: str) -> CubeMapSensorBaseSpec:
-    """Habitat's ``create_fisheye_spec`` / ``create_equirect_spec`` for one uuid."""
-    sensor_type, subtype = _WIDE[uuid]
-    spec: CubeMapSensorBaseSpec
+def _lens_spec(
+    settings: dict[str, Any], subtype: SensorSubType
+) -> CameraSensorSpec | CubeMapSensorBaseSpec:
+    """A new spec of the camera model ``subtype`` with the model's own settings: the pinhole
+    field of view and the far plane, or Habitat's fisheye lens (``create_fisheye_spec``)."""
     if subtype is SensorSubType.FISHEYE:
-        spec = FisheyeSensorDoubleSphereSpec()
-        spec.xi, spec.alpha = -0.27, 0.57  # the GoPro lens of Usenko et al. 2018, Table 3
-        spec.focal_length = [364.84, 364.86]
-    else:
-        spec = EquirectangularSensorSpec()
+        fisheye = FisheyeSensorDoubleSphereSpec()
+        fisheye.xi, fisheye.alpha = -0.27, 0.57  # the GoPro lens of Usenko et al. 2018, Table 3
+        fisheye.focal_length = [364.84, 364.86]
+        return fisheye
+    if subtype is SensorSubType.EQUIRECTANGULAR:
+        return EquirectangularSensorSpec()
+    camera = CameraSensorSpec()
+    camera.sensor_subtype = subtype
+    camera.far = float(settings["zfar"])
+    if subtype is SensorSubType.PINHOLE:
+        camera.hfov = float(settings["hfov"])
+    return camera
+
+
+def _sensor_spec(settings: dict[str, Any], uuid: str) -> CameraSensorSpec | CubeMapSensorBaseSpec:
+    """The spec of sensor ``uuid`` (a key of :data:`SENSOR_MODELS`), as Habitat's make_cfg
+    builds it: the settings' resolution, at ``[0, sensor_height, 0]``, color sensors with
+    the clear color, the others with one channel."""
+    sensor_type, subtype = SENSOR_MODELS[uuid]
+    spec = _lens_spec(settings, subtype)
     spec.uuid, spec.sensor_type = uuid, sensor_type
     spec.resolution = [int(settings["height"]), int(settings["width"])]
     spec.position = [0.0, float(settings["sensor_height"]), 0.0]
-    if sensor_type is SensorType.COLOR:
-        spec.clear_color = settings["clear_color"]
-    else:
-        spec.channels = 1
-    return spec
-
-
-def _camera_spec(settings: dict[str, Any], uuid: str) -> CameraSensorSpec:
-    sensor_type, subtype = _CAMERAS[uuid]
-    spec = CameraSensorSpec()
-    spec.uuid = uuid
-    spec.sensor_type, spec.sensor_subtype = sensor_type, subtype
-    spec.resolution = [int(settings["height"]), int(settings["width"])]
-    spec.position = [0.0, float(settings["sensor_height"]), 0.0]
-    spec.far = float(settings["zfar"])
-    if subtype is SensorSubType.PINHOLE:
-        spec.hfov = float(settings["hfov"])
     if sensor_type is SensorType.COLOR:
         spec.clear_color = settings["clear_color"]
     else:
@@ -145,30 +153,12 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
     Keys missing from ``settings`` that Habitat reads unconditionally raise ``KeyError``
     naming the key (start from ``{**default_sim_settings, ...}``).
     """
-    missing = [
-        key
-        for key in (
-            "scene",
-            "width",
-            "height",
-            "sensor_height",
-            "hfov",
-            "zfar",
-            "agent_radius",
-            "default_agent_navmesh",
-        )
-        if key not in settings
-    ]
+    missing = [key for key in REQUIRED_KEYS if key not in settings]
     if missing:
         raise KeyError(f"make_cfg: settings lack {missing}; start from default_sim_settings")
     sim_cfg = SimulatorConfiguration()
     sim_cfg.scene_id = settings["scene"]
-    for key in (
-        "scene_dataset_config_file",
-        "enable_physics",
-        "physics_config_file",
-        "scene_light_setup",
-    ):
+    for key in OPTIONAL_SIM_KEYS:
         if key in settings:
             setattr(sim_cfg, key, settings[key])
     sim_cfg.frustum_culling = bool(settings.get("frustum_culling", False))
@@ -183,8 +173,8 @@ def make_cfg(settings: dict[str, Any]) -> Configuration:
     agent_cfg.height = float(settings["sensor_height"])
     agent_cfg.radius = float(settings["agent_radius"])
     agent_cfg.sensor_specifications = [
-        _camera_spec(settings, uuid) for uuid in _CAMERAS if settings.get(uuid, False)
-    ] + [_wide_spec(settings, uuid) for uuid in _WIDE if settings.get(uuid, False)]
+        _sensor_spec(settings, uuid) for uuid in SENSOR_MODELS if settings.get(uuid, False)
+    ]
     agent_cfg.action_space = {
         "move_forward": ActionSpec("move_forward", ActuationSpec(amount=0.25)),
         "turn_left": ActionSpec("turn_left", ActuationSpec(amount=10.0)),

@@ -194,3 +194,27 @@ def test_island_colored_map_has_habitats_size_and_orientation():
     np.testing.assert_array_equal(image[0, 1], d3_40_colors_rgb[0])
     np.testing.assert_array_equal(image[2, 2], d3_40_colors_rgb[1])
     assert (image == 255).all(axis=2).sum() == 10  # everything else white
+
+
+@pytest.mark.parametrize(
+    ("name", "keyword", "value", "rgb"),
+    [
+        ("red", "red", 0.25, (0.25, 0.0, 0.0)),
+        ("green", "green", 0.25, (0.0, 0.25, 0.0)),
+        ("blue", "blue", 0.25, (0.0, 0.0, 0.25)),
+        ("cyan", "red", 0.25, (0.25, 1.0, 1.0)),
+        ("magenta", "green", 0.25, (1.0, 0.25, 1.0)),
+        ("yellow", "blue", 0.25, (1.0, 1.0, 0.25)),
+    ],
+)
+def test_named_colors_take_magnums_arguments(name, keyword, value, rgb):
+    default = 1.0 if name in ("red", "green", "blue") else 0.0
+    full = [1.0 - default] * 3
+    full[("red", "green", "blue").index(keyword)] = default
+    assert getattr(mn.Color3, name)() == mn.Color3(*full)
+    assert getattr(mn.Color3, name)(**{keyword: value}) == mn.Color3(*rgb)
+    color = getattr(mn.Color4, name)(value, alpha=0.5)
+    assert isinstance(color, mn.Color4) and color == mn.Color4(*rgb, 0.5)
+    assert getattr(mn.Color4, name)() == mn.Color4(*full, 1.0)
+    with pytest.raises(TypeError, match="alpha"):
+        getattr(mn.Color3, name)(value, alpha=0.5)  # Color3 has no alpha

@@ -1,7 +1,9 @@
 """Bad input to rigid objects and ray casts: a clear exception, the world unchanged.
 
-Object setters get non-finite, wrongly shaped and out-of-range values, and values that only
-overflow when used (a second ``translate`` by 1e308, a huge kinematic velocity at the step);
+Object setters get non-finite, wrongly shaped and out-of-range values, values beyond the
+32-bit float range poses and velocity targets live in (``translate`` by 1e308, a 1e308 m/s
+velocity target: refused the first time), and values that only overflow when used (a second
+huge impulse, a kinematic velocity that would carry the object out of range at the step);
 ``cast_ray`` gets non-rays, bad distances and huge rays. Every refusal is checked by
 :func:`bad_inputs.assert_refused` (exception type and an unchanged ``world_hash``) on the
 ``sim`` of ``conftest.py``.
@@ -121,7 +123,8 @@ OVERFLOW_TARGETS = (
     axis=st.integers(0, 2),
 )
 def test_values_that_overflow_only_when_used_are_refused(sim, name, big, sign, axis):
-    """The first call is fine (finite result), the second would overflow: refused."""
+    """The first call is fine (finite result) or already refused (``translate``: beyond the
+    32-bit float range), the second would overflow: refused."""
     obj = objects(sim)[0]  # dynamic
     original = (obj.translation, obj.rotation, obj.linear_velocity, obj.angular_velocity)
     vector = np.zeros(3)
@@ -148,7 +151,7 @@ def test_values_that_overflow_only_when_used_are_refused(sim, name, big, sign, a
         except ValueError:
             pass
         assert bodies_are_finite(sim.get_physics_world())
-        assert_refused(sim, call, ValueError, match="non-finite")
+        assert_refused(sim, call, ValueError, match="too large")
     finally:
         sim.get_physics_world().bodies.body_force[obj.object_id] = 0.0
         sim.get_physics_world().bodies.body_torque[obj.object_id] = 0.0
@@ -237,11 +240,37 @@ def test_cast_ray_with_huge_rays_returns_finite_hits(sim, origin, direction):
 def test_kinematic_velocity_control_that_would_overflow_is_refused_at_the_step(sim):
     kinematic = objects(sim)[1]
     original = kinematic.translation
-    kinematic.translation = [1.7e308, 0.5, 0.0]
+    kinematic.translation = [3.3e38, 0.5, 0.0]  # near the edge of the 32-bit float range
     control = kinematic.velocity_control
-    control.controlling_lin_vel, control.linear_velocity = True, [1e308, 0.0, 0.0]
+    control.controlling_lin_vel, control.linear_velocity = True, [1e38, 0.0, 0.0]
     try:
         assert_refused(sim, lambda: sim.step_physics(1.0), ValueError, match="linear_velocity")
     finally:
         control.controlling_lin_vel, control.linear_velocity = False, [0.0, 0.0, 0.0]
         kinematic.translation = original
+
+
+@pytest.mark.parametrize("target", ["linear_velocity", "angular_velocity"])
+@pytest.mark.parametrize("kinematic", [True, False])
+def test_velocity_control_targets_beyond_float32_are_refused_when_set(sim, target, kinematic):
+    obj = objects(sim)[1 if kinematic else 0]
+    control = obj.velocity_control
+    before = getattr(control, target)
+    assert_refused(sim, lambda: setattr(control, target, [1e308, 0.0, 0.0]), ValueError, target)
+    assert getattr(control, target) == before
+    setattr(control, target, [-3.4e38, 0.0, 0.0])  # the largest float32 values are accepted
+    setattr(control, target, before)
+
+
+@pytest.mark.parametrize("call", ["translate", "translate_local", "translation"])
+def test_poses_beyond_float32_are_refused_the_first_time(sim, call):
+    obj = objects(sim)[1]  # kinematic
+    start = obj.translation
+    move = {
+        "translate": lambda: obj.translate([0.0, -1e308, 0.0]),
+        "translate_local": lambda: obj.translate_local([0.0, 0.0, 1e308]),
+        "translation": lambda: setattr(obj, "translation", [1e39, 0.0, 0.0]),
+    }[call]
+    assert_refused(sim, move, ValueError, match="32-bit float range")
+    assert obj.translation == start
+    sim.step_physics(1.0 / 60.0)  # nothing was poisoned: the world still steps
