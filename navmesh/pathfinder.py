@@ -172,6 +172,12 @@ class PathFinder:
             return None
         return NavMeshSettings(**vars(self._data.settings))
 
+    @property
+    def nav_grid(self) -> NavGrid:
+        """The query structure of the loaded navmesh, for batch queries (rigidsim addition:
+        ``navmesh.step_filter``, ``navmesh.proximity`` and ``navmesh.geodesic_field`` take it)."""
+        return self._require_grid()
+
     def _require(self) -> NavMeshData:
         if self._data is None:
             raise RuntimeError(_NOT_LOADED)

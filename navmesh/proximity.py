@@ -7,6 +7,7 @@ is ``cell_size`` wide and the navigable region is the union of the navigable squ
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -71,6 +72,76 @@ def has_wall_within(grid: NavGrid, node: int, point: np.ndarray, radius: float) 
             if _point_segment(px, pz, *side)[0] < radius:
                 return True
     return False
+
+
+def walls_within(grid: NavGrid, nodes: np.ndarray, points: np.ndarray, radius: float) -> np.ndarray:
+    """``has_wall_within`` for many points at once: ``(K,) bool``, a boundary side closer than
+    ``radius`` to ``points[k]`` (on ``nodes[k]``); :func:`has_wall_within` is the reference.
+
+    Where every cell of the window of ``ceil(radius / cell_size) + 1`` cells around a point's
+    square holds at most one square (no stacked layers, ``NavGrid.single_layer``), the search
+    needs no flood: the nearest boundary side of *any* square of the window is at the distance
+    the flood finds. (The segment from the point to that side's closest point stays inside
+    the disk; if it left the squares connected to the start it would first cross an unlinked
+    side of a connected square, which is no farther.) Those points are answered with one
+    vectorized pass over the window's unlinked sides; the others (stacked windows) by the
+    best-first search. Distances are compared with ``< radius``, as the reference.
+    """
+    nodes = np.asarray(nodes, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    near = np.zeros(nodes.size, dtype=bool)
+    if nodes.size == 0:
+        return near
+    reach = math.ceil(radius / grid.cell_size) + 1
+    cell_node, stacked_sum = grid.single_layer
+    iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
+    z0, z1 = np.maximum(iz - reach, 0), np.minimum(iz + reach + 1, grid.nz)
+    x0, x1 = np.maximum(ix - reach, 0), np.minimum(ix + reach + 1, grid.nx)
+    stacked = stacked_sum[z1, x1] - stacked_sum[z0, x1] - stacked_sum[z1, x0] + stacked_sum[z0, x0]
+    # the clearance bound rules out a wall without looking (as in has_wall_within)
+    gap = np.hypot(
+        grid.x0 + (ix + 0.5) * grid.cell_size - points[:, 0],
+        grid.z0 + (iz + 0.5) * grid.cell_size - points[:, 2],
+    )
+    open_space = grid.clearance[nodes] - gap >= radius
+    flat = (stacked == 0) & ~open_space
+    for k in np.flatnonzero(
+        (stacked > 0) & ~open_space
+    ):  # stacked layers nearby: the reference search
+        near[k] = has_wall_within(grid, int(nodes[k]), points[k], radius)
+    if flat.any():
+        near[flat] = _flat_walls_within(grid, cell_node, ix[flat], iz[flat], points[flat], radius)
+    return near
+
+
+def _flat_walls_within(grid, cell_node, ix, iz, points, radius) -> np.ndarray:
+    """Whether an unlinked side of a window square lies closer than ``radius`` (vectorized)."""
+    cs = grid.cell_size
+    d_ix, d_iz = _window(math.ceil(radius / cs) + 1)
+    cx, cz = ix[:, None] + d_ix, iz[:, None] + d_iz  # (K, W) window cells
+    inside = (cx >= 0) & (cx < grid.nx) & (cz >= 0) & (cz < grid.nz)
+    cells = np.clip(cz, 0, grid.nz - 1) * grid.nx + np.clip(cx, 0, grid.nx - 1)
+    square = np.where(inside, cell_node[cells], -1)
+    unlinked = (grid.neighbours[:4, np.maximum(square, 0)] < 0) & (square >= 0)  # (4, K, W)
+    side, k, w = np.nonzero(unlinked)
+    px, pz = points[k, 0], points[k, 2]
+    lo_x, lo_z = grid.x0 + cx[k, w] * cs, grid.z0 + cz[k, w] * cs
+    # closest point of each side: the side's fixed coordinate, the other one clamped
+    fixed_x = np.where(side == 0, lo_x + cs, lo_x)  # sides 0 / 1: x = hi / lo, z free
+    fixed_z = np.where(side == 2, lo_z + cs, lo_z)  # sides 2 / 3: z = hi / lo, x free
+    along_z = side < 2
+    qx = np.where(along_z, fixed_x, np.clip(px, lo_x, lo_x + cs))
+    qz = np.where(along_z, np.clip(pz, lo_z, lo_z + cs), fixed_z)
+    near = np.zeros(ix.size, dtype=bool)
+    near[k[np.hypot(qx - px, qz - pz) < radius]] = True
+    return near
+
+
+@functools.cache
+def _window(reach: int) -> tuple[np.ndarray, np.ndarray]:
+    """Offsets ``(d_ix, d_iz)`` of the cells within ``reach`` cells (a square window)."""
+    d_iz, d_ix = np.mgrid[-reach : reach + 1, -reach : reach + 1]
+    return d_ix.ravel(), d_iz.ravel()
 
 
 def _point_segment(px, pz, ax, az, bx, bz):

@@ -1,0 +1,104 @@
+"""The greedy follower's candidate steps scored in one batch: the fast twin of its ``_reward``.
+
+The follower (``engine.nav``) scores every primitive ``[turn] * n + [forward]`` by the step
+that ends it::
+
+    reward = (d_geo(before) - d_geo(after)) / step - 0.0125 n
+             - 0.25 [collided] - 0.05 [obstacle closer than 0.2 m after the step]
+
+Its reference ``_reward`` asks for each candidate, one at a time, what Habitat asks: the
+agent's move filter (``Simulator.step_filter``: ``PathFinder.try_step``), the goal's
+geodesic field at the new position and ``PathFinder.is_near_obstacle``, each snapping the
+points it is given. :class:`BatchProbe` gives the same numbers for all candidates of one
+pose at once when the move filter is the simulator's navmesh step filter (the default):
+
+* the pose's position is snapped once for all candidate steps
+  (``navmesh.step_filter.step_from``) and the filters' Magnum-vector wrappers are skipped;
+* each new position is snapped once and that node serves both the field
+  (``GeodesicField.distance_at``) and the wall test;
+* the wall tests of all candidates are one vectorized pass (``navmesh.proximity.walls_within``).
+
+The arithmetic of a step (target, filter, collision) is the one of
+:class:`engine.follower_poses.ArrayPose`, so rewards agree bit for bit;
+``tests/engine/test_greedy_follower.py`` checks both paths choose the same actions.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from engine.follower_poses import ArrayPose, filtered_move
+from navmesh import PathFinder
+from navmesh.geodesic_field import GeodesicField
+from navmesh.proximity import walls_within
+from navmesh.step_filter import step_from
+
+CLOSE_TO_OBSTACLE_M = 0.2  # a step ending closer than this to a wall costs 0.05
+COLLISION_COST = 0.25  # a blocked step costs this (the floor of acceptable rewards)
+TURN_COST = 0.0125  # per turn of the primitive: prefer short primitives
+NEAR_WALL_COST = 0.05
+
+
+def reward_of(gained: float, turns: int, collided: bool, near_wall: bool) -> float:
+    """The follower's reward of one primitive (see the module), one formula for both paths."""
+    return (
+        gained
+        - TURN_COST * turns
+        - (COLLISION_COST if collided else 0.0)
+        - (NEAR_WALL_COST if near_wall else 0.0)
+    )
+
+
+def navmesh_sliding(move_filter: Any, pathfinder: PathFinder) -> bool | None:
+    """``allow_sliding`` when ``move_filter`` is a simulator's ``step_filter`` on this loaded
+    ``pathfinder`` (read now, as the simulator does), else None: not a navmesh filter."""
+    owner = getattr(move_filter, "__self__", None)
+    if owner is None or getattr(owner, "pathfinder", None) is not pathfinder:
+        return None
+    if move_filter != getattr(owner, "step_filter", None) or not pathfinder.is_loaded:
+        return None
+    return bool(owner.config.sim_cfg.allow_sliding)
+
+
+class BatchProbe:
+    """Rewards of ``[turn] * n + [forward]`` candidates from one pose, all at once."""
+
+    def __init__(self, pathfinder: PathFinder, allow_sliding: bool, forward_amount: float):
+        self.grid = pathfinder.nav_grid
+        self.allow_sliding = allow_sliding
+        self.forward_amount = float(forward_amount)
+
+    def rewards(
+        self,
+        poses: Sequence[ArrayPose],
+        turns: Sequence[int],
+        field: GeodesicField,
+        distance: float,
+    ) -> list[float]:
+        """Rewards of the candidates ``poses[k]`` (already turned ``turns[k]`` times), which
+        all stand where the agent stands; ``distance`` is the geodesic distance from there."""
+        grid = self.grid
+        start = poses[0].position
+        start_node, start_pt = grid.nearest_node(start)
+        gains, collided, nodes, points = [], [], [], []
+        for pose in poses:
+            end = pose.forward_target(self.forward_amount)
+            filtered = step_from(grid, start, start_node, start_pt, end, self.allow_sliding)
+            after, blocked = filtered_move(start, end, filtered)
+            node, snapped = grid.nearest_node(after)
+            gains.append((distance - field.distance_at(node, snapped)) / self.forward_amount)
+            collided.append(blocked)
+            nodes.append(node)
+            points.append(after if snapped is None else snapped)
+        on_mesh = np.asarray(nodes) >= 0  # off the mesh: no wall is near (as is_near_obstacle)
+        near = np.zeros(len(poses), dtype=bool)
+        near[on_mesh] = walls_within(
+            grid, np.asarray(nodes)[on_mesh], np.asarray(points)[on_mesh], CLOSE_TO_OBSTACLE_M
+        )
+        return [
+            reward_of(gain, n, hit, bool(wall))
+            for gain, n, hit, wall in zip(gains, turns, collided, near, strict=True)
+        ]
