@@ -70,6 +70,8 @@ class BatchProbe:
         self.grid = pathfinder.nav_grid
         self.allow_sliding = allow_sliding
         self.forward_amount = float(forward_amount)
+        # (position, node, snapped) of the last start: the batches of one pose share it
+        self._start: tuple[np.ndarray, int, np.ndarray | None] | None = None
 
     def rewards(
         self,
@@ -77,28 +79,52 @@ class BatchProbe:
         turns: Sequence[int],
         field: GeodesicField,
         distance: float,
+        best_so_far: float,
     ) -> list[float]:
-        """Rewards of the candidates ``poses[k]`` (already turned ``turns[k]`` times), which
-        all stand where the agent stands; ``distance`` is the geodesic distance from there."""
+        """Rewards of the candidates ``poses[k]`` (already turned ``turns[k]`` times, all where
+        the agent stands; ``distance`` is the geodesic distance from there), in the order the
+        follower compares them with the best reward found before them (``best_so_far`` at the
+        first).
+
+        The wall test (the 0.05 penalty) runs only for candidates that could still beat the
+        best before them: a candidate whose reward without the penalty is no more than
+        ``max(best_so_far, reward of an earlier one - 0.05)`` cannot, and gets that upper
+        bound instead of its reward; the best candidate and every comparison it wins are
+        exact.
+        """
         grid = self.grid
         start = poses[0].position
-        start_node, start_pt = grid.nearest_node(start)
-        gains, collided, nodes, points = [], [], [], []
-        for pose in poses:
+        if self._start is None or not np.array_equal(self._start[0], start):
+            self._start = (start, *grid.nearest_node(start))
+        _, start_node, start_pt = self._start
+        upper, nodes, points = [], [], []
+        for pose, n in zip(poses, turns, strict=True):
             end = pose.forward_target(self.forward_amount)
             filtered = step_from(grid, start, start_node, start_pt, end, self.allow_sliding)
             after, blocked = filtered_move(start, end, filtered)
             node, snapped = grid.nearest_node(after)
-            gains.append((distance - field.distance_at(node, snapped)) / self.forward_amount)
-            collided.append(blocked)
+            gain = (distance - field.distance_at(node, snapped)) / self.forward_amount
+            upper.append(reward_of(gain, n, blocked, False))
             nodes.append(node)
             points.append(after if snapped is None else snapped)
-        on_mesh = np.asarray(nodes) >= 0  # off the mesh: no wall is near (as is_near_obstacle)
-        near = np.zeros(len(poses), dtype=bool)
-        near[on_mesh] = walls_within(
-            grid, np.asarray(nodes)[on_mesh], np.asarray(points)[on_mesh], CLOSE_TO_OBSTACLE_M
+        tested = self._worth_testing(upper, nodes, best_so_far)
+        rewards = list(upper)
+        if not tested:
+            return rewards
+        near = walls_within(
+            grid, np.asarray(nodes)[tested], np.asarray(points)[tested], CLOSE_TO_OBSTACLE_M
         )
-        return [
-            reward_of(gain, n, hit, bool(wall))
-            for gain, n, hit, wall in zip(gains, turns, collided, near, strict=True)
-        ]
+        for k, wall in zip(tested, near.tolist(), strict=True):
+            rewards[k] = upper[k] - (NEAR_WALL_COST if wall else 0.0)  # reward_of's last term
+        return rewards
+
+    @staticmethod
+    def _worth_testing(upper: list[float], nodes: list[int], best_so_far: float) -> list[int]:
+        """Indices of the on-mesh candidates that may beat every candidate before them (off
+        the mesh no wall is near, as ``is_near_obstacle`` says)."""
+        tested, bound = [], best_so_far
+        for k, (high, node) in enumerate(zip(upper, nodes, strict=True)):
+            if high > bound and node >= 0:
+                tested.append(k)
+            bound = max(bound, high - NEAR_WALL_COST)  # the reward of k is at least this
+        return tested

@@ -35,7 +35,9 @@ goal on another island, or more than 5000 actions) raises
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Iterator
 from enum import Enum
 from typing import Any
 
@@ -225,18 +227,18 @@ class GreedyGeodesicFollower:
             return None
         return BatchProbe(self.pathfinder, sliding, float(self.forward_spec.amount))
 
-    def _candidates(self, pose: PoseT) -> list[list[tuple[PoseT, Any, int]]]:
+    def _candidates(self, pose: PoseT) -> Iterator[list[tuple[PoseT, Any, int]]]:
         """Rounds of ``(turned pose, turn code, turns)``: round n holds the left and right
-        primitives of n turns (round 0 the straight step), while ``n * turn < pi``."""
-        rounds: list[list[tuple[PoseT, Any, int]]] = [[(pose.copy(), LEFT, 0)]]
+        primitives of n turns (round 0 the straight step), while ``n * turn < pi``; each
+        round is turned only when asked for."""
+        yield [(pose.copy(), LEFT, 0)]
         left, right = pose.copy(), pose.copy()
         turns, angle = 1, self._turn_radians
         while angle < math.pi:
             left.act("turn_left")
             right.act("turn_right")
-            rounds.append([(left.copy(), LEFT, turns), (right.copy(), RIGHT, turns)])
+            yield [(left.copy(), LEFT, turns), (right.copy(), RIGHT, turns)]
             turns, angle = turns + 1, angle + self._turn_radians
-        return rounds
 
     def _best_primitive_batched(
         self, probe: BatchProbe, pose: ArrayPose, distance: float
@@ -247,12 +249,13 @@ class GreedyGeodesicFollower:
         assert self._field is not None  # set by the _geodesic call of _best_primitive
         rounds = self._candidates(pose)
         best_reward, best = -COLLISION_COST, []
-        for batch in (rounds[:1], rounds[1:2], rounds[2:]):
+        # batches of 1, 1 and all the remaining rounds, each turned only when reached
+        for batch in (list(itertools.islice(rounds, size)) for size in (1, 1, None)):
             flat = [candidate for round_ in batch for candidate in round_]
             if not flat:
                 break
             poses, turns = [c[0] for c in flat], [c[2] for c in flat]
-            rewards = iter(probe.rewards(poses, turns, self._field, distance))
+            rewards = iter(probe.rewards(poses, turns, self._field, distance, best_reward))
             for round_ in batch:  # the reference loop over these rounds, same order and stop
                 for _, code, n in round_:
                     reward = next(rewards)

@@ -90,33 +90,38 @@ def walls_within(grid: NavGrid, nodes: np.ndarray, points: np.ndarray, radius: f
     nodes = np.asarray(nodes, dtype=np.int64)
     points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     near = np.zeros(nodes.size, dtype=bool)
-    if nodes.size == 0:
-        return near
-    reach = math.ceil(radius / grid.cell_size) + 1
-    cell_node, stacked_sum = grid.single_layer
-    iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
-    z0, z1 = np.maximum(iz - reach, 0), np.minimum(iz + reach + 1, grid.nz)
-    x0, x1 = np.maximum(ix - reach, 0), np.minimum(ix + reach + 1, grid.nx)
-    stacked = stacked_sum[z1, x1] - stacked_sum[z0, x1] - stacked_sum[z1, x0] + stacked_sum[z0, x0]
-    # the clearance bound rules out a wall without looking (as in has_wall_within)
-    gap = np.hypot(
-        grid.x0 + (ix + 0.5) * grid.cell_size - points[:, 0],
-        grid.z0 + (iz + 0.5) * grid.cell_size - points[:, 2],
-    )
-    open_space = grid.clearance[nodes] - gap >= radius
-    flat = (stacked == 0) & ~open_space
-    for k in np.flatnonzero(
-        (stacked > 0) & ~open_space
-    ):  # stacked layers nearby: the reference search
-        near[k] = has_wall_within(grid, int(nodes[k]), points[k], radius)
-    if flat.any():
-        near[flat] = _flat_walls_within(grid, cell_node, ix[flat], iz[flat], points[flat], radius)
+    flat: list[int] = []
+    for k, (node, point) in enumerate(zip(nodes.tolist(), points, strict=True)):
+        kind = _window_kind(grid, node, float(point[0]), float(point[2]), radius)
+        if kind == "stacked":  # stacked layers nearby: the reference search
+            near[k] = has_wall_within(grid, node, point, radius)
+        elif kind == "flat":
+            flat.append(k)
+    if flat:
+        near[flat] = _flat_walls_within(grid, nodes[flat], points[flat], radius)
     return near
 
 
-def _flat_walls_within(grid, cell_node, ix, iz, points, radius) -> np.ndarray:
-    """Whether an unlinked side of a window square lies closer than ``radius`` (vectorized)."""
+def _window_kind(grid: NavGrid, node: int, px: float, pz: float, radius: float) -> str:
+    """ "open" when the clearance bound rules out a wall (as in :func:`has_wall_within`), else
+    "stacked" when the window of the point's square holds stacked layers, else "flat"."""
     cs = grid.cell_size
+    iz, ix = divmod(node % grid.n_cells, grid.nx)
+    gap = math.hypot(grid.x0 + (ix + 0.5) * cs - px, grid.z0 + (iz + 0.5) * cs - pz)
+    if grid.clearance.item(node) - gap >= radius:
+        return "open"
+    reach = math.ceil(radius / cs) + 1
+    total = grid.single_layer[1]  # summed-area table of the stacked cells
+    z0, z1 = max(iz - reach, 0), min(iz + reach + 1, grid.nz)
+    x0, x1 = max(ix - reach, 0), min(ix + reach + 1, grid.nx)
+    stacked = total[z1, x1] - total[z0, x1] - total[z1, x0] + total[z0, x0]
+    return "stacked" if stacked else "flat"
+
+
+def _flat_walls_within(grid, nodes, points, radius) -> np.ndarray:
+    """Whether an unlinked side of a window square lies closer than ``radius`` (vectorized)."""
+    cs, cell_node = grid.cell_size, grid.single_layer[0]
+    iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
     d_ix, d_iz = _window(math.ceil(radius / cs) + 1)
     cx, cz = ix[:, None] + d_ix, iz[:, None] + d_iz  # (K, W) window cells
     inside = (cx >= 0) & (cx < grid.nx) & (cz >= 0) & (cz < grid.nz)
