@@ -197,26 +197,3 @@ def nodes_in_disk(grid: NavGrid, center: np.ndarray, radius: float, island: int)
     dz = grid.z0 + (np.tile(iz.ravel(), grid.n_layers) + 0.5) * cs - center[2]
     inside = (dx * dx + dz * dz <= radius * radius) & (grid.island[nodes] == island)
     return nodes[inside]
-
-
-def topdown_islands(grid: NavGrid, bounds, mpp: float, height: float, eps: float):
-    """Island index at each top-down pixel (vectorized ``is_navigable`` over the image)."""
-    x_min, z_min = bounds[0][0], bounds[0][2]
-    x_res = int((bounds[1][0] - x_min) / mpp)
-    z_res = int((bounds[1][2] - z_min) / mpp)
-    xs = x_min + np.arange(x_res) * mpp
-    zs = z_min + np.arange(z_res) * mpp
-    ix = np.floor((xs - grid.x0) / grid.cell_size).astype(np.int64)
-    iz = np.floor((zs - grid.z0) / grid.cell_size).astype(np.int64)
-    ok_x, ok_z = (ix >= 0) & (ix < grid.nx), (iz >= 0) & (iz < grid.nz)
-    cells = np.clip(iz, 0, grid.nz - 1)[:, None] * grid.nx + np.clip(ix, 0, grid.nx - 1)[None]
-    result = np.full((z_res, x_res), -1, dtype=np.int32)
-    best_dy = np.full((z_res, x_res), np.inf)
-    for layer in range(grid.n_layers):
-        node = cells + layer * grid.n_cells
-        dy = np.abs(grid.floor[node] - height)
-        better = (grid.island[node] >= 0) & (dy <= eps) & (dy < best_dy)
-        result = np.where(better, grid.island[node], result)
-        best_dy = np.where(better, dy, best_dy)
-    result[~(ok_z[:, None] & ok_x[None])] = -1
-    return result
