@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from engine.follower_poses import ArrayPose, filtered_move
+from engine.pathfinder import PathFinder as EnginePathFinder
 from navmesh import PathFinder
 from navmesh.geodesic_field import GeodesicField
 from navmesh.proximity import walls_within
@@ -53,14 +54,38 @@ def reward_of(gained: float, turns: int, collided: bool, near_wall: bool) -> flo
 
 
 def navmesh_sliding(move_filter: Any, pathfinder: PathFinder) -> bool | None:
-    """``allow_sliding`` when ``move_filter`` is a simulator's ``step_filter`` on this loaded
-    ``pathfinder`` (read now, as the simulator does), else None: not a navmesh filter."""
+    """``allow_sliding`` when ``move_filter`` is the navmesh step filter on this loaded
+    ``pathfinder``, else None (another filter: the follower scores through it).
+
+    Two filters qualify: a simulator's ``step_filter`` with this pathfinder (``allow_sliding``
+    is read now, as the simulator does) and the pathfinder's own ``try_step`` /
+    ``try_step_no_sliding`` (Habitat's follower test sets those). Overridden methods do not:
+    the function behind the bound method must be rigidsim's own.
+    """
     owner = getattr(move_filter, "__self__", None)
-    if owner is None or getattr(owner, "pathfinder", None) is not pathfinder:
+    function = getattr(move_filter, "__func__", None)
+    if owner is None or function is None or not pathfinder.is_loaded:
         return None
-    if move_filter != getattr(owner, "step_filter", None) or not pathfinder.is_loaded:
-        return None
-    return bool(owner.config.sim_cfg.allow_sliding)
+    if owner is pathfinder:
+        return _PATHFINDER_STEPS.get(function)
+    # a Simulator, named rather than imported: engine.simulator imports the follower
+    own_step_filter = (function.__module__, function.__qualname__) == (
+        "engine.simulator",
+        "Simulator.step_filter",
+    )
+    if own_step_filter and getattr(owner, "pathfinder", None) is pathfinder:
+        return bool(owner.config.sim_cfg.allow_sliding)
+    return None
+
+
+#: the pathfinders' step methods and whether they slide (equal results: the engine's
+#: subclass only wraps the point in an mn.Vector3)
+_PATHFINDER_STEPS = {
+    PathFinder.try_step: True,
+    PathFinder.try_step_no_sliding: False,
+    EnginePathFinder.try_step: True,
+    EnginePathFinder.try_step_no_sliding: False,
+}
 
 
 class BatchProbe:

@@ -193,3 +193,32 @@ def test_the_batch_probe_is_used_only_for_the_simulators_navmesh_filter(demo_dat
         assert navmesh_sliding(agent.controls.move_filter_fn, sim.pathfinder) is False
         assert navmesh_sliding(lambda start, end: end, sim.pathfinder) is None
         assert navmesh_sliding(agent.controls.move_filter_fn, habitat_sim.PathFinder()) is None
+        # Habitat's follower test filters with the pathfinder's own step methods
+        assert navmesh_sliding(sim.pathfinder.try_step, sim.pathfinder) is True
+        assert navmesh_sliding(sim.pathfinder.try_step_no_sliding, sim.pathfinder) is False
+        assert navmesh_sliding(sim.pathfinder.snap_point, sim.pathfinder) is None
+
+        class Overridden(type(sim)):
+            def step_filter(self, start_pos, end_pos):
+                return end_pos
+
+        sim.__class__ = Overridden  # an overridden step filter is not the navmesh's
+        assert navmesh_sliding(sim.step_filter, sim.pathfinder) is None
+        sim.__class__ = Overridden.__bases__[0]
+
+
+def test_pathfinder_step_filters_plan_the_reference_actions(demo_data):
+    """Habitat's follower test moves the agent with ``pathfinder.try_step`` itself: the batch
+    scorer applies there too and plans the reference's actions."""
+    with make_sim(demo_data, True) as sim:
+        sim.pathfinder.seed(21)
+        agent = sim.get_agent(0)
+        follower = sim.make_greedy_follower()
+        for method in ("try_step", "try_step_no_sliding"):
+            agent.controls.move_filter_fn = getattr(sim.pathfinder, method)
+            start, goal, _ = random_episode(sim.pathfinder)
+            agent.state = habitat_sim.AgentState(start)
+            follower.use_reference_poses = False
+            fast = follower.find_path(goal)
+            follower.use_reference_poses = True
+            assert fast == follower.find_path(goal)
