@@ -1,6 +1,8 @@
-"""Proximity queries of the navmesh: nearest wall, island radii, disks of nodes, top-down maps.
+"""Proximity queries of the navmesh: nearest wall, walls near many points, island radii, disks.
 
-Helpers of ``PathFinder`` that look at many nodes at once. Grid conventions are in
+Helpers of ``PathFinder`` that look at many nodes at once. ``has_wall_within`` is the
+reference wall test (a best-first flood); ``walls_within`` answers it for many points in one
+vectorized pass where no layers are stacked. Grid conventions are in
 ``navmesh.navmesh_data`` (Y up, meters, node = (layer * nz + iz) * nx + ix); every square
 is ``cell_size`` wide and the navigable region is the union of the navigable squares.
 """

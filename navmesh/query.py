@@ -8,6 +8,10 @@ The navigable region is the union of the squares of navigable nodes (see
 nodes within a box of half extents (2 m, 4 m, 2 m) around the query point; a node whose
 square contains the point scores ``max(|dy| - max_climb, 0)^2``, any other node the squared
 3D distance to its square. The best node and the closest point on it are returned.
+
+Tables built on first use, for queries that would otherwise search: ``clearance`` (lower
+bounds of the distance to a wall), ``single_layer`` (the only square of each cell, stacked
+cells counted) and ``island_range`` (the islands within a window of cells).
 """
 
 from __future__ import annotations

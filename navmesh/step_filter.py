@@ -16,6 +16,11 @@ This is the contract of Detour's ``dtNavMeshQuery::moveAlongSurface`` as Habitat
    stop where it first leaves the navigable region, so the direction of motion is kept.
 4. The result's y is the surface height of the square it lies in.
 
+Shortcuts for callers that step often (the greedy follower), same results: ``step_from``
+takes the start already snapped, and the end is snapped only when the island check needs it
+(``_end_snaps_to_island``: no search when every navigable square near the end is on the
+start's island).
+
 Positions are world-frame (Y up, meters) ``(3,) float64`` arrays.
 """
 
