@@ -19,6 +19,14 @@ map-plan-baseline):
 * thrashing fix: after ``thrashing_threshold`` alternating left/right turns, commit to the
   whole best primitive instead of its first action.
 
+Speed (issue 21: a 50-action path in under 50 ms): the geodesic distance comes from one
+Dijkstra from the goal per goal (``navmesh.geodesic_field``), not a path search per candidate,
+and, for the default controls on the simulator's navmesh filter, the candidates of a pose are
+scored in batches (``engine.follower_probe.BatchProbe``: one start snap, one snap per new
+position, one vectorized wall test). ``use_reference_poses = True`` selects the reference:
+the agent's controls on scratch nodes, one candidate at a time through the PathFinder API, as
+Habitat does; both choose the same actions (``tests/engine/test_greedy_follower.py``).
+
 ``next_action_along(goal)`` returns one action key; ``find_path(goal)`` simulates the
 primitives on a scratch node and returns every key, ending with ``stop_key``. No path (the
 goal on another island, or more than 5000 actions) raises
@@ -27,7 +35,9 @@ goal on another island, or more than 5000 actions) raises
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Iterator
 from enum import Enum
 from typing import Any
 
@@ -37,7 +47,20 @@ from engine import mn
 from engine.agent import Agent
 from engine.agent.controls import ActuationSpec
 from engine.errors import GreedyFollowerError
-from engine.follower_poses import ArrayPose, NodePose, ScratchPose, default_controls_used
+from engine.follower_poses import (
+    ArrayPose,
+    NodePose,
+    PoseT,
+    ScratchPose,
+    default_controls_used,
+)
+from engine.follower_probe import (
+    CLOSE_TO_OBSTACLE_M,
+    COLLISION_COST,
+    BatchProbe,
+    navmesh_sliding,
+    reward_of,
+)
 from navmesh import HitRecord, MultiGoalShortestPath, NavMeshSettings, PathFinder, ShortestPath
 from navmesh.geodesic_field import GeodesicField
 
@@ -51,9 +74,6 @@ __all__ = [
     "ShortestPath",
 ]
 
-CLOSE_TO_OBSTACLE_M = 0.2  # a step ending closer than this to a wall costs 0.05
-COLLISION_COST = 0.25  # a blocked step costs this (the floor of acceptable rewards)
-TURN_COST = 0.0125  # per turn of the primitive: prefer short primitives
 GOOD_ENOUGH_REWARD = 0.99  # stop searching: the step gained 99 % of a full step
 MAX_ACTIONS = 5000  # find_path gives up after this many actions
 
@@ -121,8 +141,9 @@ class GreedyGeodesicFollower:
             "turn_left": self.left_spec,
             "turn_right": self.right_spec,
         }
-        #: try primitives through the agent's controls on scene nodes (Habitat's way) instead of
-        #: the fast array twin of the default controls (same actions; see follower_poses)
+        #: try primitives through the agent's controls on scene nodes, scored one at a time
+        #: (Habitat's way), instead of the array twin of the default controls scored in
+        #: batches (same actions; see follower_poses and follower_probe)
         self.use_reference_poses = False
 
     def _find_action(self, name: str) -> tuple[Any, ActuationSpec]:
@@ -170,12 +191,7 @@ class GreedyGeodesicFollower:
         gained = (distance - self._geodesic(after, goal)) / float(self.forward_spec.amount)
         # Habitat: distance_to_closest_obstacle(after, 1.1 * 0.2) < 0.2, the same answer
         near_wall = self.pathfinder.is_near_obstacle(after, CLOSE_TO_OBSTACLE_M)
-        return (
-            gained
-            - TURN_COST * turns
-            - (COLLISION_COST if collided else 0.0)
-            - (0.05 if near_wall else 0.0)
-        )
+        return reward_of(gained, turns, collided, near_wall)
 
     def _best_primitive(self, pose: ScratchPose, goal: np.ndarray) -> list[GreedyFollowerCodes]:
         """The best ``[turn] * n + [FORWARD]`` from this pose, [STOP], or [ERROR]."""
@@ -184,6 +200,8 @@ class GreedyGeodesicFollower:
             return [GreedyFollowerCodes.ERROR]
         if distance < self.goal_radius:
             return [GreedyFollowerCodes.STOP]
+        if isinstance(pose, ArrayPose) and (probe := self._batch_probe(pose)) is not None:
+            return self._best_primitive_batched(probe, pose, distance)
         best_reward, best = -COLLISION_COST, []
         left, right = pose.copy(), pose.copy()
         turns, angle = 0, 0.0
@@ -199,6 +217,52 @@ class GreedyGeodesicFollower:
             left.act("turn_left")
             right.act("turn_right")
             turns, angle = turns + 1, angle + self._turn_radians
+        return best
+
+    def _batch_probe(self, pose: ArrayPose) -> BatchProbe | None:
+        """The fast scorer when it gives the reference's rewards: array poses moved by the
+        simulator's navmesh step filter (``engine.follower_probe``)."""
+        sliding = navmesh_sliding(pose.move_filter, self.pathfinder)
+        if sliding is None:
+            return None
+        return BatchProbe(self.pathfinder, sliding, float(self.forward_spec.amount))
+
+    def _candidates(self, pose: PoseT) -> Iterator[list[tuple[PoseT, Any, int]]]:
+        """Rounds of ``(turned pose, turn code, turns)``: round n holds the left and right
+        primitives of n turns (round 0 the straight step), while ``n * turn < pi``; each
+        round is turned only when asked for."""
+        yield [(pose.copy(), LEFT, 0)]
+        left, right = pose.copy(), pose.copy()
+        turns, angle = 1, self._turn_radians
+        while angle < math.pi:
+            left.act("turn_left")
+            right.act("turn_right")
+            yield [(left.copy(), LEFT, turns), (right.copy(), RIGHT, turns)]
+            turns, angle = turns + 1, angle + self._turn_radians
+
+    def _best_primitive_batched(
+        self, probe: BatchProbe, pose: ArrayPose, distance: float
+    ) -> list[GreedyFollowerCodes]:
+        """The reference loop's choice, its rewards computed in batches of rounds: the
+        straight step, then the one-turn primitives, then all the others (each batch only
+        when the rounds before it found no good-enough primitive, as the loop stops)."""
+        assert self._field is not None  # set by the _geodesic call of _best_primitive
+        rounds = self._candidates(pose)
+        best_reward, best = -COLLISION_COST, []
+        # batches of 1, 1 and all the remaining rounds, each turned only when reached
+        for batch in (list(itertools.islice(rounds, size)) for size in (1, 1, None)):
+            flat = [candidate for round_ in batch for candidate in round_]
+            if not flat:
+                break
+            poses, turns = [c[0] for c in flat], [c[2] for c in flat]
+            rewards = iter(probe.rewards(poses, turns, self._field, distance, best_reward))
+            for round_ in batch:  # the reference loop over these rounds, same order and stop
+                for _, code, n in round_:
+                    reward = next(rewards)
+                    if reward > best_reward:
+                        best_reward, best = reward, [code] * n + [GreedyFollowerCodes.FORWARD]
+                if best_reward > GOOD_ENOUGH_REWARD:
+                    return best
         return best
 
     def _is_thrashing(self) -> bool:

@@ -23,7 +23,8 @@ distance, top-down maps, ``.navmesh`` save/load (an ``.npz`` archive, see
 
 from navmesh.build import build_navmesh
 from navmesh.navmesh_data import NavMeshData
-from navmesh.pathfinder import HitRecord, MultiGoalShortestPath, PathFinder, ShortestPath
+from navmesh.pathfinder import PathFinder
+from navmesh.records import HitRecord, MultiGoalShortestPath, ShortestPath
 from navmesh.settings import NavMeshSettings
 
 __all__ = [

@@ -58,13 +58,24 @@ class GeodesicField:
         if self.goal is None:
             return math.inf
         node, snapped = self.grid.nearest_node(np.asarray(point, dtype=np.float64))
-        if snapped is None or not math.isfinite(self.node_distance[node]):
+        return self.distance_at(node, snapped)
+
+    def distance_at(self, node: int, snapped: np.ndarray | None) -> float:
+        """:meth:`distance` of a point already snapped: ``grid.nearest_node(point)``."""
+        if self.goal is None or snapped is None or not math.isfinite(self.node_distance[node]):
             return math.inf
         grid, goal = self.grid, self.goal
-        if grid.line_of_sight(node, snapped[[0, 2]], goal[[0, 2]], self.goal_node):
-            return float(np.linalg.norm(goal - snapped))
-        around = np.append(grid.neighbours[:, node], node)
-        around = around[around >= 0]
-        centres = self.graph.centers_of(around)
-        through = np.linalg.norm(centres - snapped, axis=1) + self.node_distance[around]
-        return float(through.min())
+        sx, sy, sz = (float(v) for v in snapped)
+        gx, gy, gz = (float(v) for v in goal)
+        if grid.line_of_sight(node, (sx, sz), (gx, gz), self.goal_node):
+            return math.hypot(gx - sx, gy - sy, gz - sz)
+        # min over m in {node and its 8 neighbours} of |p - c_m| + D[m] (plain floats: 9 terms)
+        best, cs, link = math.inf, grid.cell_size, grid.neighbours.item
+        for m in [node] + [link(row, node) for row in range(8)]:
+            if m < 0:
+                continue
+            iz, ix = divmod(m % grid.n_cells, grid.nx)
+            cx, cz = grid.x0 + (ix + 0.5) * cs, grid.z0 + (iz + 0.5) * cs
+            through = math.hypot(cx - sx, grid.floor.item(m) - sy, cz - sz)
+            best = min(best, through + self.node_distance.item(m))
+        return best

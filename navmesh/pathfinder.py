@@ -7,6 +7,12 @@ when unreachable), ``try_step`` slides along walls. rigidsim additions: ``build(
 faces, settings)`` (Habitat builds through ``Simulator.recompute_navmesh``), ``navmesh_data``
 (the arrays, for plotting), and clear exceptions for bad input.
 
+This module is the API surface; the work is done by concept elsewhere: ``navmesh.records``
+(query records, point checks), ``navmesh.path_query`` (find_path's search),
+``navmesh.step_filter`` (try_step), ``navmesh.proximity`` (walls, islands, disks),
+``navmesh.geodesic_field`` (distances to one goal), ``navmesh.polygons`` (mesh export) and
+``navmesh.maps`` (top-down views).
+
 World frame: Y up, -Z forward, meters. Every position returned is a plain ``(3,) float64``
 ``np.ndarray``; every position accepted may be any 3-sequence (list, tuple, ndarray,
 magnum-like Vector3).
@@ -16,7 +22,6 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -24,77 +29,25 @@ from numpy.typing import ArrayLike
 
 from navmesh.build import build_navmesh
 from navmesh.geodesic_field import GeodesicField
+from navmesh.maps import check_topdown_arguments, topdown_island_view
 from navmesh.navmesh_data import NavMeshData
+from navmesh.path_query import best_path
 from navmesh.polygons import navmesh_polygons
 from navmesh.proximity import (
     closest_boundary_point,
     has_wall_within,
     island_radii,
     nodes_in_disk,
-    topdown_islands,
 )
 from navmesh.query import NavGrid
-from navmesh.search import GridGraph, path_length, pull_string
-from navmesh.settings import (
-    MAX_TOPDOWN_PIXELS,
-    NAVIGABLE_XZ_TOLERANCE,
-    NavMeshSettings,
-    check_budget,
-)
+from navmesh.records import HitRecord, MultiGoalShortestPath, ShortestPath, as_point, nan3
+from navmesh.search import GridGraph, path_length
+from navmesh.settings import NAVIGABLE_XZ_TOLERANCE, NavMeshSettings
 from navmesh.step_filter import try_step
 
+__all__ = ["HitRecord", "MultiGoalShortestPath", "PathFinder", "ShortestPath", "as_point"]
+
 _NOT_LOADED = "PathFinder is not loaded: build() or load_nav_mesh() first"
-
-
-def _nan3() -> np.ndarray:
-    return np.full(3, np.nan)
-
-
-@dataclass
-class ShortestPath:
-    """Query and result of ``PathFinder.find_path`` between two points."""
-
-    requested_start: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    requested_end: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    points: list = field(default_factory=list)  # list of (3,) float64 waypoints
-    geodesic_distance: float = math.inf  # meters, inf when no path exists
-
-
-@dataclass
-class MultiGoalShortestPath:
-    """Query and result of ``PathFinder.find_path`` to the closest of several ends."""
-
-    requested_start: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    requested_ends: list = field(default_factory=list)  # list of (3,) points
-    points: list = field(default_factory=list)
-    geodesic_distance: float = math.inf
-    closest_end_point_index: int = -1  # index into requested_ends of the chosen end
-
-
-@dataclass
-class HitRecord:
-    """Closest obstacle: ``hit_pos`` (3,), ``hit_normal`` (3,) unit XZ vector from the wall
-    toward the query point, ``hit_dist`` meters (``max_search_radius`` when none found).
-    ``HitRecord()`` is a record of no hit (zero vectors, infinite distance)."""
-
-    hit_pos: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    hit_normal: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    hit_dist: float = math.inf
-
-
-def as_point(value: ArrayLike, name: str = "point") -> np.ndarray:
-    """Return ``value`` as a finite ``(3,) float64`` array or raise naming ``name``."""
-    if value is None:
-        raise TypeError(f"{name} must be a 3-vector, got None")
-    try:
-        point = np.array(value, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError) as err:
-        raise TypeError(f"{name} must be a 3-vector of numbers, got {value!r}") from err
-    if point.shape != (3,):
-        raise ValueError(f"{name} must have 3 components, got shape {point.shape}")
-    if not np.all(np.isfinite(point)):
-        raise ValueError(f"{name} must be finite, got {point.tolist()}")
-    return point
 
 
 class PathFinder:
@@ -172,6 +125,12 @@ class PathFinder:
             return None
         return NavMeshSettings(**vars(self._data.settings))
 
+    @property
+    def nav_grid(self) -> NavGrid:
+        """The query structure of the loaded navmesh, for batch queries (rigidsim addition:
+        ``navmesh.step_filter``, ``navmesh.proximity`` and ``navmesh.geodesic_field`` take it)."""
+        return self._require_grid()
+
     def _require(self) -> NavMeshData:
         if self._data is None:
             raise RuntimeError(_NOT_LOADED)
@@ -226,7 +185,7 @@ class PathFinder:
         grid = self._require_grid()
         self._check_island(island_index)
         _, snapped = grid.nearest_node(p, island_index)
-        return snapped if snapped is not None else _nan3()
+        return snapped if snapped is not None else nan3()
 
     def is_navigable(self, pt: ArrayLike, max_y_delta: float = 0.5) -> bool:
         """True when ``pt`` snaps onto the navmesh with no XZ motion (<= 1 cm) and at most
@@ -293,14 +252,14 @@ class PathFinder:
         self._check_island(island_index)
         node, _ = grid.nearest_node(center, island_index)
         if node < 0:
-            return _nan3()
+            return nan3()
         # no navmesh is 1e30 m wide: a larger radius selects the same squares, no overflow
         nodes = nodes_in_disk(grid, center, min(float(radius), 1e30), int(grid.island[node]))
         for _ in range(max(1, int(max_tries))):
             point = self._sample_in(nodes)
             if np.linalg.norm(point - center) < radius:
                 return point
-        return _nan3()
+        return nan3()
 
     def _sample_in(self, nodes: np.ndarray) -> np.ndarray:
         """Pick a node uniformly, then a uniform point inside its square."""
@@ -329,60 +288,13 @@ class PathFinder:
         start = as_point(path.requested_start, "requested_start")
         self._require()
         path.points, path.geodesic_distance = [], math.inf
-        index, points = self._best_path(start, ends)
+        index, points = best_path(self._require_grid(), self._grid_graph(), start, ends)
         if isinstance(path, MultiGoalShortestPath):
             path.closest_end_point_index = index
         if index < 0:
             return False
         path.points, path.geodesic_distance = points, path_length(points)
         return True
-
-    def _best_path(self, start: np.ndarray, ends: list[np.ndarray]) -> tuple[int, list[np.ndarray]]:
-        """(index of the closest reachable end, its waypoints) or (-1, [])."""
-        grid = self._require_grid()
-        start_node, start_pt = grid.nearest_node(start)
-        if start_pt is None:  # start is off the navmesh (start_node == -1)
-            return -1, []
-        goals: list[tuple[int, int, np.ndarray]] = []  # (end index, node, snapped end)
-        for k, end in enumerate(ends):
-            node, pt = grid.nearest_node(end)
-            if pt is not None and grid.island[node] == grid.island[start_node]:
-                goals.append((k, node, pt))
-        if not goals:
-            return -1, []
-        graph = self._grid_graph()
-        # Habitat's multi-goal pruning: visit ends by straight-line distance (a lower bound of
-        # the geodesic) and skip those that cannot beat the best path found so far.
-        goals.sort(key=lambda goal: (float(np.linalg.norm(goal[2] - start_pt)), goal[0]))
-        best: tuple[int, list[np.ndarray], float] = (-1, [], math.inf)
-        for k, node, pt in goals:
-            if np.linalg.norm(pt - start_pt) >= best[2]:
-                continue
-            points = self._single_path(graph, start_node, start_pt, node, pt)
-            length = path_length(points)
-            if length < best[2]:
-                best = (k, points, length)
-        return best[0], best[1]
-
-    def _single_path(
-        self,
-        graph: GridGraph,
-        start_node: int,
-        start_pt: np.ndarray,
-        end_node: int,
-        end_pt: np.ndarray,
-    ) -> list[np.ndarray]:
-        """Waypoints from start_pt to end_pt (same island): straight when in line of sight,
-        else Dijkstra on the grid graph then string pulling."""
-        grid = self._require_grid()
-        if np.allclose(start_pt, end_pt):
-            return [start_pt.copy(), end_pt.copy()]
-        if grid.line_of_sight(start_node, start_pt[[0, 2]], end_pt[[0, 2]], end_node):
-            return [start_pt.copy(), end_pt.copy()]
-        limit = 2.0 * float(np.linalg.norm(end_pt - start_pt)) + 1.0
-        _, pred = graph.tree_from(start_node, [end_node], limit)
-        nodes = graph.node_path(pred, start_node, end_node)
-        return pull_string(grid, nodes, start_pt, end_pt)
 
     def _grid_graph(self) -> GridGraph:
         """The graph of navigable squares for Dijkstra, built on first use."""
@@ -445,7 +357,7 @@ class PathFinder:
             return HitRecord(np.zeros(3), np.zeros(3), math.inf)
         hit = closest_boundary_point(grid, node, snapped, float(max_search_radius))
         if hit is None:
-            return HitRecord(_nan3(), _nan3(), float(max_search_radius))
+            return HitRecord(nan3(), nan3(), float(max_search_radius))
         hit_pos, hit_normal, hit_dist = hit
         return HitRecord(hit_pos, hit_normal, hit_dist)
 
@@ -481,31 +393,6 @@ class PathFinder:
         self, meters_per_pixel: float, height: float, eps: float = 0.5
     ) -> np.ndarray:
         """Like ``get_topdown_view`` but ``int32`` island indices, -1 where not navigable."""
-        if not (
-            isinstance(meters_per_pixel, (int, float))
-            and not isinstance(meters_per_pixel, bool)
-            and math.isfinite(meters_per_pixel)
-            and meters_per_pixel > 0
-        ):
-            raise ValueError(f"meters_per_pixel must be finite and > 0, got {meters_per_pixel!r}")
-        if isinstance(height, bool) or not isinstance(
-            height, (int, float, np.integer, np.floating)
-        ):
-            raise TypeError(f"height must be a number, got {height!r}")
-        if not math.isfinite(height):
-            raise ValueError(f"height must be finite, got {height!r}")
-        if not (isinstance(eps, (int, float, np.integer, np.floating)) and eps >= 0):
-            raise ValueError(f"eps must be a number >= 0, got {eps!r}")
+        check_topdown_arguments(meters_per_pixel, height, eps)
         data = self._require()
-        span = data.bounds[1] - data.bounds[0]
-        # (z span / mpp) x (x span / mpp) pixels, in floats so that no int can overflow
-        pixels = float(span[0] / meters_per_pixel) * float(span[2] / meters_per_pixel)
-        check_budget(
-            pixels,
-            MAX_TOPDOWN_PIXELS,
-            "MAX_TOPDOWN_PIXELS",
-            f"a top-down view at {meters_per_pixel} m per pixel",
-        )
-        return topdown_islands(
-            self._require_grid(), data.bounds, float(meters_per_pixel), height, eps
-        )
+        return topdown_island_view(self._require_grid(), data.bounds, meters_per_pixel, height, eps)

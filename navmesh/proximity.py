@@ -1,12 +1,15 @@
-"""Proximity queries of the navmesh: nearest wall, island radii, disks of nodes, top-down maps.
+"""Proximity queries of the navmesh: nearest wall, walls near many points, island radii, disks.
 
-Helpers of ``PathFinder`` that look at many nodes at once. Grid conventions are in
+Helpers of ``PathFinder`` that look at many nodes at once. ``has_wall_within`` is the
+reference wall test (a best-first flood); ``walls_within`` answers it for many points in one
+vectorized pass where no layers are stacked. Grid conventions are in
 ``navmesh.navmesh_data`` (Y up, meters, node = (layer * nz + iz) * nx + ix); every square
 is ``cell_size`` wide and the navigable region is the union of the navigable squares.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -73,6 +76,81 @@ def has_wall_within(grid: NavGrid, node: int, point: np.ndarray, radius: float) 
     return False
 
 
+def walls_within(grid: NavGrid, nodes: np.ndarray, points: np.ndarray, radius: float) -> np.ndarray:
+    """``has_wall_within`` for many points at once: ``(K,) bool``, a boundary side closer than
+    ``radius`` to ``points[k]`` (on ``nodes[k]``); :func:`has_wall_within` is the reference.
+
+    Where every cell of the window of ``ceil(radius / cell_size) + 1`` cells around a point's
+    square holds at most one square (no stacked layers, ``NavGrid.single_layer``), the search
+    needs no flood: the nearest boundary side of *any* square of the window is at the distance
+    the flood finds. (The segment from the point to that side's closest point stays inside
+    the disk; if it left the squares connected to the start it would first cross an unlinked
+    side of a connected square, which is no farther.) Those points are answered with one
+    vectorized pass over the window's unlinked sides; the others (stacked windows) by the
+    best-first search. Distances are compared with ``< radius``, as the reference.
+    """
+    nodes = np.asarray(nodes, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    near = np.zeros(nodes.size, dtype=bool)
+    flat: list[int] = []
+    for k, (node, point) in enumerate(zip(nodes.tolist(), points, strict=True)):
+        kind = _window_kind(grid, node, float(point[0]), float(point[2]), radius)
+        if kind == "stacked":  # stacked layers nearby: the reference search
+            near[k] = has_wall_within(grid, node, point, radius)
+        elif kind == "flat":
+            flat.append(k)
+    if flat:
+        near[flat] = _flat_walls_within(grid, nodes[flat], points[flat], radius)
+    return near
+
+
+def _window_kind(grid: NavGrid, node: int, px: float, pz: float, radius: float) -> str:
+    """ "open" when the clearance bound rules out a wall (as in :func:`has_wall_within`), else
+    "stacked" when the window of the point's square holds stacked layers, else "flat"."""
+    cs = grid.cell_size
+    iz, ix = divmod(node % grid.n_cells, grid.nx)
+    gap = math.hypot(grid.x0 + (ix + 0.5) * cs - px, grid.z0 + (iz + 0.5) * cs - pz)
+    if grid.clearance.item(node) - gap >= radius:
+        return "open"
+    reach = math.ceil(radius / cs) + 1
+    total = grid.single_layer[1]  # summed-area table of the stacked cells
+    z0, z1 = max(iz - reach, 0), min(iz + reach + 1, grid.nz)
+    x0, x1 = max(ix - reach, 0), min(ix + reach + 1, grid.nx)
+    stacked = total[z1, x1] - total[z0, x1] - total[z1, x0] + total[z0, x0]
+    return "stacked" if stacked else "flat"
+
+
+def _flat_walls_within(grid, nodes, points, radius) -> np.ndarray:
+    """Whether an unlinked side of a window square lies closer than ``radius`` (vectorized)."""
+    cs, cell_node = grid.cell_size, grid.single_layer[0]
+    iz, ix = np.divmod(nodes % grid.n_cells, grid.nx)
+    d_ix, d_iz = _window(math.ceil(radius / cs) + 1)
+    cx, cz = ix[:, None] + d_ix, iz[:, None] + d_iz  # (K, W) window cells
+    inside = (cx >= 0) & (cx < grid.nx) & (cz >= 0) & (cz < grid.nz)
+    cells = np.clip(cz, 0, grid.nz - 1) * grid.nx + np.clip(cx, 0, grid.nx - 1)
+    square = np.where(inside, cell_node[cells], -1)
+    unlinked = (grid.neighbours[:4, np.maximum(square, 0)] < 0) & (square >= 0)  # (4, K, W)
+    side, k, w = np.nonzero(unlinked)
+    px, pz = points[k, 0], points[k, 2]
+    lo_x, lo_z = grid.x0 + cx[k, w] * cs, grid.z0 + cz[k, w] * cs
+    # closest point of each side: the side's fixed coordinate, the other one clamped
+    fixed_x = np.where(side == 0, lo_x + cs, lo_x)  # sides 0 / 1: x = hi / lo, z free
+    fixed_z = np.where(side == 2, lo_z + cs, lo_z)  # sides 2 / 3: z = hi / lo, x free
+    along_z = side < 2
+    qx = np.where(along_z, fixed_x, np.clip(px, lo_x, lo_x + cs))
+    qz = np.where(along_z, np.clip(pz, lo_z, lo_z + cs), fixed_z)
+    near = np.zeros(ix.size, dtype=bool)
+    near[k[np.hypot(qx - px, qz - pz) < radius]] = True
+    return near
+
+
+@functools.cache
+def _window(reach: int) -> tuple[np.ndarray, np.ndarray]:
+    """Offsets ``(d_ix, d_iz)`` of the cells within ``reach`` cells (a square window)."""
+    d_iz, d_ix = np.mgrid[-reach : reach + 1, -reach : reach + 1]
+    return d_ix.ravel(), d_iz.ravel()
+
+
 def _point_segment(px, pz, ax, az, bx, bz):
     """Distance from (px, pz) to segment a-b and the closest point (XZ plane)."""
     ex, ez = bx - ax, bz - az
@@ -121,26 +199,3 @@ def nodes_in_disk(grid: NavGrid, center: np.ndarray, radius: float, island: int)
     dz = grid.z0 + (np.tile(iz.ravel(), grid.n_layers) + 0.5) * cs - center[2]
     inside = (dx * dx + dz * dz <= radius * radius) & (grid.island[nodes] == island)
     return nodes[inside]
-
-
-def topdown_islands(grid: NavGrid, bounds, mpp: float, height: float, eps: float):
-    """Island index at each top-down pixel (vectorized ``is_navigable`` over the image)."""
-    x_min, z_min = bounds[0][0], bounds[0][2]
-    x_res = int((bounds[1][0] - x_min) / mpp)
-    z_res = int((bounds[1][2] - z_min) / mpp)
-    xs = x_min + np.arange(x_res) * mpp
-    zs = z_min + np.arange(z_res) * mpp
-    ix = np.floor((xs - grid.x0) / grid.cell_size).astype(np.int64)
-    iz = np.floor((zs - grid.z0) / grid.cell_size).astype(np.int64)
-    ok_x, ok_z = (ix >= 0) & (ix < grid.nx), (iz >= 0) & (iz < grid.nz)
-    cells = np.clip(iz, 0, grid.nz - 1)[:, None] * grid.nx + np.clip(ix, 0, grid.nx - 1)[None]
-    result = np.full((z_res, x_res), -1, dtype=np.int32)
-    best_dy = np.full((z_res, x_res), np.inf)
-    for layer in range(grid.n_layers):
-        node = cells + layer * grid.n_cells
-        dy = np.abs(grid.floor[node] - height)
-        better = (grid.island[node] >= 0) & (dy <= eps) & (dy < best_dy)
-        result = np.where(better, grid.island[node], result)
-        best_dy = np.where(better, dy, best_dy)
-    result[~(ok_z[:, None] & ok_x[None])] = -1
-    return result

@@ -8,6 +8,10 @@ The navigable region is the union of the squares of navigable nodes (see
 nodes within a box of half extents (2 m, 4 m, 2 m) around the query point; a node whose
 square contains the point scores ``max(|dy| - max_climb, 0)^2``, any other node the squared
 3D distance to its square. The best node and the closest point on it are returned.
+
+Tables built on first use, for queries that would otherwise search: ``clearance`` (lower
+bounds of the distance to a wall), ``single_layer`` (the only square of each cell, stacked
+cells counted) and ``island_range`` (the islands within a window of cells).
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ import heapq
 import math
 
 import numpy as np
+from scipy.ndimage import maximum_filter, minimum_filter
 
 from navmesh.layers import neighbour_node_ids
 from navmesh.navmesh_data import NavMeshData
@@ -50,6 +55,7 @@ class NavGrid:
         self.n_islands = int(self.island.max(initial=-1)) + 1
         self._reach = math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size) + 1  # cells
         box_half = math.ceil(SNAP_HALF_EXTENTS[0] / self.cell_size)
+        self._island_ranges: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         # nearest_node's windows: 3 and 10 cells around the point, then the whole snap box
         self._windows: list[tuple[int | None, tuple[np.ndarray, np.ndarray]]] = [
             (half, _window_offsets(half, self.nx, self.nz)) for half in (3, 10) if half < box_half
@@ -60,6 +66,43 @@ class NavGrid:
         """(N,) lower bounds of the square centres' distances to the boundary (computed on
         first use; see :func:`clearance_lower_bounds`)."""
         return clearance_lower_bounds(self)
+
+    @functools.cached_property
+    def single_layer(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(cell_node (n_cells,), stacked_sum (nz + 1, nx + 1))`` for single-layer shortcuts.
+
+        A square a search may visit is navigable or linked. ``cell_node[cell]`` is the only such
+        node of the cell (-1: none, -2: stacked, i.e. several layers); ``stacked_sum`` is the
+        summed-area table of the stacked cells, so a window of cells is free of them when
+        ``S[z1, x1] - S[z0, x1] - S[z1, x0] + S[z0, x0] == 0`` (computed on first use).
+        """
+        used = (self.navigable | np.any(self.neighbours[:4] >= 0, axis=0)).reshape(
+            self.n_layers, self.n_cells
+        )
+        count = used.sum(axis=0)
+        first = np.argmax(used, axis=0) * self.n_cells + np.arange(self.n_cells)
+        cell_node = np.where(count == 1, first, np.where(count == 0, -1, -2))
+        stacked = (count > 1).reshape(self.nz, self.nx).astype(np.int64)
+        stacked_sum = np.zeros((self.nz + 1, self.nx + 1), dtype=np.int64)
+        stacked_sum[1:, 1:] = stacked.cumsum(axis=0).cumsum(axis=1)
+        return cell_node, stacked_sum
+
+    def island_range(self, half: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(lowest, highest)`` island index ``(nz, nx)`` of the navigable nodes in the window
+        of ``half`` cells around each cell (``n_islands`` / -1 where there are none).
+
+        Where both equal one island, every navigable square of the window is on it (a
+        min/max filter over the grid, computed once per ``half``).
+        """
+        if half not in self._island_ranges:
+            island = self.island.reshape(self.n_layers, self.nz, self.nx)
+            low = np.where(island >= 0, island, self.n_islands).min(axis=0)
+            size = 2 * half + 1
+            self._island_ranges[half] = (
+                minimum_filter(low, size=size, mode="constant", cval=self.n_islands),
+                maximum_filter(island.max(axis=0), size=size, mode="constant", cval=-1),
+            )
+        return self._island_ranges[half]
 
     # -- cells and nodes ---------------------------------------------------------------------
     def cell_of(self, x: float, z: float) -> tuple[int, int]:
@@ -199,10 +242,11 @@ class NavGrid:
         t_max_z, t_step_z, side_z = self._axis_setup(z - self.z0, dz, iz, 2)
         step_x, step_z = (1 if dx > 0 else -1), (1 if dz > 0 else -1)
         diagonal_row = 4 + 2 * (side_x == 1) + (side_z == 3)
+        link = self.neighbours.item  # plain-int reads: this loop runs per cell crossed
         for _ in range(abs(end_ix - ix) + abs(end_iz - iz) + 2):
             if ix == end_ix and iz == end_iz:
                 return node, 1.0, True
-            tie = abs(t_max_x - t_max_z) < 1e-12
+            tie = -1e-12 < t_max_x - t_max_z < 1e-12
             if tie:
                 row, t = diagonal_row, t_max_x
             elif t_max_x < t_max_z:
@@ -211,7 +255,7 @@ class NavGrid:
                 row, t = side_z, t_max_z
             if t > 1.0:  # p1 lies on a cell side: the end cell is the current one
                 return node, 1.0, True
-            nxt = int(self.neighbours[row, node])
+            nxt = link(row, node)
             if nxt < 0:
                 return node, t, False
             node = nxt

@@ -16,6 +16,11 @@ This is the contract of Detour's ``dtNavMeshQuery::moveAlongSurface`` as Habitat
    stop where it first leaves the navigable region, so the direction of motion is kept.
 4. The result's y is the surface height of the square it lies in.
 
+Shortcuts for callers that step often (the greedy follower), same results: ``step_from``
+takes the start already snapped, and the end is snapped only when the island check needs it
+(``_end_snaps_to_island``: no search when every navigable square near the end is on the
+start's island).
+
 Positions are world-frame (Y up, meters) ``(3,) float64`` arrays.
 """
 
@@ -26,7 +31,9 @@ import math
 import numpy as np
 
 from navmesh.query import NavGrid
-from navmesh.settings import INSIDE_EPS
+from navmesh.settings import INSIDE_EPS, SNAP_HALF_EXTENTS
+
+MAX_ISLAND_WINDOW = 8  # cells: longer steps snap their end with the search
 
 
 def try_step(grid: NavGrid, start, end, allow_sliding: bool) -> np.ndarray:
@@ -42,18 +49,69 @@ def try_step(grid: NavGrid, start, end, allow_sliding: bool) -> np.ndarray:
         Slide along walls (``try_step``) or stop at the first wall (``try_step_no_sliding``).
     """
     start = np.array(start, dtype=np.float64)
-    end = np.asarray(end, dtype=np.float64)
     start_node, start_pt = grid.nearest_node(start)
-    end_node, _ = grid.nearest_node(end)
+    return step_from(grid, start, start_node, start_pt, np.asarray(end, np.float64), allow_sliding)
+
+
+def step_from(
+    grid: NavGrid,
+    start: np.ndarray,
+    start_node: int,
+    start_pt: np.ndarray | None,
+    end: np.ndarray,
+    allow_sliding: bool,
+) -> np.ndarray:
+    """:func:`try_step` with ``start`` already snapped (``grid.nearest_node(start)``).
+
+    A caller trying many steps from one start (the greedy follower's candidate actions)
+    snaps it once; the result is the same as ``try_step``'s.
+    """
     # start_pt is None exactly when start_node is -1 (start is off the navmesh)
-    if start_pt is None or end_node < 0 or grid.island[start_node] != grid.island[end_node]:
+    if start_pt is None:
         return start
+    if not _end_snaps_to_island(grid, start_node, end):
+        end_node, _ = grid.nearest_node(end)
+        if end_node < 0 or grid.island[start_node] != grid.island[end_node]:
+            return start
     node, x, z, reached = _walk_straight(grid, start_node, start_pt, end)
     if allow_sliding and not reached:
         # an unobstructed segment is also what the disk search would find (end itself),
         # so the flood runs only when the straight walk hits the boundary
         node, x, z = _slide(grid, start_node, start_pt, end)
     return np.array([x, grid.floor[node], z])
+
+
+def _end_snaps_to_island(grid: NavGrid, start_node: int, end: np.ndarray) -> bool:
+    """Sure without a search that ``nearest_node(end)`` finds a node on the start's island.
+
+    The start's node is one of that search's candidates, scoring ``s`` (its squared 3D
+    distance to ``end``, or the in-square height score when ``end`` lies above it); the node
+    found scores no more, so its square lies within ``sqrt(s)`` of ``end`` in XZ, i.e. in the
+    window of ``floor(sqrt(s) / cell_size) + 1`` cells. When every navigable square of that
+    window is on the start's island (``NavGrid.island_range``), so is the node found.
+    """
+    x, y, z = float(end[0]), float(end[1]), float(end[2])
+    ix, iz = grid.cell_of(x, z)
+    if not (0 <= ix < grid.nx and 0 <= iz < grid.nz):
+        return False
+    start_ix, start_iz = grid.node_cell(start_node)
+    dy = abs(grid.floor.item(start_node) - y)
+    if dy > SNAP_HALF_EXTENTS[1]:
+        return False
+    if (start_ix, start_iz) == (ix, iz):
+        score = max(dy - grid.max_climb, 0.0) ** 2
+    else:
+        cs = grid.cell_size
+        lo_x, lo_z = grid.x0 + start_ix * cs, grid.z0 + start_iz * cs
+        gap_x = x - min(max(x, lo_x), lo_x + cs)
+        gap_z = z - min(max(z, lo_z), lo_z + cs)
+        score = gap_x * gap_x + gap_z * gap_z + dy * dy
+    half = math.floor(math.sqrt(score) / grid.cell_size) + 1
+    if half > MAX_ISLAND_WINDOW:
+        return False
+    island = grid.island[start_node]
+    low, high = grid.island_range(half)
+    return bool(low[iz, ix] == island and high[iz, ix] == island)
 
 
 def _slide(grid: NavGrid, start_node: int, start_pt: np.ndarray, end: np.ndarray):

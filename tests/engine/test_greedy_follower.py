@@ -11,6 +11,9 @@ import numpy as np
 import pytest
 
 import engine as habitat_sim
+from engine import mn
+from engine.follower_poses import ArrayPose
+from engine.follower_probe import navmesh_sliding
 from engine.registry import registry
 
 TURN_DEGREES = 30.0
@@ -124,11 +127,13 @@ def test_thrashing_is_detected_after_alternating_turns(demo_data):
         assert not follower._is_thrashing()  # fewer than the threshold
 
 
-def test_the_fast_poses_choose_the_actions_of_the_agents_own_controls(demo_data):
-    """Two paths, one behaviour: the array twin of the default controls (the default) and the
-    agent's controls on scratch scene nodes (Habitat's way) plan the same actions."""
-    with make_sim(demo_data, False) as sim:
-        sim.pathfinder.seed(11)
+@pytest.mark.parametrize("allow_sliding", [False, True])
+def test_the_fast_poses_choose_the_actions_of_the_agents_own_controls(demo_data, allow_sliding):
+    """Two paths, one behaviour: the array twin of the default controls scored in batches
+    (the default: ``engine.follower_probe``) and the agent's controls on scratch scene nodes
+    scored one at a time through the PathFinder API (Habitat's way) plan the same actions."""
+    with make_sim(demo_data, allow_sliding) as sim:
+        sim.pathfinder.seed(11 + allow_sliding)
         agent = sim.get_agent(0)
         follower = sim.make_greedy_follower()
         for _ in range(4):
@@ -165,3 +170,55 @@ def test_a_custom_forward_control_is_planned_through_the_agents_controls(demo_da
         finally:
             registry._move_fns["move_forward"] = original
         assert half_count > 1.5 * default_count  # half steps: about twice the forward actions
+
+
+def test_the_array_pose_aims_forward_along_its_rotation_matrix():
+    """``ArrayPose.forward_target`` (third column of R(q)) is the full product R(q) (0, 0, -a),
+    to the bit."""
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        xyzw = rng.normal(size=4)
+        xyzw /= np.linalg.norm(xyzw)
+        position = rng.uniform(-5, 5, size=3)
+        pose = ArrayPose(lambda start, end: end, {}, position, xyzw)
+        expected = position + mn.quaternion_to_matrix(xyzw) @ np.array([0.0, 0.0, -0.25])
+        assert np.array_equal(pose.forward_target(0.25), expected)
+
+
+def test_the_batch_probe_is_used_only_for_the_simulators_navmesh_filter(demo_data):
+    with make_sim(demo_data, True) as sim:
+        agent = sim.get_agent(0)
+        assert navmesh_sliding(agent.controls.move_filter_fn, sim.pathfinder) is True
+        sim.config.sim_cfg.allow_sliding = False  # read at each use, as step_filter does
+        assert navmesh_sliding(agent.controls.move_filter_fn, sim.pathfinder) is False
+        assert navmesh_sliding(lambda start, end: end, sim.pathfinder) is None
+        assert navmesh_sliding(agent.controls.move_filter_fn, habitat_sim.PathFinder()) is None
+        # Habitat's follower test filters with the pathfinder's own step methods
+        assert navmesh_sliding(sim.pathfinder.try_step, sim.pathfinder) is True
+        assert navmesh_sliding(sim.pathfinder.try_step_no_sliding, sim.pathfinder) is False
+        assert navmesh_sliding(sim.pathfinder.snap_point, sim.pathfinder) is None
+
+        class Overridden(type(sim)):
+            def step_filter(self, start_pos, end_pos):
+                return end_pos
+
+        sim.__class__ = Overridden  # an overridden step filter is not the navmesh's
+        assert navmesh_sliding(sim.step_filter, sim.pathfinder) is None
+        sim.__class__ = Overridden.__bases__[0]
+
+
+def test_pathfinder_step_filters_plan_the_reference_actions(demo_data):
+    """Habitat's follower test moves the agent with ``pathfinder.try_step`` itself: the batch
+    scorer applies there too and plans the reference's actions."""
+    with make_sim(demo_data, True) as sim:
+        sim.pathfinder.seed(21)
+        agent = sim.get_agent(0)
+        follower = sim.make_greedy_follower()
+        for method in ("try_step", "try_step_no_sliding"):
+            agent.controls.move_filter_fn = getattr(sim.pathfinder, method)
+            start, goal, _ = random_episode(sim.pathfinder)
+            agent.state = habitat_sim.AgentState(start)
+            follower.use_reference_poses = False
+            fast = follower.find_path(goal)
+            follower.use_reference_poses = True
+            assert fast == follower.find_path(goal)
