@@ -17,11 +17,12 @@ and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BE
 vertex keeps its shallowest triangle, the contact depth is ``-h``. The triangle's normal is
 turned to the stage's *outward side*: the side the body was on when the contact began,
 remembered by the pair's manifold (its cached normals point from the stage to the body).
-Only a new contact falls back to the triangle's front (its winding normal, outward on a
-closed or one-sided surface) when some hull vertex lies in front of the plane, else to its
-back (a body wholly behind a one-sided wall). The body's center is never used: a body
-spawned or teleported with its center below a floor is pushed up, never down through it,
-and a thin plate pushed past the surface's plane is still pushed back out.
+Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
+the whole hull is behind the plane (a body behind a one-sided wall), up on a floor-like
+triangle when the body's center is on or above its plane (a stage may wind its floor
+either way), else the triangle's front (its winding normal): a body spawned or teleported
+with its center below a floor is pushed up, never down through it, and a thin plate
+pushed past the surface's plane is still pushed back out.
 
 A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
 vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
@@ -44,6 +45,7 @@ from .contact_helpers import (
     contact_arrays,
     fcl_raw_contacts,
     midpoint_contacts,
+    new_contact_side,
     to_world,
     triangle_table,
 )
@@ -114,13 +116,15 @@ def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.nda
     return store.normal_local[index], store.local_a[index], valid
 
 
-def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+def _outward_side(
+    normal: np.ndarray, corner: np.ndarray, height: np.ndarray, center: np.ndarray, cached
+) -> np.ndarray:
     """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
 
     The cached normal most (anti-)parallel to the triangle's decides when it is within 60
     degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
-    vertex of each triangle); otherwise (a new contact) the triangle's front (winding
-    normal) when some hull vertex is in front of its plane, else its back.
+    vertex of each triangle); otherwise (a new contact) :func:`new_contact_side` from the
+    vertices' heights ``height (g, T, V)`` and the body's center ``center (g, 3)``.
     """
     cached_normal, cached_point, valid = cached
     # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
@@ -133,9 +137,10 @@ def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, ca
     strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
         ..., 0
     ]
-    # a new contact: the front, unless the whole hull is behind the plane (max_v h_tv <= 0)
-    front = np.where(height.max(axis=2) > 0, 1.0, -1.0)
-    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), front)
+    # a new contact: the body's heights decide (floor-like triangles push up)
+    center_height = np.einsum("gti,gi->gt", normal, center) - (normal * corner).sum(axis=2)
+    new = new_contact_side(normal[..., 1], center_height, height.max(axis=2))
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), new)
 
 
 def _stage_group(
@@ -162,7 +167,7 @@ def _stage_group(
     height = (
         np.einsum("gti,gvi->gtv", normal, verts) - (normal * tris[:, :, 0]).sum(axis=2)[..., None]
     )
-    side = _outward_side(normal, tris[:, :, 0], height, cached)  # (g, T)
+    side = _outward_side(normal, tris[:, :, 0], height, x, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact

@@ -151,6 +151,7 @@ def outward_side(
     normal: np.ndarray,
     corner: np.ndarray,
     heights: list[float],
+    center: np.ndarray,
     cached: list[tuple[np.ndarray, np.ndarray]],
 ) -> float:
     """+1 or -1 turning a triangle's normal to the stage's outward side.
@@ -158,10 +159,9 @@ def outward_side(
     The cached normal most (anti-)parallel to it decides when it is within 60 degrees
     (``|n . c| > 0.5``) and its point lies on the triangle's plane (within
     ``OUTWARD_SIDE_PLANE_DISTANCE`` of the plane through ``corner``): the body stays on the
-    side where the contact began. A new contact, or one cached on another surface, takes
-    the triangle's front (its winding normal) when some hull vertex lies in front of the
-    plane, else its back: a body spawned or teleported with its center below a floor is
-    pushed up, never down through it; a body wholly behind a one-sided wall stays there.
+    side where the contact began. A new contact, or one cached on another surface, follows
+    :func:`new_contact_side_reference` with the hull vertices' ``heights`` and the body's
+    ``center``.
     """
     alignments = [
         dot(normal, c)
@@ -173,7 +173,21 @@ def outward_side(
         strongest = alignments[int(np.argmax(np.abs(alignments)))]
         if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
             return float(np.sign(strongest))
-    return 1.0 if max(heights) > 0 else -1.0
+    center_height = dot(normal, center) - dot(normal, corner)
+    return new_contact_side_reference(float(normal[1]), center_height, max(heights))
+
+
+def new_contact_side_reference(normal_y: float, center_height: float, max_height: float) -> float:
+    """Plain twin of :func:`contact_helpers.new_contact_side` (one triangle): the back when
+    the whole body is behind the plane; up on a floor-like triangle when the body's center
+    is on or above its plane; else the front."""
+    if max_height <= 0:
+        return -1.0  # wholly behind: a body behind a one-sided wall stays there
+    floor_like = abs(normal_y) >= settings.FLOOR_NORMAL_Y
+    center_above = center_height * normal_y >= 0  # on the up side of the plane
+    if floor_like and center_above:
+        return 1.0 if normal_y > 0 else -1.0  # up, whichever way the floor is wound
+    return 1.0
 
 
 def stage_polyhedron_contacts(
@@ -205,7 +219,7 @@ def stage_polyhedron_contacts(
     for t in triangle_ids:
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
         height = [dot(normal, v) - dot(normal, corner) for v in vertices]
-        side = outward_side(normal, corner, height, cached)
+        side = outward_side(normal, corner, height, position, cached)
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
         heights.append(height)  # (T, V) signed heights, m

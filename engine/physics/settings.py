@@ -144,6 +144,10 @@ OUTWARD_SIDE_ALIGNMENT = 0.5
 #: m, ... and only when its contact point lies within this of the triangle's plane: a normal
 #: cached on another surface (a shelf's underside) never turns a parallel floor over.
 OUTWARD_SIDE_PLANE_DISTANCE = 0.02
+#: 1 (cosine), a stage triangle whose normal is within 60 degrees of vertical is a floor
+#: (or ceiling): a new contact with a body whose center is above its plane pushes up,
+#: whichever way the stage winds it (contact_helpers.new_contact_side).
+FLOOR_NORMAL_Y = 0.5
 #: m, a pair whose bodies moved relative to each other by less than this (at any point of
 #: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
 CONTACT_CACHE_DISTANCE = 0.0005

@@ -262,3 +262,71 @@ def test_cube_sliding_down_a_wall_past_a_shelf_lands_on_the_apartment_floor(
     path = track(world, cube, 40)
     assert path[:, 1].min() > FLOOR  # its center never goes below the floor
     assert FLOOR + 0.09 < path[-1, 1] < FLOOR + 0.18  # resting on it (half 0.1 to 0.17)
+
+
+SPHERE = "icosphereSolid_subdivs_1"
+CAPSULE = (
+    "capsule3DSolid_hemiRings_4_cylRings_1_segments_12_halfLen_0.75"
+    "_useTexCoords_false_useTangents_false"
+)
+#: primitive -> its resting center height on a floor at y = 0 with scale 0.1 (hand geometry:
+#: half side 0.1; sphere radius 0.1; capsule radius 0.1 plus half its 0.075 m segment)
+RESTING_HEIGHT = {"cubeSolid": 0.1, SPHERE: 0.1, CAPSULE: 0.1 + 0.075}
+
+
+@pytest.mark.parametrize("primitive", list(RESTING_HEIGHT))
+@pytest.mark.parametrize("faces_down", [False, True])
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_body_spawned_half_buried_in_a_floor_wound_either_way_comes_out_on_top(
+    primitive, faces_down, vectorized
+):
+    """Mutation testing (issue 26) found a ball spawned half buried in a floor whose
+    triangles face down falling through it; a capsule spawned 5 cm into an up-facing floor
+    ended half sunk (its lower end sphere was pushed down). A new contact with a floor-like
+    triangle now pushes a body whose center is on or above the plane up, whatever the
+    winding (contact_helpers.new_contact_side)."""
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    floor = floor_mesh()
+    if faces_down:
+        floor.faces = floor.faces[:, ::-1].copy()
+    world.set_stage([floor], StageAttributes())
+    body = add(world, templates, register_primitive(templates, primitive), [0.0, 0.0, 0.0])
+    path = track(world, body, 120)[:, 1]
+    assert path.min() > -0.002  # never pushed down (the center started on the plane)
+    assert abs(path[-1] - RESTING_HEIGHT[primitive]) < 0.006  # out, resting on the floor
+
+
+@pytest.mark.parametrize("faces_down", [False, True])
+def test_ball_dropped_on_a_floor_wound_either_way_rests_on_it(faces_down):
+    """The other side of the rule: a ball falling on a floor touches it from above, so
+    either winding holds it at its radius (a down-facing floor's back is outward)."""
+    world, templates = make_world(floor=False)
+    floor = floor_mesh()
+    if faces_down:
+        floor.faces = floor.faces[:, ::-1].copy()
+    world.set_stage([floor], StageAttributes())
+    ball = add(world, templates, register_primitive(templates, SPHERE), [0.0, 0.5, 0.0])
+    path = track(world, ball, 120)[:, 1]
+    assert path.min() > 0.1 - 0.01 and abs(path[-1] - 0.1) < 0.003
+
+
+def test_new_contact_side_agrees_with_its_reference_on_every_case():
+    """The batched rule and its plain twin on a grid of normals and heights (both signs,
+    floor-like and wall-like, the center on the plane)."""
+    from engine.physics.contact_helpers import new_contact_side
+    from engine.physics.reference_pairs import new_contact_side_reference
+
+    values = np.array([-1.0, -0.6, -0.5, -0.2, 0.0, 0.2, 0.5, 0.6, 1.0])
+    ny, hc, hm = (a.ravel() for a in np.meshgrid(values, values / 10, values / 10))
+    batched = new_contact_side(ny, hc, hm)
+    plain = [new_contact_side_reference(*case) for case in zip(ny, hc, hm, strict=True)]
+    np.testing.assert_array_equal(batched, plain)
+    # hand cases: an up-facing floor under a body whose center sank below it: the front
+    assert new_contact_side(np.array([1.0]), np.array([-0.05]), np.array([0.05]))[0] == 1.0
+    # a down-facing floor under a body whose center is above it: up (the back)
+    assert new_contact_side(np.array([-1.0]), np.array([-0.05]), np.array([0.05]))[0] == -1.0
+    # a ceiling (facing down) pressed from below: its front (down)
+    assert new_contact_side(np.array([-1.0]), np.array([0.05]), np.array([0.15]))[0] == 1.0
+    # a body wholly behind a one-sided wall stays behind it
+    assert new_contact_side(np.array([0.0]), np.array([-0.2]), np.array([-0.1]))[0] == -1.0
