@@ -14,7 +14,12 @@ corner ``p0_t``) the signed height is
 
 and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
 * extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each
-vertex keeps its shallowest triangle, the contact depth is ``-h``. The triangle's normal is
+vertex keeps its shallowest triangle, the contact depth is ``-h``, and in a corner also the
+shallowest of the triangles turned 45 to 135 degrees from that one
+(``|n_t . n_best| < STAGE_CORNER_COSINE``) that it has passed (``h < 0``; a speculative
+contact there would crowd the manifold): a vertex pressed into a floor beside a wall is
+pushed out of both, not only out of the (shallower) wall (the opposite face of a thin
+slab is never a second surface: it would push the vertex through the slab). The triangle's normal is
 turned to the stage's *outward side*: the side the body was on when the contact began,
 remembered by the pair's manifold (its cached normals point from the stage to the body).
 Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
@@ -176,12 +181,16 @@ def _stage_group(
         & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
         & _in_prisms(table, ids, tris, verts)
     )
-    # each vertex keeps its shallowest triangle (the surface it is really resting on)
+    # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
-    g, v = np.nonzero(candidate.any(axis=1))
-    t = best[g, v]
-    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
-    contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
+    _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
+    # ... and, in a corner, the shallowest of those facing another way (floor and wall)
+    best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
+    alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
+    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
+    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
+    second = np.where(corner, height, -np.inf).argmax(axis=1)
+    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, len(hull[0]))
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if not edges_from_fcl:
         return [jobs[k] for k in untouched]
@@ -193,6 +202,15 @@ def _stage_group(
             seq[k], midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
         )
     return []
+
+
+def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts, first: int):
+    """Add one contact per vertex ``v`` with a ``candidate (g, T, V)`` triangle: the one
+    ``chosen (g, V)``, depth ``-h``, A's point ``x_v + n depth``; ordered ``first + v``."""
+    g, v = np.nonzero(candidate.any(axis=1))
+    t = chosen[g, v]
+    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
+    contacts.add(seq[g], first + v, point_b + n * depth[:, None], point_b, n)
 
 
 def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:

@@ -185,12 +185,18 @@ def new_contact_side(
     2. a floor-like triangle (``|n_y| >= FLOOR_NORMAL_Y``) with the body's center on or
        above its plane (``center_height n_y >= 0``): up, whatever the winding (a body
        spawned half buried in a floor wound either way is pushed up, never through it);
-    3. otherwise the front (a body teleported with its center below a floor is pushed up
-       through the floor's front; one pressed into a ceiling from below stays below).
+    3. a floor-like triangle with the center below its plane: the front (a body teleported
+       with its center below a floor is pushed up through the floor's front; one pressed
+       into a ceiling from below stays below);
+    4. a wall-like triangle: the side holding the body's center (its front when the center
+       is on the plane): a body poking through the back of a thin wall or skirting board
+       is pulled back to where most of it is, not pushed on through the next wall.
 
     Reference: :func:`reference_pairs.new_contact_side_reference`.
     """
     floor_like = np.abs(normal_y) >= settings.FLOOR_NORMAL_Y
     up = np.where(normal_y > 0, 1.0, -1.0)  # the sign turning n to point up
-    side = np.where(floor_like & (center_height * normal_y >= 0), up, 1.0)
+    floor_side = np.where(center_height * normal_y >= 0, up, 1.0)
+    wall_side = np.where(center_height >= 0, 1.0, -1.0)
+    side = np.where(floor_like, floor_side, wall_side)
     return np.where(max_height <= 0, -1.0, side)

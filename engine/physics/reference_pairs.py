@@ -179,15 +179,15 @@ def outward_side(
 
 def new_contact_side_reference(normal_y: float, center_height: float, max_height: float) -> float:
     """Plain twin of :func:`contact_helpers.new_contact_side` (one triangle): the back when
-    the whole body is behind the plane; up on a floor-like triangle when the body's center
-    is on or above its plane; else the front."""
+    the whole body is behind the plane; on a floor-like triangle up when the body's center
+    is on or above its plane, else the front; on a wall-like one the center's side."""
     if max_height <= 0:
         return -1.0  # wholly behind: a body behind a one-sided wall stays there
-    floor_like = abs(normal_y) >= settings.FLOOR_NORMAL_Y
-    center_above = center_height * normal_y >= 0  # on the up side of the plane
-    if floor_like and center_above:
-        return 1.0 if normal_y > 0 else -1.0  # up, whichever way the floor is wound
-    return 1.0
+    if abs(normal_y) >= settings.FLOOR_NORMAL_Y:  # a floor or a ceiling
+        if center_height * normal_y >= 0:  # the center on the up side of the plane
+            return 1.0 if normal_y > 0 else -1.0  # up, whichever way the floor is wound
+        return 1.0
+    return 1.0 if center_height >= 0 else -1.0  # a wall: where most of the body is
 
 
 def stage_polyhedron_contacts(
@@ -207,7 +207,9 @@ def stage_polyhedron_contacts(
     and hull vertex v, the signed height
     ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
     it is not more than half the hull's extent below the plane, and its projection falls
-    inside the triangle. Each vertex keeps its shallowest triangle (the largest h).
+    inside the triangle. Each vertex keeps its shallowest triangle (the largest h) and, in a
+    corner, the shallowest of those turned 45 to 135 degrees from it that it has passed
+    (``h < 0``; listed after all the first contacts, as the batched path orders them).
     """
     table = triangle_table(stage)
     rotation, position = pose
@@ -223,27 +225,53 @@ def stage_polyhedron_contacts(
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
         heights.append(height)  # (T, V) signed heights, m
-    contacts = []
+    contacts, corner_contacts = [], []
     for k, vertex in enumerate(vertices):
-        # (height, triangle position) of the shallowest candidate triangle
-        best: tuple[float, int] | None = None
-        for i, t in enumerate(triangle_ids):
-            above = heights[i][k]  # m, height of this vertex above triangle t
-            if (
-                above < settings.STAGE_SPECULATIVE_DISTANCE
-                and above > -settings.STAGE_BELOW_FRACTION * extent
-                and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
-                and (best is None or above > best[0])
-            ):
-                best = (above, i)
-        if best is not None:
-            normal, depth = normals[best[1]], -best[0]
-            contacts.append(Contact(vertex + normal * depth, vertex, normal))
+        # positions i of the triangles this vertex touches
+        touching = [
+            i
+            for i, t in enumerate(triangle_ids)
+            if settings.STAGE_SPECULATIVE_DISTANCE > heights[i][k]
+            and heights[i][k] > -settings.STAGE_BELOW_FRACTION * extent
+            and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+        ]
+        if not touching:
+            continue
+        best = _shallowest(touching, heights, k)
+        contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
+        # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
+        # which the vertex has passed (h < 0)
+        turned = [
+            i
+            for i in touching
+            if abs(dot(normals[i], normals[best])) < settings.STAGE_CORNER_COSINE
+            and heights[i][k] < 0
+        ]
+        if turned:
+            second = _shallowest(turned, heights, k)
+            corner_contacts.append(_vertex_contact(vertex, normals[second], heights[second][k]))
+    contacts += corner_contacts  # the batched path orders them after every first contact
     if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
     return contacts
+
+
+def _shallowest(positions: list[int], heights: list, k: int) -> int:
+    """The position in ``positions`` whose triangle vertex ``k`` is highest above (the
+    first of equal heights)."""
+    best = positions[0]
+    for i in positions[1:]:
+        if heights[i][k] > heights[best][k]:
+            best = i
+    return best
+
+
+def _vertex_contact(vertex: np.ndarray, normal: np.ndarray, height: float) -> Contact:
+    """Vertex ``vertex`` at ``height`` above a plane of outward ``normal``: depth ``-height``,
+    A's point on the plane."""
+    return Contact(vertex - normal * height, vertex, normal)
 
 
 def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.ndarray) -> bool:

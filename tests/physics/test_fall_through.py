@@ -330,3 +330,57 @@ def test_new_contact_side_agrees_with_its_reference_on_every_case():
     assert new_contact_side(np.array([-1.0]), np.array([0.05]), np.array([0.15]))[0] == 1.0
     # a body wholly behind a one-sided wall stays behind it
     assert new_contact_side(np.array([0.0]), np.array([-0.2]), np.array([-0.1]))[0] == -1.0
+    # a body poking through the back of a thin board: pulled back to its center's side
+    assert new_contact_side(np.array([0.0]), np.array([-0.04]), np.array([0.02]))[0] == -1.0
+
+
+def lowest_point(world, index: int) -> float:
+    """The lowest world y of body ``index``'s hull vertices, m."""
+    from engine.physics.quaternions import quat_to_matrix
+
+    b = world.bodies
+    vertices = np.concatenate([shape.hull_vertices for shape in b.shapes[index]])
+    return float((vertices @ quat_to_matrix(b.body_rotation[index]).T)[:, 1].min()) + float(
+        b.body_position[index][1]
+    )
+
+
+@pytest.mark.parametrize("template", ["mug", "cubeSolid"])
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_body_driven_into_a_skirting_board_corner_stays_out_of_the_floor(
+    demo_data, template, vectorized
+):
+    """The 10^4 soak left a mug 2.5 cm below the floor against a wall: velocity control
+    drove it at (1, -0.5, 0) m/s into the corner of the floor and the 15 mm skirting board
+    in front of the wall at x = 5 (a thin slab). Its vertices poked through the board's back
+    face (x = 5.0, facing the wall); as a new contact that face took its front and pushed
+    the mug on into the wall, and its cached normal then turned the board's room-side face
+    over (within the old 2 cm plane tolerance), so every contact pushed +x and none held it
+    up: 5 cm into the floor. Now a wall-like face takes the side of the body's center, a
+    cached normal turns only its own plane (1 mm) and a vertex in a corner keeps a floor
+    contact beside its wall contact."""
+    import engine as habitat_sim
+
+    cfg = habitat_sim.SimulatorConfiguration()
+    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
+    agent = habitat_sim.agent.AgentConfiguration()
+    agent.sensor_specifications = []
+    sim = habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent]))
+    templates = sim.get_object_template_manager()
+    templates.load_configs(str(demo_data / "objects/example_objects/"))
+    world = sim.get_physics_world()
+    world.settings.use_vectorized = vectorized
+    handle = templates.get_template_handles(template)[0]
+    body = sim.get_rigid_object_manager().add_object_by_template_handle(handle)
+    body.translation = [4.85, -1.3, -0.04]
+    control = body.velocity_control
+    control.controlling_lin_vel = control.controlling_ang_vel = True
+    control.linear_velocity, control.angular_velocity = [1.0, -0.5, 0.0], [0.0, 0.0, 0.0]
+    lowest = []
+    for _ in range(150):
+        sim.step_physics(FRAME)
+        lowest.append(lowest_point(world, body.object_id))
+    center_x = body.translation[0]
+    sim.close()
+    assert min(lowest) > FLOOR - 0.02  # never 2 cm into the floor, while pushed into it
+    assert center_x < 5.0  # and never through the board into the wall
