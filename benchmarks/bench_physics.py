@@ -63,6 +63,7 @@ from physics_scenes import (  # noqa: E402
     apartment_positions,
     column_positions,
     have_pybullet,
+    physics_settings,
     pile_positions,
     pyramid_positions,
     run_pybullet,
@@ -104,19 +105,21 @@ def quality(name, start, final):
 # report
 # ------------------------------------------------------------------------------------------
 def baseline_cpu(checkout: Path, scene: str, seconds: float, sleep: bool) -> float | None:
-    """CPU ms per step of ``scene`` (a box-floor column, ``column-N``) stepped by the rigidsim
-    checkout ``checkout`` in a subprocess (its own ``physics_scenes``); None if it fails."""
-    n = int(scene.split("-")[-1])
+    """CPU ms per step of ``scene`` (:func:`physics_scenes.named_scene`) stepped by the
+    rigidsim checkout ``checkout`` in a subprocess: this checkout's scene code on that
+    checkout's ``engine`` (run in its folder, so ``engine`` resolves there); None if it
+    fails."""
     code = (
         "import json, sys; sys.path.insert(0, sys.argv[1]); import physics_scenes as s; "
-        "p, q = s.column_positions(int(sys.argv[2])); "
-        "r = s.run_rigidsim(p, q, float(sys.argv[3]), sleep=sys.argv[4] == '1', watch=False); "
-        "print(json.dumps(1000 * r['cpu'] / r['steps']))"
+        "(p, q), stage = s.named_scene(sys.argv[2]); "
+        "r = s.run_rigidsim(p, q, float(sys.argv[3]), sleep=sys.argv[4] == '1', watch=False, "
+        "stage=stage); print(json.dumps(1000 * r['cpu'] / r['steps']))"
     )
-    args = [str(checkout / "benchmarks"), str(n), str(seconds), "1" if sleep else "0"]
+    args = [str(ROOT / "benchmarks"), scene, str(seconds), "1" if sleep else "0"]
     run = subprocess.run(
         [sys.executable, "-c", code, *args],
         env=dict(os.environ, PYTHONPATH=str(checkout)),
+        cwd=checkout,
         capture_output=True,
         text=True,
     )
@@ -142,7 +145,7 @@ def run_scene(name, scene, bullet, results, options):
                 run_pybullet(positions, rotations, seconds, sleep=sleep, stage=stage)
             )
             cpu_bullet.append(runs_bullet[-1]["cpu"] / runs_bullet[-1]["steps"] * 1000)
-        if options.baseline and stage == "box" and name.startswith("column"):
+        if options.baseline and name.startswith(("column", "plane-column", "apartment")):
             cpu_base.append(baseline_cpu(options.baseline, name, seconds, sleep))
     ours = runs_ours[0]
     theirs = runs_bullet[0] if bullet else None
@@ -247,6 +250,31 @@ def sweep(sizes, seconds, bullet):
         )
         rows.append((n, cpu, bullet_cpu, split))
     return rows
+
+
+def sleep_report(bullet: bool, sizes=(100, 500), seconds: float = 10.0) -> None:
+    """When piles of ``sizes`` cubes (:func:`physics_scenes.pile_positions`, box floor) fall
+    asleep in each engine with its default sleeping: rigidsim's ``settings`` and Bullet's
+    btRigidBody defaults, which Habitat keeps (it never calls ``setSleepingThresholds``)."""
+    print(
+        f"\nSleeping: piles on the box floor, {seconds:g} s, default sleeping in both engines"
+        f"\n  rigidsim: |v| < {physics_settings.SLEEP_LINEAR_VELOCITY:g} m/s and |w| < "
+        f"{physics_settings.SLEEP_ANGULAR_VELOCITY:g} rad/s for "
+        f"{physics_settings.TIME_TO_SLEEP:g} s (every body of an island); Bullet (Habitat): "
+        "0.8 m/s, 1.0 rad/s, 2.0 s (gDeactivationTime), per island"
+    )
+    for n in sizes:
+        positions, rotations = pile_positions(n)
+        ours = run_rigidsim(positions, rotations, seconds, sleep=True, watch=False)
+        ours_text = f"{ours['settled'][0]:.2f} s" if ours["settled"] else "not all"
+        theirs_text = "n/a"
+        if bullet:
+            theirs = run_pybullet(positions, rotations, seconds, sleep=True)
+            theirs_text = f"{theirs['settled']:.2f} s" if theirs["settled"] else "not all"
+        print(
+            f"  pile-{n}: all asleep after {ours_text} in rigidsim ({ours['asleep']}/{n} "
+            f"asleep at the end), after {theirs_text} in pybullet (checked every 0.1 s)"
+        )
 
 
 def machine_name() -> str:
@@ -428,6 +456,9 @@ def main() -> None:
     parser.add_argument("--baseline", type=Path, help="a rigidsim checkout to compare with")
     parser.add_argument("--only", help="comma-separated scene names to run")
     parser.add_argument("--verbose", action="store_true", help="also print pile settle times")
+    parser.add_argument(
+        "--sleep", action="store_true", help="when piles of 100 and 500 cubes fall asleep"
+    )
     parser.add_argument("--plot", type=Path, default=ROOT / "docs" / "physics_scaling.png")
     args = parser.parse_args()
     bullet = have_pybullet()
@@ -456,6 +487,8 @@ def main() -> None:
         sizes = (10, 30, 100, 300) if args.quick else (10, 30, 100, 300, 1000)
         rows = sweep(sizes, 1.0 if args.quick else 2.0, bullet)
         plot(rows, args.plot)
+    if args.sleep:
+        sleep_report(bullet)
     report_speed_targets(results)
     report_targets(results, rows)
 

@@ -121,6 +121,22 @@ def pyramid_positions(base: int = 6):
     return positions, [[0, 0, 0, 1.0]] * len(positions)
 
 
+def named_scene(name: str):
+    """``((positions, rotations), stage)`` of a report scene by name: ``column-N``,
+    ``plane-column-N``, ``pile-N``, ``apartment-30`` (what a baseline checkout is asked to
+    step, so both checkouts drop the same cubes on the same triangles)."""
+    n = int(name.rsplit("-", 1)[1])
+    if name.startswith("plane-column-"):
+        return column_positions(n), "plane"
+    if name.startswith("column-"):
+        return column_positions(n), "box"
+    if name.startswith("pile-"):
+        return pile_positions(n), "box"
+    if name.startswith("apartment-"):
+        return apartment_positions(n), "apartment"
+    raise ValueError(f"no scene named {name!r}")
+
+
 def stage_triangles(stage: str) -> tuple[np.ndarray, np.ndarray]:
     """World-frame ``(vertices (V, 3), faces (F, 3))`` of a benchmark stage (module docstring)."""
     if stage == "box":

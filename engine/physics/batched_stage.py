@@ -14,14 +14,20 @@ corner ``p0_t``) the signed height is
 
 and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
 * extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each
-vertex keeps its shallowest triangle, the contact depth is ``-h``. The triangle's normal is
+vertex keeps its shallowest triangle, the contact depth is ``-h``, and in a corner also the
+shallowest of the triangles turned 45 to 135 degrees from that one
+(``|n_t . n_best| < STAGE_CORNER_COSINE``) that it has passed (``h < 0``; a speculative
+contact there would crowd the manifold): a vertex pressed into a floor beside a wall is
+pushed out of both, not only out of the (shallower) wall (the opposite face of a thin
+slab is never a second surface: it would push the vertex through the slab). The triangle's normal is
 turned to the stage's *outward side*: the side the body was on when the contact began,
 remembered by the pair's manifold (its cached normals point from the stage to the body).
-Only a new contact falls back to the triangle's front (its winding normal, outward on a
-closed or one-sided surface) when some hull vertex lies in front of the plane, else to its
-back (a body wholly behind a one-sided wall). The body's center is never used: a body
-spawned or teleported with its center below a floor is pushed up, never down through it,
-and a thin plate pushed past the surface's plane is still pushed back out.
+Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
+the whole hull is behind the plane (a body behind a one-sided wall), up on a floor-like
+triangle when the body's center is on or above its plane (a stage may wind its floor
+either way), else the triangle's front (its winding normal): a body spawned or teleported
+with its center below a floor is pushed up, never down through it, and a thin plate
+pushed past the surface's plane is still pushed back out.
 
 A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
 vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
@@ -44,6 +50,7 @@ from .contact_helpers import (
     contact_arrays,
     fcl_raw_contacts,
     midpoint_contacts,
+    new_contact_side,
     to_world,
     triangle_table,
 )
@@ -114,13 +121,15 @@ def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.nda
     return store.normal_local[index], store.local_a[index], valid
 
 
-def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, cached) -> np.ndarray:
+def _outward_side(
+    normal: np.ndarray, corner: np.ndarray, height: np.ndarray, center: np.ndarray, cached
+) -> np.ndarray:
     """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
 
     The cached normal most (anti-)parallel to the triangle's decides when it is within 60
     degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
-    vertex of each triangle); otherwise (a new contact) the triangle's front (winding
-    normal) when some hull vertex is in front of its plane, else its back.
+    vertex of each triangle); otherwise (a new contact) :func:`new_contact_side` from the
+    vertices' heights ``height (g, T, V)`` and the body's center ``center (g, 3)``.
     """
     cached_normal, cached_point, valid = cached
     # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
@@ -133,9 +142,10 @@ def _outward_side(normal: np.ndarray, corner: np.ndarray, height: np.ndarray, ca
     strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
         ..., 0
     ]
-    # a new contact: the front, unless the whole hull is behind the plane (max_v h_tv <= 0)
-    front = np.where(height.max(axis=2) > 0, 1.0, -1.0)
-    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), front)
+    # a new contact: the body's heights decide (floor-like triangles push up)
+    center_height = np.einsum("gti,gi->gt", normal, center) - (normal * corner).sum(axis=2)
+    new = new_contact_side(normal[..., 1], center_height, height.max(axis=2))
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), new)
 
 
 def _stage_group(
@@ -162,7 +172,7 @@ def _stage_group(
     height = (
         np.einsum("gti,gvi->gtv", normal, verts) - (normal * tris[:, :, 0]).sum(axis=2)[..., None]
     )
-    side = _outward_side(normal, tris[:, :, 0], height, cached)  # (g, T)
+    side = _outward_side(normal, tris[:, :, 0], height, x, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
@@ -171,12 +181,16 @@ def _stage_group(
         & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
         & _in_prisms(table, ids, tris, verts)
     )
-    # each vertex keeps its shallowest triangle (the surface it is really resting on)
+    # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
-    g, v = np.nonzero(candidate.any(axis=1))
-    t = best[g, v]
-    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
-    contacts.add(seq[g], v, point_b + n * depth[:, None], point_b, n)
+    _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
+    # ... and, in a corner, the shallowest of those facing another way (floor and wall)
+    best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
+    alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
+    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
+    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
+    second = np.where(corner, height, -np.inf).argmax(axis=1)
+    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, len(hull[0]))
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if not edges_from_fcl:
         return [jobs[k] for k in untouched]
@@ -188,6 +202,15 @@ def _stage_group(
             seq[k], midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
         )
     return []
+
+
+def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts, first: int):
+    """Add one contact per vertex ``v`` with a ``candidate (g, T, V)`` triangle: the one
+    ``chosen (g, V)``, depth ``-h``, A's point ``x_v + n depth``; ordered ``first + v``."""
+    g, v = np.nonzero(candidate.any(axis=1))
+    t = chosen[g, v]
+    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
+    contacts.add(seq[g], first + v, point_b + n * depth[:, None], point_b, n)
 
 
 def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:

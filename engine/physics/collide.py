@@ -36,6 +36,7 @@ from .contact_helpers import (
     contact_arrays,
     fcl_raw_contacts,
     midpoint_contacts,
+    new_contact_side,
     segment_in_body,
     triangle_table,
 )
@@ -190,8 +191,9 @@ def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     tris = stage_shape.ray_triangles[tri_ids]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
-    # triangle normals face the shape's center
-    normal = _flip_towards(triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], center)
+    normal = _outward_normals(
+        triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], shape_b, pose_b
+    )
     if shape_b.kind == ShapeKind.SPHERE:
         return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
     if shape_b.kind == ShapeKind.CAPSULE:  # its two end spheres (fcl's capsule depths are off)
@@ -218,10 +220,19 @@ def _capsule_end_contacts(tris, normal, capsule, pose):
     return tuple(np.concatenate(part) for part in zip(*found, strict=True))
 
 
-def _flip_towards(normal, origin, point):
-    """Unit normals ``(t, 3)`` of planes through ``origin (t, 3)`` flipped towards ``point``."""
-    side = ((point - origin) * normal).sum(1)  # (p - p0) . n
-    return normal * np.where(side < 0, -1.0, 1.0)[:, None]
+def _outward_normals(normal, origin, shape, pose):
+    """Unit normals ``(t, 3)`` of the triangles through ``origin (t, 3)`` turned to their
+    outward side for a round shape (:func:`contact_helpers.new_contact_side`: its center
+    is the shape's center, its farthest point in front lies one radius beyond the
+    farther end of its segment)."""
+    rotation, position = pose
+    start, end, radius = segment_in_body(shape)
+    ends = np.stack([rotation @ start + position, rotation @ end + position])  # (2, 3)
+    center = 0.5 * (ends[0] + ends[1])
+    offset = (normal * origin).sum(axis=1)  # n . p0
+    center_height = normal @ center - offset
+    max_height = (normal @ ends.T).max(axis=1) - offset + radius
+    return normal * new_contact_side(normal[:, 1], center_height, max_height)[:, None]
 
 
 def _barycentric_inside(tris, points, tolerance=settings.BARYCENTRIC_TOLERANCE):
@@ -245,8 +256,10 @@ def _sphere_triangle_contacts(tris, normal, center, radius):
     best = int(np.argmin(distance))
     if distance[best] > radius + settings.STAGE_SPECULATIVE_DISTANCE:
         return None
-    off_surface = distance[best] > settings.SPHERE_CENTER_ON_SURFACE  # has an offset direction
-    n = offset[best] / distance[best] if off_surface else normal[best]
+    # a center in front of the outward side has an offset direction (exact, also at an
+    # edge); one on or behind the plane is pushed out along the outward normal
+    in_front = (offset[best] * normal[best]).sum() > settings.SPHERE_CENTER_ON_SURFACE
+    n = offset[best] / distance[best] if in_front else normal[best]
     point_a = closest[best][None]
     point_b = (center - radius * n)[None]
     return point_a, point_b, n[None]

@@ -13,7 +13,9 @@ use them (and neither imports private names of the other):
 * :func:`segment_in_body`: a capsule's axis segment and radius (a sphere's: one point);
 * :func:`body_poses`, :func:`to_world`: body poses and world points of ``g`` jobs at once;
 * :func:`triangle_table`: the per-triangle constants of the stage mesh (normals, edges and
-  the Gram entries of the barycentric solve, Ericson 3.4), computed once.
+  the Gram entries of the barycentric solve, Ericson 3.4), computed once;
+* :func:`new_contact_side`: which side of a stage triangle is outward for a body touching
+  it for the first time (the stage may wind its triangles either way).
 """
 
 from __future__ import annotations
@@ -167,3 +169,34 @@ def segment_in_body(shape: Shape) -> tuple[np.ndarray, np.ndarray, float]:
         return center, center, float(shape.radius)
     half = 0.5 * float(shape.geometry.lz) * shape.body_from_shape[:3, 2]  # fcl's axis is Z
     return center - half, center + half, float(shape.geometry.radius)
+
+
+def new_contact_side(
+    normal_y: np.ndarray, center_height: np.ndarray, max_height: np.ndarray
+) -> np.ndarray:
+    """+1 or -1 (same shape as the inputs) turning a stage triangle's winding normal ``n``
+    to its outward side for a body without a cached contact on it.
+
+    ``normal_y``: ``n_y``; ``center_height``: ``n . (c - p_0)`` of the body's center ``c``;
+    ``max_height``: the largest ``n . (x - p_0)`` over the body's points. The rule, in order:
+
+    1. the whole body behind the plane (``max_height <= 0``): the back (a body behind a
+       one-sided wall stays there);
+    2. a floor-like triangle (``|n_y| >= FLOOR_NORMAL_Y``) with the body's center on or
+       above its plane (``center_height n_y >= 0``): up, whatever the winding (a body
+       spawned half buried in a floor wound either way is pushed up, never through it);
+    3. a floor-like triangle with the center below its plane: the front (a body teleported
+       with its center below a floor is pushed up through the floor's front; one pressed
+       into a ceiling from below stays below);
+    4. a wall-like triangle: the side holding the body's center (its front when the center
+       is on the plane): a body poking through the back of a thin wall or skirting board
+       is pulled back to where most of it is, not pushed on through the next wall.
+
+    Reference: :func:`reference_pairs.new_contact_side_reference`.
+    """
+    floor_like = np.abs(normal_y) >= settings.FLOOR_NORMAL_Y
+    up = np.where(normal_y > 0, 1.0, -1.0)  # the sign turning n to point up
+    floor_side = np.where(center_height * normal_y >= 0, up, 1.0)
+    wall_side = np.where(center_height >= 0, 1.0, -1.0)
+    side = np.where(floor_like, floor_side, wall_side)
+    return np.where(max_height <= 0, -1.0, side)

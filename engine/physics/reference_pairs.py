@@ -151,6 +151,7 @@ def outward_side(
     normal: np.ndarray,
     corner: np.ndarray,
     heights: list[float],
+    center: np.ndarray,
     cached: list[tuple[np.ndarray, np.ndarray]],
 ) -> float:
     """+1 or -1 turning a triangle's normal to the stage's outward side.
@@ -158,10 +159,9 @@ def outward_side(
     The cached normal most (anti-)parallel to it decides when it is within 60 degrees
     (``|n . c| > 0.5``) and its point lies on the triangle's plane (within
     ``OUTWARD_SIDE_PLANE_DISTANCE`` of the plane through ``corner``): the body stays on the
-    side where the contact began. A new contact, or one cached on another surface, takes
-    the triangle's front (its winding normal) when some hull vertex lies in front of the
-    plane, else its back: a body spawned or teleported with its center below a floor is
-    pushed up, never down through it; a body wholly behind a one-sided wall stays there.
+    side where the contact began. A new contact, or one cached on another surface, follows
+    :func:`new_contact_side_reference` with the hull vertices' ``heights`` and the body's
+    ``center``.
     """
     alignments = [
         dot(normal, c)
@@ -173,7 +173,21 @@ def outward_side(
         strongest = alignments[int(np.argmax(np.abs(alignments)))]
         if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
             return float(np.sign(strongest))
-    return 1.0 if max(heights) > 0 else -1.0
+    center_height = dot(normal, center) - dot(normal, corner)
+    return new_contact_side_reference(float(normal[1]), center_height, max(heights))
+
+
+def new_contact_side_reference(normal_y: float, center_height: float, max_height: float) -> float:
+    """Plain twin of :func:`contact_helpers.new_contact_side` (one triangle): the back when
+    the whole body is behind the plane; on a floor-like triangle up when the body's center
+    is on or above its plane, else the front; on a wall-like one the center's side."""
+    if max_height <= 0:
+        return -1.0  # wholly behind: a body behind a one-sided wall stays there
+    if abs(normal_y) >= settings.FLOOR_NORMAL_Y:  # a floor or a ceiling
+        if center_height * normal_y >= 0:  # the center on the up side of the plane
+            return 1.0 if normal_y > 0 else -1.0  # up, whichever way the floor is wound
+        return 1.0
+    return 1.0 if center_height >= 0 else -1.0  # a wall: where most of the body is
 
 
 def stage_polyhedron_contacts(
@@ -193,7 +207,9 @@ def stage_polyhedron_contacts(
     and hull vertex v, the signed height
     ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
     it is not more than half the hull's extent below the plane, and its projection falls
-    inside the triangle. Each vertex keeps its shallowest triangle (the largest h).
+    inside the triangle. Each vertex keeps its shallowest triangle (the largest h) and, in a
+    corner, the shallowest of those turned 45 to 135 degrees from it that it has passed
+    (``h < 0``; listed after all the first contacts, as the batched path orders them).
     """
     table = triangle_table(stage)
     rotation, position = pose
@@ -205,31 +221,57 @@ def stage_polyhedron_contacts(
     for t in triangle_ids:
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
         height = [dot(normal, v) - dot(normal, corner) for v in vertices]
-        side = outward_side(normal, corner, height, cached)
+        side = outward_side(normal, corner, height, position, cached)
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
         heights.append(height)  # (T, V) signed heights, m
-    contacts = []
+    contacts, corner_contacts = [], []
     for k, vertex in enumerate(vertices):
-        # (height, triangle position) of the shallowest candidate triangle
-        best: tuple[float, int] | None = None
-        for i, t in enumerate(triangle_ids):
-            above = heights[i][k]  # m, height of this vertex above triangle t
-            if (
-                above < settings.STAGE_SPECULATIVE_DISTANCE
-                and above > -settings.STAGE_BELOW_FRACTION * extent
-                and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
-                and (best is None or above > best[0])
-            ):
-                best = (above, i)
-        if best is not None:
-            normal, depth = normals[best[1]], -best[0]
-            contacts.append(Contact(vertex + normal * depth, vertex, normal))
+        # positions i of the triangles this vertex touches
+        touching = [
+            i
+            for i, t in enumerate(triangle_ids)
+            if settings.STAGE_SPECULATIVE_DISTANCE > heights[i][k]
+            and heights[i][k] > -settings.STAGE_BELOW_FRACTION * extent
+            and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+        ]
+        if not touching:
+            continue
+        best = _shallowest(touching, heights, k)
+        contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
+        # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
+        # which the vertex has passed (h < 0)
+        turned = [
+            i
+            for i in touching
+            if abs(dot(normals[i], normals[best])) < settings.STAGE_CORNER_COSINE
+            and heights[i][k] < 0
+        ]
+        if turned:
+            second = _shallowest(turned, heights, k)
+            corner_contacts.append(_vertex_contact(vertex, normals[second], heights[second][k]))
+    contacts += corner_contacts  # the batched path orders them after every first contact
     if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
         contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
     return contacts
+
+
+def _shallowest(positions: list[int], heights: list, k: int) -> int:
+    """The position in ``positions`` whose triangle vertex ``k`` is highest above (the
+    first of equal heights)."""
+    best = positions[0]
+    for i in positions[1:]:
+        if heights[i][k] > heights[best][k]:
+            best = i
+    return best
+
+
+def _vertex_contact(vertex: np.ndarray, normal: np.ndarray, height: float) -> Contact:
+    """Vertex ``vertex`` at ``height`` above a plane of outward ``normal``: depth ``-height``,
+    A's point on the plane."""
+    return Contact(vertex - normal * height, vertex, normal)
 
 
 def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.ndarray) -> bool:

@@ -142,8 +142,13 @@ TIE_QUANTUM = 1e-9
 #: decides which side of the triangle is outward (the side the contact began on).
 OUTWARD_SIDE_ALIGNMENT = 0.5
 #: m, ... and only when its contact point lies within this of the triangle's plane: a normal
-#: cached on another surface (a shelf's underside) never turns a parallel floor over.
-OUTWARD_SIDE_PLANE_DISTANCE = 0.02
+#: cached on another surface (a shelf's underside, the back of a 15 mm skirting board) never
+#: turns a parallel one over (cached stage points lie on their triangle's plane exactly).
+OUTWARD_SIDE_PLANE_DISTANCE = 0.001
+#: 1 (cosine), a stage triangle whose normal is within 60 degrees of vertical is a floor
+#: (or ceiling): a new contact with a body whose center is above its plane pushes up,
+#: whichever way the stage winds it (contact_helpers.new_contact_side).
+FLOOR_NORMAL_Y = 0.5
 #: m, a pair whose bodies moved relative to each other by less than this (at any point of
 #: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
 CONTACT_CACHE_DISTANCE = 0.0005
@@ -155,6 +160,10 @@ PREFERRED_SIZE_BONUS = 0.1
 #: 1, a hull vertex more than this fraction of the hull's extent below a stage triangle is
 #: on the triangle's other side (a thin wall), not in contact with it.
 STAGE_BELOW_FRACTION = 0.5
+#: 1 (cosine), a hull vertex touching stage triangles turned 45 to 135 degrees from its
+#: shallowest one (a floor and a wall at a corner) also keeps the shallowest of those it
+#: has passed (lies behind).
+STAGE_CORNER_COSINE = 0.7
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9

@@ -262,3 +262,125 @@ def test_cube_sliding_down_a_wall_past_a_shelf_lands_on_the_apartment_floor(
     path = track(world, cube, 40)
     assert path[:, 1].min() > FLOOR  # its center never goes below the floor
     assert FLOOR + 0.09 < path[-1, 1] < FLOOR + 0.18  # resting on it (half 0.1 to 0.17)
+
+
+SPHERE = "icosphereSolid_subdivs_1"
+CAPSULE = (
+    "capsule3DSolid_hemiRings_4_cylRings_1_segments_12_halfLen_0.75"
+    "_useTexCoords_false_useTangents_false"
+)
+#: primitive -> its resting center height on a floor at y = 0 with scale 0.1 (hand geometry:
+#: half side 0.1; sphere radius 0.1; capsule radius 0.1 plus half its 0.075 m segment)
+RESTING_HEIGHT = {"cubeSolid": 0.1, SPHERE: 0.1, CAPSULE: 0.1 + 0.075}
+
+
+@pytest.mark.parametrize("primitive", list(RESTING_HEIGHT))
+@pytest.mark.parametrize("faces_down", [False, True])
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_body_spawned_half_buried_in_a_floor_wound_either_way_comes_out_on_top(
+    primitive, faces_down, vectorized
+):
+    """Mutation testing (issue 26) found a ball spawned half buried in a floor whose
+    triangles face down falling through it; a capsule spawned 5 cm into an up-facing floor
+    ended half sunk (its lower end sphere was pushed down). A new contact with a floor-like
+    triangle now pushes a body whose center is on or above the plane up, whatever the
+    winding (contact_helpers.new_contact_side)."""
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    floor = floor_mesh()
+    if faces_down:
+        floor.faces = floor.faces[:, ::-1].copy()
+    world.set_stage([floor], StageAttributes())
+    body = add(world, templates, register_primitive(templates, primitive), [0.0, 0.0, 0.0])
+    path = track(world, body, 120)[:, 1]
+    assert path.min() > -0.002  # never pushed down (the center started on the plane)
+    assert abs(path[-1] - RESTING_HEIGHT[primitive]) < 0.006  # out, resting on the floor
+
+
+@pytest.mark.parametrize("faces_down", [False, True])
+def test_ball_dropped_on_a_floor_wound_either_way_rests_on_it(faces_down):
+    """The other side of the rule: a ball falling on a floor touches it from above, so
+    either winding holds it at its radius (a down-facing floor's back is outward)."""
+    world, templates = make_world(floor=False)
+    floor = floor_mesh()
+    if faces_down:
+        floor.faces = floor.faces[:, ::-1].copy()
+    world.set_stage([floor], StageAttributes())
+    ball = add(world, templates, register_primitive(templates, SPHERE), [0.0, 0.5, 0.0])
+    path = track(world, ball, 120)[:, 1]
+    assert path.min() > 0.1 - 0.01 and abs(path[-1] - 0.1) < 0.003
+
+
+def test_new_contact_side_agrees_with_its_reference_on_every_case():
+    """The batched rule and its plain twin on a grid of normals and heights (both signs,
+    floor-like and wall-like, the center on the plane)."""
+    from engine.physics.contact_helpers import new_contact_side
+    from engine.physics.reference_pairs import new_contact_side_reference
+
+    values = np.array([-1.0, -0.6, -0.5, -0.2, 0.0, 0.2, 0.5, 0.6, 1.0])
+    ny, hc, hm = (a.ravel() for a in np.meshgrid(values, values / 10, values / 10))
+    batched = new_contact_side(ny, hc, hm)
+    plain = [new_contact_side_reference(*case) for case in zip(ny, hc, hm, strict=True)]
+    np.testing.assert_array_equal(batched, plain)
+    # hand cases: an up-facing floor under a body whose center sank below it: the front
+    assert new_contact_side(np.array([1.0]), np.array([-0.05]), np.array([0.05]))[0] == 1.0
+    # a down-facing floor under a body whose center is above it: up (the back)
+    assert new_contact_side(np.array([-1.0]), np.array([-0.05]), np.array([0.05]))[0] == -1.0
+    # a ceiling (facing down) pressed from below: its front (down)
+    assert new_contact_side(np.array([-1.0]), np.array([0.05]), np.array([0.15]))[0] == 1.0
+    # a body wholly behind a one-sided wall stays behind it
+    assert new_contact_side(np.array([0.0]), np.array([-0.2]), np.array([-0.1]))[0] == -1.0
+    # a body poking through the back of a thin board: pulled back to its center's side
+    assert new_contact_side(np.array([0.0]), np.array([-0.04]), np.array([0.02]))[0] == -1.0
+
+
+def lowest_point(world, index: int) -> float:
+    """The lowest world y of body ``index``'s hull vertices, m."""
+    from engine.physics.quaternions import quat_to_matrix
+
+    b = world.bodies
+    vertices = np.concatenate([shape.hull_vertices for shape in b.shapes[index]])
+    return float((vertices @ quat_to_matrix(b.body_rotation[index]).T)[:, 1].min()) + float(
+        b.body_position[index][1]
+    )
+
+
+@pytest.mark.parametrize("template", ["mug", "cubeSolid"])
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_body_driven_into_a_skirting_board_corner_stays_out_of_the_floor(
+    demo_data, template, vectorized
+):
+    """The 10^4 soak left a mug 2.5 cm below the floor against a wall: velocity control
+    drove it at (1, -0.5, 0) m/s into the corner of the floor and the 15 mm skirting board
+    in front of the wall at x = 5 (a thin slab). Its vertices poked through the board's back
+    face (x = 5.0, facing the wall); as a new contact that face took its front and pushed
+    the mug on into the wall, and its cached normal then turned the board's room-side face
+    over (within the old 2 cm plane tolerance), so every contact pushed +x and none held it
+    up: 5 cm into the floor. Now a wall-like face takes the side of the body's center, a
+    cached normal turns only its own plane (1 mm) and a vertex in a corner keeps a floor
+    contact beside its wall contact."""
+    import engine as habitat_sim
+
+    cfg = habitat_sim.SimulatorConfiguration()
+    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
+    agent = habitat_sim.agent.AgentConfiguration()
+    agent.sensor_specifications = []
+    sim = habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent]))
+    templates = sim.get_object_template_manager()
+    templates.load_configs(str(demo_data / "objects/example_objects/"))
+    world = sim.get_physics_world()
+    world.settings.use_vectorized = vectorized
+    handle = templates.get_template_handles(template)[0]
+    body = sim.get_rigid_object_manager().add_object_by_template_handle(handle)
+    body.translation = [4.85, -1.3, -0.04]
+    control = body.velocity_control
+    control.controlling_lin_vel = control.controlling_ang_vel = True
+    control.linear_velocity, control.angular_velocity = [1.0, -0.5, 0.0], [0.0, 0.0, 0.0]
+    lowest = []
+    for _ in range(150):
+        sim.step_physics(FRAME)
+        lowest.append(lowest_point(world, body.object_id))
+    center_x = body.translation[0]
+    sim.close()
+    assert min(lowest) > FLOOR - 0.02  # never 2 cm into the floor, while pushed into it
+    assert center_x < 5.0  # and never through the board into the wall

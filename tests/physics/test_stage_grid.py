@@ -109,3 +109,41 @@ def test_grid_holds_every_triangle_fcl_reports_and_gives_fcls_contacts(demo_data
     for mine, theirs in zip(with_grid, with_fcl, strict=True):
         np.testing.assert_allclose(mine.point_b, theirs.point_b, atol=1e-12)
         np.testing.assert_allclose(mine.normal, theirs.normal, atol=1e-12)
+
+
+def test_vertex_in_a_floor_wall_corner_gets_both_surfaces_on_both_paths():
+    """A 0.2 m box pressed 1 cm into a floor and 5 mm into a wall (x = 0.5, normal -X): its
+    four vertices inside the wall keep the wall's contact (their shallowest) and the two on
+    the floor also the floor's (before, each vertex kept only its shallowest surface, and a
+    body driven into a corner sank into the floor), on the batched and the reference path
+    alike (same points, same order)."""
+    from engine.assets import MeshData
+    from engine.physics.collision_stage import update_world_aabbs
+    from engine.physics.narrow_phase import narrow_phase
+    from engine.physics.reference_contacts import pair_contacts
+
+    wall = MeshData(
+        vertices=np.array([[0.5, -1, -2], [0.5, 2, -2], [0.5, 2, 2], [0.5, -1, 2]], dtype=float),
+        faces=np.array([[0, 1, 2], [0, 2, 3]]),  # normal -X, towards the box; below the floor too
+    )
+    world, templates = make_world(floor=False)
+    world.set_stage([floor_mesh(), wall], StageAttributes())
+    add(world, templates, register_primitive(templates), [0.5 - 0.095, 0.09, 0.0])
+    b, objects = world.bodies, world.collision_objects
+    rotation = quat_to_matrix(b.body_rotation[: b.count])
+    update_world_aabbs(b, rotation)
+    objects.move(b, np.arange(1, b.count), rotation[1:])
+    _, point_a, point_b, normal = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
+    reference = pair_contacts(b, objects, world.manifolds, 0, 1, rotation)
+    assert len(reference) == len(normal)
+    for contact, a, p, n in zip(reference, point_a, point_b, normal, strict=True):
+        np.testing.assert_allclose(contact.point_a, a, atol=1e-12)
+        np.testing.assert_allclose(contact.point_b, p, atol=1e-12)
+        np.testing.assert_allclose(contact.normal, n, atol=1e-12)
+    depth = ((point_a - point_b) * normal).sum(axis=1)
+    inside = point_b[:, 0] > 0.5  # the four vertices inside the wall
+    up, back = np.isclose(normal[:, 1], 1.0), np.isclose(normal[:, 0], -1.0)
+    assert np.count_nonzero(inside & back) == 4 and np.count_nonzero(inside & up) == 2
+    np.testing.assert_allclose(depth[inside & back], 0.005, atol=1e-9)
+    np.testing.assert_allclose(depth[up], 0.01, atol=1e-9)  # all four bottom vertices
+    assert np.count_nonzero(up) == 4
