@@ -97,6 +97,10 @@ MODULES: dict[str, Module] = {
         (PHYS + "test_solver_switches.py",),
         (PHYS + "test_contact_laws.py", PHYS + "test_reference_path.py"),
     ),
+    "engine/physics/contact_batch.py": Module(
+        (PHYS + "test_manifolds_and_narrow_phase.py",),
+        (PHYS + "test_reference_path.py", PHYS + "test_contact_laws.py"),
+    ),
     "engine/physics/reference_solver.py": Module(
         (PHYS + "test_reference_path.py",),
         (PHYS + "test_solver_switches.py", PHYS + "test_rolling_friction.py"),

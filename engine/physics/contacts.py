@@ -11,9 +11,12 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
    ``CONTACT_DRIFT_DISTANCE`` tangentially;
 2. merge: too many fresh points are cut to the supporting polygon (:func:`select_support`);
    fresh points closer than ``CONTACT_MATCH_DISTANCE`` to a kept one are dropped (deepest
-   wins); a fresh point within ``CONTACT_MATCH_DISTANCE`` of a cached one inherits its
-   impulses (this is what makes warm starting work). Three or more fresh points replace the
-   cache; fewer are added to it (GJK gives one point per step, so a manifold builds up);
+   wins); a fresh point within ``CONTACT_MATCH_DISTANCE`` of a cached one in B's frame
+   inherits its impulses (this is what makes warm starting work), also from a cached point
+   step 1 dropped: B's anchor names B's feature (a box corner), whose load persists while it
+   slides (Box2D v3 keys its warm start by feature ids the same way). Three or more fresh
+   points replace the cache; fewer are added to it (GJK gives one point per step, so a
+   manifold builds up);
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
@@ -282,12 +285,13 @@ class ManifoldStore(MutableMapping):
         frame_a = (rotation[a], position[a])
         frame_b = (rotation[b], position[b])
         feature = self.feature[rows]
-        cached = self._refreshed(rows, frame_a, frame_b, feature)
+        every = self._points(rows)  # all cached points: their impulses for warm starting
+        cached = self._refreshed(every, frame_a, frame_b, feature)  # the ones still touching
         max_points = self.max_points[rows]
         points = select_fresh(fresh, cached, frame_b, max_points, feature)
         points = distinct_points(points, feature)
         local = to_local(points, frame_a, frame_b)
-        used = inherit_impulses(local, cached, max_points, feature)
+        used = inherit_impulses(local, every, max_points, feature)
         merged = combine(local, cached, used)
         merged = reduce_points(merged, frame_a, frame_b, max_points, feature)
         width = min(SLOTS, merged.valid.shape[1])
@@ -300,9 +304,10 @@ class ManifoldStore(MutableMapping):
                 valid, getattr(merged, name)[:, :width], 0.0
             )
 
-    def _refreshed(self, rows, frame_a, frame_b, feature) -> LocalPoints:
-        """Cached points of ``rows`` that are still in contact (see step 1), compacted."""
-        cached = self._points(rows)
+    @staticmethod
+    def _refreshed(cached: LocalPoints, frame_a, frame_b, feature) -> LocalPoints:
+        """The ``cached`` points still in contact (see step 1), flagged in place (slots
+        unmoved, so a slot of the result is the same point as in ``cached``)."""
         point_a, point_b, normal = cached.world(frame_a, frame_b)
         gap = point_a - point_b
         depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
@@ -310,4 +315,7 @@ class ManifoldStore(MutableMapping):
         keep = (depth > -settings.CONTACT_BREAKING_DISTANCE) & (
             drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2
         )
-        return cached.where(cached.valid & keep)
+        valid = cached.valid & keep
+        return LocalPoints(
+            cached.local_a, cached.local_b, cached.normal_local, cached.impulse, valid
+        )

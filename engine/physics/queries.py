@@ -27,10 +27,10 @@ from engine.mn.vectors import stable_norm
 from .bodies import DYNAMIC, STATIC, Bodies
 from .collide import world_aabbs
 from .collision_groups import CollisionGroups, filter_pairs, interacts_with_group
+from .contact_batch import tangent_basis
 from .contacts import ManifoldStore
 from .quaternions import quat_to_matrix
 from .settings import RAY_PARALLEL_DETERMINANT, RAY_SPHERE_MARGIN, TINY
-from .solver import tangent_basis
 
 if TYPE_CHECKING:
     from .collision_stage import CollisionObjects

@@ -54,17 +54,20 @@ def update_manifold(
 
     1. keep the cached points still in contact (:func:`still_touching`);
     2. too many fresh points: keep the supporting polygon, preferring points that match
-       cached ones; drop fresh points within ``feature`` of a deeper one;
+       kept ones; drop fresh points within ``feature`` of a deeper one;
     3. fresh points inherit the impulse of the nearest unused cached point closer than
-       ``feature`` (warm starting); a rolling point always inherits;
+       ``feature`` in B's frame (warm starting), kept or not: the anchor in B's frame is
+       B's feature (a box corner), which keeps its load while it slides; a rolling point
+       always inherits;
     4. three or more fresh points replace the cache, fewer join its unmatched points;
     5. more than ``max_points``: the supporting polygon's points.
     """
-    cached = [p for p in cached if still_touching(p, frame_a, frame_b, feature)]
+    touching = [still_touching(p, frame_a, frame_b, feature) for p in cached]
+    kept = [p for p, is_touching in zip(cached, touching, strict=True) if is_touching]
     (ra, xa), (rb, xb) = frame_a, frame_b
     band = min(settings.SUPPORT_DEPTH_BAND, feature)
     if len(fresh) > max_points:
-        fresh = _support_of_fresh(fresh, cached, rb, xb, max_points, feature, band)
+        fresh = _support_of_fresh(fresh, kept, rb, xb, max_points, feature, band)
     fresh = _distinct(fresh, feature)
     points = [
         ManifoldPoint(
@@ -72,11 +75,14 @@ def update_manifold(
         )
         for c in fresh
     ]
+    # every cached point may pass its impulse on, also one that slid out of contact: the
+    # anchor in B's frame names B's feature (a box corner sliding on the floor keeps it)
     used = _inherit_impulses(points, cached, max_points, feature)
     if len(points) >= 3:
         merged = points
     else:
-        merged = [p for p, is_used in zip(cached, used, strict=True) if not is_used] + points
+        unused = zip(cached, touching, used, strict=True)
+        merged = [p for p, is_touching, is_used in unused if is_touching and not is_used] + points
     if len(merged) > max_points:
         world = [p.world(frame_a, frame_b) for p in merged]
         chosen = select_support(

@@ -23,6 +23,14 @@ import numpy as np
 
 from .bodies import DYNAMIC, KINEMATIC, Bodies
 from .coloring import color_manifolds
+from .contact_batch import (
+    SLOTS,
+    ColorOrder,
+    ManifoldPoints,
+    PairCoefficients,
+    SolverBodies,
+    build_batch,
+)
 from .contacts import ManifoldStore
 from .integrate import world_inverse_inertia
 from .quaternions import live_rotations
@@ -33,15 +41,7 @@ from .rolling_friction import (
     needs_rolling_friction,
 )
 from .settings import IMPACT_SPEED, PENETRATION_SLOP, SLEEP_MAX_PENETRATION, TINY, SolverSettings
-from .solver import (
-    SLOTS,
-    ColorOrder,
-    ManifoldPoints,
-    PairCoefficients,
-    SolverBodies,
-    build_batch,
-    solve_contacts,
-)
+from .solver import solve_contacts
 
 
 @dataclass

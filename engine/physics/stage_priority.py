@@ -30,7 +30,7 @@ import numpy as np
 from .settings import TINY, SolverSettings
 
 if TYPE_CHECKING:
-    from .solver import ContactBatch
+    from .contact_batch import ContactBatch
 
 
 def stage_rows_last(batch, flat, bias, settings: SolverSettings) -> None:

@@ -239,15 +239,15 @@ def test_effective_mass_under_the_center_of_mass_is_the_body_mass():
 
 
 def test_batched_jacobians_and_effective_masses_match_the_reference_build():
-    from engine.physics.reference_solver import Bodies6, build_rows
-    from engine.physics.solve_stage import gather_solver_input
-    from engine.physics.solver import (
+    from engine.physics.contact_batch import (
         ColorOrder,
         ManifoldPoints,
         PairCoefficients,
         SolverBodies,
         build_batch,
     )
+    from engine.physics.reference_solver import Bodies6, build_rows
+    from engine.physics.solve_stage import gather_solver_input
 
     world = tumbling_world(0.5)
     b, store = world.bodies, world.manifolds
