@@ -74,7 +74,11 @@ NAV = "tests/navmesh/"
 # three hours on 2 cores; run the modules you changed (see docs/testing.md).
 MODULES: dict[str, Module] = {
     "engine/physics/integrate.py": Module(
-        (PHYS + "test_integration_laws.py", PHYS + "test_single_body.py"),
+        (
+            PHYS + "test_integration_laws.py",
+            PHYS + "test_single_body.py",
+            PHYS + "test_split_impulse.py",
+        ),
         (PHYS + "test_contact_laws.py", PHYS + "test_solver_switches.py"),
     ),
     "engine/physics/sleeping.py": Module(
@@ -90,7 +94,7 @@ MODULES: dict[str, Module] = {
     ),
     "navmesh/step_filter.py": Module((NAV + "test_step_filter.py",), (NAV + "test_pathfinder.py",)),
     "engine/physics/solver.py": Module(
-        (PHYS + "test_solver_switches.py",),
+        (PHYS + "test_solver_switches.py", PHYS + "test_split_impulse.py"),
         (PHYS + "test_contact_laws.py", PHYS + "test_reference_path.py"),
     ),
     "engine/physics/reference_solver.py": Module(
@@ -265,6 +269,7 @@ def run_module(
     """Sample, run both stages and classify the mutants of one module."""
     spec = MODULES[module]
     t0 = time.monotonic()
+    code = _code_version()  # the copy in ``work`` was made just now
     tag = module.replace("/", "_")
     session = work / f"{tag}.sqlite"
     fast_cfg, wide_cfg = work / f"{tag}.fast.toml", work / f"{tag}.wide.toml"
@@ -329,7 +334,7 @@ def run_module(
         survived,
         equivalent,
         time.monotonic() - t0,
-        _code_version(),
+        code,
     )
 
 
