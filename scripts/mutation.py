@@ -27,6 +27,8 @@ Usage::
     bash scripts/mutation.sh                       # every module below
     bash scripts/mutation.sh navmesh/step_filter.py engine/physics/integrate.py
     bash scripts/mutation.sh --per-module 20 render/camera.py
+    bash scripts/mutation.sh --recheck navmesh/search.py   # after adding tests: re-run only
+                                                           # the report row's survivors
 """
 
 from __future__ import annotations
@@ -95,7 +97,11 @@ MODULES: dict[str, Module] = {
     "navmesh/step_filter.py": Module((NAV + "test_step_filter.py",), (NAV + "test_pathfinder.py",)),
     "engine/physics/solver.py": Module(
         (PHYS + "test_solver_switches.py", PHYS + "test_split_impulse.py"),
-        (PHYS + "test_contact_laws.py", PHYS + "test_reference_path.py"),
+        (
+            PHYS + "test_contact_laws.py",
+            PHYS + "test_reference_path.py",
+            PHYS + "test_translation_invariance.py",
+        ),
     ),
     "engine/physics/reference_solver.py": Module(
         (PHYS + "test_reference_path.py",),
@@ -263,10 +269,34 @@ class ModuleResult:
         return len(self.killed) / total if total else 1.0
 
 
+def _recheck_plan(earlier: ModuleResult, sample: list, to_run: list) -> tuple[list, list[tuple]]:
+    """``(jobs to run, kills kept)`` for ``--recheck``: the earlier row's survivors that are
+    not listed as equivalent now. Its kills stand: tests were only added since, and a test
+    added cannot bring a killed mutant back. The library code must be unchanged (the same
+    sample of lines and columns), or the module is to be run in full."""
+
+    def key(e) -> tuple:  # operator, line, column
+        return (e[0], e[1], e[2])
+
+    sampled = {(j[1], j[3], j[4]) for j in sample}
+    if not {key(e) for e in earlier.killed + earlier.survived} <= sampled:
+        raise SystemExit(f"{earlier.module}: the code changed since its row; run it in full")
+    running = {(j[1], j[3], j[4]) for j in to_run}
+    survivors = {key(e) for e in earlier.survived}
+    kept = [tuple(e) for e in earlier.killed if key(e) in running]
+    return [j for j in to_run if (j[1], j[3], j[4]) in survivors], kept
+
+
 def run_module(
-    work: Path, module: str, per_module: int | None, seed: int, list_only: bool = False
+    work: Path,
+    module: str,
+    per_module: int | None,
+    seed: int,
+    list_only: bool = False,
+    recheck: ModuleResult | None = None,
 ) -> ModuleResult:
-    """Sample, run both stages and classify the mutants of one module."""
+    """Sample, run both stages and classify the mutants of one module (with ``recheck``, an
+    earlier result of the same sample: only its survivors are run again)."""
     spec = MODULES[module]
     t0 = time.monotonic()
     code = _code_version()  # the copy in ``work`` was made just now
@@ -281,6 +311,8 @@ def run_module(
     informative = [j for j in jobs if _informative(j[1])]
     rng = random.Random(f"{seed}:{module}")
     n_sample = spec.sample if per_module is None else per_module
+    if recheck is not None:
+        n_sample = recheck.n_sampled
     sample = rng.sample(informative, min(n_sample, len(informative)))
     sampled_ids = {j[0] for j in sample}
     equivalents = _load_equivalents()
@@ -293,6 +325,9 @@ def run_module(
             to_run.append(job)
         else:
             equivalent.append((job[1], job[3], job[4], text, mutant_text[job[0]], reason))
+    killed: list[tuple] = []
+    if recheck is not None:
+        to_run, killed = _recheck_plan(recheck, sample, to_run)
     skipped = [j[0] for j in jobs if j[0] not in sampled_ids] + [
         j[0] for j in sample if j not in to_run
     ]
@@ -318,7 +353,7 @@ def run_module(
         _cosmic_ray(work, "exec", str(wide_cfg), str(session))
         results = _results(session)
 
-    killed, survived = [], []
+    survived = []
     for job in to_run:
         _worker, outcome, output = results[job[0]]
         entry = (job[1], job[3], job[4], _line_text(work, module, job[3]), mutant_text[job[0]])
@@ -333,8 +368,8 @@ def run_module(
         killed,
         survived,
         equivalent,
-        time.monotonic() - t0,
-        code,
+        time.monotonic() - t0 + (recheck.seconds if recheck else 0.0),
+        code if recheck is None else f"{recheck.code}, survivors rechecked at {code}",
     )
 
 
@@ -429,6 +464,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=26)
     parser.add_argument("--jobs", type=int, default=2, help="modules run in parallel")
     parser.add_argument("--list", action="store_true", help="print the sample, run no test")
+    parser.add_argument(
+        "--recheck",
+        action="store_true",
+        help="run again only the survivors of the modules' rows in the report (after adding "
+        "tests; the library code must be unchanged)",
+    )
     parser.add_argument("--report", type=Path, default=None, help="report path")
     args = parser.parse_args(argv)
     modules = args.modules or list(MODULES)
@@ -440,12 +481,22 @@ def main(argv: list[str] | None = None) -> int:
     )
     results: list[ModuleResult] = []
     lock = threading.Lock()
+    earlier: dict[str, ModuleResult] = {}
+    if args.recheck:
+        twin = report.with_suffix(".json")
+        rows = json.loads(twin.read_text()) if twin.exists() else []
+        earlier = {r["module"]: ModuleResult(**r) for r in rows}
+        missing = [m for m in modules if m not in earlier]
+        if missing:
+            parser.error(f"--recheck: no row for {missing} in {twin}")
 
     def one(module: str) -> None:
         with tempfile.TemporaryDirectory(prefix="rigidsim-mutation-") as tmp:
             work = Path(tmp)
             _copy_tree(work)  # one copy per module: parallel jobs never share a mutated file
-            result = run_module(work, module, args.per_module, args.seed, args.list)
+            result = run_module(
+                work, module, args.per_module, args.seed, args.list, earlier.get(module)
+            )
         with lock:
             results.append(result)
             results.sort(key=lambda r: modules.index(r.module))

@@ -164,11 +164,12 @@ def test_l_corridor_length_is_the_same_moved_to_negative_coordinates_or_mirrored
         assert pf.is_navigable(p)
 
 
-def _mirrored_l(geometry, mx: float, mz: float, corner, radius: float):
-    """The L corridor with its inner corner at ``corner`` (x, z), reflected by (mx, mz)."""
+def _mirrored_l(geometry, mx: float, mz: float, corner, radius: float, offset=(0.0, 0.0)):
+    """The L corridor with its inner corner at ``corner`` (x, z), reflected by (mx, mz), then
+    moved by ``offset`` (x, z)."""
 
     def place(p):
-        return np.array([p[0] * mx, p[1], p[2] * mz])
+        return np.array([offset[0] + p[0] * mx, p[1], offset[1] + p[2] * mz])
 
     cx, cz = corner
     boxes = [((0, -0.1, 0), (6, 0, cz)), ((cx, -0.1, cz), (6, 0, 6))]
@@ -181,15 +182,24 @@ def _mirrored_l(geometry, mx: float, mz: float, corner, radius: float):
     return pf, place
 
 
-@pytest.mark.parametrize("mx, mz", [(1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)])
-def test_path_around_an_l_corner_bends_at_the_walkable_corner(geometry, mx, mz):
+@pytest.mark.parametrize(
+    "mx, mz, offset",
+    [
+        (1.0, 1.0, (0.0, 0.0)),
+        (1.0, -1.0, (0.0, 0.0)),
+        (-1.0, -1.0, (0.0, 0.0)),
+        (1.0, 1.0, (-3.0, -1.5)),
+    ],
+)
+def test_path_around_an_l_corner_bends_at_the_walkable_corner(geometry, mx, mz, offset):
     """No agent radius, inner corner of the L at (4.025, 2.025), mid-cell on the 0.05 m grid
     (origin at the mesh's minimum corner). Every cell a floor touches is walkable, so the
     walkable region's inner corner is the grid corner q = (4.00, 2.05) just outside the box
     corner, and the taut string from (1, 1) to (5, 5) bends at q only: its length is
     |s - q| + |q - e| (up to the 0.1 mm INSIDE_EPS back-off into the corner's cell), whatever
-    the quadrant the corridor is mirrored into."""
-    pf, place = _mirrored_l(geometry, mx, mz, (4.025, 2.025), radius=0.0)
+    the quadrant the corridor is mirrored into, and with the world origin between the start
+    and the corner (offset (-3, -1.5))."""
+    pf, place = _mirrored_l(geometry, mx, mz, (4.025, 2.025), radius=0.0, offset=offset)
     start, end, q = place([1.0, 0.0, 1.0]), place([5.0, 0.0, 5.0]), place([4.0, 0.0, 2.05])
     # the walkable region around q: three of its four neighbouring cells
     assert pf.is_navigable(place([3.99, 0.0, 2.04]))
