@@ -135,7 +135,7 @@ MODULES: dict[str, Module] = {
     "render/reference.py": Module((REND + "test_reference.py",), (REND + "test_frame.py",)),
     "navmesh/search.py": Module(
         (NAV + "test_paths.py", NAV + "test_pathfinder.py"),
-        (NAV + "test_scenes.py",),
+        (NAV + "test_scenes.py", NAV + "test_polygons_and_field.py"),  # the field: GridGraph
         timeout=120.0,  # a mutant that never stops widening the search hangs (tests: ~15 s)
     ),
     "navmesh/heightfield.py": Module(

@@ -227,3 +227,24 @@ def test_every_interior_waypoint_is_needed(geometry, mx, mz):
         n = int(np.linalg.norm(after - before) / 0.001) + 2
         shortcut = before + (after - before) * np.linspace(0.0, 1.0, n)[:, None]
         assert not all(pf.is_navigable(p) for p in shortcut)
+
+
+@pytest.mark.parametrize(
+    "start, end",
+    [([1.0, 0, 4.0], [5.0, 0, 4.0]), ([3.0, 0, 1.0], [3.0, 0, 6.0]), ([1.0, 0, 6.0], [6, 0, 2])],
+)
+def test_path_around_a_pillar_stays_on_the_walkable_floor(geometry, start, end):
+    """A 1 m square pillar (x, z in [2.5, 3.5] x [3.5, 4.5]) stands between start and end
+    (start x != z: a line of sight taken from a wrong point shows): every segment of the
+    path lies on the walkable floor (checked every 1 mm), and the path goes around the
+    pillar dilated by the 0.1 m agent radius, so it is longer than the straight segment."""
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (8, 0, 8)), geometry.box((2.5, 0, 3.5), (3.5, 2, 4.5))
+    )
+    start, end = np.array(start), np.array(end)
+    path = ShortestPath(requested_start=start, requested_end=end)
+    assert pf.find_path(path)
+    assert path.geodesic_distance > np.linalg.norm(end - start) + 0.01
+    for a, b in zip(path.points[:-1], path.points[1:], strict=True):
+        n = int(np.linalg.norm(b - a) / 0.001) + 2
+        assert all(pf.is_navigable(p) for p in a + (b - a) * np.linspace(0.0, 1.0, n)[:, None])
