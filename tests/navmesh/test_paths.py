@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from navmesh import MultiGoalShortestPath, ShortestPath
+from navmesh.search import path_length
 
 
 def l_corridor(geometry, radius=0.1):
@@ -248,3 +249,13 @@ def test_path_around_a_pillar_stays_on_the_walkable_floor(geometry, start, end):
     for a, b in zip(path.points[:-1], path.points[1:], strict=True):
         n = int(np.linalg.norm(b - a) / 0.001) + 2
         assert all(pf.is_navigable(p) for p in a + (b - a) * np.linspace(0.0, 1.0, n)[:, None])
+
+
+def test_path_length_sums_the_segment_lengths():
+    """Habitat's ``pathLength``: a polyline of fewer than two points has no length; a 3-4-5
+    right angle walked along its legs (one leg climbing 4 m) is 3 + 4 = 7 m long."""
+    assert path_length([]) == 0.0
+    assert path_length([np.array([1.0, 2.0, 3.0])]) == 0.0
+    legs = [np.array([0.0, 0.0, 0.0]), np.array([3.0, 0.0, 0.0]), np.array([3.0, 4.0, 0.0])]
+    assert path_length(legs) == pytest.approx(7.0, abs=1e-12)
+    assert path_length([legs[0], legs[2]]) == pytest.approx(5.0, abs=1e-12)
