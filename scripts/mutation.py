@@ -27,6 +27,8 @@ Usage::
     bash scripts/mutation.sh                       # every module below
     bash scripts/mutation.sh navmesh/step_filter.py engine/physics/integrate.py
     bash scripts/mutation.sh --per-module 20 render/camera.py
+    bash scripts/mutation.sh --recheck navmesh/search.py   # after adding tests: re-run only
+                                                           # the report row's survivors
 """
 
 from __future__ import annotations
@@ -62,40 +64,44 @@ class Module:
 
     fast: tuple[str, ...]  # stage 1: the module's own tests, run with -x on every mutant
     wide: tuple[str, ...]  # stage 2: run only on stage-1 survivors
-    sample: int = 15  # mutants drawn per run (``--per-module`` overrides)
+    sample: int = 60  # mutants drawn per run (``--per-module`` overrides)
     timeout: float = 900.0  # seconds per mutant and stage (a hang counts as killed)
 
 
 PHYS = "tests/physics/"
 REND = "tests/render/"
 NAV = "tests/navmesh/"
-# The five kernels the issue measured first get 30 sampled mutants, the others 15 (a full
-# run of both stages then takes about an hour on 2 shared cores).
+# 60 sampled mutants per kernel, as in the issue's first measurement; 30 for
+# reference_solver, whose tests take 45 s per mutant. A full run of both stages takes about
+# three hours on 2 cores; run the modules you changed (see docs/testing.md).
 MODULES: dict[str, Module] = {
     "engine/physics/integrate.py": Module(
-        (PHYS + "test_integration_laws.py", PHYS + "test_single_body.py"),
+        (
+            PHYS + "test_integration_laws.py",
+            PHYS + "test_single_body.py",
+            PHYS + "test_split_impulse.py",
+        ),
         (PHYS + "test_contact_laws.py", PHYS + "test_solver_switches.py"),
-        sample=30,
     ),
     "engine/physics/sleeping.py": Module(
         (PHYS + "test_sleep_islands.py",),
         (PHYS + "test_sleeping.py", PHYS + "test_lifecycle.py"),
-        sample=30,
     ),
     "engine/physics/velocity_control.py": Module(
         (PHYS + "test_velocity_control_frames.py",),
         (PHYS + "test_single_body.py", PHYS + "test_velocity_control_friction.py"),
-        sample=30,
     ),
     "render/camera.py": Module(
-        (REND + "test_camera.py",), (REND + "test_raster.py", REND + "test_frame.py"), sample=30
+        (REND + "test_camera.py",), (REND + "test_raster.py", REND + "test_frame.py")
     ),
-    "navmesh/step_filter.py": Module(
-        (NAV + "test_step_filter.py",), (NAV + "test_pathfinder.py",), sample=30
-    ),
+    "navmesh/step_filter.py": Module((NAV + "test_step_filter.py",), (NAV + "test_pathfinder.py",)),
     "engine/physics/solver.py": Module(
-        (PHYS + "test_solver_switches.py",),
-        (PHYS + "test_contact_laws.py", PHYS + "test_reference_path.py"),
+        (PHYS + "test_solver_switches.py", PHYS + "test_split_impulse.py"),
+        (
+            PHYS + "test_contact_laws.py",
+            PHYS + "test_reference_path.py",
+            PHYS + "test_translation_invariance.py",
+        ),
     ),
     "engine/physics/contact_batch.py": Module(
         (PHYS + "test_manifolds_and_narrow_phase.py",),
@@ -104,6 +110,7 @@ MODULES: dict[str, Module] = {
     "engine/physics/reference_solver.py": Module(
         (PHYS + "test_reference_path.py",),
         (PHYS + "test_solver_switches.py", PHYS + "test_rolling_friction.py"),
+        sample=30,
     ),
     "engine/physics/box_box.py": Module(
         (PHYS + "test_box_box.py",), (PHYS + "test_manifolds_and_narrow_phase.py",)
@@ -113,8 +120,23 @@ MODULES: dict[str, Module] = {
             PHYS + "test_closest_points.py",
             PHYS + "test_manifolds_and_narrow_phase.py",
             PHYS + "test_box_separation.py",
+            PHYS + "test_round_stage_contacts.py",
         ),
-        (PHYS + "test_contact_laws.py", PHYS + "test_fall_through.py"),
+        (
+            PHYS + "test_contact_laws.py",
+            PHYS + "test_fall_through.py",
+            PHYS + "test_contact_cache.py::test_sweep_and_prune_finds_the_brute_force_pairs",
+        ),
+    ),
+    # the narrow phase of body pairs left collide.py for the pair table's batched rules
+    "engine/physics/batched_pairs.py": Module(
+        (PHYS + "test_pair_table.py", PHYS + "test_manifolds_and_narrow_phase.py"),
+        (
+            PHYS + "test_box_box.py",
+            PHYS + "test_contact_laws.py",
+            PHYS + "test_capsule_contacts.py",
+            PHYS + "test_round_stage_contacts.py",
+        ),
     ),
     "render/raster.py": Module((REND + "test_raster.py",), (REND + "test_frame.py",)),
     "render/frame.py": Module(
@@ -123,8 +145,8 @@ MODULES: dict[str, Module] = {
     "render/reference.py": Module((REND + "test_reference.py",), (REND + "test_frame.py",)),
     "navmesh/search.py": Module(
         (NAV + "test_paths.py", NAV + "test_pathfinder.py"),
-        (NAV + "test_scenes.py",),
-        timeout=240.0,  # a mutant that never stops widening the search hangs
+        (NAV + "test_scenes.py", NAV + "test_polygons_and_field.py"),  # the field: GridGraph
+        timeout=120.0,  # a mutant that never stops widening the search hangs (tests: ~15 s)
     ),
     "navmesh/heightfield.py": Module(
         (NAV + "test_build.py",), (NAV + "test_scenes.py", NAV + "test_pathfinder.py")
@@ -164,7 +186,7 @@ def _copy_tree(dest: Path) -> None:
 
 def _config(module: str, tests: tuple[str, ...], timeout: float) -> str:
     """A cosmic-ray TOML config running ``tests`` with the current interpreter."""
-    existing = [t for t in tests if (ROOT / t).exists()]
+    existing = [t for t in tests if (ROOT / t.split("::")[0]).exists()]  # file or node id
     command = f"{sys.executable} -m pytest -q -x -p no:cacheprovider " + " ".join(existing)
     return (
         "[cosmic-ray]\n"
@@ -249,6 +271,7 @@ class ModuleResult:
     survived: list[tuple]  # (operator, line, col, original text, mutated text)
     equivalent: list[tuple]  # (operator, line, col, original text, mutated text, reason)
     seconds: float
+    code: str = ""  # the commit measured (``git describe``-style, "+dirty" for local edits)
 
     @property
     def score(self) -> float:
@@ -256,12 +279,37 @@ class ModuleResult:
         return len(self.killed) / total if total else 1.0
 
 
+def _recheck_plan(earlier: ModuleResult, sample: list, to_run: list) -> tuple[list, list[tuple]]:
+    """``(jobs to run, kills kept)`` for ``--recheck``: the earlier row's survivors that are
+    not listed as equivalent now. Its kills stand: tests were only added since, and a test
+    added cannot bring a killed mutant back. The library code must be unchanged (the same
+    sample of lines and columns), or the module is to be run in full."""
+
+    def key(e) -> tuple:  # operator, line, column
+        return (e[0], e[1], e[2])
+
+    sampled = {(j[1], j[3], j[4]) for j in sample}
+    if not {key(e) for e in earlier.killed + earlier.survived} <= sampled:
+        raise SystemExit(f"{earlier.module}: the code changed since its row; run it in full")
+    running = {(j[1], j[3], j[4]) for j in to_run}
+    survivors = {key(e) for e in earlier.survived}
+    kept = [tuple(e) for e in earlier.killed if key(e) in running]
+    return [j for j in to_run if (j[1], j[3], j[4]) in survivors], kept
+
+
 def run_module(
-    work: Path, module: str, per_module: int | None, seed: int, list_only: bool = False
+    work: Path,
+    module: str,
+    per_module: int | None,
+    seed: int,
+    list_only: bool = False,
+    recheck: ModuleResult | None = None,
 ) -> ModuleResult:
-    """Sample, run both stages and classify the mutants of one module."""
+    """Sample, run both stages and classify the mutants of one module (with ``recheck``, an
+    earlier result of the same sample: only its survivors are run again)."""
     spec = MODULES[module]
     t0 = time.monotonic()
+    code = _code_version()  # the copy in ``work`` was made just now
     tag = module.replace("/", "_")
     session = work / f"{tag}.sqlite"
     fast_cfg, wide_cfg = work / f"{tag}.fast.toml", work / f"{tag}.wide.toml"
@@ -273,6 +321,8 @@ def run_module(
     informative = [j for j in jobs if _informative(j[1])]
     rng = random.Random(f"{seed}:{module}")
     n_sample = spec.sample if per_module is None else per_module
+    if recheck is not None:
+        n_sample = recheck.n_sampled
     sample = rng.sample(informative, min(n_sample, len(informative)))
     sampled_ids = {j[0] for j in sample}
     equivalents = _load_equivalents()
@@ -285,6 +335,9 @@ def run_module(
             to_run.append(job)
         else:
             equivalent.append((job[1], job[3], job[4], text, mutant_text[job[0]], reason))
+    killed: list[tuple] = []
+    if recheck is not None:
+        to_run, killed = _recheck_plan(recheck, sample, to_run)
     skipped = [j[0] for j in jobs if j[0] not in sampled_ids] + [
         j[0] for j in sample if j not in to_run
     ]
@@ -310,7 +363,7 @@ def run_module(
         _cosmic_ray(work, "exec", str(wide_cfg), str(session))
         results = _results(session)
 
-    killed, survived = [], []
+    survived = []
     for job in to_run:
         _worker, outcome, output = results[job[0]]
         entry = (job[1], job[3], job[4], _line_text(work, module, job[3]), mutant_text[job[0]])
@@ -319,8 +372,37 @@ def run_module(
         else:
             killed.append(entry + ((output or "").strip() == "timeout",))
     return ModuleResult(
-        module, len(jobs), len(sample), killed, survived, equivalent, time.monotonic() - t0
+        module,
+        len(jobs),
+        len(sample),
+        killed,
+        survived,
+        equivalent,
+        time.monotonic() - t0 + (recheck.seconds if recheck else 0.0),
+        code if recheck is None else f"{recheck.code}, survivors rechecked at {code}",
     )
+
+
+def _code_version() -> str:
+    """The checkout's commit, ``+dirty`` when the copied folders hold uncommitted edits."""
+    try:
+        head = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--", "engine", "render", "navmesh", "tests"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return head + ("+dirty" if dirty else "")
 
 
 def _cpu_model() -> str:
@@ -361,15 +443,15 @@ def write_report(path: Path, results: list[ModuleResult], seed: int) -> None:
         "how to read it: `docs/testing.md`. Score = killed / (sampled - equivalent).",
         "",
         "| module | mutants | sampled | equivalent | killed (by timeout) | survived | score "
-        "| minutes |",
-        "|---|---|---|---|---|---|---|---|",
+        "| minutes | code |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         lines.append(
             f"| `{r.module}` | {r.n_mutants} | {r.n_sampled} | {len(r.equivalent)} | "
             f"{len(r.killed)} ({sum(k[-1] for k in r.killed)}) | {len(r.survived)} | "
             f"{100 * r.score:.0f} % | "
-            f"{r.seconds / 60:.1f} |"
+            f"{r.seconds / 60:.1f} | {r.code or 'not recorded'} |"
         )
     for r in results:
         lines += ["", f"## `{r.module}`", ""]
@@ -392,6 +474,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=26)
     parser.add_argument("--jobs", type=int, default=2, help="modules run in parallel")
     parser.add_argument("--list", action="store_true", help="print the sample, run no test")
+    parser.add_argument(
+        "--recheck",
+        action="store_true",
+        help="run again only the survivors of the modules' rows in the report (after adding "
+        "tests; the library code must be unchanged)",
+    )
     parser.add_argument("--report", type=Path, default=None, help="report path")
     args = parser.parse_args(argv)
     modules = args.modules or list(MODULES)
@@ -403,12 +491,22 @@ def main(argv: list[str] | None = None) -> int:
     )
     results: list[ModuleResult] = []
     lock = threading.Lock()
+    earlier: dict[str, ModuleResult] = {}
+    if args.recheck:
+        twin = report.with_suffix(".json")
+        rows = json.loads(twin.read_text()) if twin.exists() else []
+        earlier = {r["module"]: ModuleResult(**r) for r in rows}
+        missing = [m for m in modules if m not in earlier]
+        if missing:
+            parser.error(f"--recheck: no row for {missing} in {twin}")
 
     def one(module: str) -> None:
         with tempfile.TemporaryDirectory(prefix="rigidsim-mutation-") as tmp:
             work = Path(tmp)
             _copy_tree(work)  # one copy per module: parallel jobs never share a mutated file
-            result = run_module(work, module, args.per_module, args.seed, args.list)
+            result = run_module(
+                work, module, args.per_module, args.seed, args.list, earlier.get(module)
+            )
         with lock:
             results.append(result)
             results.sort(key=lambda r: modules.index(r.module))

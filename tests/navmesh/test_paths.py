@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from navmesh import MultiGoalShortestPath, ShortestPath
+from navmesh.search import path_length
 
 
 def l_corridor(geometry, radius=0.1):
@@ -162,3 +163,99 @@ def test_l_corridor_length_is_the_same_moved_to_negative_coordinates_or_mirrored
     assert path.geodesic_distance == pytest.approx(expected, rel=0.02)
     for p in path.points:
         assert pf.is_navigable(p)
+
+
+def _mirrored_l(geometry, mx: float, mz: float, corner, radius: float, offset=(0.0, 0.0)):
+    """The L corridor with its inner corner at ``corner`` (x, z), reflected by (mx, mz), then
+    moved by ``offset`` (x, z)."""
+
+    def place(p):
+        return np.array([offset[0] + p[0] * mx, p[1], offset[1] + p[2] * mz])
+
+    cx, cz = corner
+    boxes = [((0, -0.1, 0), (6, 0, cz)), ((cx, -0.1, cz), (6, 0, 6))]
+    placed = [(place(lo), place(hi)) for lo, hi in boxes]
+    pf = geometry.build(
+        *(geometry.box(np.minimum(lo, hi), np.maximum(lo, hi)) for lo, hi in placed),
+        filter_ledge_spans=False,
+        agent_radius=radius,
+    )
+    return pf, place
+
+
+@pytest.mark.parametrize(
+    "mx, mz, offset",
+    [
+        (1.0, 1.0, (0.0, 0.0)),
+        (1.0, -1.0, (0.0, 0.0)),
+        (-1.0, -1.0, (0.0, 0.0)),
+        (1.0, 1.0, (-3.0, -1.5)),
+    ],
+)
+def test_path_around_an_l_corner_bends_at_the_walkable_corner(geometry, mx, mz, offset):
+    """No agent radius, inner corner of the L at (4.025, 2.025), mid-cell on the 0.05 m grid
+    (origin at the mesh's minimum corner). Every cell a floor touches is walkable, so the
+    walkable region's inner corner is the grid corner q = (4.00, 2.05) just outside the box
+    corner, and the taut string from (1, 1) to (5, 5) bends at q only: its length is
+    |s - q| + |q - e| (up to the 0.1 mm INSIDE_EPS back-off into the corner's cell), whatever
+    the quadrant the corridor is mirrored into, and with the world origin between the start
+    and the corner (offset (-3, -1.5))."""
+    pf, place = _mirrored_l(geometry, mx, mz, (4.025, 2.025), radius=0.0, offset=offset)
+    start, end, q = place([1.0, 0.0, 1.0]), place([5.0, 0.0, 5.0]), place([4.0, 0.0, 2.05])
+    # the walkable region around q: three of its four neighbouring cells
+    assert pf.is_navigable(place([3.99, 0.0, 2.04]))
+    assert pf.is_navigable(place([4.01, 0.0, 2.06]))
+    assert not pf.is_navigable(place([3.99, 0.0, 2.06]))
+    path = ShortestPath(requested_start=start, requested_end=end)
+    assert pf.find_path(path)
+    assert len(path.points) == 3
+    np.testing.assert_allclose(path.points[1], q, atol=2e-4)
+    taut = np.linalg.norm(q - start) + np.linalg.norm(end - q)
+    assert path.geodesic_distance == pytest.approx(taut, abs=1e-3)
+
+
+@pytest.mark.parametrize("mx, mz", [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)])
+def test_every_interior_waypoint_is_needed(geometry, mx, mz):
+    """A shortest path has no removable bend: for every interior waypoint, the straight
+    segment joining its two neighbours leaves the walkable region (checked every 1 mm), or
+    the path could skip it and be shorter (triangle inequality). The L corridor with a
+    0.1 m agent radius bends around a staircase of cells, in each of its four mirrorings."""
+    pf, place = _mirrored_l(geometry, mx, mz, (4.0, 2.0), radius=0.1)
+    path = ShortestPath(requested_start=place([1.0, 0.0, 1.0]), requested_end=place([5, 0, 5]))
+    assert pf.find_path(path)
+    assert len(path.points) >= 3
+    for before, after in zip(path.points[:-2], path.points[2:], strict=True):
+        n = int(np.linalg.norm(after - before) / 0.001) + 2
+        shortcut = before + (after - before) * np.linspace(0.0, 1.0, n)[:, None]
+        assert not all(pf.is_navigable(p) for p in shortcut)
+
+
+@pytest.mark.parametrize(
+    "start, end",
+    [([1.0, 0, 4.0], [5.0, 0, 4.0]), ([3.0, 0, 1.0], [3.0, 0, 6.0]), ([1.0, 0, 6.0], [6, 0, 2])],
+)
+def test_path_around_a_pillar_stays_on_the_walkable_floor(geometry, start, end):
+    """A 1 m square pillar (x, z in [2.5, 3.5] x [3.5, 4.5]) stands between start and end
+    (start x != z: a line of sight taken from a wrong point shows): every segment of the
+    path lies on the walkable floor (checked every 1 mm), and the path goes around the
+    pillar dilated by the 0.1 m agent radius, so it is longer than the straight segment."""
+    pf = geometry.build(
+        geometry.box((0, -0.1, 0), (8, 0, 8)), geometry.box((2.5, 0, 3.5), (3.5, 2, 4.5))
+    )
+    start, end = np.array(start), np.array(end)
+    path = ShortestPath(requested_start=start, requested_end=end)
+    assert pf.find_path(path)
+    assert path.geodesic_distance > np.linalg.norm(end - start) + 0.01
+    for a, b in zip(path.points[:-1], path.points[1:], strict=True):
+        n = int(np.linalg.norm(b - a) / 0.001) + 2
+        assert all(pf.is_navigable(p) for p in a + (b - a) * np.linspace(0.0, 1.0, n)[:, None])
+
+
+def test_path_length_sums_the_segment_lengths():
+    """Habitat's ``pathLength``: a polyline of fewer than two points has no length; a 3-4-5
+    right angle walked along its legs (one leg climbing 4 m) is 3 + 4 = 7 m long."""
+    assert path_length([]) == 0.0
+    assert path_length([np.array([1.0, 2.0, 3.0])]) == 0.0
+    legs = [np.array([0.0, 0.0, 0.0]), np.array([3.0, 0.0, 0.0]), np.array([3.0, 4.0, 0.0])]
+    assert path_length(legs) == pytest.approx(7.0, abs=1e-12)
+    assert path_length([legs[0], legs[2]]) == pytest.approx(5.0, abs=1e-12)
