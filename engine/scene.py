@@ -7,6 +7,9 @@ semantic scene is the one Habitat builds for a scene without annotations: no lev
 objects or categories, an empty ``aabb`` and an empty ``semantic_index_map``. The accessors are
 Habitat's, so code that walks the hierarchy (``for level in scene.levels: ...``) runs and finds
 nothing, and ``semantic_index_to_object_index`` raises ``KeyError`` naming the index.
+
+Habitat's ``habitat_sim.scene`` also exports the scene graph classes (``SceneGraph``,
+``SceneNode``); they live in :mod:`engine.scene_node` and are importable from here too.
 """
 
 from __future__ import annotations
@@ -17,9 +20,12 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.scene_node import SceneGraph, SceneNode
 
 __all__ = [
     "BBox",
+    "SceneGraph",
+    "SceneNode",
     "SemanticCategory",
     "SemanticLevel",
     "SemanticObject",

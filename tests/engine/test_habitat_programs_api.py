@@ -16,6 +16,7 @@ from engine.attributes_managers import ObjectAttributesManager
 from engine.bindings import Configuration, ConfigValType
 from engine.logging import parse_filter
 from engine.physics import MotionType
+from engine.scene import SceneGraph
 from engine.scene_node import SceneNode
 from engine.utils import datasets_download
 
@@ -218,3 +219,12 @@ def test_named_colors_take_magnums_arguments(name, keyword, value, rgb):
     assert getattr(mn.Color4, name)() == mn.Color4(*full, 1.0)
     with pytest.raises(TypeError, match="alpha"):
         getattr(mn.Color3, name)(value, alpha=0.5)  # Color3 has no alpha
+
+
+def test_scene_module_exports_the_scene_graph_agents_are_built_on():
+    """Habitat's noisy-controls test builds an agent on ``habitat_sim.scene.SceneGraph()``."""
+    graph = SceneGraph()
+    agent = Agent(graph.get_root_node().create_child(), AgentConfiguration())
+    agent.act("move_forward")  # default 0.25 m along -Z (Habitat's forward)
+    assert np.allclose(agent.get_state().position, [0.0, 0.0, -0.25], atol=1e-9)
+    assert agent.scene_node.parent is graph.get_root_node()
