@@ -24,6 +24,14 @@ two cameras with 30 cubes dropping: physics then observations, against
 ``start_async_render_and_step_physics`` (the render worker process renders while this one
 steps the physics), and prints how much of the shorter task the overlap hides.
 
+``--baseline PATH`` compares this checkout with another rigidsim checkout instead (issue 24's
+"within 3 % of the baseline" bound): every scene above plus a simulator frame (the tutorial's
+two cameras over 30 cubes, ``get_sensor_observations`` after a physics step: the engine's
+render scheduler) is timed by this file's code in a subprocess per checkout, run in that
+checkout's folder so ``render`` and ``engine`` resolve there; the two checkouts alternate
+scene by scene for ``--rounds`` rounds, and the table prints the best (lowest) median CPU ms
+per frame of each (wall ms for the simulator frame) and the ratio this / baseline.
+
 ``bench_scene(meshes, camera, world_from_camera, repeats)`` is importable, so other scenes
 (e.g. the demo apartment) can be measured the same way.
 """
@@ -31,9 +39,14 @@ steps the physics), and prints how much of the shorter task the overlap hides.
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import os
 import statistics
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import trimesh
@@ -49,6 +62,19 @@ from render import (
 
 RESOLUTION = (544, 720)
 PYBULLET_CHUNK_FACES = 4000
+ROOT = Path(__file__).resolve().parents[1]
+#: the scenes ``--baseline`` times, by name (:func:`named_scene_cpu_ms`)
+BASELINE_SCENES = (
+    "sphere 1k",
+    "sphere 10k",
+    "sphere 100k",
+    "sphere 10k, cull back faces",
+    "plane + 5 boxes, full screen",
+    "apartment, 1st person",
+    "apartment, 3rd person",
+    "static layer, 3rd person",
+    "simulator frame, 2 cameras",
+)
 
 
 def bench_scene(
@@ -310,13 +336,99 @@ def bench_async(n_frames: int, n_boxes: int = 30, dt: float = 1.0 / 60.0) -> dic
     return medians
 
 
+def simulator_frame_cpu_ms(repeats: int, n_boxes: int = 30, dt: float = 1.0 / 60.0) -> float:
+    """Median wall ms of ``get_sensor_observations()`` (both tutorial cameras) after an
+    untimed ``step_physics(dt)``, with ``n_boxes`` cubes dropping in view (wall time: the
+    scheduler may render a camera in its worker process, whose CPU time is not ours)."""
+    sim = async_simulator(n_boxes)
+    sim.get_sensor_observations()  # warm up: meshes, worker, layers
+    times = []
+    for _ in range(repeats):
+        sim.step_physics(dt)
+        start = time.perf_counter()
+        sim.get_sensor_observations()
+        times.append(1e3 * (time.perf_counter() - start))
+    sim.close()
+    return statistics.median(times)
+
+
+def named_scene_cpu_ms(name: str, repeats: int) -> float:
+    """Median CPU ms per frame of one of :data:`BASELINE_SCENES` (the render tables' scenes
+    at :data:`RESOLUTION`, hfov 90, the same poses; the static layer: CPU of its whole run,
+    full renders and layer renders, per frame; the simulator frame: wall ms)."""
+    if name == "simulator frame, 2 cameras":
+        return simulator_frame_cpu_ms(repeats)
+    camera = Camera(RESOLUTION, hfov=90.0)
+    if name.startswith("sphere"):
+        n = int(name.split()[1].rstrip("k,")) * 1000
+        pose = look_at((0, 0.5, 3.0), (0, 0, 0))
+        return bench_scene(sphere_scene(n), camera, pose, repeats, "cull" in name)["cpu_ms"]
+    if name.startswith("plane"):
+        pose = look_at((0, 1.0, 0.8), (0, 0, -1.5))
+        return bench_scene(plane_and_boxes_scene(), camera, pose, repeats)["cpu_ms"]
+    scenes = {label: (meshes, pose) for label, meshes, pose, _ in apartment_scenes()}
+    if name.startswith("static layer"):
+        meshes, pose = scenes["apartment, 3rd person"]
+        start = time.process_time()
+        bench_static_layer(meshes, camera, pose, repeats)
+        return 1e3 * (time.process_time() - start) / (repeats + 1)
+    meshes, pose = scenes[name]
+    return bench_scene(meshes, camera, pose, repeats, cull_back_faces=True)["cpu_ms"]
+
+
+def checkout_cpu_ms(checkout: Path, name: str, repeats: int) -> float:
+    """:func:`named_scene_cpu_ms` run by this file's code on the rigidsim checkout
+    ``checkout`` (a subprocess in its folder, so its ``render`` and ``engine`` are used)."""
+    code = (
+        "import json, sys; sys.path.insert(0, sys.argv[1]); import bench_render as b; "
+        "print(json.dumps(b.named_scene_cpu_ms(sys.argv[2], int(sys.argv[3]))))"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code, str(ROOT / "benchmarks"), name, str(repeats)],
+        env=dict(os.environ, PYTHONPATH=str(checkout)),
+        cwd=checkout,
+        capture_output=True,
+        text=True,
+    )
+    if run.returncode != 0:
+        raise RuntimeError(f"{name!r} failed in {checkout}: {run.stderr.strip()[-500:]}")
+    return float(json.loads(run.stdout.strip().splitlines()[-1]))
+
+
+def compare_with_baseline(baseline: Path, rounds: int, repeats: int) -> None:
+    """Print best-of-``rounds`` CPU ms per frame of this checkout and ``baseline``, which
+    alternate scene by scene (who goes first alternates too), and their ratio."""
+    print(f"this checkout {ROOT} vs baseline {baseline}: CPU ms per frame at {RESOLUTION[1]}x")
+    print(f"{RESOLUTION[0]}, best of {rounds} rounds (each a median of {repeats} frames)")
+    print(f"{'scene':30s} {'this ms':>8s} {'base ms':>8s} {'ratio':>6s}  all rounds (this/base)")
+    worst = 0.0
+    for name in BASELINE_SCENES:
+        times: dict[Path, list[float]] = {ROOT: [], baseline: []}
+        for round_ in range(rounds):
+            order = (ROOT, baseline) if round_ % 2 == 0 else (baseline, ROOT)
+            for checkout in order:
+                times[checkout].append(checkout_cpu_ms(checkout, name, repeats))
+        ours, base = min(times[ROOT]), min(times[baseline])
+        worst = max(worst, ours / base)
+        rounds_text = " ".join(
+            f"{a:.0f}/{b:.0f}" for a, b in zip(times[ROOT], times[baseline], strict=True)
+        )
+        print(f"{name:30s} {ours:8.1f} {base:8.1f} {ours / base:5.3f}x  {rounds_text}", flush=True)
+    print(f"slowest ratio {worst:.3f}x: {'within' if worst <= 1.03 else 'OVER'} the 3 % bound")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats")
     parser.add_argument("--async-only", action="store_true", help="only the async table")
+    parser.add_argument("--baseline", type=Path, help="a rigidsim checkout to compare with")
+    parser.add_argument("--rounds", type=int, default=5, help="alternating --baseline rounds")
     args = parser.parse_args()
     if args.async_only:
         print_async_table(10 if args.quick else 40)
+        return
+    if args.baseline:
+        compare_with_baseline(args.baseline.resolve(), args.rounds, 3 if args.quick else 9)
         return
     repeats = 3 if args.quick else 15
     camera = Camera(RESOLUTION, hfov=90.0)
