@@ -399,14 +399,16 @@ def checkout_cpu_ms(checkout: Path, name: str, repeats: int) -> float:
     return float(json.loads(run.stdout.strip().splitlines()[-1]))
 
 
-def compare_with_baseline(baseline: Path, rounds: int, repeats: int) -> None:
+def compare_with_baseline(
+    baseline: Path, rounds: int, repeats: int, names: tuple[str, ...] = BASELINE_SCENES
+) -> None:
     """Print the fastest frame's CPU ms of this checkout and ``baseline`` over ``rounds``, which
     alternate scene by scene (who goes first alternates too), and their ratio."""
     print(f"this checkout {ROOT} vs baseline {baseline}: CPU ms per frame at {RESOLUTION[1]}x")
     print(f"{RESOLUTION[0]}, the fastest frame of {rounds} rounds of {repeats} frames each")
     print(f"{'scene':30s} {'this ms':>8s} {'base ms':>8s} {'ratio':>6s}  all rounds (this/base)")
     worst = 0.0
-    for name in BASELINE_SCENES:
+    for name in names:
         times: dict[Path, list[float]] = {ROOT: [], baseline: []}
         for round_ in range(rounds):
             order = (ROOT, baseline) if round_ % 2 == 0 else (baseline, ROOT)
@@ -415,7 +417,7 @@ def compare_with_baseline(baseline: Path, rounds: int, repeats: int) -> None:
         ours, base = min(times[ROOT]), min(times[baseline])
         worst = max(worst, ours / base)
         rounds_text = " ".join(
-            f"{a:.0f}/{b:.0f}" for a, b in zip(times[ROOT], times[baseline], strict=True)
+            f"{a:.1f}/{b:.1f}" for a, b in zip(times[ROOT], times[baseline], strict=True)
         )
         print(f"{name:30s} {ours:8.1f} {base:8.1f} {ours / base:5.3f}x  {rounds_text}", flush=True)
     print(f"slowest ratio {worst:.3f}x: {'within' if worst <= 1.03 else 'OVER'} the 3 % bound")
@@ -427,12 +429,19 @@ def main() -> None:
     parser.add_argument("--async-only", action="store_true", help="only the async table")
     parser.add_argument("--baseline", type=Path, help="a rigidsim checkout to compare with")
     parser.add_argument("--rounds", type=int, default=5, help="alternating --baseline rounds")
+    parser.add_argument("--frames", type=int, help="frames per --baseline round (default 9)")
+    parser.add_argument("--only", help="--baseline: comma-separated scene names to run")
     args = parser.parse_args()
     if args.async_only:
         print_async_table(10 if args.quick else 40)
         return
     if args.baseline:
-        compare_with_baseline(args.baseline.resolve(), args.rounds, 3 if args.quick else 9)
+        names = tuple(args.only.split(",")) if args.only else BASELINE_SCENES
+        unknown = sorted(set(names) - set(BASELINE_SCENES))
+        if unknown:
+            parser.error(f"--only: no scene {unknown}; scenes: {', '.join(BASELINE_SCENES)}")
+        frames = args.frames or (3 if args.quick else 9)
+        compare_with_baseline(args.baseline.resolve(), args.rounds, frames, names)
         return
     repeats = 3 if args.quick else 15
     camera = Camera(RESOLUTION, hfov=90.0)
