@@ -42,6 +42,23 @@ def test_every_module_path_in_the_readme_and_docs_exists() -> None:
     assert missing == [], "named but not in the repository:\n" + "\n".join(missing)
 
 
+#: pages whose bare module names (`` `pair_table.py` ``) must be files of the repository too
+#: (others quote Habitat-sim's own files, ``test_gfx.py``)
+BARE_NAME_PAGES = ("README.md", "docs/contacts.md", "docs/rendering.md", "docs/physics_solver.md")
+FOLDERS = ("engine", "render", "navmesh", "benchmarks", "scripts", "tests", "examples")
+
+
+def test_every_bare_module_name_of_the_architecture_pages_exists() -> None:
+    files = {path.name for folder in FOLDERS for path in (ROOT / folder).rglob("*.py")}
+    missing = [
+        f"{page}: {name}"
+        for page in BARE_NAME_PAGES
+        for name in sorted(set(re.findall(r"`(\w+\.py)`", (ROOT / page).read_text("utf-8"))))
+        if name not in files
+    ]
+    assert missing == [], "named but not in the repository:\n" + "\n".join(missing)
+
+
 def test_the_readme_names_the_modules_it_is_checked_for() -> None:
     readme = named_paths((ROOT / "README.md").read_text(encoding="utf-8"))
     for path in ("engine/physics/world.py", "render/frame.py", "render/reference.py"):
