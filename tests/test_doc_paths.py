@@ -7,7 +7,9 @@ leaves such a pointer dangling. This test collects every ``engine/``, ``render/`
 path ending in ``/``) written in ``README.md`` and ``docs/*.md`` and fails on one that does
 not exist. Paths under ``tests/`` and ``examples/`` are left out: the docs also quote
 Habitat-sim's own ``tests/test_sensors.py`` and a placeholder ``examples/NAME.py``. The
-README's table of ``engine/physics/`` must list each module of the package exactly once.
+README's table of ``engine/physics/`` must list each module of the package exactly once, and
+the bare module names (`` `pair_table.py` ``) of the README and the architecture pages
+(contacts, rendering, solver) must be files of the repository.
 """
 
 from __future__ import annotations
