@@ -24,6 +24,15 @@ two cameras with 30 cubes dropping: physics then observations, against
 ``start_async_render_and_step_physics`` (the render worker process renders while this one
 steps the physics), and prints how much of the shorter task the overlap hides.
 
+``--baseline PATH`` compares this checkout with another rigidsim checkout instead (issue 24's
+"within 3 % of the baseline" bound): every scene above plus a simulator frame (the tutorial's
+two cameras over 30 cubes, ``get_sensor_observations`` after a physics step: the engine's
+render scheduler) is timed by this file's code in a subprocess per checkout, run in that
+checkout's folder so ``render`` and ``engine`` resolve there; the two checkouts alternate
+scene by scene for ``--rounds`` rounds, and the table prints the CPU ms of each checkout's
+fastest frame (wall ms for the simulator frame: the least disturbed by other processes on a
+shared machine) and the ratio this / baseline.
+
 ``bench_scene(meshes, camera, world_from_camera, repeats)`` is importable, so other scenes
 (e.g. the demo apartment) can be measured the same way.
 """
@@ -31,9 +40,14 @@ steps the physics), and prints how much of the shorter task the overlap hides.
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import os
 import statistics
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import trimesh
@@ -49,6 +63,19 @@ from render import (
 
 RESOLUTION = (544, 720)
 PYBULLET_CHUNK_FACES = 4000
+ROOT = Path(__file__).resolve().parents[1]
+#: the scenes ``--baseline`` times, by name (:func:`named_scene_cpu_ms`)
+BASELINE_SCENES = (
+    "sphere 1k",
+    "sphere 10k",
+    "sphere 100k",
+    "sphere 10k, cull back faces",
+    "plane + 5 boxes, full screen",
+    "apartment, 1st person",
+    "apartment, 3rd person",
+    "static layer, 3rd person",
+    "simulator frame, 2 cameras",
+)
 
 
 def bench_scene(
@@ -61,7 +88,8 @@ def bench_scene(
     """Time ``render_frame`` on a cached ``RenderScene`` with reused buffers.
 
     Returns a dict: ``ms`` (median wall time), ``cpu_ms`` (median process CPU time: steadier
-    on a shared machine), ``stages`` (median wall ms per stage), ``fragments``,
+    on a shared machine), ``cpu_best_ms`` (the fastest frame's CPU time: the least disturbed
+    by other processes), ``stages`` (median wall ms per stage), ``fragments``,
     ``covered`` (pixels drawn), ``frame`` (the last FrameBuffers).
     """
     scene = meshes if isinstance(meshes, RenderScene) else RenderScene(meshes)
@@ -77,6 +105,7 @@ def bench_scene(
     return {
         "ms": statistics.median(totals),
         "cpu_ms": statistics.median(cpu),
+        "cpu_best_ms": min(cpu),
         "stages": {name: statistics.median(v) for name, v in stages.items()},
         "fragments": frame.n_fragments,
         "covered": int(np.count_nonzero(frame.depth)),
@@ -234,14 +263,15 @@ def bench_static_layer(
     """Full renders of static + moving meshes against moving meshes over a static layer.
 
     Both paths reuse their buffers and render the same sequence of box poses; every frame
-    is compared bit for bit. Returns medians (ms) and the speed-up.
+    is compared bit for bit. Returns medians (ms), the speed-up and the fastest layer
+    frame's CPU ms (``layer_cpu_best_ms``).
     """
     frames = moving_boxes(repeats + 1)
     full_scene = RenderScene(static + frames[0])
     moving_scene = RenderScene(frames[0])
     n_static = len(static)
     layer = StaticLayer.from_frame(render_frame(static, camera, pose, cull_back_faces=True))
-    full_ms, layer_ms, full, over = [], [], None, None
+    full_ms, layer_ms, layer_cpu, full, over = [], [], [], None, None
     for meshes in frames:
         for i, mesh in enumerate(meshes):
             full_scene.set_world_from_mesh(n_static + i, mesh.world_from_mesh)
@@ -249,9 +279,10 @@ def bench_static_layer(
         start = time.perf_counter()
         full = render_frame(full_scene, camera, pose, full, cull_back_faces=True)
         full_ms.append((time.perf_counter() - start) * 1e3)
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         over = render_over_layer(layer, moving_scene, camera, pose, over, cull_back_faces=True)
         layer_ms.append((time.perf_counter() - start) * 1e3)
+        layer_cpu.append((time.process_time() - start_cpu) * 1e3)
         for name in ("rgba", "depth", "ids"):
             if getattr(full, name).tobytes() != getattr(over, name).tobytes():
                 raise AssertionError(f"static layer frame differs from the full render ({name})")
@@ -260,6 +291,7 @@ def bench_static_layer(
         "full_ms": full_median,
         "layer_ms": layer_median,
         "speedup": full_median / layer_median,
+        "layer_cpu_best_ms": min(layer_cpu[1:]),
         "moving_pixels": int(np.count_nonzero(over.ids >= 10)),
         "frame": over,
     }
@@ -310,13 +342,106 @@ def bench_async(n_frames: int, n_boxes: int = 30, dt: float = 1.0 / 60.0) -> dic
     return medians
 
 
+def simulator_frame_ms(repeats: int, n_boxes: int = 30, dt: float = 1.0 / 60.0) -> float:
+    """Fastest wall ms of ``get_sensor_observations()`` (both tutorial cameras) after an
+    untimed ``step_physics(dt)``, with ``n_boxes`` cubes dropping in view (wall time: the
+    scheduler may render a camera in its worker process, whose CPU time is not ours)."""
+    sim = async_simulator(n_boxes)
+    sim.get_sensor_observations()  # warm up: meshes, worker, layers
+    times = []
+    for _ in range(repeats):
+        sim.step_physics(dt)
+        start = time.perf_counter()
+        sim.get_sensor_observations()
+        times.append(1e3 * (time.perf_counter() - start))
+    sim.close()
+    return min(times)
+
+
+def named_scene_cpu_ms(name: str, repeats: int) -> float:
+    """CPU ms of the fastest of ``repeats`` frames of one of :data:`BASELINE_SCENES` (the
+    render tables' scenes at :data:`RESOLUTION`, hfov 90, the same poses; the static layer:
+    ``render_over_layer`` of the 5 boxes; the simulator frame: wall ms)."""
+    if name == "simulator frame, 2 cameras":
+        return simulator_frame_ms(repeats)
+    camera = Camera(RESOLUTION, hfov=90.0)
+    if name.startswith("sphere"):
+        n = int(name.split()[1].rstrip("k,")) * 1000
+        pose = look_at((0, 0.5, 3.0), (0, 0, 0))
+        return bench_scene(sphere_scene(n), camera, pose, repeats, "cull" in name)["cpu_best_ms"]
+    if name.startswith("plane"):
+        pose = look_at((0, 1.0, 0.8), (0, 0, -1.5))
+        return bench_scene(plane_and_boxes_scene(), camera, pose, repeats)["cpu_best_ms"]
+    scenes = {label: (meshes, pose) for label, meshes, pose, _ in apartment_scenes()}
+    if name.startswith("static layer"):
+        meshes, pose = scenes["apartment, 3rd person"]
+        return bench_static_layer(meshes, camera, pose, repeats)["layer_cpu_best_ms"]
+    meshes, pose = scenes[name]
+    return bench_scene(meshes, camera, pose, repeats, cull_back_faces=True)["cpu_best_ms"]
+
+
+def checkout_cpu_ms(checkout: Path, name: str, repeats: int) -> float:
+    """:func:`named_scene_cpu_ms` run by this file's code on the rigidsim checkout
+    ``checkout`` (a subprocess in its folder, so its ``render`` and ``engine`` are used)."""
+    code = (
+        "import json, sys; sys.path.insert(0, sys.argv[1]); import bench_render as b; "
+        "print(json.dumps(b.named_scene_cpu_ms(sys.argv[2], int(sys.argv[3]))))"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code, str(ROOT / "benchmarks"), name, str(repeats)],
+        env=dict(os.environ, PYTHONPATH=str(checkout)),
+        cwd=checkout,
+        capture_output=True,
+        text=True,
+    )
+    if run.returncode != 0:
+        raise RuntimeError(f"{name!r} failed in {checkout}: {run.stderr.strip()[-500:]}")
+    return float(json.loads(run.stdout.strip().splitlines()[-1]))
+
+
+def compare_with_baseline(
+    baseline: Path, rounds: int, repeats: int, names: tuple[str, ...] = BASELINE_SCENES
+) -> None:
+    """Print the fastest frame's CPU ms of this checkout and ``baseline`` over ``rounds``, which
+    alternate scene by scene (who goes first alternates too), and their ratio."""
+    print(f"this checkout {ROOT} vs baseline {baseline}: CPU ms per frame at {RESOLUTION[1]}x")
+    print(f"{RESOLUTION[0]}, the fastest frame of {rounds} rounds of {repeats} frames each")
+    print(f"{'scene':30s} {'this ms':>8s} {'base ms':>8s} {'ratio':>6s}  all rounds (this/base)")
+    worst = 0.0
+    for name in names:
+        times: dict[Path, list[float]] = {ROOT: [], baseline: []}
+        for round_ in range(rounds):
+            order = (ROOT, baseline) if round_ % 2 == 0 else (baseline, ROOT)
+            for checkout in order:
+                times[checkout].append(checkout_cpu_ms(checkout, name, repeats))
+        ours, base = min(times[ROOT]), min(times[baseline])
+        worst = max(worst, ours / base)
+        rounds_text = " ".join(
+            f"{a:.1f}/{b:.1f}" for a, b in zip(times[ROOT], times[baseline], strict=True)
+        )
+        print(f"{name:30s} {ours:8.1f} {base:8.1f} {ours / base:5.3f}x  {rounds_text}", flush=True)
+    print(f"slowest ratio {worst:.3f}x: {'within' if worst <= 1.03 else 'OVER'} the 3 % bound")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats")
     parser.add_argument("--async-only", action="store_true", help="only the async table")
+    parser.add_argument("--baseline", type=Path, help="a rigidsim checkout to compare with")
+    parser.add_argument("--rounds", type=int, default=5, help="alternating --baseline rounds")
+    parser.add_argument("--frames", type=int, help="frames per --baseline round (default 9)")
+    parser.add_argument("--only", help="--baseline: comma-separated scene names to run")
     args = parser.parse_args()
     if args.async_only:
         print_async_table(10 if args.quick else 40)
+        return
+    if args.baseline:
+        names = tuple(args.only.split(",")) if args.only else BASELINE_SCENES
+        unknown = sorted(set(names) - set(BASELINE_SCENES))
+        if unknown:
+            parser.error(f"--only: no scene {unknown}; scenes: {', '.join(BASELINE_SCENES)}")
+        frames = args.frames or (3 if args.quick else 9)
+        compare_with_baseline(args.baseline.resolve(), args.rounds, frames, names)
         return
     repeats = 3 if args.quick else 15
     camera = Camera(RESOLUTION, hfov=90.0)

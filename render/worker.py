@@ -25,6 +25,11 @@ Pieces (plain arrays only, like the rest of :mod:`render`):
   rasterizes and shades only those rows, the caller renders the other rows of the same
   frame itself, and the two parts make the whole frame.
   Nothing is shared mutably: the worker never sees the caller's objects, only copies.
+  This module is the caller's side.
+* :class:`WorkerJob`, :class:`WorkerLost` and the shared block layout
+  (:mod:`render.worker_jobs`, re-exported here): what the two sides exchange.
+* ``serve_fd`` (:mod:`render.worker_loop`, re-exported here): the worker process's state
+  and the loop that serves the pipe.
 
 Bit-identical results: the worker unpickles exactly the caller's arrays (float64 poses,
 meshes, :class:`Lights`), gets each view's :class:`render.settings.RenderSettings` inside
@@ -42,24 +47,20 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-import pickle
 import subprocess
 import sys
-import traceback
 import weakref
-from dataclasses import dataclass
-from multiprocessing import resource_tracker, shared_memory
-from multiprocessing.connection import Connection
+from multiprocessing import shared_memory
 from typing import Any
 
 import numpy as np
 
 from render import lights as _lights
-from render.camera import Camera
 from render.frame import FrameBuffers
 from render.scene import RenderMesh
-from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.views import LayeredView, SplitScene
+from render.worker_jobs import WorkerJob, WorkerLost, block_size, frame_on_block
+from render.worker_loop import serve_fd
 
 __all__ = [
     "LayeredView",
@@ -67,173 +68,8 @@ __all__ = [
     "SplitScene",
     "WorkerJob",
     "WorkerLost",
+    "serve_fd",
 ]
-
-
-class WorkerLost(RuntimeError):
-    """The render worker process is gone (it died or was closed)."""
-
-
-@dataclass(frozen=True)
-class WorkerJob:
-    """One view the worker renders this frame (``RenderProcess.submit``).
-
-    Attributes
-    ----------
-    key : the view's key: its layers and shared block in the worker.
-    mode : one of ``render.views.MODES``.
-    camera : intrinsics and clip planes.
-    world_from_camera : (4, 4) float64 pose.
-    rows : a full render's rows to shade (``render_frame``'s ``rows``), None: all.
-    ids : False when no sensor reads the semantic ids.
-    settings : the :class:`RenderSettings` to render with (travels with the job).
-    """
-
-    key: int
-    mode: str
-    camera: Camera
-    world_from_camera: np.ndarray
-    rows: tuple[int, int] | None = None
-    ids: bool = True
-    settings: RenderSettings = DEFAULT_SETTINGS
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.settings, RenderSettings):
-            raise TypeError(f"WorkerJob.settings must be RenderSettings, got {self.settings!r}")
-        pose = np.asarray(self.world_from_camera, np.float64)
-        object.__setattr__(self, "world_from_camera", pose)
-
-
-# ------------------------------------------------------------------------------------------
-# Shared memory blocks: color (H, W, 4) uint8, depth (H, W) float32, ids (H, W) uint32
-# ------------------------------------------------------------------------------------------
-def _block_size(resolution: tuple[int, int]) -> int:
-    height, width = resolution
-    return height * width * 12
-
-
-def _frame_on_block(
-    buffer: memoryview | None, resolution: tuple[int, int], zkey=None
-) -> FrameBuffers:
-    """FrameBuffers whose rgba, depth and ids are views of a shared block."""
-    if buffer is None:  # SharedMemory.buf is None once the block is closed
-        raise RuntimeError("render worker: the shared frame block is closed")
-    height, width = resolution
-    n = height * width
-    rgba = np.ndarray((height, width, 4), np.uint8, buffer, 0)
-    depth = np.ndarray((height, width), np.float32, buffer, 4 * n)
-    ids = np.ndarray((height, width), np.uint32, buffer, 8 * n)
-    if zkey is None:
-        zkey = np.empty(0, np.uint64)
-    return FrameBuffers(rgba, depth, ids, zkey)
-
-
-# ------------------------------------------------------------------------------------------
-# The worker process
-# ------------------------------------------------------------------------------------------
-class _Worker:
-    """The worker's state: the scene, the light setups by token, views and their blocks."""
-
-    def __init__(self) -> None:
-        self.scene = SplitScene()
-        self.lights: dict[int, _lights.Lights] = {}
-        self.views: dict[int, LayeredView] = {}
-        self.blocks: dict[int, shared_memory.SharedMemory] = {}
-
-    def meshes(self, encoded: list[dict]) -> list[RenderMesh]:
-        """RenderMesh objects from their fields; ``lights`` is a token (see ``_encode``)."""
-        meshes = []
-        for fields in encoded:
-            fields = dict(fields)
-            token = fields.pop("lights_token")
-            fields["lights"] = None if token is None else self._light(token)
-            meshes.append(RenderMesh(**fields))
-        return meshes
-
-    def _light(self, token: int) -> _lights.Lights:
-        return _lights.DEFAULT_LIGHTS if token == 0 else self.lights[token]
-
-    def handle(self, message: tuple) -> tuple | None:
-        kind = message[0]
-        if kind == "lights":
-            self.lights.update(message[1])
-        elif kind == "meshes":
-            static, moving = message[1], message[2]
-            self.scene.set_meshes(
-                None if static is None else self.meshes(static),
-                None if moving is None else self.meshes(moving),
-            )
-        elif kind == "forget":
-            for key in message[1]:
-                self.views.pop(key, None)
-                block = self.blocks.pop(key, None)
-                if block is not None:
-                    block.close()
-        elif kind == "frame":
-            _, static_poses, moving_poses, jobs = message
-            self.scene.set_poses(static_poses, moving_poses)
-            return ("done", [self.render(job, block_name) for job, block_name in jobs])
-        else:
-            raise ValueError(f"unknown message {kind!r}")
-        return None
-
-    def render(self, job: WorkerJob, block_name: str) -> tuple[int, dict, int]:
-        """Render ``job`` into its shared block (attached at the first job of its key)."""
-        key, camera = job.key, job.camera
-        view = self.views.get(key)
-        if view is None or self.blocks[key].name != block_name:
-            block = shared_memory.SharedMemory(name=block_name)
-            _untrack(block)  # the caller owns (and unlinks) it
-            self.blocks[key] = block
-            view = self.views[key] = LayeredView()
-            view.out = _frame_on_block(block.buf, camera.resolution)
-            view.out.zkey = np.empty(camera.height * camera.width, np.uint64)
-        frame = view.render(
-            job.mode, self.scene, camera, job.world_from_camera, job.rows, job.ids, job.settings
-        )
-        return key, frame.timings, frame.n_fragments
-
-
-def _untrack(block: shared_memory.SharedMemory) -> None:
-    """Attaching registers a block with the resource tracker, which would unlink it when
-    this process exits (Python < 3.13): the creator owns it."""
-    try:
-        resource_tracker.unregister(block._name, "shared_memory")  # type: ignore[attr-defined]  # noqa: SLF001
-    except (AttributeError, KeyError, ValueError):
-        pass
-
-
-def serve_fd(fd: int) -> None:
-    """Entry point of the worker process: serve the pipe end ``fd``."""
-    _serve(Connection(fd))
-
-
-def _serve(conn: Any) -> None:
-    """The worker's loop: handle messages until ``("stop",)`` or the caller is gone."""
-    worker = _Worker()
-    while True:
-        try:
-            message = conn.recv()
-        except (EOFError, OSError):
-            break
-        if message[0] == "stop":
-            break
-        try:
-            reply = worker.handle(message)
-        except BaseException as error:  # noqa: BLE001 - reported to the caller
-            reply = ("error", _picklable(error), traceback.format_exc())
-        if reply is not None or message[0] == "frame":
-            conn.send(reply)
-    for block in worker.blocks.values():
-        block.close()
-
-
-def _picklable(error: BaseException) -> BaseException:
-    try:
-        pickle.loads(pickle.dumps(error))
-        return error
-    except Exception:  # noqa: BLE001 - any exception that does not travel
-        return RuntimeError(f"{type(error).__name__}: {error}")
 
 
 # ------------------------------------------------------------------------------------------
@@ -284,7 +120,7 @@ class RenderProcess:
         environment = dict(os.environ)
         # the caller's import path (a notebook may have extended sys.path)
         environment["PYTHONPATH"] = os.pathsep.join(path for path in sys.path if path)
-        command = f"from render.worker import serve_fd; serve_fd({child.fileno()})"
+        command = f"from render.worker_loop import serve_fd; serve_fd({child.fileno()})"
         try:
             self._process = subprocess.Popen(
                 [sys.executable, "-c", command], pass_fds=[child.fileno()], env=environment
@@ -378,7 +214,7 @@ class RenderProcess:
             self.forget([key])
             block = None
         if block is None:
-            block = shared_memory.SharedMemory(create=True, size=_block_size(resolution))
+            block = shared_memory.SharedMemory(create=True, size=block_size(resolution))
             self._blocks[key] = block
             self._resolutions[key] = (int(resolution[0]), int(resolution[1]))
         return block
@@ -394,7 +230,7 @@ class RenderProcess:
             raise reply[1] from RuntimeError("in the render worker:\n" + reply[2])
         frames = {}
         for key, timings, n_fragments in reply[1]:
-            frame = _frame_on_block(self._blocks[key].buf, self._resolutions[key])
+            frame = frame_on_block(self._blocks[key].buf, self._resolutions[key])
             frame.timings, frame.n_fragments = timings, n_fragments
             frames[key] = frame
         assert sorted(frames) == sorted(keys)
