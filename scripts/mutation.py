@@ -149,7 +149,8 @@ MODULES: dict[str, Module] = {
         timeout=120.0,  # a mutant that never stops widening the search hangs (tests: ~15 s)
     ),
     "navmesh/heightfield.py": Module(
-        (NAV + "test_build.py",), (NAV + "test_scenes.py", NAV + "test_pathfinder.py")
+        (NAV + "test_build.py", NAV + "test_heightfield_spans.py"),
+        (NAV + "test_scenes.py", NAV + "test_pathfinder.py"),
     ),
 }
 
