@@ -313,3 +313,16 @@ def test_the_bounding_box_pretest_keeps_every_triangle_that_covers_a_pixel_cente
     # and one whose box holds no center (between rows 0 and 1 centers) is dropped
     between = _screen((2.0, 0.6), (4.0, 0.6), (3.0, 1.4))
     assert not raster.bounding_box_has_pixel_centers(between, 100, 20)[0]
+
+
+def test_orthographic_depth_of_a_tilted_triangle_follows_its_plane():
+    # corners (x, y, z) = (-1, -1, -2), (1, -1, -4), (0, 1, -3) lie on the plane z = -3 - x:
+    # seen orthographically, the depth at a pixel center is 3 + x with x = (col + 1/2 - cx) / s
+    camera = Camera((H, W), subtype="orthographic", ortho_scale=0.2)
+    corners = np.array([[-1.0, -1.0, -2.0], [1.0, -1.0, -4.0], [0.0, 1.0, -3.0]])
+    mesh = RenderMesh(corners, np.array([[0, 1, 2]]), base_color=(1, 2, 3))
+    frame = render_frame([mesh], camera, np.eye(4))
+    rows, cols = np.nonzero(frame.depth > 0)
+    assert len(rows) > 50
+    x = (cols + 0.5 - camera.cx) / camera.fx
+    np.testing.assert_allclose(frame.depth[rows, cols], 3.0 + x, rtol=1e-6)
