@@ -171,3 +171,23 @@ def test_removing_the_lower_box_of_a_sleeping_stack_lets_the_upper_box_fall():
     assert upper.awake  # its support is gone: the island around it was woken
     run(world, 1.0)
     assert upper.translation[1] == pytest.approx(0.1, abs=5e-3)  # resting on the floor now
+
+
+def test_a_box_under_a_spinning_box_stays_awake_in_its_island():
+    # The upper box spins at 1 rad/s about the vertical (dynamic velocity control) on a
+    # resting lower box. Their contact joins them into one island, which rests only when
+    # all its bodies do: the lower box, itself still, is awake every frame of 2 s.
+    world, templates = make_world()
+    handle = register_primitive(templates)
+    lower = add(world, templates, handle, [0.0, 0.1, 0.0])
+    upper = add(world, templates, handle, [0.0, 0.3, 0.0])
+    control = upper.velocity_control
+    control.controlling_ang_vel = True
+    control.angular_velocity = [0.0, 1.0, 0.0]
+    asleep_frames = 0
+    for _ in range(120):
+        world.step_physics(FRAME)
+        asleep_frames += not lower.awake
+    assert asleep_frames == 0
+    assert upper.awake
+    assert np.linalg.norm(np.asarray(lower.translation) - [0.0, 0.1, 0.0]) < 5e-3  # still

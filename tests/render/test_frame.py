@@ -439,3 +439,6 @@ def test_an_image_wider_than_a_band_is_shaded_one_row_per_band():
     mesh = RenderMesh(pixel_quad(camera, 100, 0, 50, 4, 2.0), QUAD_FACES, base_color=(1, 2, 3))
     part = render_frame([mesh], camera, np.eye(4), rows=(1, 3))
     assert (part.depth[1:3] > 0).sum() == 2 * 50
+    # one row per band: every row is on the band grid, but row -1 is still not in the image
+    with pytest.raises(ValueError, match="rows"):
+        render_frame([mesh], camera, np.eye(4), rows=(-1, 3))

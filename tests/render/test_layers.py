@@ -98,6 +98,8 @@ def test_bad_layer_arguments_raise():
         render_over_layer("not a layer", [], camera, np.eye(4))
     with pytest.raises(ValueError, match="resolution"):
         render_over_layer(layer, [], Camera((10, 12)), np.eye(4))
+    with pytest.raises(ValueError, match="resolution"):  # a camera larger than the layer
+        render_over_layer(layer, [], Camera((H + 8, W)), np.eye(4))
 
 
 def test_a_moving_mesh_covering_one_pixel_over_a_layer_equals_the_full_render():

@@ -293,3 +293,36 @@ def test_camera_inside_a_closed_box_sees_its_walls_at_the_right_depth():
     assert np.all(frame.depth > 0)
     assert frame.depth[H // 2, W // 2] == pytest.approx(2.0, rel=1e-6)
     assert frame.depth.max() <= 2.0 * (1 + 1e-6)  # no wall is farther along the axis
+
+
+def _screen(*corners: tuple[float, float]) -> np.ndarray:
+    """``(3, 2, 1)`` corner pixel coordinates of one triangle."""
+    return np.array(corners, dtype=np.float64)[:, :, None]
+
+
+def test_the_bounding_box_pretest_keeps_every_triangle_that_covers_a_pixel_center():
+    # pixel centers sit at (col + 1/2, row + 1/2). Each triangle below contains a center,
+    # so the conservative pre-test must keep it: a sliver around center (0.5, 0.5) of the
+    # top-left pixel, and a triangle around (10.5, 90.5) at the bottom of a tall 20 x 100
+    # image (its rows lie beyond the image width: x and y must not be mixed up)
+    top_left = _screen((0.1, 0.4), (0.9, 0.4), (0.5, 0.9))
+    bottom = _screen((9.0, 89.0), (12.0, 89.0), (10.5, 93.0))
+    for screen in (top_left, bottom):
+        assert raster.bounding_box_has_pixel_centers(screen, 100, 20)[0]
+        assert len(raster.scanline_spans(screen, 100, 20).row) > 0  # it does cover one
+    # and one whose box holds no center (between rows 0 and 1 centers) is dropped
+    between = _screen((2.0, 0.6), (4.0, 0.6), (3.0, 1.4))
+    assert not raster.bounding_box_has_pixel_centers(between, 100, 20)[0]
+
+
+def test_orthographic_depth_of_a_tilted_triangle_follows_its_plane():
+    # corners (x, y, z) = (-1, -1, -2), (1, -1, -4), (0, 1, -3) lie on the plane z = -3 - x:
+    # seen orthographically, the depth at a pixel center is 3 + x with x = (col + 1/2 - cx) / s
+    camera = Camera((H, W), subtype="orthographic", ortho_scale=0.2)
+    corners = np.array([[-1.0, -1.0, -2.0], [1.0, -1.0, -4.0], [0.0, 1.0, -3.0]])
+    mesh = RenderMesh(corners, np.array([[0, 1, 2]]), base_color=(1, 2, 3))
+    frame = render_frame([mesh], camera, np.eye(4))
+    rows, cols = np.nonzero(frame.depth > 0)
+    assert len(rows) > 50
+    x = (cols + 0.5 - camera.cx) / camera.fx
+    np.testing.assert_allclose(frame.depth[rows, cols], 3.0 + x, rtol=1e-6)
