@@ -26,6 +26,11 @@ scored in batches (``engine.follower_probe.BatchProbe``: one start snap, one sna
 position, one vectorized wall test). ``use_reference_poses = True`` selects the reference:
 the agent's controls on scratch nodes, one candidate at a time through the PathFinder API, as
 Habitat does; both choose the same actions (``tests/engine/test_greedy_follower.py``).
+Habitat's ``demo_runner`` asks ``find_path(goal)`` every frame from the agent's new pose,
+which often lies on the path found the frame before: the best primitive of a pose is a pure
+function of the pose for one goal, navmesh and step rule, so it is remembered per exact pose
+until the goal or the navmesh changes (``cache_primitives = False`` searches every pose
+again; same actions, same test file).
 
 ``next_action_along(goal)`` returns one action key; ``find_path(goal)`` simulates the
 primitives on a scratch node and returns every key, ending with ``stop_key``. No path (the
@@ -76,6 +81,7 @@ __all__ = [
 
 GOOD_ENOUGH_REWARD = 0.99  # stop searching: the step gained 99 % of a full step
 MAX_ACTIONS = 5000  # find_path gives up after this many actions
+MAX_CACHED_POSES = 100_000  # the primitive cache starts again beyond this many poses
 
 
 class GreedyFollowerCodes(Enum):
@@ -136,6 +142,11 @@ class GreedyGeodesicFollower:
         # one geodesic distance field per goal (a Dijkstra from the goal), reused by every query
         self._field: GeodesicField | None = None
         self._field_goal: np.ndarray | None = None
+        self._field_grid: object = None  # the navmesh the field was computed on
+        #: the best primitive of each array pose met since the field was computed (a pure
+        #: function of the pose for one goal and navmesh): demo programs ask find_path every
+        #: frame from the agent's new pose, which often lies on the path found before
+        self._primitives: dict[tuple[Any, ...], list[GreedyFollowerCodes]] = {}
         self._specs = {
             "move_forward": self.forward_spec,
             "turn_left": self.left_spec,
@@ -145,6 +156,9 @@ class GreedyGeodesicFollower:
         #: (Habitat's way), instead of the array twin of the default controls scored in
         #: batches (same actions; see follower_poses and follower_probe)
         self.use_reference_poses = False
+        #: remember the best primitive per array pose for the current goal; False: search
+        #: every pose again (the reference; same actions, ``tests/engine/test_greedy_follower``)
+        self.cache_primitives = True
 
     def _find_action(self, name: str) -> tuple[Any, ActuationSpec]:
         """The (key, actuation) of the one action of the agent's space that runs ``name``."""
@@ -175,13 +189,22 @@ class GreedyGeodesicFollower:
 
     def _geodesic(self, start: np.ndarray, goal: np.ndarray) -> float:
         """Geodesic distance from ``start`` to ``goal``, from the goal's distance field."""
+        return self._field_for(goal).distance(start)
+
+    def _field_for(self, goal: np.ndarray) -> GeodesicField:
+        """The goal's geodesic field, computed again when the goal or the navmesh changed
+        (the primitive cache, valid for one field, is then emptied)."""
+        grid = self.pathfinder.nav_grid if self.pathfinder.is_loaded else None
         if (
             self._field is None
             or self._field_goal is None
+            or self._field_grid is not grid
             or not np.array_equal(self._field_goal, goal)
         ):
             self._field, self._field_goal = self.pathfinder.geodesic_field(goal), goal.copy()
-        return self._field.distance(start)
+            self._field_grid = grid
+            self._primitives.clear()
+        return self._field
 
     def _reward(self, pose: ScratchPose, goal: np.ndarray, distance: float, turns: int) -> float:
         """Score the primitive ``turns`` turns (already applied to ``pose``) + one step."""
@@ -192,6 +215,28 @@ class GreedyGeodesicFollower:
         # Habitat: distance_to_closest_obstacle(after, 1.1 * 0.2) < 0.2, the same answer
         near_wall = self.pathfinder.is_near_obstacle(after, CLOSE_TO_OBSTACLE_M)
         return reward_of(gained, turns, collided, near_wall)
+
+    def _cached_best_primitive(
+        self, pose: ScratchPose, goal: np.ndarray
+    ) -> list[GreedyFollowerCodes]:
+        """:meth:`_best_primitive`, remembered per array pose (its exact position and
+        rotation bits, the step amounts, the goal radius and the sliding rule) while the goal
+        and the navmesh stay the same (``cache_primitives``). Only for the navmesh step
+        filter: another move filter may depend on more than the navmesh."""
+        if not self.cache_primitives or not isinstance(pose, ArrayPose):
+            return self._best_primitive(pose, goal)
+        sliding = navmesh_sliding(pose.move_filter, self.pathfinder)
+        if sliding is None:
+            return self._best_primitive(pose, goal)
+        self._field_for(goal)  # empties the cache when the goal or the navmesh changed
+        amounts = tuple(float(spec.amount) for spec in self._specs.values())
+        key = (pose.position.tobytes(), pose.xyzw.tobytes(), sliding, amounts, self.goal_radius)
+        primitive = self._primitives.get(key)
+        if primitive is None:
+            if len(self._primitives) >= MAX_CACHED_POSES:
+                self._primitives.clear()
+            primitive = self._primitives[key] = self._best_primitive(pose, goal)
+        return list(primitive)
 
     def _best_primitive(self, pose: ScratchPose, goal: np.ndarray) -> list[GreedyFollowerCodes]:
         """The best ``[turn] * n + [FORWARD]`` from this pose, [STOP], or [ERROR]."""
@@ -289,7 +334,7 @@ class GreedyGeodesicFollower:
             code = self._thrashing_actions.pop()
         else:
             pose = self._scratch_pose(state.position, state.rotation)
-            primitive = self._best_primitive(pose, goal)
+            primitive = self._cached_best_primitive(pose, goal)
             if not primitive:
                 code = GreedyFollowerCodes.ERROR
             elif self.fix_thrashing and self._is_thrashing():
@@ -310,7 +355,7 @@ class GreedyGeodesicFollower:
         pose = self._scratch_pose(state.position, state.rotation)
         actions: list[GreedyFollowerCodes] = []
         while len(actions) < MAX_ACTIONS:
-            primitive = self._best_primitive(pose, goal)
+            primitive = self._cached_best_primitive(pose, goal)
             if not primitive or primitive[-1] is GreedyFollowerCodes.ERROR:
                 raise GreedyFollowerError(
                     f"no path from {state.position.tolist()} to {goal.tolist()}"

@@ -146,6 +146,42 @@ def test_the_fast_poses_choose_the_actions_of_the_agents_own_controls(demo_data,
             assert fast == reference
 
 
+def test_the_primitive_cache_plans_the_actions_of_a_fresh_search(demo_data):
+    """Two paths, one behaviour: Habitat's demo loop (a random action, then ``find_path``
+    from the agent's new pose, every frame) with the per-pose primitive cache plans what a
+    follower searching every pose again plans; the cache is hit, and emptied when the
+    navmesh changes."""
+    with make_sim(demo_data, allow_sliding=True) as sim:
+        sim.pathfinder.seed(5)
+        rng = np.random.default_rng(5)
+        agent = sim.get_agent(0)
+        cached, fresh = sim.make_greedy_follower(), sim.make_greedy_follower()
+        fresh.cache_primitives = False
+        counts = {"lookups": 0, "searches": 0}
+        lookup, search = cached._cached_best_primitive, cached._best_primitive
+
+        def counted(name, function):
+            def wrapper(*args):
+                counts[name] += 1
+                return function(*args)
+
+            return wrapper
+
+        cached._cached_best_primitive = counted("lookups", lookup)
+        cached._best_primitive = counted("searches", search)
+        start, goal, _ = random_episode(sim.pathfinder)
+        agent.state = habitat_sim.AgentState(start)
+        for _ in range(12):
+            sim.step(["move_forward", "turn_left", "turn_right"][rng.integers(3)])
+            assert cached.find_path(goal) == fresh.find_path(goal)
+        assert not fresh._primitives
+        assert 0 < counts["searches"] < counts["lookups"]  # some poses were reused
+        sim.recompute_navmesh(sim.pathfinder, habitat_sim.NavMeshSettings())
+        counts.update(lookups=0, searches=0)
+        assert cached.find_path(goal) == fresh.find_path(goal)
+        assert counts["searches"] == counts["lookups"] > 0  # nothing kept from the old navmesh
+
+
 def test_a_custom_forward_control_is_planned_through_the_agents_controls(demo_data):
     """With a move_forward that is not the default control, the follower must not use the
     array twin: it plans with the registered control (here, steps of half the amount)."""
