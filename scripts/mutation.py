@@ -121,6 +121,8 @@ MODULES: dict[str, Module] = {
             PHYS + "test_manifolds_and_narrow_phase.py",
             PHYS + "test_box_separation.py",
             PHYS + "test_round_stage_contacts.py",
+            PHYS + "test_broad_phase_pairs.py",
+            PHYS + "test_sphere_on_stage.py",
         ),
         (
             PHYS + "test_contact_laws.py",

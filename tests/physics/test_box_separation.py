@@ -48,3 +48,21 @@ def test_boxes_separated_by_a_gap_along_one_axis():
             np.zeros((1, 3)), eye, half, np.array([[0.2 + gap, 0.05, 0.0]]), eye, half
         )
         assert apart[0] == expected
+
+
+def test_a_small_cube_sunk_into_a_turned_slab_is_not_separated():
+    """A cube of half size 0.05 m whose centre lies 0.4 m from the centre of a slab of half
+    extents (0.5, 0.5, 0.5) turned 30 degrees about y, along the slab's own x axis: it
+    reaches 0.05 m into the slab, so no axis separates them (either box as A); moved to
+    0.6 m, 0.05 m beyond the slab's face, they are apart."""
+    angle = np.radians(30.0)
+    c, s = np.cos(angle), np.sin(angle)
+    slab_rot = np.array([[[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]])
+    slab_half, cube_half = np.full((1, 3), 0.5), np.full((1, 3), 0.05)
+    cube_rot = np.eye(3)[None]
+    for distance, expected in ((0.4, False), (0.6, True)):
+        cube_center = distance * slab_rot[:, :, 0]  # along the slab's x axis
+        slab = (np.zeros((1, 3)), slab_rot, slab_half)
+        cube = (cube_center, cube_rot, cube_half)
+        assert boxes_separated(*slab, *cube)[0] == expected
+        assert boxes_separated(*cube, *slab)[0] == expected
