@@ -94,7 +94,9 @@ MODULES: dict[str, Module] = {
     "render/camera.py": Module(
         (REND + "test_camera.py",), (REND + "test_raster.py", REND + "test_frame.py")
     ),
-    "navmesh/step_filter.py": Module((NAV + "test_step_filter.py",), (NAV + "test_pathfinder.py",)),
+    "navmesh/step_filter.py": Module(
+        (NAV + "test_step_filter.py", NAV + "test_step_islands.py"), (NAV + "test_pathfinder.py",)
+    ),
     "engine/physics/solver.py": Module(
         (PHYS + "test_solver_switches.py", PHYS + "test_split_impulse.py"),
         (
