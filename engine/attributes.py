@@ -109,6 +109,12 @@ PHYSICS_FIELDS = {
 }
 
 
+def _asset_type(handle: str) -> AssetType:
+    """Habitat's asset type of ``handle``: a built-in primitive or (as Habitat reports a mesh
+    file) ``UNKNOWN``."""
+    return AssetType.PRIMITIVE if is_primitive_handle(handle) else AssetType.UNKNOWN
+
+
 class _AssetPaths:
     """``render_asset_fullpath`` / ``collision_asset_fullpath`` (Habitat's names): the asset
     handle as a full path, joined to the template's folder when relative; a primitive
@@ -124,16 +130,19 @@ class _AssetPaths:
         return str(Path(self.file_directory or ".") / handle)
 
     @property
+    def _collision_handle(self) -> str:
+        """The handle the body collides with: the collision asset, the render asset when empty."""
+        return self.collision_asset_handle or self.render_asset_handle
+
+    @property
     def render_asset_type(self) -> AssetType:
         """``PRIMITIVE`` for a built-in primitive, else ``UNKNOWN`` (a mesh file), as Habitat."""
-        handle = self.render_asset_handle
-        return AssetType.PRIMITIVE if is_primitive_handle(handle) else AssetType.UNKNOWN
+        return _asset_type(self.render_asset_handle)
 
     @property
     def collision_asset_type(self) -> AssetType:
-        """As ``render_asset_type``, for the collision asset (the render asset when empty)."""
-        handle = self.collision_asset_handle or self.render_asset_handle
-        return AssetType.PRIMITIVE if is_primitive_handle(handle) else AssetType.UNKNOWN
+        """As ``render_asset_type``, for the handle collided with."""
+        return _asset_type(self._collision_handle)
 
     @property
     def render_asset_fullpath(self) -> str:
@@ -171,7 +180,7 @@ class ObjectAttributes(_AssetPaths, AbstractAttributes):
 
     @property
     def collision_asset_is_primitive(self) -> bool:
-        return is_primitive_handle(self.collision_asset_handle or self.render_asset_handle)
+        return is_primitive_handle(self._collision_handle)
 
     @property
     def use_mesh_for_collision(self) -> bool:
