@@ -8,11 +8,12 @@ Sensor actions (every sensor node moves on its own, no step filter): ``move_up``
 ``move_down`` (local Y), ``look_left`` / ``look_right`` (local Y), ``look_up`` / ``look_down``
 (local X), ``rotate_sensor_clockwise`` / ``rotate_sensor_anti_clockwise`` (local Z).
 
-Moves are along the node's own axes: ``translate_local(amount * axis)``. Turns post-multiply
-the rotation (``q <- q * r(theta, axis)``) and renormalize. With a ``constraint`` c (degrees)
-a look control clamps the resulting look angle to ``[-c, c]``, where the look angle of the
-forward vector ``f = q (0, 0, -1)`` is ``atan2(f_y, -f_z)`` about X (pitch) and
-``-atan2(f_x, -f_z)`` about Y (yaw).
+Moves are along the node's own axes, given in the parent frame as Habitat gives them:
+``translate_local(amount * R[:, axis])`` (a TRS node's ``translate_local`` does not rotate).
+Turns post-multiply the rotation (``q <- q * r(theta, axis)``) and renormalize. With a
+``constraint`` c (degrees) a look control clamps the resulting look angle to ``[-c, c]``,
+where the look angle of the forward vector ``f = q (0, 0, -1)`` is ``atan2(f_y, -f_z)``
+about X (pitch) and ``-atan2(f_x, -f_z)`` about Y (yaw).
 """
 
 from __future__ import annotations
@@ -48,8 +49,10 @@ _FRONT = np.array([0.0, 0.0, -1.0])
 
 
 def move_along(scene_node: SceneNode, distance: float, axis: int) -> None:
-    """Translate ``distance`` meters along the node's own ``axis`` (0 X, 1 Y, 2 Z)."""
-    scene_node.translate_local(_AXES[axis] * float(distance))
+    """Translate ``distance`` meters along the node's own ``axis`` (0 X, 1 Y, 2 Z), given in
+    the parent frame as Habitat does (``translate_local`` does not rotate its vector)."""
+    own_axis = mn.quaternion_to_matrix(scene_node.rotation.xyzw)[:, axis]
+    scene_node.translate_local(own_axis * float(distance))
 
 
 def look_angle_degrees(rotation: mn.Quaternion, axis: int) -> float:

@@ -9,8 +9,12 @@ Objects, agents and sensors each own a node; attaching one node under another (a
 an agent, an agent's node used as a robot object's root) makes the child follow the parent.
 Nodes may carry :class:`Drawable` s (meshes the renderer draws with the node's world matrix).
 
-Habitat semantics kept here: ``translate`` moves in the parent frame and ``translate_local`` in
-the node's own frame; ``rotate(angle, axis)`` pre-multiplies (rotation about the parent's axes),
+Habitat semantics kept here: ``translate`` moves in the parent frame, and so does
+``translate_local``: Habitat's nodes use Magnum's ``TranslationRotationScalingTransformation3D``,
+which stores the translation apart from the rotation, so its ``translateLocal(v)`` is
+``translation += v`` exactly like ``translate`` (Habitat's controls therefore pass parent-frame
+axes: ``translate_local(node.transformation[2].xyz * d)``); ``rotate(angle, axis)``
+pre-multiplies (rotation about the parent's axes),
 ``rotate_local`` post-multiplies (about the node's own axes); ``rotate_x/y/z`` are shorthands.
 ``transformation_matrix()`` is the absolute (world) transformation, as in Habitat.
 """
@@ -222,9 +226,10 @@ class SceneNode:
         return self
 
     def translate_local(self, vector: Any) -> SceneNode:
-        """Move by ``vector`` given in this node's own (rotated) frame."""
-        offset = mn.quaternion_to_matrix(self._rotation) @ np.asarray(mn.to_vector3(vector))
-        self._translation = self._translation + offset
+        """Move by ``vector``, not rotated by the node: the translation of a TRS transform is
+        applied last, so Magnum (and Habitat) add a "local" translation in the parent frame,
+        the same as :meth:`translate` (see the module docstring)."""
+        self._translation = self._translation + np.asarray(mn.to_vector3(vector, "vector"))
         return self
 
     def rotate(self, angle: Any, axis: Any) -> SceneNode:

@@ -251,15 +251,10 @@ class ManagedPhysicsObject:
 
     @quiet_overflow
     def translate_local(self, vector: Any) -> None:
-        """Move by ``vector`` given in the object's frame."""
-        offset = np.asarray(mn.to_vector3(vector, "vector"))
-        index = self._check()
-        b = self._world.bodies
-        self._set_pose(
-            b.body_position[index] + quat_to_matrix(b.body_rotation[index]) @ offset,
-            b.body_rotation[index].copy(),
-            "vector",
-        )
+        """Move by ``vector`` as Habitat does: its object moves its TRS scene node with
+        ``translateLocal``, which adds the vector in the parent frame without rotating it,
+        the same as :meth:`translate` (``engine.scene_node`` explains the Magnum rule)."""
+        self.translate(vector)
 
     def rotate(self, angle: Any, axis: Any, local: bool = False) -> None:
         """Rotate by ``angle`` (Rad/Deg) about ``axis``: world axes (``q' = r q``) or local

@@ -189,7 +189,8 @@ def test_a_custom_forward_control_is_planned_through_the_agents_controls(demo_da
     @habitat_sim.registry.register_move_fn(name="half_forward_for_test", body_action=True)
     class HalfForward(habitat_sim.agent.SceneNodeControl):
         def __call__(self, scene_node, actuation_spec):
-            scene_node.translate_local([0.0, 0.0, -0.5 * actuation_spec.amount])
+            forward = np.asarray(scene_node.transformation)[:3, 2]  # +Z in the parent frame
+            scene_node.translate_local(-0.5 * actuation_spec.amount * forward)
 
     with make_sim(demo_data, True) as sim:
         sim.pathfinder.seed(2)

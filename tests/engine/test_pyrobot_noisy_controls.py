@@ -70,6 +70,27 @@ def test_no_noise_at_multiplier_zero():
     np.testing.assert_allclose(moves, 0.0, atol=1e-12)
 
 
+@pytest.mark.parametrize("heading_degrees", [0.0, 60.0, 120.0, -150.0])
+def test_a_turned_agent_moves_along_its_own_heading(heading_degrees):
+    """The noisy offset is built from the node's axes in the parent frame: a turned agent goes
+    where it faces, exactly without noise and on average with it (a rotated offset would go
+    off at twice the heading)."""
+    seed_noise(1)
+    start = habitat_sim.AgentState()
+    half = np.radians(heading_degrees) / 2.0
+    start.rotation = np.quaternion(np.cos(half), 0.0, np.sin(half), 0.0)  # about +Y
+    facing = np.array([-np.sin(2 * half), 0.0, -np.cos(2 * half)])  # R (0, 0, -1)
+    for multiplier, samples, tolerance in ((0.0, 1, 1e-12), (1.0, SAMPLES, 0.03)):
+        agent = noisy_agent("LoCoBot", "ILQR", multiplier)
+        steps = []
+        for _ in range(samples):
+            agent.state = start
+            agent.act("noisy_move_forward")
+            steps.append(np.asarray(agent.state.position) - np.asarray(start.position))
+        mean_step = np.mean(steps, axis=0)
+        np.testing.assert_allclose(mean_step / np.linalg.norm(mean_step), facing, atol=tolerance)
+
+
 def test_the_simulator_seed_fixes_the_noisy_trajectory(demo_data):
     cfg = habitat_sim.SimulatorConfiguration()
     cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")

@@ -25,13 +25,20 @@ def test_child_world_matrix_is_parent_times_local():
     )
 
 
-def test_translate_local_moves_along_own_axes():
+def test_translate_local_adds_its_vector_in_the_parent_frame_as_magnums_trs_nodes_do():
+    """Habitat's nodes are Magnum TRS objects: ``translateLocal(v)`` is ``translation += v``,
+    not rotated by the node. Habitat's controls rely on it: they pass the node's axis in the
+    parent frame, ``transformation[2].xyz``, and the agent moves along its own -Z once."""
     node = SceneNode()
-    node.rotate_y(mn.Deg(90.0))
-    node.translate_local([0, 0, -1])  # forward in the node's frame is -X in the world
-    np.testing.assert_allclose(np.asarray(node.translation), [-1, 0, 0], atol=1e-12)
+    node.rotate_y(mn.Deg(90.0))  # the node's -Z (forward) is the world's -X
+    node.translate_local([0, 0, -1])
+    np.testing.assert_allclose(np.asarray(node.translation), [0, 0, -1], atol=1e-12)
+    forward = -np.asarray(node.transformation)[:3, 2]  # Habitat: -transformation[2].xyz
+    np.testing.assert_allclose(forward, [-1, 0, 0], atol=1e-12)
+    node.translate_local(forward)  # a step forward, as default and noisy controls take it
+    np.testing.assert_allclose(np.asarray(node.translation), [-1, 0, -1], atol=1e-12)
     node.translate([0, 1, 0])
-    np.testing.assert_allclose(np.asarray(node.translation), [-1, 1, 0], atol=1e-12)
+    np.testing.assert_allclose(np.asarray(node.translation), [-1, 1, -1], atol=1e-12)
 
 
 def test_rotate_pre_multiplies_and_rotate_local_post_multiplies():

@@ -172,3 +172,14 @@ def test_bad_gravity_and_empty_stage_meshes_raise():
     with pytest.raises(ValueError, match="NaN"):
         world.set_stage([bad], None)
     assert world.state_hash() == before
+
+
+def test_translate_local_of_a_turned_object_adds_the_vector_as_habitats_trs_node_does():
+    """Habitat's objects move their Magnum TRS node with ``translateLocal``, which adds the
+    vector without rotating it: a box turned 90 degrees about +Y still moves along world -Z."""
+    world, templates = make_world()
+    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
+    box = add(world, templates, handle, [0.0, 0.5, 0.0], motion_type=MotionType.KINEMATIC)
+    box.rotation = mn.Quaternion.rotation(mn.Deg(90.0), [0.0, 1.0, 0.0])
+    box.translate_local([0.0, 0.0, -1.0])
+    np.testing.assert_allclose(np.asarray(box.translation), [0.0, 0.5, -1.0], atol=1e-12)

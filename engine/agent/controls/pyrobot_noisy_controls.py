@@ -18,10 +18,11 @@ parent frame), intended translation ``a`` (m) and rotation ``theta`` (degrees), 
     node.rotate_y_local(theta degrees + n_r radians);  rotation normalized
 
 Every Gaussian is truncated at 3 standard deviations. The offset goes through
-``translate_local`` with parent-frame axes, exactly as Habitat does (for an agent facing its
-initial -Z this is the intended frame). Samples come from one ``numpy.random.RandomState``,
-seeded by ``Simulator.seed(n)`` and the configuration's ``random_seed`` (``seed_noise``): the
-same seed gives the same noisy trajectory.
+``translate_local`` with parent-frame axes, exactly as Habitat does (a TRS node adds a
+``translate_local`` vector in the parent frame, see ``engine.scene_node``). Samples come
+from one ``numpy.random.RandomState``, seeded by ``Simulator.seed(n)`` and the
+configuration's ``random_seed`` (``seed_noise``): the same seed gives the same noisy
+trajectory.
 """
 
 from __future__ import annotations
