@@ -7,17 +7,23 @@ We run the same protocol on the demo apartment with fewer episodes (CI budget: a
 plus the closed-loop ``next_action_along`` and the error and key conventions.
 """
 
+import functools
+import itertools
+
 import numpy as np
 import pytest
+import trimesh
 
 import engine as habitat_sim
 from engine import mn
+from engine.agent.controls.pyrobot_noisy_controls import seed_noise
 from engine.follower_poses import ArrayPose
 from engine.follower_probe import navmesh_sliding
 from engine.registry import registry
 
 TURN_DEGREES = 30.0
 EPISODES = 12
+NOISY_EPISODES = 40
 HABITAT_SPL_BARS = {True: 0.97, False: 0.925}  # allow_sliding -> acceptable mean SPL
 
 
@@ -259,3 +265,62 @@ def test_pathfinder_step_filters_plan_the_reference_actions(demo_data):
             fast = follower.find_path(goal)
             follower.use_reference_poses = True
             assert fast == follower.find_path(goal)
+
+
+def open_hall_pathfinder() -> habitat_sim.PathFinder:
+    """A 20 m x 12 m walled hall with six pillars: open like Habitat's castle test scene."""
+    parts = [trimesh.creation.box((20.0, 0.1, 12.0), transform=_at(0.0, -0.05, 0.0))]
+    parts += [
+        trimesh.creation.box((0.8, 2.5, 0.8), transform=_at(x, 1.25, z))
+        for x in (-6.0, 0.0, 6.0)
+        for z in (-3.0, 3.0)
+    ]
+    parts += [
+        trimesh.creation.box(size, transform=_at(x, 1.25, z))
+        for x, z, size in (
+            (0.0, 6.0, (20.0, 2.5, 0.2)),
+            (0.0, -6.0, (20.0, 2.5, 0.2)),
+            (10.0, 0.0, (0.2, 2.5, 12.0)),
+            (-10.0, 0.0, (0.2, 2.5, 12.0)),
+        )
+    ]
+    hall = trimesh.util.concatenate(parts)
+    pathfinder = habitat_sim.PathFinder()
+    pathfinder.build(np.asarray(hall.vertices), np.asarray(hall.faces))
+    return pathfinder
+
+
+def _at(x: float, y: float, z: float) -> np.ndarray:
+    return trimesh.transformations.translation_matrix((x, y, z))
+
+
+def test_noisy_pyrobot_actions_reach_habitats_spl_bar_in_an_open_hall():
+    """Habitat's noisy episodes (PyRobot LoCoBot noise on every action, the follower planning
+    with the perfect actions, one ``next_action_along`` at a time) need a mean SPL of 0.82
+    with sliding. The bar was set on an open castle hall; the cluttered demo apartment that
+    stands in for it gives about 0.81. Here: an open hall."""
+    pathfinder = open_hall_pathfinder()
+    pathfinder.seed(0)
+    seed_noise(0)
+    agent = habitat_sim.Agent(habitat_sim.SceneGraph().get_root_node().create_child())
+    agent.controls.move_filter_fn = pathfinder.try_step
+    space = agent.agent_config.action_space
+    space["turn_left"].actuation.amount = space["turn_right"].actuation.amount = TURN_DEGREES
+    noisy = habitat_sim.PyRobotNoisyActuationSpec
+    agent.agent_config.action_space = {"_" + key: spec for key, spec in space.items()}
+    agent.agent_config.action_space.update(
+        move_forward=habitat_sim.ActionSpec("pyrobot_noisy_move_forward", noisy(amount=0.25)),
+        turn_left=habitat_sim.ActionSpec("pyrobot_noisy_turn_left", noisy(amount=TURN_DEGREES)),
+        turn_right=habitat_sim.ActionSpec("pyrobot_noisy_turn_right", noisy(amount=TURN_DEGREES)),
+    )
+    follower = habitat_sim.GreedyGeodesicFollower(
+        pathfinder, agent, forward_key="move_forward", left_key="turn_left", right_key="turn_right"
+    )
+    spls = []
+    for _ in range(NOISY_EPISODES):
+        follower.reset()
+        start, goal, path = random_episode(pathfinder)
+        agent.state = habitat_sim.AgentState(start)
+        actions = iter(functools.partial(follower.next_action_along, goal), None)
+        spls.append(spl_of(agent, follower, pathfinder, itertools.islice(actions, 10_000), path))
+    assert np.mean(spls) >= 0.82
