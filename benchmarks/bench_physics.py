@@ -131,11 +131,13 @@ def baseline_cpu(checkout: Path, scene: str, seconds: float, sleep: bool) -> flo
 
 def settle_text(settled: float | None, asleep: int | None, n: int) -> str:
     """The settle line: "all asleep after T s", or "not all asleep by the end (N of M)"
-    when the scene never fully slept (``asleep`` None: count unknown, as for pybullet)."""
+    when the scene never fully slept; ``asleep`` None is pybullet, whose probe is every
+    velocity exactly zero (checked every 0.1 s), not a count of sleeping bodies."""
     if settled is not None:
         return f"all asleep after {settled:.2f} s"
-    count = "" if asleep is None else f" ({asleep} of {n})"
-    return f"not all asleep by the end{count}"
+    if asleep is None:
+        return "never every velocity exactly 0 by the end"
+    return f"not all asleep by the end ({asleep} of {n})"
 
 
 def first(settled: tuple | None) -> float | None:
