@@ -129,6 +129,22 @@ def baseline_cpu(checkout: Path, scene: str, seconds: float, sleep: bool) -> flo
     return float(json.loads(run.stdout.strip().splitlines()[-1]))
 
 
+def settle_text(settled: float | None, asleep: int | None, n: int) -> str:
+    """The settle line: "all asleep after T s", or "not all asleep by the end (N of M)"
+    when the scene never fully slept; ``asleep`` None is pybullet, whose probe is every
+    velocity exactly zero (checked every 0.1 s), not a count of sleeping bodies."""
+    if settled is not None:
+        return f"all asleep after {settled:.2f} s"
+    if asleep is None:
+        return "never every velocity exactly 0 by the end"
+    return f"not all asleep by the end ({asleep} of {n})"
+
+
+def first(settled: tuple | None) -> float | None:
+    """The simulated seconds of rigidsim's ``settled`` (seconds, wall), None if unsettled."""
+    return None if settled is None else settled[0]
+
+
 def run_scene(name, scene, bullet, results, options):
     """Run ``scene`` (positions, rotations, seconds, sleep, stage) ``options.repeats`` times
     interleaved with pybullet (and the baseline checkout); print one report line."""
@@ -185,9 +201,10 @@ def run_scene(name, scene, bullet, results, options):
             f"{cpu_step / base_step:.2f}x of it"
         )
     if sleep:
-        ours_settled = f"{ours['settled'][0]:.2f} s" if ours["settled"] else "not all"
-        bullet_settled = f"{theirs['settled']:.2f} s" if theirs and theirs["settled"] else "not all"
-        print(f"{'':<11} settle: all asleep after {ours_settled} (pybullet {bullet_settled})")
+        n = len(positions)
+        ours_settled = settle_text(first(ours["settled"]), ours["asleep"], n)
+        bullet_settled = settle_text(theirs["settled"], None, n) if theirs else "n/a"
+        print(f"{'':<11} settle: {ours_settled} (pybullet: {bullet_settled})")
     if options.reference:
         slow = run_rigidsim(
             positions, rotations, seconds, sleep=sleep, watch=False, vectorized=False
@@ -266,15 +283,12 @@ def sleep_report(bullet: bool, sizes=(100, 500), seconds: float = 10.0) -> None:
     for n in sizes:
         positions, rotations = pile_positions(n)
         ours = run_rigidsim(positions, rotations, seconds, sleep=True, watch=False)
-        ours_text = f"{ours['settled'][0]:.2f} s" if ours["settled"] else "not all"
+        ours_text = settle_text(first(ours["settled"]), ours["asleep"], n)
         theirs_text = "n/a"
         if bullet:
             theirs = run_pybullet(positions, rotations, seconds, sleep=True)
-            theirs_text = f"{theirs['settled']:.2f} s" if theirs["settled"] else "not all"
-        print(
-            f"  pile-{n}: all asleep after {ours_text} in rigidsim ({ours['asleep']}/{n} "
-            f"asleep at the end), after {theirs_text} in pybullet (checked every 0.1 s)"
-        )
+            theirs_text = settle_text(theirs["settled"], None, n)
+        print(f"  pile-{n}: rigidsim {ours_text}; pybullet {theirs_text} (checked every 0.1 s)")
 
 
 def machine_name() -> str:
