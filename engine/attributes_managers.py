@@ -421,9 +421,11 @@ class StageAttributesManager(_AttributesManager[StageAttributes]):
                 template.render_asset_handle = str(path)
             template.handle = str(given)  # named after the scene as given (Habitat's handle)
             return template
-        template = StageAttributes(str(path))
-        template.file_directory = str(path.parent)
-        template.render_asset_handle = str(path)
+        # as Habitat, the template keeps the scene path as given (render_asset_fullpath ==
+        # scene_id, relative to the working folder when relative)
+        as_given = str(Path(asset_path).expanduser())
+        template = StageAttributes(as_given)
+        template.render_asset_handle = as_given
         template.orient_up = [0.0, 0.0, 1.0]
         template.orient_front = [0.0, 1.0, 0.0]
         return template

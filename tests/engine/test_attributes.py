@@ -128,6 +128,15 @@ def test_stage_frames_bare_glb_is_z_up_and_configs_override(test_assets):
     assert isinstance(room, StageAttributes)
 
 
+def test_a_bare_mesh_stage_keeps_the_scene_path_as_given(test_assets, monkeypatch):
+    """Habitat's ``get_stage_initialization_template().render_asset_fullpath`` equals the
+    scene path the configuration gave, relative paths included."""
+    monkeypatch.chdir(test_assets)
+    plane = StageAttributesManager().create_template_for_asset("scenes/plane.glb")
+    assert plane.render_asset_fullpath == "scenes/plane.glb" == plane.handle
+    assert plane.orient_up == [0, 0, 1]
+
+
 def test_bad_files_and_values_raise_clear_errors(tmp_path):
     manager = ObjectAttributesManager()
     with pytest.raises(FileNotFoundError):
