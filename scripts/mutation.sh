@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Mutation testing of the physics, rasterizer and navigation kernels (on demand, NEVER in CI).
 #
-#   bash scripts/mutation.sh                          # all 15 kernels (60 sampled mutants, 30 in one)
+#   bash scripts/mutation.sh                          # all 16 kernels (60 sampled mutants, 30 in one)
 #   bash scripts/mutation.sh navmesh/step_filter.py   # one module
 #   bash scripts/mutation.sh --per-module 20 render/camera.py   # --list: print the sample only
 #

@@ -48,6 +48,25 @@ def test_zero_restitution_does_not_bounce():
     assert abs(heights[-1] - 0.1) < 5e-3
 
 
+@pytest.mark.parametrize("speed", [1.3, 2.0, 3.0, 5.0])
+def test_zero_restitution_ball_thrown_at_the_floor_stops_touching_it(speed):
+    """e = 0 in zero gravity: the ball's approach is cancelled on impact and nothing pulls it
+    afterwards, so it must stop where it touches the floor (center at its radius, 0.1 m),
+    neither bounced nor held short of the surface."""
+    world, templates = make_world(stage_restitution=0.0, gravity=(0.0, 0.0, 0.0))
+    handle = register_primitive(
+        templates,
+        "icosphereSolid_subdivs_1",
+        (0.1, 0.1, 0.1),
+        restitution_coefficient=0.0,
+        **NO_DAMPING,
+    )
+    ball = add(world, templates, handle, [0.0, 1.0, 0.0], linear_velocity=[0.0, -speed, 0.0])
+    run(world, 1.5)
+    np.testing.assert_allclose(ball.linear_velocity, [0.0, 0.0, 0.0], atol=1e-9)
+    assert abs(ball.translation[1] - 0.1) < 1e-6
+
+
 def test_partial_restitution_apex_matches_e_squared_h():
     world, templates = make_world(stage_restitution=1.0)
     e, drop = 0.7, 1.0
