@@ -1,0 +1,110 @@
+"""The targets and quality gates of ``bench_physics.py``: each printed with whether it is met.
+
+Speed (issue 22): CPU time per 0.008 s step as a ratio to pybullet's in the same run, and
+column-10 against the baseline checkout. Quality: stacks and pyramids stand, nothing sinks
+deeper than the 2 cm speculative margin, no two cubes overlap deeper than 2 cm, piles come
+to rest, and the CPU cost per body stays flat from 100 cubes up (within 15 %). ``results``
+maps a scene name to its report dict (``bench_physics.run_scene``); ``rows`` are the
+scaling sweep's ``(n, cpu ms, pybullet cpu ms, shares)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _line(text: str, value: str, ok: bool) -> None:
+    print(f"  [{'met   ' if ok else 'MISSED'}] {text}: {value}")
+
+
+def report_speed_targets(results) -> None:
+    """Issue 22's speed targets: CPU per step as ratios to pybullet / the baseline."""
+    print("\nSpeed targets (issue 22; CPU time per 0.008 s step, medians of the repeats):")
+    for name, limit in (
+        ("column-100", 2.0),
+        ("column-500", 1.0),
+        ("plane-column-100", 2.0),
+        ("plane-column-500", 1.0),
+        ("apartment-30", 2.0),
+    ):
+        if name in results:
+            r = results[name]
+            _line(
+                f"{name}: <= {limit:g}x pybullet", f"{r['cpu_ratio']:.2f}x", r["cpu_ratio"] <= limit
+            )
+    r = results.get("column-10")
+    if r and r["base_ratio"] is not None:
+        _line(
+            "column-10: <= 0.55x the baseline checkout's step",
+            f"{r['base_ratio']:.2f}x",
+            r["base_ratio"] <= 0.55,
+        )
+
+
+def report_targets(results, rows) -> None:
+    """The quality gates (unchanged from issue 13) and the scaling target."""
+    print("\nQuality gates:")
+    line = _line
+    if rows:
+        per_body = {n: cpu / n for n, cpu, _, _ in rows}  # CPU ms: robust to the load
+        sizes = sorted(per_body)
+        mid = [s for s in sizes if s >= 100]
+        if len(mid) >= 2:
+            growth = per_body[mid[-1]] / per_body[mid[0]]
+            line(
+                f"CPU cost per body flat or falling, N={mid[0]}..{mid[-1]} (within 15 %)",
+                f"x{growth:.2f}",
+                growth <= 1.15,
+            )
+    if "stack-10" in results:
+        r = results["stack-10"]
+        drift = np.linalg.norm((r["final"][-1] - r["start"][-1])[[0, 2]])
+        line(
+            f"stack-10 stands {r['seconds']:.0f} s with < 1 mm drift",
+            f"{drift * 1000:.2f} mm, lowest {r['final'][:, 1].min():.3f} m",
+            drift < 1e-3 and r["final"][-1, 1] > 1.8,
+        )
+        line(
+            "stack-10 energy drift <= 0 (no energy gained)",
+            f"{r['energy_change'] * 1000:+.2f} mJ",
+            r["energy_change"] <= 1e-3,
+        )
+    if "stack-20" in results:
+        r = results["stack-20"]
+        drift = np.linalg.norm((r["final"][-1] - r["start"][-1])[[0, 2]])
+        line(
+            f"stack-20 stands {r['seconds']:.0f} s awake (top above 3.8 m)",
+            f"top drift {drift * 100:.2f} cm, top at {r['final'][-1, 1]:.3f} m",
+            r["final"][-1, 1] > 3.8,
+        )
+    if "pyramid-10" in results:
+        r = results["pyramid-10"]
+        moved = np.abs(r["final"] - r["start"]).max()
+        line(
+            f"pyramid-10 stands {r['seconds']:.0f} s awake (every cube within 5 cm)",
+            f"max displacement {moved * 100:.2f} cm",
+            moved < 0.05,
+        )
+    if results:
+        floor = max(r["deepest"][0] for r in results.values())
+        line(
+            "nothing sinks into the floor deeper than the 2 cm speculative margin",
+            f"{floor * 1000:.1f} mm",
+            floor < 0.02,
+        )
+        pair = {name: r["deepest"][1] for name, r in results.items()}
+        worst = max(pair, key=pair.get)
+        line(
+            "no two cubes overlap deeper than 2 cm (worst scene; impacts of the 5 m column)",
+            f"{pair[worst] * 1000:.1f} mm in {worst}",
+            pair[worst] < 0.02,
+        )
+    for name in ("pile-100", "column-100"):
+        if name in results:
+            r = results[name]
+            line(
+                f"{name} at rest without jitter at the end (fastest body < 0.05 m/s)",
+                f"{r['end_speed']:.3f} m/s, resting overlap "
+                f"{r['resting_depth'].max() * 1000:.1f} mm",
+                r["end_speed"] < 0.05,
+            )
