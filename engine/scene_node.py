@@ -229,8 +229,7 @@ class SceneNode:
         """Move by ``vector``, not rotated by the node: the translation of a TRS transform is
         applied last, so Magnum (and Habitat) add a "local" translation in the parent frame,
         the same as :meth:`translate` (see the module docstring)."""
-        self._translation = self._translation + np.asarray(mn.to_vector3(vector, "vector"))
-        return self
+        return self.translate(vector)
 
     def rotate(self, angle: Any, axis: Any) -> SceneNode:
         """Rotate about ``axis`` of the parent frame: ``q <- r * q``."""
