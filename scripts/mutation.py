@@ -19,8 +19,9 @@ How one module is run
    others are marked skipped.
 3. Stage 1 runs the module's own tests (``MODULES[...].fast``) with ``pytest -x``; stage 2
    re-runs only the survivors against the wider set (``MODULES[...].wide``).
-4. The report ``benchmarks/results/mutation-<date>.md`` lists each module's score, every
-   survivor (line, original and mutated text) and every equivalent mutant with its reason.
+4. The report ``benchmarks/results/mutation-<date>.md`` (written by ``mutation_report.py``)
+   lists each module's score, every survivor (line, original and mutated text) and every
+   equivalent mutant with its reason.
 
 Usage::
 
@@ -34,11 +35,9 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import datetime
 import json
 import os
-import platform
 import random
 import shutil
 import sqlite3
@@ -52,6 +51,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import toml  # a dependency of cosmic-ray (tomllib is Python >= 3.11 only)
+from mutation_report import ModuleResult, code_version, write_report
 
 ROOT = Path(__file__).resolve().parents[1]
 EQUIVALENTS = ROOT / "scripts" / "mutation_equivalents.toml"
@@ -267,23 +267,6 @@ def _reset(session: Path, job_ids: list[str]) -> None:
         db.executemany("DELETE FROM work_results WHERE job_id = ?", [(j,) for j in job_ids])
 
 
-@dataclass
-class ModuleResult:
-    module: str
-    n_mutants: int
-    n_sampled: int
-    killed: list[tuple]  # (operator, line, col, original, mutated, hit the timeout)
-    survived: list[tuple]  # (operator, line, col, original text, mutated text)
-    equivalent: list[tuple]  # (operator, line, col, original text, mutated text, reason)
-    seconds: float
-    code: str = ""  # the commit measured (``git describe``-style, "+dirty" for local edits)
-
-    @property
-    def score(self) -> float:
-        total = len(self.killed) + len(self.survived)
-        return len(self.killed) / total if total else 1.0
-
-
 def _recheck_plan(earlier: ModuleResult, sample: list, to_run: list) -> tuple[list, list[tuple]]:
     """``(jobs to run, kills kept)`` for ``--recheck``: the earlier row's survivors that are
     not listed as equivalent now. Its kills stand: tests were only added since, and a test
@@ -315,7 +298,7 @@ def run_module(
     earlier result of the same sample: only its survivors are run again)."""
     spec = MODULES[module]
     t0 = time.monotonic()
-    code = _code_version()  # the copy in ``work`` was made just now
+    code = code_version()  # the copy in ``work`` was made just now
     tag = module.replace("/", "_")
     session = work / f"{tag}.sqlite"
     fast_cfg, wide_cfg = work / f"{tag}.fast.toml", work / f"{tag}.wide.toml"
@@ -389,88 +372,6 @@ def run_module(
     )
 
 
-def _code_version() -> str:
-    """The checkout's commit, ``+dirty`` when the copied folders hold uncommitted edits."""
-    try:
-        head = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"],
-            cwd=ROOT,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--", "engine", "render", "navmesh", "tests"],
-            cwd=ROOT,
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-    return head + ("+dirty" if dirty else "")
-
-
-def _cpu_model() -> str:
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-    except (OSError, subprocess.CalledProcessError):
-        return platform.processor() or "unknown CPU"
-    for line in out.splitlines():
-        if line.startswith("Model name:"):
-            return line.split(":", 1)[1].strip()
-    return "unknown CPU"
-
-
-def _merge_earlier(path: Path, results: list[ModuleResult]) -> list[ModuleResult]:
-    """This run's results plus those of earlier runs of the same day for other modules.
-
-    Every report has a JSON twin (``.json``); a run over a few modules updates their rows
-    and keeps the others, so the dated report always covers every module run that day.
-    """
-    twin = path.with_suffix(".json")
-    earlier = json.loads(twin.read_text()) if twin.exists() else []
-    done = {r.module for r in results}
-    kept = [ModuleResult(**r) for r in earlier if r["module"] not in done]
-    merged = sorted(kept + results, key=lambda r: list(MODULES).index(r.module))
-    twin.write_text(json.dumps([dataclasses.asdict(r) for r in merged], indent=1) + "\n")
-    return merged
-
-
-def write_report(path: Path, results: list[ModuleResult], seed: int) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    results = _merge_earlier(path, results)
-    today = datetime.date.today().isoformat()
-    lines = [
-        f"# Mutation run {today}",
-        "",
-        f"cosmic-ray, a seeded sample of mutants per module (seed {seed}), "
-        f"{os.cpu_count()} cores, {_cpu_model()}. Produced by `bash scripts/mutation.sh`;",
-        "how to read it: `docs/testing.md`. Score = killed / (sampled - equivalent).",
-        "",
-        "| module | mutants | sampled | equivalent | killed (by timeout) | survived | score "
-        "| minutes | code |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    for r in results:
-        lines.append(
-            f"| `{r.module}` | {r.n_mutants} | {r.n_sampled} | {len(r.equivalent)} | "
-            f"{len(r.killed)} ({sum(k[-1] for k in r.killed)}) | {len(r.survived)} | "
-            f"{100 * r.score:.0f} % | "
-            f"{r.seconds / 60:.1f} | {r.code or 'not recorded'} |"
-        )
-    for r in results:
-        lines += ["", f"## `{r.module}`", ""]
-        lines.append("Survivors:" if r.survived else "Survivors: none.")
-        for op, line, col, text, mutant in sorted(r.survived, key=lambda e: (e[1], e[2])):
-            lines.append(f"- line {line}:{col} `{op}`: `{text}` -> `{mutant}`")
-        heading = "Equivalent (excluded from the score):" if r.equivalent else "Equivalent: none."
-        lines += ["", heading]
-        for op, line, col, text, mutant, why in sorted(r.equivalent, key=lambda e: (e[1], e[2])):
-            lines.append(f"- line {line}:{col} `{op}`: `{text}` -> `{mutant}`: {why}")
-    path.write_text("\n".join(lines) + "\n")
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("modules", nargs="*", help="module paths (default: all)")
@@ -516,7 +417,7 @@ def main(argv: list[str] | None = None) -> int:
         with lock:
             results.append(result)
             results.sort(key=lambda r: modules.index(r.module))
-            write_report(report, results, args.seed)
+            write_report(report, results, args.seed, list(MODULES))
 
     if args.list:
         for module in modules:
