@@ -13,6 +13,11 @@ from __future__ import annotations
 import numpy as np
 
 
+def top_drift(result: dict) -> float:
+    """Horizontal (x, z) distance the top cube of a stack moved from its start, m."""
+    return float(np.linalg.norm((result["final"][-1] - result["start"][-1])[[0, 2]]))
+
+
 def _line(text: str, value: str, ok: bool) -> None:
     print(f"  [{'met   ' if ok else 'MISSED'}] {text}: {value}")
 
@@ -58,7 +63,7 @@ def report_targets(results, rows) -> None:
             )
     if "stack-10" in results:
         r = results["stack-10"]
-        drift = np.linalg.norm((r["final"][-1] - r["start"][-1])[[0, 2]])
+        drift = top_drift(r)
         line(
             f"stack-10 stands {r['seconds']:.0f} s with < 1 mm drift",
             f"{drift * 1000:.2f} mm, lowest {r['final'][:, 1].min():.3f} m",
@@ -71,7 +76,7 @@ def report_targets(results, rows) -> None:
         )
     if "stack-20" in results:
         r = results["stack-20"]
-        drift = np.linalg.norm((r["final"][-1] - r["start"][-1])[[0, 2]])
+        drift = top_drift(r)
         line(
             f"stack-20 stands {r['seconds']:.0f} s awake (top above 3.8 m)",
             f"top drift {drift * 100:.2f} cm, top at {r['final'][-1, 1]:.3f} m",
