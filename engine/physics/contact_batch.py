@@ -89,13 +89,15 @@ class SolverCache:
     sweep: the :class:`ColorBlocks` of each color for block Jacobi (``jacobi_colors``) and
     for Gauss-Seidel over the slots (``slot_colors``), and the stage-priority pass's lumped
     rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a computed None, no
-    shock pass, from one not computed yet). None: not made yet."""
+    shock pass, from one not computed yet) and their per-color sweep blocks (``sweeps``,
+    ``{"stage" | "shock": blocks}``). None: not made yet."""
 
     jacobi_colors: list[ColorBlocks] | None = None
     slot_colors: list[ColorBlocks] | None = None
     lumped: LumpedRows | None = None
     shock: LumpedRows | None = None
     shock_ready: bool = False
+    sweeps: dict[str, list[tuple]] = field(default_factory=dict)
 
 
 @dataclass

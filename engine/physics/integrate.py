@@ -76,15 +76,23 @@ def integrate_velocities(bodies, index: np.ndarray, gravity: np.ndarray, h: floa
     mass = bodies.body_mass[index][:, None]
     # v += h (g + F / m)
     bodies.body_linear_velocity[index] += h * (gravity + bodies.body_force[index] / mass)
-    inv_inertia = world_inverse_inertia(bodies.body_rotation[index], bodies.body_inertia[index])
     # w += h I_w^-1 tau
-    alpha = np.einsum("kij,kj->ki", inv_inertia, bodies.body_torque[index])
-    bodies.body_angular_velocity[index] += h * alpha
+    bodies.body_angular_velocity[index] += h * _angular_acceleration(bodies, index)
     # v *= (1 - d)^h, w *= (1 - d)^h
     lin = (1.0 - bodies.body_linear_damping[index]) ** h
     ang = (1.0 - bodies.body_angular_damping[index]) ** h
     bodies.body_linear_velocity[index] *= lin[:, None]
     bodies.body_angular_velocity[index] *= ang[:, None]
+
+
+def _angular_acceleration(bodies, index: np.ndarray) -> np.ndarray:
+    """``(k, 3)`` ``I_w^-1 tau`` of the bodies ``index``: zeros without a torque (the usual
+    case), so the world inverse inertia is only built when some body has one."""
+    torque = bodies.body_torque[index]
+    if not torque.any():
+        return np.zeros_like(torque)
+    inv_inertia = world_inverse_inertia(bodies.body_rotation[index], bodies.body_inertia[index])
+    return np.einsum("kij,kj->ki", inv_inertia, torque)
 
 
 def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: float) -> None:

@@ -159,8 +159,8 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
     np.maximum(scale, TINY, out=scale)
     np.divide(block.friction * lam_n, scale, out=scale)  # mu lambda_n / |lambda_t|
     np.minimum(scale, 1.0, out=scale)  # back onto the circle: the same scale for t1 and t2
-    t1 *= scale
-    t2 *= scale
+    pairs = new.reshape(*scale.shape[:2], 2)  # (k, r, 2) view: (t1, t2) of each slot
+    pairs *= scale  # scale (k, r, 1) multiplies t1 and t2 in one call
     if accumulate:
         new -= lam_t  # the increment
     lam_t += new
@@ -215,7 +215,12 @@ def _restitution(batch, flat, colors, lam_n):
         return
     # bias b = e v_n0 where bouncing, NaN marks the other points
     target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)[..., None]
-    for color in colors:
+    # a color without a bouncing point would apply zero impulses: it is skipped (colors
+    # are never empty, so reduceat over their starts gives one answer per color)
+    bouncing = np.logical_or.reduceat(bounce.any(axis=1), [a for a, _ in batch.color_slices])
+    for color, bounces in zip(colors, bouncing.tolist(), strict=True):
+        if not bounces:
+            continue
         vab = _gather(flat, color)
         for block in color.blocks:
             index = block.normal_index
