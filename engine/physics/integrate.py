@@ -145,4 +145,6 @@ def integrate_positions(
 
 
 def _normalize(q: np.ndarray) -> np.ndarray:
-    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+    """``q / |q|`` along the last axis (``np.linalg.norm``'s own formula for it, without
+    its Python-level argument handling)."""
+    return q / np.sqrt(np.add.reduce(q * q, axis=-1, keepdims=True))

@@ -213,8 +213,9 @@ def _restitution(batch, flat, colors, lam_n):
     bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
     if not bounce.any():
         return
-    # bias b = e v_n0 where bouncing, NaN marks the other points
-    target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)[..., None]
+    # bias b = e v_n0 where bouncing (0 at the other points, which get no impulse)
+    goal = np.where(bounce, batch.restitution * batch.approach_speed, 0.0)[..., None]
+    active = bounce[..., None]
     # a color without a bouncing point would apply zero impulses: it is skipped (colors
     # are never empty, so reduceat over their starts gives one answer per color)
     bouncing = np.logical_or.reduceat(bounce.any(axis=1), [a for a, _ in batch.color_slices])
@@ -224,16 +225,14 @@ def _restitution(batch, flat, colors, lam_n):
         vab = _gather(flat, color)
         for block in color.blocks:
             index = block.normal_index
-            _restitution_rows(block, vab, target[index], lam_n[index])
+            _restitution_rows(block, vab, active[index], goal[index], lam_n[index])
         _scatter(flat, color, vab)
 
 
-def _restitution_rows(block, vab, target, lam):
-    """Rows where ``target`` is not NaN: ``d_lambda = -m_eff (v_n + e v_n0)``, accumulated
-    impulse clamped ``>= 0``; the others get no impulse."""
-    active = ~np.isnan(target)
+def _restitution_rows(block, vab, active, goal, lam):
+    """Rows where ``active``: ``d_lambda = -m_eff (v_n + e v_n0)`` (``goal`` holds
+    ``e v_n0``), accumulated impulse clamped ``>= 0``; the others get no impulse."""
     vn = block.normal_jac @ vab
-    goal = np.where(active, target, 0.0)
     d_lambda = np.where(active, -block.normal_mass * (vn + goal), 0.0)
     new = np.maximum(lam + d_lambda, 0.0)  # the accumulated lam + d_lambda >= 0
     d_lambda = new - lam  # the clamped increment
