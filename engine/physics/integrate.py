@@ -43,7 +43,7 @@ def awake_dynamic_bodies(bodies: Bodies) -> np.ndarray:
 def body_velocities(bodies: Bodies) -> np.ndarray:
     """``(n, 6)`` copy of every body's [v, w] (world frame, m/s and rad/s)."""
     n = bodies.count
-    return np.hstack([bodies.body_linear_velocity[:n], bodies.body_angular_velocity[:n]])
+    return np.concatenate([bodies.body_linear_velocity[:n], bodies.body_angular_velocity[:n]], 1)
 
 
 def integrate_stage(
@@ -66,7 +66,7 @@ def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarr
     r = quat_to_matrix(rotation)
     inv_diag = 1.0 / np.maximum(inertia, settings.TINY)
     # I_w^-1[i, j] = sum_k R[i, k] / I_k R[j, k]
-    return (r * inv_diag[:, None, :]) @ np.swapaxes(r, 1, 2)
+    return (r * inv_diag[:, None, :]) @ r.swapaxes(1, 2)
 
 
 def integrate_velocities(bodies, index: np.ndarray, gravity: np.ndarray, h: float) -> None:
@@ -129,13 +129,13 @@ def integrate_positions(
     r = quat_to_matrix(q)
     # L = R I R^T w  (world angular momentum, held constant over the step)
     momentum = np.einsum("kij,kj->ki", r, inertia * np.einsum("kji,kj->ki", r, w))
-    energy_old = 0.5 * np.sum(momentum * w, axis=1)
+    energy_old = 0.5 * np.add.reduce(momentum * w, axis=1)
     q_half = _normalize(quat_multiply(rotation_quat(0.5 * h * w), q))
     w_mid = np.einsum("kij,kj->ki", world_inverse_inertia(q_half, inertia), momentum)
     turn = w_mid if angular_extra is None else w_mid + angular_extra
     q_new = _normalize(quat_multiply(rotation_quat(h * turn), q))
     w_new = np.einsum("kij,kj->ki", world_inverse_inertia(q_new, inertia), momentum)
-    energy_new = 0.5 * np.sum(momentum * w_new, axis=1)
+    energy_new = 0.5 * np.add.reduce(momentum * w_new, axis=1)
     # never gain energy: w *= sqrt(E_old / E_new) when E_new > E_old
     scale = np.sqrt(
         np.where(energy_new > energy_old, energy_old / np.maximum(energy_new, settings.TINY), 1.0)

@@ -232,7 +232,7 @@ def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position):
     times faster than its einsum on a thousand rows; ``rotation (n, 3, 3)``, ``position
     (n, 3)``."""
     a, b = store.bodies[rows, 0], store.bodies[rows, 1]
-    turn_a, turn_b = np.swapaxes(rotation[a], 1, 2), np.swapaxes(rotation[b], 1, 2)
+    turn_a, turn_b = rotation[a].swapaxes(1, 2), rotation[b].swapaxes(1, 2)
     point_a = store.local_a[rows] @ turn_a + position[a][:, None]
     point_b = store.local_b[rows] @ turn_b + position[b][:, None]
     return point_a, point_b, store.normal_local[rows] @ turn_a
