@@ -89,13 +89,15 @@ class SolverCache:
     sweep: the :class:`ColorBlocks` of each color for block Jacobi (``jacobi_colors``) and
     for Gauss-Seidel over the slots (``slot_colors``), and the stage-priority pass's lumped
     rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a computed None, no
-    shock pass, from one not computed yet). None: not made yet."""
+    shock pass, from one not computed yet) and their per-color sweep blocks (``sweeps``,
+    ``{"stage" | "shock": blocks}``). None: not made yet."""
 
     jacobi_colors: list[ColorBlocks] | None = None
     slot_colors: list[ColorBlocks] | None = None
     lumped: LumpedRows | None = None
     shock: LumpedRows | None = None
     shock_ready: bool = False
+    sweeps: dict[str, list[tuple]] = field(default_factory=dict)
 
 
 @dataclass
@@ -140,16 +142,22 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
     t1 = cross3(normal, axis)
-    t1 /= np.maximum(np.linalg.norm(t1, axis=-1, keepdims=True), TINY)
+    # |t1|: np.linalg.norm's own formula, without its Python argument handling
+    t1 /= np.maximum(np.sqrt(np.add.reduce(t1 * t1, axis=-1, keepdims=True)), TINY)
     return t1, cross3(normal, t1)
 
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Cross products of ``(..., 3)`` arrays from their component slices: nine large NumPy
-    calls (on thousands of rows, several times faster than ``quaternions.cross``)."""
+    """Cross products of ``(..., 3)`` float arrays from their component slices: nine large
+    NumPy calls (on thousands of rows, several times faster than ``quaternions.cross``),
+    written into one output (``np.stack`` would cost a dozen Python-level calls more)."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    out = np.empty(np.broadcast(a, b).shape)
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
@@ -161,9 +169,9 @@ def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inerti
     w = np.concatenate(
         [
             -direction * inv_mass_a[:, None, None],
-            -ra_x_d @ np.swapaxes(inv_inertia_a, 1, 2),
+            -ra_x_d @ inv_inertia_a.swapaxes(1, 2),
             direction * inv_mass_b[:, None, None],
-            rb_x_d @ np.swapaxes(inv_inertia_b, 1, 2),
+            rb_x_d @ inv_inertia_b.swapaxes(1, 2),
         ],
         axis=-1,
     )
@@ -242,7 +250,7 @@ def build_batch(
     normal_jac, normal_w = _rows(normals, r_a, r_b, *args)
     t1, t2 = tangent_basis(normals)
     tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
-    r2 = (np.repeat(r_a, 2, axis=1), np.repeat(r_b, 2, axis=1))
+    r2 = (r_a.repeat(2, axis=1), r_b.repeat(2, axis=1))
     tangent_jac, tangent_w = _rows(tangents, *r2, *args)
     depth = ((points_a - points_b) * normals).sum(axis=-1)
     # n_split = touching points (gap < SPLIT_TOUCH_DISTANCE) with mass splitting, else 1
@@ -254,7 +262,7 @@ def build_batch(
     normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, TINY)), 0.0)
     k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
     tangent_mass = np.where(
-        np.repeat(mask, 2, axis=1), 1.0 / (split * np.maximum(k_tangent, TINY)), 0.0
+        mask.repeat(2, axis=1), 1.0 / (split * np.maximum(k_tangent, TINY)), 0.0
     )
     vab = np.concatenate([bodies.velocity[body_a], bodies.velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
@@ -263,10 +271,10 @@ def build_batch(
         body_b,
         mask,
         normal_jac,
-        np.swapaxes(normal_w, 1, 2),
+        normal_w.swapaxes(1, 2),
         normal_mass,
         tangent_jac,
-        np.swapaxes(tangent_w, 1, 2),
+        tangent_w.swapaxes(1, 2),
         tangent_mass,
         pairs.friction[:, None],
         pairs.restitution[:, None],

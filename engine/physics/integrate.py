@@ -43,7 +43,7 @@ def awake_dynamic_bodies(bodies: Bodies) -> np.ndarray:
 def body_velocities(bodies: Bodies) -> np.ndarray:
     """``(n, 6)`` copy of every body's [v, w] (world frame, m/s and rad/s)."""
     n = bodies.count
-    return np.hstack([bodies.body_linear_velocity[:n], bodies.body_angular_velocity[:n]])
+    return np.concatenate([bodies.body_linear_velocity[:n], bodies.body_angular_velocity[:n]], 1)
 
 
 def integrate_stage(
@@ -66,7 +66,7 @@ def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarr
     r = quat_to_matrix(rotation)
     inv_diag = 1.0 / np.maximum(inertia, settings.TINY)
     # I_w^-1[i, j] = sum_k R[i, k] / I_k R[j, k]
-    return (r * inv_diag[:, None, :]) @ np.swapaxes(r, 1, 2)
+    return (r * inv_diag[:, None, :]) @ r.swapaxes(1, 2)
 
 
 def integrate_velocities(bodies, index: np.ndarray, gravity: np.ndarray, h: float) -> None:
@@ -76,15 +76,23 @@ def integrate_velocities(bodies, index: np.ndarray, gravity: np.ndarray, h: floa
     mass = bodies.body_mass[index][:, None]
     # v += h (g + F / m)
     bodies.body_linear_velocity[index] += h * (gravity + bodies.body_force[index] / mass)
-    inv_inertia = world_inverse_inertia(bodies.body_rotation[index], bodies.body_inertia[index])
     # w += h I_w^-1 tau
-    alpha = np.einsum("kij,kj->ki", inv_inertia, bodies.body_torque[index])
-    bodies.body_angular_velocity[index] += h * alpha
+    bodies.body_angular_velocity[index] += h * _angular_acceleration(bodies, index)
     # v *= (1 - d)^h, w *= (1 - d)^h
     lin = (1.0 - bodies.body_linear_damping[index]) ** h
     ang = (1.0 - bodies.body_angular_damping[index]) ** h
     bodies.body_linear_velocity[index] *= lin[:, None]
     bodies.body_angular_velocity[index] *= ang[:, None]
+
+
+def _angular_acceleration(bodies, index: np.ndarray) -> np.ndarray:
+    """``(k, 3)`` ``I_w^-1 tau`` of the bodies ``index``: zeros without a torque (the usual
+    case), so the world inverse inertia is only built when some body has one."""
+    torque = bodies.body_torque[index]
+    if not torque.any():
+        return np.zeros_like(torque)
+    inv_inertia = world_inverse_inertia(bodies.body_rotation[index], bodies.body_inertia[index])
+    return np.einsum("kij,kj->ki", inv_inertia, torque)
 
 
 def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: float) -> None:
@@ -121,13 +129,13 @@ def integrate_positions(
     r = quat_to_matrix(q)
     # L = R I R^T w  (world angular momentum, held constant over the step)
     momentum = np.einsum("kij,kj->ki", r, inertia * np.einsum("kji,kj->ki", r, w))
-    energy_old = 0.5 * np.sum(momentum * w, axis=1)
+    energy_old = 0.5 * np.add.reduce(momentum * w, axis=1)
     q_half = _normalize(quat_multiply(rotation_quat(0.5 * h * w), q))
     w_mid = np.einsum("kij,kj->ki", world_inverse_inertia(q_half, inertia), momentum)
     turn = w_mid if angular_extra is None else w_mid + angular_extra
     q_new = _normalize(quat_multiply(rotation_quat(h * turn), q))
     w_new = np.einsum("kij,kj->ki", world_inverse_inertia(q_new, inertia), momentum)
-    energy_new = 0.5 * np.sum(momentum * w_new, axis=1)
+    energy_new = 0.5 * np.add.reduce(momentum * w_new, axis=1)
     # never gain energy: w *= sqrt(E_old / E_new) when E_new > E_old
     scale = np.sqrt(
         np.where(energy_new > energy_old, energy_old / np.maximum(energy_new, settings.TINY), 1.0)
@@ -137,4 +145,6 @@ def integrate_positions(
 
 
 def _normalize(q: np.ndarray) -> np.ndarray:
-    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+    """``q / |q|`` along the last axis (``np.linalg.norm``'s own formula for it, without
+    its Python-level argument handling)."""
+    return q / np.sqrt(np.add.reduce(q * q, axis=-1, keepdims=True))

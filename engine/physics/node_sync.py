@@ -87,7 +87,7 @@ class NodeSync:
         parent_cache: dict[int, tuple] = {}  # id(parent) -> (parent, world, inverse, local)
         pose = np.hstack([b.body_position[:n], b.body_rotation[:n]])
         moved = (pose != self._written_pose(n)).any(axis=1).tolist()  # since its last write
-        under_root = []  # nodes whose parent is a scene root at the origin
+        under_root = []  # (index, node, parent) of nodes whose parent is a root at the origin
         skip = (~b.body_alive[:n] | (b.body_motion_type[:n] == STATIC)).tolist()
         identity_root: dict[int, bool] = {}  # id(parent) -> a root at the origin
         for index, node in list(self.nodes.items()):
@@ -95,17 +95,17 @@ class NodeSync:
                 continue
             if not moved[index] and self._node_unchanged(index, parent_cache):
                 continue
-            parent = node.parent
+            parent = node._parent  # (the ``parent`` property's field: one lookup per node)
             if (
                 parent is not None
                 and parent._parent is None
                 and self._is_identity_root(parent, parent_cache, identity_root)
             ):
-                under_root.append(index)
+                under_root.append((index, node, parent))
             else:
                 self.write_node(index, parent_cache)
         if under_root:
-            self._write_root_children(np.array(under_root, dtype=np.int64))
+            self._write_root_children(under_root)
 
     def _is_identity_root(self, parent, parent_cache: dict, known: dict) -> bool:
         """True when ``parent``'s world matrix is the identity (answer kept per pass)."""
@@ -115,16 +115,19 @@ class NodeSync:
             )
         return known[id(parent)]
 
-    def _write_root_children(self, indices: np.ndarray) -> None:
-        """:meth:`write_node` for nodes whose parent is an identity root, all at once.
+    def _write_root_children(self, children: list[tuple[int, Any, Any]]) -> None:
+        """:meth:`write_node` for nodes whose parent is an identity root, all at once;
+        ``children`` holds ``(body index, node, parent)`` of each.
 
         Their local transform is the body pose itself (``local = I^-1 world``), so the
         node gets the body's translation and quaternion, and its world matrix is
         ``[R diag(s) | x]`` for its own scaling ``s``.
         """
         b = self.bodies
+        index_list, nodes, parents = zip(*children, strict=True)
+        indices = np.array(index_list, dtype=np.int64)
         position, rotation = b.body_position[indices], b.body_rotation[indices]
-        scaling = np.array([self.nodes[index]._scaling for index in indices.tolist()])
+        scaling = np.array([node._scaling for node in nodes])
         pose = np.zeros((len(indices), 4, 4))
         pose[:, :3, :3] = quat_to_matrix(rotation) * scaling[:, None, :]  # R diag(s)
         pose[:, :3, 3], pose[:, 3, 3] = position, 1.0
@@ -132,13 +135,13 @@ class NodeSync:
         # dynamic bodies: the sign a matrix round trip gives, as Habitat's nodes show it
         dynamic = b.body_motion_type[indices] == DYNAMIC
         rotation = np.where(dynamic[:, None], canonical_sign(rotation), rotation)
-        for k, index in enumerate(indices.tolist()):
-            node = self.nodes[index]
-            node._translation, node._rotation = position[k], rotation[k]
-            self._node_pose[index] = pose[k]
-            self._node_stamp[index] = NodeStamp(
-                node.parent, node._translation, node._rotation, node._scaling, pose[k], _IDENTITY
-            )
+        # iterating the (k, ...) arrays yields the row views position[k], ... in one loop
+        for index, node, parent, x, q, matrix in zip(
+            index_list, nodes, parents, position, rotation, pose, strict=True
+        ):
+            node._translation, node._rotation = x, q
+            self._node_pose[index] = matrix
+            self._node_stamp[index] = NodeStamp(parent, x, q, node._scaling, matrix, _IDENTITY)
 
     def write_node(self, index: int, parent_cache: dict | None = None) -> None:
         """Write body ``index``'s pose to its node: ``local = parent_world^-1 world``.

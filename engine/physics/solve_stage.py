@@ -130,17 +130,11 @@ def gather_solver_input(
     rows = rows[solvable[store.bodies[rows, 0]] | solvable[store.bodies[rows, 1]]]
     if len(rows) == 0:
         return None
-    colors = color_manifolds(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
-    # stage rows (a body the solver does not move) end each color: the solver's last word
-    stage_row = ~(solvable[store.bodies[rows, 0]] & solvable[store.bodies[rows, 1]])
-    colors = [color[np.argsort(stage_row[color], kind="stable")] for color in colors]
-    sizes = np.cumsum([0] + [len(color) for color in colors])
-    color_slices = list(zip(sizes[:-1].tolist(), sizes[1:].tolist(), strict=True))
-    priority_starts = [
-        int(stop - stage_row[color].sum())
-        for color, (_, stop) in zip(colors, color_slices, strict=True)
-    ]
-    rows = rows[np.concatenate(colors)]
+    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
+    order, color_slices, priority_starts = color_order(
+        color_manifolds(body_a, body_b, solvable), ~(solvable[body_a] & solvable[body_b])
+    )
+    rows = rows[order]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
@@ -163,6 +157,27 @@ def gather_solver_input(
         velocity,
         approach_velocity,
     )
+
+
+def color_order(
+    colors: list[np.ndarray], stage_row: np.ndarray
+) -> tuple[np.ndarray, list[tuple[int, int]], list[int]]:
+    """The manifolds in solver order: color by color, and in each color the stage rows
+    (``stage_row (m,)`` bool: a body the solver does not move) last, the solver's last word.
+
+    Returns the manifold indices ``order (m,)``, each color's ``(start, stop)`` in it and
+    the start of each color's stage rows. One stable sort by (color, stage row) for all
+    colors: the order of :func:`color_manifolds` is kept otherwise.
+    """
+    sizes = np.array([len(color) for color in colors], dtype=np.int64)
+    members = np.concatenate(colors)  # manifold indices, color by color
+    color_of = np.repeat(np.arange(len(colors)), sizes)
+    order = members[np.lexsort((stage_row[members], color_of))]  # lexsort is stable
+    stops = np.cumsum(sizes)
+    starts = stops - sizes
+    stage_counts = np.add.reduceat(stage_row[order], starts)  # colors are never empty
+    color_slices = list(zip(starts.tolist(), stops.tolist(), strict=True))
+    return order, color_slices, (stops - stage_counts).tolist()
 
 
 def _solve_batched(
@@ -217,7 +232,7 @@ def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position):
     times faster than its einsum on a thousand rows; ``rotation (n, 3, 3)``, ``position
     (n, 3)``."""
     a, b = store.bodies[rows, 0], store.bodies[rows, 1]
-    turn_a, turn_b = np.swapaxes(rotation[a], 1, 2), np.swapaxes(rotation[b], 1, 2)
+    turn_a, turn_b = rotation[a].swapaxes(1, 2), rotation[b].swapaxes(1, 2)
     point_a = store.local_a[rows] @ turn_a + position[a][:, None]
     point_b = store.local_b[rows] @ turn_b + position[b][:, None]
     return point_a, point_b, store.normal_local[rows] @ turn_a

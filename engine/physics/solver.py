@@ -159,8 +159,8 @@ def _friction_rows(block, vab, lam_n, lam_t, accumulate):
     np.maximum(scale, TINY, out=scale)
     np.divide(block.friction * lam_n, scale, out=scale)  # mu lambda_n / |lambda_t|
     np.minimum(scale, 1.0, out=scale)  # back onto the circle: the same scale for t1 and t2
-    t1 *= scale
-    t2 *= scale
+    pairs = new.reshape(*scale.shape[:2], 2)  # (k, r, 2) view: (t1, t2) of each slot
+    pairs *= scale  # scale (k, r, 1) multiplies t1 and t2 in one call
     if accumulate:
         new -= lam_t  # the increment
     lam_t += new
@@ -213,22 +213,26 @@ def _restitution(batch, flat, colors, lam_n):
     bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
     if not bounce.any():
         return
-    # bias b = e v_n0 where bouncing, NaN marks the other points
-    target = np.where(bounce, batch.restitution * batch.approach_speed, np.nan)[..., None]
-    for color in colors:
+    # bias b = e v_n0 where bouncing (0 at the other points, which get no impulse)
+    goal = np.where(bounce, batch.restitution * batch.approach_speed, 0.0)[..., None]
+    active = bounce[..., None]
+    # a color without a bouncing point would apply zero impulses: it is skipped (colors
+    # are never empty, so reduceat over their starts gives one answer per color)
+    bouncing = np.logical_or.reduceat(bounce.any(axis=1), [a for a, _ in batch.color_slices])
+    for color, bounces in zip(colors, bouncing.tolist(), strict=True):
+        if not bounces:
+            continue
         vab = _gather(flat, color)
         for block in color.blocks:
             index = block.normal_index
-            _restitution_rows(block, vab, target[index], lam_n[index])
+            _restitution_rows(block, vab, active[index], goal[index], lam_n[index])
         _scatter(flat, color, vab)
 
 
-def _restitution_rows(block, vab, target, lam):
-    """Rows where ``target`` is not NaN: ``d_lambda = -m_eff (v_n + e v_n0)``, accumulated
-    impulse clamped ``>= 0``; the others get no impulse."""
-    active = ~np.isnan(target)
+def _restitution_rows(block, vab, active, goal, lam):
+    """Rows where ``active``: ``d_lambda = -m_eff (v_n + e v_n0)`` (``goal`` holds
+    ``e v_n0``), accumulated impulse clamped ``>= 0``; the others get no impulse."""
     vn = block.normal_jac @ vab
-    goal = np.where(active, target, 0.0)
     d_lambda = np.where(active, -block.normal_mass * (vn + goal), 0.0)
     new = np.maximum(lam + d_lambda, 0.0)  # the accumulated lam + d_lambda >= 0
     d_lambda = new - lam  # the clamped increment

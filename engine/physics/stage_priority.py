@@ -42,12 +42,12 @@ def stage_rows_last(batch, flat, bias, settings: SolverSettings) -> None:
         (start, stop)
         for (_, stop), start in zip(batch.color_slices, batch.priority_starts, strict=True)
     ]
-    _lumped_sweeps(batch, stage, lumped_rows(batch, bias), flat, settings.stage_iterations)
+    sweeps = _sweep_blocks(batch, "stage", stage, _lumped(batch))
+    _lumped_sweeps(sweeps, lumped_rows(batch, bias), flat, settings.stage_iterations)
     shock = shock_rows(batch)
     if shock is not None:
-        _lumped_sweeps(
-            batch, batch.color_slices, shock.with_bias(bias), flat, settings.stage_iterations
-        )
+        sweeps = _sweep_blocks(batch, "shock", batch.color_slices, shock)
+        _lumped_sweeps(sweeps, shock.with_bias(bias), flat, settings.stage_iterations)
 
 
 @dataclass
@@ -127,19 +127,30 @@ def shock_rows(batch: ContactBatch) -> LumpedRows | None:
     return batch.cache.shock
 
 
-def _lumped_sweeps(batch, ranges, rows: LumpedRows, flat, iterations: int) -> None:
-    """``iterations`` push-only sweeps of the lumped ``rows`` over the manifold ranges
-    ``[(start, stop), ...]`` (one per color): ``d_lambda = max(-m_eff (J V + b), 0)``,
-    ``V += W d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
-    work = []
-    for start, stop in ranges:
-        if start == stop:
-            continue
-        s = slice(start, stop)
-        # flat index of component c of body b: 6 b + c
-        gather = (6 * batch.pair_bodies[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
-        bias = rows.bias if rows.bias is not None else np.zeros((len(rows.jac), 1, 1))
-        work.append((gather, rows.jac[s], rows.w[s], rows.neg_mass[s], bias[s]))
+def _sweep_blocks(batch, key: str, ranges, rows: LumpedRows) -> list[tuple]:
+    """Per non-empty manifold range ``(start, stop)`` (one per color): ``(s, gather, J, W,
+    -m_eff)``, the slice, the flat velocity indices of its bodies and the views of its
+    ``rows``; made once per batch and kept in ``batch.cache.sweeps[key]``, since the
+    velocity and the position solve sweep the same rows (only their biases differ)."""
+    if key not in batch.cache.sweeps:
+        blocks = []
+        for start, stop in ranges:
+            if start == stop:
+                continue
+            s = slice(start, stop)
+            # flat index of component c of body b: 6 b + c
+            gather = (6 * batch.pair_bodies[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
+            blocks.append((s, gather, rows.jac[s], rows.w[s], rows.neg_mass[s]))
+        batch.cache.sweeps[key] = blocks
+    return batch.cache.sweeps[key]
+
+
+def _lumped_sweeps(blocks: list[tuple], rows: LumpedRows, flat, iterations: int) -> None:
+    """``iterations`` push-only sweeps of the lumped rows ``blocks`` (:func:`_sweep_blocks`)
+    with the biases of ``rows``: ``d_lambda = max(-m_eff (J V + b), 0)``, ``V += W
+    d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
+    bias = rows.bias if rows.bias is not None else np.zeros((len(rows.jac), 1, 1))
+    work = [(gather, j, w, m, bias[s]) for s, gather, j, w, m in blocks]
     for _ in range(iterations):
         for gather, j, w, m, b in work:
             vab = flat[gather]

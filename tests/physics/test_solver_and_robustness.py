@@ -49,6 +49,26 @@ def test_graph_coloring_puts_each_dynamic_body_once_per_color():
         assert len(used) == len(set(used))
 
 
+def test_color_order_ends_each_color_with_its_stage_rows_and_keeps_the_rest():
+    from engine.physics.solve_stage import color_order
+
+    rng = np.random.default_rng(4)
+    for _ in range(50):
+        n, m = int(rng.integers(2, 20)), int(rng.integers(1, 60))
+        body_a = rng.integers(0, n, size=m)
+        body_b = (body_a + rng.integers(1, n, size=m)) % n  # never a self pair
+        solvable = rng.random(n) < 0.7
+        colors = color_manifolds(body_a, body_b, solvable)
+        stage_row = ~(solvable[body_a] & solvable[body_b])
+        order, slices, priority_starts = color_order(colors, stage_row)
+        assert len(slices) == len(priority_starts) == len(colors)
+        for color, (start, stop), first_stage in zip(colors, slices, priority_starts, strict=True):
+            inner = [i for i in color.tolist() if not stage_row[i]]
+            outer = [i for i in color.tolist() if stage_row[i]]
+            assert order[start:stop].tolist() == inner + outer
+            assert first_stage == start + len(inner)
+
+
 def test_small_fast_sphere_does_not_tunnel_through_a_thin_static_wall():
     world, templates = make_world(floor=False, gravity=(0.0, 0.0, 0.0))
     wall_handle = register_primitive(templates, "cubeSolid", (0.01, 0.5, 0.5))  # 2 cm thick
