@@ -32,8 +32,10 @@ pushed past the surface's plane is still pushed back out.
 A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
 vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
 it. A job whose hull has no vertex in contact (an edge crossing a face) asks fcl after all
-and takes fcl's points, as before the grid. Jobs are grouped by the hull's vertex count
-``V``; each group is a handful of ``(g, T, V)`` array operations, whatever its size ``g``.
+and takes fcl's points, as before the grid, with the outward normal of the lowest-id
+triangle fcl names (kept from the first pass, :func:`_known_edge`). Jobs are grouped by
+the hull's vertex count ``V``; each group is a handful of ``(g, T, V)`` array operations,
+whatever its size ``g``.
 Reference: :func:`reference_pairs.stage_hull_pair`.
 """
 
@@ -57,21 +59,52 @@ from .contact_helpers import (
 from .pair_rules import ContactBatch, PairContext, PairJob
 from .stage_grid import stage_grid
 
+#: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)`` and
+#: their outward normals ``(T, 3)`` (stage -> body), from :func:`_stage_group`
+EdgeJob = tuple[PairJob, np.ndarray, np.ndarray]
+
 
 def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
     """Contacts of hull shapes (box, convex, cylinder, cone) with the stage mesh (A)."""
     nearby = nearby_triangles(jobs, context)
     edge_jobs = _vertex_contacts(jobs, nearby, context, out, edges_from_fcl=False)
     if edge_jobs:  # no vertex in contact: fcl's triangles and points for these few
-        bodies = np.array(sorted({job.body_b for job in edge_jobs}), dtype=np.int64)
+        bodies = np.array(sorted({edge[0].body_b for edge in edge_jobs}), dtype=np.int64)
         context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
-        asked = [
-            job._replace(records=fcl_raw_contacts(job.object_a, job.probe_b)) for job in edge_jobs
-        ]
-        asked = [job for job in asked if job.records]
-        touched = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
-        _vertex_contacts(asked, touched, context, out, edges_from_fcl=True)
+        asked = []
+        for job, ids, normals in edge_jobs:
+            records = fcl_raw_contacts(job.object_a, job.probe_b)
+            if records and not _known_edge(job.seq, records, ids, normals, out):
+                asked.append(job._replace(records=records))
+        if asked:  # fcl named a triangle the grid did not (never seen): the full pass
+            touched = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
+            _vertex_contacts(asked, touched, context, out, edges_from_fcl=True)
     return []
+
+
+def _known_edge(seq: int, records: list, ids: np.ndarray, normals: np.ndarray, out) -> bool:
+    """Add fcl's points of an edge job (no vertex in contact) when every triangle fcl
+    names was among its grid triangles ``ids (T,)``; returns whether it did.
+
+    Those triangles were tested in the first pass (vertex candidates are per triangle and
+    vertex, so fcl's subset has none either), and their outward normals ``normals (T, 3)``
+    are known: the job's contacts are fcl's points with the normal of the lowest-id
+    triangle fcl names, exactly what :func:`_stage_group` gives with ``edges_from_fcl``,
+    without a second pass over the arrays."""
+    touched = sorted({c.b1 for c in records})
+    grid = ids.tolist()
+    if touched[0] < 0 or not set(touched) <= set(grid):
+        return False
+    _add_fcl_points(out, seq, records, normals[grid.index(touched[0])])
+    return True
+
+
+def _add_fcl_points(out: ContactBatch, seq: int, records: list, normal: np.ndarray) -> None:
+    """fcl's midpoints of a stage job's probe records, all with ``normal (3,)`` (stage ->
+    body), their depths turned from the probe's into the shape's."""
+    mid, _, depths, _ = contact_arrays(records)
+    depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+    out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths))
 
 
 def nearby_triangles(jobs: list[PairJob], context: PairContext) -> list[np.ndarray]:
@@ -86,15 +119,16 @@ def nearby_triangles(jobs: list[PairJob], context: PairContext) -> list[np.ndarr
     return [triangle[bounds[k] : bounds[k + 1]] for k in range(len(jobs))]
 
 
-def _vertex_contacts(jobs, triangle_ids, context, out, edges_from_fcl: bool) -> list[PairJob]:
+def _vertex_contacts(jobs, triangle_ids, context, out, edges_from_fcl: bool) -> list[EdgeJob]:
     """Contacts of ``jobs`` with their ``triangle_ids`` (one id array per job), grouped by
-    hull size; returns the jobs with triangles but no vertex in contact (unless
-    ``edges_from_fcl``: then those take fcl's points, see :func:`_stage_group`)."""
+    hull size; returns the jobs with triangles but no vertex in contact, as
+    :data:`EdgeJob` (unless ``edges_from_fcl``: then those take fcl's points, see
+    :func:`_stage_group`)."""
     groups: defaultdict[int, list[tuple[PairJob, np.ndarray]]] = defaultdict(list)
     for job, ids in zip(jobs, triangle_ids, strict=True):
         if len(ids):
             groups[len(job.shape_b.hull_vertices)].append((job, ids))
-    edge_jobs: list[PairJob] = []
+    edge_jobs: list[EdgeJob] = []
     for group in groups.values():
         members = [job for job, _ in group]
         cached = _cached_normals(context.store, [job.body_b for job in members])
@@ -150,12 +184,13 @@ def _outward_side(
 
 def _stage_group(
     jobs, triangle_ids: list, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
-) -> list[PairJob]:
+) -> list[EdgeJob]:
     """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
     triangles ``triangle_ids`` (one id array per job; ``poses``: every body's rotation
     ``(n, 3, 3)`` and position ``(n, 3)``; ``cached``: the pairs' cached manifold normals,
-    see :func:`_cached_normals`). Returns the jobs without a vertex in contact, or with
-    ``edges_from_fcl`` gives them fcl's points (their ``records``) and returns none.
+    see :func:`_cached_normals`). Returns the jobs without a vertex in contact with their
+    triangles and outward normals (:data:`EdgeJob`), or with ``edges_from_fcl`` gives them
+    fcl's points (their ``records``) and returns none.
 
     Reference: :func:`reference_pairs.stage_polyhedron_contacts` (one shape pair)."""
     rotation, position = poses
@@ -192,15 +227,10 @@ def _stage_group(
     second = np.where(corner, height, -np.inf).argmax(axis=1)
     _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, len(hull[0]))
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
-    if not edges_from_fcl:
-        return [jobs[k] for k in untouched]
-    for k in untouched:
-        # an edge crossing a face: fcl's points with the first triangle's normal
-        mid, _, depths, _ = contact_arrays(jobs[k].records)
-        depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
-        contacts.add_one(
-            seq[k], midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
-        )
+    if not edges_from_fcl:  # with their triangles and outward normals, for _known_edge
+        return [(jobs[k], ids[k], normal[k]) for k in untouched]
+    for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0])
     return []
 
 
