@@ -36,7 +36,7 @@ import fcl
 import numpy as np
 
 from .bodies import DYNAMIC, STAGE_ID, Bodies
-from .collide import boxes_separated, overlapping_pairs, world_aabbs
+from .collide import boxes_separated, dot, overlapping_pairs, world_aabbs
 from .collision_groups import filter_pairs
 from .contacts import FreshPoints, ManifoldStore
 from .manifold_rows import add_manifold_row
@@ -312,7 +312,7 @@ def changed_pairs(
     # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
     # is still being pushed apart, and its contacts must follow that (asked every step)
     point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
-    depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
+    depth = dot(point_a - point_b, normal)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
     shallow = np.where(used, depth, -np.inf).max(axis=1) <= SLEEP_MAX_PENETRATION
     skip = set(known[shallow].tolist())

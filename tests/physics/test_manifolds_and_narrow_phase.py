@@ -302,13 +302,15 @@ def test_quaternion_tables_match_engine_mn_formulas():
         np.testing.assert_allclose(cross(a, b), np.cross(a, b), atol=1e-14)
 
 
+@pytest.mark.parametrize("full_pass", [False, True])
 def test_an_edge_job_on_the_stage_takes_fcls_points_with_its_first_triangles_normal(
-    monkeypatch,
+    monkeypatch, full_pass
 ):
     """A cube standing on a corner 2.5 cm above the floor: no vertex within the stage's
     speculative distance (2 cm), but its probe (grown 2 cm along its axes, 3.5 cm at the
     corner) touches, so the stage-hull rule takes fcl's points (the edge pass, which
-    reuses the first pass's outward normals) and must agree with the per-pair reference."""
+    reuses the first pass's outward normals, or with ``full_pass`` the second pass over
+    fcl's triangles that it falls back to) and must agree with the per-pair reference."""
     world, templates = make_world()
     handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
     corner_down = 0.1 * 3**0.5 + 0.025  # the lowest corner 2.5 cm above the floor
@@ -322,7 +324,9 @@ def test_an_edge_job_on_the_stage_takes_fcls_points_with_its_first_triangles_nor
     edges = []  # the jobs the edge pass answered from the first pass's normals
     known_edge = batched_stage._known_edge
     monkeypatch.setattr(
-        batched_stage, "_known_edge", lambda *args: edges.append(known_edge(*args)) or edges[-1]
+        batched_stage,
+        "_known_edge",
+        lambda *args: edges.append(not full_pass and known_edge(*args)) or edges[-1],
     )
     assert pairs == [(0, body.object_id)]
     lowest = (rotation[1] @ np.array([1.0, 1.0, 1.0]) * 0.1)[1] + corner_down
@@ -338,5 +342,5 @@ def test_an_edge_job_on_the_stage_takes_fcls_points_with_its_first_triangles_nor
         np.testing.assert_allclose(contact.point_a, pa, atol=1e-12)
         np.testing.assert_allclose(contact.point_b, pb, atol=1e-12)
         np.testing.assert_allclose(contact.normal, n, atol=1e-12)
-    assert edges == [True]
+    assert edges == [not full_pass]
     np.testing.assert_allclose(normal, [[0.0, 1.0, 0.0]] * len(normal), atol=1e-12)
