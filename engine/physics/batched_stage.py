@@ -224,19 +224,28 @@ def _stage_group(
     # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
-    # ... and, in a corner, the shallowest of those facing another way (floor and wall)
-    best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
-    alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
-    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
-    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
-    second = np.where(corner, height, -np.inf).argmax(axis=1)
-    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, len(hull[0]))
+    # ... and, in a corner, the shallowest of those facing another way (floor and wall;
+    # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
+    if not stage_grid(stage).corner_free:
+        _corner_contacts(contacts, seq, candidate, best, normal, height, verts)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if not edges_from_fcl:  # with their triangles and outward normals, for _known_edge
         return [(jobs[k], ids[k], normal[k]) for k in untouched]
     for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
         _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0])
     return []
+
+
+def _corner_contacts(contacts, seq, candidate, best, normal, height, verts) -> None:
+    """Second contacts of vertices in a corner: of the ``candidate (g, T, V)`` triangles
+    turned 45 to 135 degrees from the vertex's shallowest one ``best (g, V)``, the
+    shallowest it has passed (``h < 0``), ordered after the first contacts (``V + v``)."""
+    best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
+    alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
+    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
+    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
+    second = np.where(corner, height, -np.inf).argmax(axis=1)
+    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, verts.shape[1])
 
 
 def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts, first: int):
