@@ -102,8 +102,10 @@ class StageGrid:
         start, stop = self.cell_start[cell_id], self.cell_start[cell_id + 1]
         owner, offset = _expand(stop - start)
         box, tri = box[owner], self.cell_triangles[start[owner] + offset]
-        # the triangle's own box must overlap the query box on all three axes
-        overlap = np.all((self.tri_lo[tri] <= hi[box]) & (self.tri_hi[tri] >= lo[box]), axis=1)
+        # the triangle's own box must overlap the query box on all three axes (the three
+        # written out: .all over a length-3 axis pays per row)
+        each = (self.tri_lo[tri] <= hi[box]) & (self.tri_hi[tri] >= lo[box])  # (e, 3)
+        overlap = each[:, 0] & each[:, 1] & each[:, 2]
         # one pair per (box, triangle): a triangle may share several cells with a box
         n_tri = len(self.tri_lo)
         key = np.unique(box[overlap] * n_tri + tri[overlap])
