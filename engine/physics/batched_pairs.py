@@ -22,7 +22,7 @@ from collections import defaultdict
 import numpy as np
 
 from . import settings
-from .box_box import box_box_contacts, box_shape_frames
+from .box_box import box_box_parts, box_shape_frames
 from .collide import round_stage_contacts
 from .contact_helpers import (
     body_poses,
@@ -80,9 +80,11 @@ def _analytic_boxes(column: JobColumns, analytic, a, c, context, out: ContactBat
             half = np.array([box.geometry.side for box in boxes], dtype=np.float64) / 2.0
         center, world = box_shape_frames(r, x, offset)
         frames += [center, world, half]
-    pair, local, point_a, point_b, normal, deep = box_box_contacts(*frames)
+    # the face and the edge contacts as two chunks: the batch sorts by (job, candidate)
+    parts, deep = box_box_parts(*frames)
     seq = np.array(column.seq, dtype=np.int64)[analytic]
-    out.add(seq[pair], local, point_a, point_b, normal)
+    for pair, local, point_a, point_b, normal in parts:
+        out.add(seq[pair], local, point_a, point_b, normal)
     return deep
 
 

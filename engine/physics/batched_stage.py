@@ -32,8 +32,10 @@ pushed past the surface's plane is still pushed back out.
 A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
 vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
 it. A job whose hull has no vertex in contact (an edge crossing a face) asks fcl after all
-and takes fcl's points, as before the grid. Jobs are grouped by the hull's vertex count
-``V``; each group is a handful of ``(g, T, V)`` array operations, whatever its size ``g``.
+and takes fcl's points, as before the grid, with the outward normal of the lowest-id
+triangle fcl names (kept from the first pass, :func:`_known_edge`). Jobs are grouped by
+the hull's vertex count ``V``; each group is a handful of ``(g, T, V)`` array operations,
+whatever its size ``g``.
 Reference: :func:`reference_pairs.stage_hull_pair`.
 """
 
@@ -45,6 +47,7 @@ from itertools import chain
 import numpy as np
 
 from . import settings
+from .collide import dot
 from .contact_helpers import (
     body_poses,
     contact_arrays,
@@ -57,50 +60,88 @@ from .contact_helpers import (
 from .pair_rules import ContactBatch, PairContext, PairJob
 from .stage_grid import stage_grid
 
+#: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)`` and
+#: their outward normals ``(T, 3)`` (stage -> body), from :func:`_stage_group`
+EdgeJob = tuple[PairJob, np.ndarray, np.ndarray]
+
 
 def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
     """Contacts of hull shapes (box, convex, cylinder, cone) with the stage mesh (A)."""
-    nearby = nearby_triangles(jobs, context)
-    edge_jobs = _vertex_contacts(jobs, nearby, context, out, edges_from_fcl=False)
+    nearby, count = nearby_triangles(jobs, context)
+    edge_jobs = _vertex_contacts(jobs, nearby, count, context, out, edges_from_fcl=False)
     if edge_jobs:  # no vertex in contact: fcl's triangles and points for these few
-        bodies = np.array(sorted({job.body_b for job in edge_jobs}), dtype=np.int64)
+        bodies = np.array(sorted({edge[0].body_b for edge in edge_jobs}), dtype=np.int64)
         context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
-        asked = [
-            job._replace(records=fcl_raw_contacts(job.object_a, job.probe_b)) for job in edge_jobs
-        ]
-        asked = [job for job in asked if job.records]
-        touched = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
-        _vertex_contacts(asked, touched, context, out, edges_from_fcl=True)
+        asked = []
+        for job, ids, normals in edge_jobs:
+            records = fcl_raw_contacts(job.object_a, job.probe_b)
+            if records and not _known_edge(job.seq, records, ids, normals, out):
+                asked.append(job._replace(records=records))
+        if asked:  # fcl named a triangle the grid did not (never seen): the full pass
+            named = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
+            touched, count = _touched_triangles(named, len(jobs[0].shape_a.ray_triangles))
+            _vertex_contacts(asked, touched, count, context, out, edges_from_fcl=True)
     return []
 
 
-def nearby_triangles(jobs: list[PairJob], context: PairContext) -> list[np.ndarray]:
+def _known_edge(seq: int, records: list, ids: np.ndarray, normals: np.ndarray, out) -> bool:
+    """Add fcl's points of an edge job (no vertex in contact) when every triangle fcl
+    names was among its grid triangles ``ids (T,)``; returns whether it did.
+
+    Those triangles were tested in the first pass (vertex candidates are per triangle and
+    vertex, so fcl's subset has none either), and their outward normals ``normals (T, 3)``
+    are known: the job's contacts are fcl's points with the normal of the lowest-id
+    triangle fcl names, exactly what :func:`_stage_group` gives with ``edges_from_fcl``,
+    without a second pass over the arrays."""
+    touched = sorted({c.b1 for c in records})
+    grid = ids.tolist()
+    if touched[0] < 0 or not set(touched) <= set(grid):
+        return False
+    _add_fcl_points(out, seq, records, normals[grid.index(touched[0])])
+    return True
+
+
+def _add_fcl_points(out: ContactBatch, seq: int, records: list, normal: np.ndarray) -> None:
+    """fcl's midpoints of a stage job's probe records, all with ``normal (3,)`` (stage ->
+    body), their depths turned from the probe's into the shape's."""
+    mid, _, depths, _ = contact_arrays(records)
+    depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+    out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths))
+
+
+def nearby_triangles(jobs: list[PairJob], context: PairContext) -> tuple[np.ndarray, np.ndarray]:
     """Ids of the stage triangles near each job's body B: their box overlaps B's world AABB
-    grown by ``STAGE_NEAR_DISTANCE`` (all jobs in one grid query, :mod:`stage_grid`)."""
+    grown by ``STAGE_NEAR_DISTANCE`` (all jobs in one grid query, :mod:`stage_grid`), as
+    padded rows (:func:`_padded_rows`): ``ids (g, T)`` and ``count (g,)``."""
     bodies = context.bodies
     body = np.array([job.body_b for job in jobs], dtype=np.int64)
     lo = bodies.body_aabb_min[body] - settings.STAGE_NEAR_DISTANCE
     hi = bodies.body_aabb_max[body] + settings.STAGE_NEAR_DISTANCE
-    owner, triangle = stage_grid(jobs[0].shape_a).candidates(lo, hi)
-    bounds = np.searchsorted(owner, np.arange(len(jobs) + 1))  # owner is sorted
-    return [triangle[bounds[k] : bounds[k + 1]] for k in range(len(jobs))]
+    owner, triangle = stage_grid(jobs[0].shape_a).candidates(lo, hi)  # sorted, distinct
+    return _padded_rows(owner, triangle, len(jobs))
 
 
-def _vertex_contacts(jobs, triangle_ids, context, out, edges_from_fcl: bool) -> list[PairJob]:
-    """Contacts of ``jobs`` with their ``triangle_ids`` (one id array per job), grouped by
-    hull size; returns the jobs with triangles but no vertex in contact (unless
-    ``edges_from_fcl``: then those take fcl's points, see :func:`_stage_group`)."""
-    groups: defaultdict[int, list[tuple[PairJob, np.ndarray]]] = defaultdict(list)
-    for job, ids in zip(jobs, triangle_ids, strict=True):
-        if len(ids):
-            groups[len(job.shape_b.hull_vertices)].append((job, ids))
-    edge_jobs: list[PairJob] = []
+def _vertex_contacts(
+    jobs, ids: np.ndarray, count: np.ndarray, context, out, edges_from_fcl: bool
+) -> list[EdgeJob]:
+    """Contacts of ``jobs`` with their triangles (padded rows ``ids (g, T)`` holding
+    ``count (g,)`` ids each), grouped by hull size; returns the jobs with triangles but no
+    vertex in contact, as :data:`EdgeJob` (unless ``edges_from_fcl``: then those take
+    fcl's points, see :func:`_stage_group`)."""
+    groups: defaultdict[int, list[int]] = defaultdict(list)
+    for k, (job, n_ids) in enumerate(zip(jobs, count.tolist(), strict=True)):
+        if n_ids:
+            groups[len(job.shape_b.hull_vertices)].append(k)
+    edge_jobs: list[EdgeJob] = []
     for group in groups.values():
-        members = [job for job, _ in group]
+        members = [jobs[k] for k in group]
+        rows = np.array(group, dtype=np.int64)
+        # the group's rows, padded to its own longest (the same ids, fewer repeats)
+        group_ids = ids[rows, : count[rows].max()]
         cached = _cached_normals(context.store, [job.body_b for job in members])
         edge_jobs += _stage_group(
             members,
-            [ids for _, ids in group],
+            group_ids,
             (context.rotation, context.bodies.body_position),
             out,
             cached,
@@ -134,7 +175,7 @@ def _outward_side(
     cached_normal, cached_point, valid = cached
     # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
     offset = np.abs(
-        np.einsum("gti,gki->gtk", normal, cached_point) - (normal * corner).sum(axis=2)[..., None]
+        np.einsum("gti,gki->gtk", normal, cached_point) - dot(normal, corner)[..., None]
     )
     on_plane = valid[:, None, :] & (offset < settings.OUTWARD_SIDE_PLANE_DISTANCE)
     # n_t . c_k for every triangle t and cached normal k, (g, T, S)
@@ -143,35 +184,34 @@ def _outward_side(
         ..., 0
     ]
     # a new contact: the body's heights decide (floor-like triangles push up)
-    center_height = np.einsum("gti,gi->gt", normal, center) - (normal * corner).sum(axis=2)
+    center_height = np.einsum("gti,gi->gt", normal, center) - dot(normal, corner)
     new = new_contact_side(normal[..., 1], center_height, height.max(axis=2))
     return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), new)
 
 
 def _stage_group(
-    jobs, triangle_ids: list, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
-) -> list[PairJob]:
+    jobs, ids: np.ndarray, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
+) -> list[EdgeJob]:
     """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
-    triangles ``triangle_ids`` (one id array per job; ``poses``: every body's rotation
+    triangles ``ids (g, T)`` (ascending per row, padded by repeats; ``poses``: every body's rotation
     ``(n, 3, 3)`` and position ``(n, 3)``; ``cached``: the pairs' cached manifold normals,
-    see :func:`_cached_normals`). Returns the jobs without a vertex in contact, or with
-    ``edges_from_fcl`` gives them fcl's points (their ``records``) and returns none.
+    see :func:`_cached_normals`). Returns the jobs without a vertex in contact with their
+    triangles and outward normals (:data:`EdgeJob`), or with ``edges_from_fcl`` gives them
+    fcl's points (their ``records``) and returns none.
 
     Reference: :func:`reference_pairs.stage_polyhedron_contacts` (one shape pair)."""
     rotation, position = poses
     stage = jobs[0].shape_a
     table = triangle_table(stage)
     seq = np.array([job.seq for job in jobs], dtype=np.int64)
-    ids = _touched_triangles(triangle_ids, len(stage.ray_triangles))
     tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
     r, x = body_poses([job.body_b for job in jobs], rotation, position)
-    hull = np.stack([job.shape_b.hull_vertices for job in jobs])
+    # (g, V, 3) body-frame hulls: one concatenate (np.stack pays a Python call per array)
+    hull = np.concatenate([job.shape_b.hull_vertices for job in jobs]).reshape(len(jobs), -1, 3)
     verts = to_world(r, x, hull)  # (g, V, 3)
     normal = table["normal"][ids]
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
-    height = (
-        np.einsum("gti,gvi->gtv", normal, verts) - (normal * tris[:, :, 0]).sum(axis=2)[..., None]
-    )
+    height = np.einsum("gti,gvi->gtv", normal, verts) - dot(normal, tris[:, :, 0])[..., None]
     side = _outward_side(normal, tris[:, :, 0], height, x, cached)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
@@ -184,24 +224,28 @@ def _stage_group(
     # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
     best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
-    # ... and, in a corner, the shallowest of those facing another way (floor and wall)
+    # ... and, in a corner, the shallowest of those facing another way (floor and wall;
+    # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
+    if not stage_grid(stage).corner_free:
+        _corner_contacts(contacts, seq, candidate, best, normal, height, verts)
+    untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
+    if not edges_from_fcl:  # with their triangles and outward normals, for _known_edge
+        return [(jobs[k], ids[k], normal[k]) for k in untouched]
+    for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0])
+    return []
+
+
+def _corner_contacts(contacts, seq, candidate, best, normal, height, verts) -> None:
+    """Second contacts of vertices in a corner: of the ``candidate (g, T, V)`` triangles
+    turned 45 to 135 degrees from the vertex's shallowest one ``best (g, V)``, the
+    shallowest it has passed (``h < 0``), ordered after the first contacts (``V + v``)."""
     best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
     alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
     turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
     corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
     second = np.where(corner, height, -np.inf).argmax(axis=1)
-    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, len(hull[0]))
-    untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
-    if not edges_from_fcl:
-        return [jobs[k] for k in untouched]
-    for k in untouched:
-        # an edge crossing a face: fcl's points with the first triangle's normal
-        mid, _, depths, _ = contact_arrays(jobs[k].records)
-        depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
-        contacts.add_one(
-            seq[k], midpoint_contacts(mid, np.tile(normal[k, 0], (len(mid), 1)), depths)
-        )
-    return []
+    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, verts.shape[1])
 
 
 def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts, first: int):
@@ -213,21 +257,27 @@ def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts
     contacts.add(seq[g], first + v, point_b + n * depth[:, None], point_b, n)
 
 
-def _touched_triangles(triangle_ids: list, n_triangles: int) -> np.ndarray:
-    """(g, T) ids of the distinct triangles each job touches, ascending.
-
-    Rows are padded by repeating their last id (a duplicate triangle changes no result).
-    """
+def _touched_triangles(triangle_ids: list, n_triangles: int) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct triangles (ids ``>= 0``) of each job's id array ``triangle_ids``, as
+    padded rows (:func:`_padded_rows`)."""
     lengths = [len(ids) for ids in triangle_ids]
     job = np.repeat(np.arange(len(triangle_ids)), lengths)
     tri = np.fromiter(chain.from_iterable(triangle_ids), dtype=np.int64, count=sum(lengths))
     # one key per (job, triangle): unique keys are sorted by job, then by triangle
     key = np.unique((job * n_triangles + tri)[tri >= 0])
     job, tri = np.divmod(key, n_triangles)
-    counts = np.bincount(job, minlength=len(triangle_ids))
-    starts = np.cumsum(counts) - counts
-    slot = np.minimum(np.arange(counts.max()), counts[:, None] - 1)
-    return tri[starts[:, None] + slot]
+    return _padded_rows(job, tri, len(triangle_ids))
+
+
+def _padded_rows(job: np.ndarray, tri: np.ndarray, n_jobs: int) -> tuple[np.ndarray, np.ndarray]:
+    """Flat ``(job, triangle)`` pairs, sorted by job then triangle, distinct, as ``ids
+    (n_jobs, T)`` (row k: job k's triangles, ascending, padded by repeating its last id; a
+    duplicate triangle changes no result) and ``count (n_jobs,)`` (a row without
+    triangles, ``count == 0``, holds no meaning)."""
+    count = np.bincount(job, minlength=n_jobs)
+    starts = np.cumsum(count) - count
+    slot = np.minimum(np.arange(count.max()), count[:, None] - 1)
+    return tri[starts[:, None] + slot], count
 
 
 def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray) -> np.ndarray:
@@ -235,8 +285,7 @@ def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray
     e0, e1, denom = table["e0"][ids], table["e1"][ids], table["denom"][ids]
     d00, d01, d11 = table["d00"][ids], table["d01"][ids], table["d11"][ids]
     rel = verts[:, None, :, :] - tris[:, :, None, 0]  # x_v - p0_t, (g, T, V, 3)
-    d20 = (rel * e0[:, :, None]).sum(axis=3)
-    d21 = (rel * e1[:, :, None]).sum(axis=3)
+    d20, d21 = dot(rel, e0[:, :, None]), dot(rel, e1[:, :, None])  # (g, T, V)
     # barycentric (v, w) of the projection: [d00 d01; d01 d11] [v; w] = [d20; d21]
     bary_v = (d11[..., None] * d20 - d01[..., None] * d21) / denom[..., None]
     bary_w = (d00[..., None] * d21 - d01[..., None] * d20) / denom[..., None]

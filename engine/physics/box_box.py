@@ -120,6 +120,22 @@ def box_box_contacts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     ``point_a, point_b, normal (q, 3)`` (normals from A to B) and ``deep (g,)``: pairs
     overlapping by more than ``BOX_DEEP_OVERLAP``, which get no contacts here.
     """
+    parts, deep = box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b)
+    if len(parts) < 2:
+        empty = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), *[np.zeros((0, 3))] * 3
+        return *(parts[0] if parts else empty), deep
+    pair, local, point_a, point_b, normal = (np.concatenate(p) for p in zip(*parts, strict=True))
+    order = np.lexsort((local, pair))  # by pair, then by candidate
+    return pair[order], local[order], point_a[order], point_b[order], normal[order], deep
+
+
+def box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b):
+    """:func:`box_box_contacts` before its merge: ``parts``, a list of at most two
+    ``(pair, local, point_a, point_b, normal)`` tuples (the face pairs' contacts, the edge
+    pairs'), each in (pair, candidate) order, no pair in both, and ``deep (g,)``. A caller
+    that sorts all its contacts by (pair, candidate) anyway (the narrow phase's
+    :class:`~pair_rules.ContactBatch`) takes the parts as they are and saves the merge
+    (5 concatenations, a lexsort and 5 gathers, in most steps of a tumbling pile)."""
     axes, separation, distance = separating_axes(center_a, rot_a, half_a, center_b, rot_b, half_b)
     rows = np.arange(len(separation))
     axis = choose_axis(separation)
@@ -137,12 +153,7 @@ def box_box_contacts(center_a, rot_a, half_a, center_b, rot_b, half_b):
         parts.append(_face_contacts(face_pairs, axis[face_pairs], normal[face_pairs], frames))
     if len(edge_pairs):
         parts.append(_edge_contacts(edge_pairs, axis[edge_pairs], normal[edge_pairs], frames))
-    if len(parts) < 2:
-        empty = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), *[np.zeros((0, 3))] * 3
-        return *(parts[0] if parts else empty), deep
-    pair, local, point_a, point_b, normal = (np.concatenate(p) for p in zip(*parts, strict=True))
-    order = np.lexsort((local, pair))  # by pair, then by candidate
-    return pair[order], local[order], point_a[order], point_b[order], normal[order], deep
+    return parts, deep
 
 
 def _face_contacts(pairs, axis, normal, frames):

@@ -44,6 +44,20 @@ from .quaternions import cross, quat_to_matrix
 from .shapes import ShapeKind
 
 
+def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``u . v`` over the last axis (a short one: 2-4 components), broadcast over the rest.
+
+    Written out, ``(u_0 v_0 + u_1 v_1) + u_2 v_2``: the same products summed in the same
+    order as ``(u * v).sum(axis=-1)``, so the same bits, without NumPy's reduction over a
+    short last axis, which pays ~50 ns per output element (measured: 4x slower on a
+    ``(150, 24, 3)`` array, 2.5x on ``(100, 2, 8, 3)``).
+    """
+    total = u[..., 0] * v[..., 0]
+    for k in range(1, max(u.shape[-1], v.shape[-1])):
+        total += u[..., k] * v[..., k]
+    return total
+
+
 def world_aabbs(
     center_local: np.ndarray,
     half_local: np.ndarray,

@@ -30,13 +30,14 @@ Sub-stages, in order:
 
 from __future__ import annotations
 
+from itertools import compress
 from typing import Any
 
 import fcl
 import numpy as np
 
 from .bodies import DYNAMIC, STAGE_ID, Bodies
-from .collide import boxes_separated, overlapping_pairs, world_aabbs
+from .collide import boxes_separated, dot, overlapping_pairs, world_aabbs
 from .collision_groups import filter_pairs
 from .contacts import FreshPoints, ManifoldStore
 from .manifold_rows import add_manifold_row
@@ -216,13 +217,17 @@ def move_fcl_users(
     A job that an analytic rule declines to an fcl rule after all (coincident or deep box
     pairs) moves its two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
     kinds = objects.kinds
+    kind_pairs = [(kinds[a], kinds[c]) for a, c in pairs]
+    # each distinct pair of body kinds asked once (a few), not each body pair (hundreds)
+    asks_fcl = {key: PAIR_TABLE.needs_fcl(*key) for key in set(kind_pairs)}
     users: set[int] = set()
     near_stage: set[int] = set()
-    for a, c in pairs:
+    for (a, c), key in zip(pairs, kind_pairs, strict=True):
+        if not asks_fcl[key]:  # two boxes, say; hulls on the stage use the stage grid
+            continue
         if a == STAGE_ID:
-            if PAIR_TABLE.needs_fcl(kinds[a], kinds[c]):  # hulls use the stage grid
-                near_stage.add(c)
-        elif PAIR_TABLE.needs_fcl(kinds[a], kinds[c]):
+            near_stage.add(c)
+        else:
             users.update((a, c))
     if users or near_stage:
         involved = np.array(sorted(users | near_stage), dtype=np.int64)
@@ -278,13 +283,19 @@ def touching_candidates(
     The box test costs a fixed ~40 NumPy calls, so it runs only when at least
     ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped.
     """
-    pair_list = [(a, c) for a, c in pairs.tolist()]
+    first = pairs[:, 0].tolist()
+    pair_list = list(zip(first, pairs[:, 1].tolist(), strict=True))  # (a, c), built in C
     known = store.rows_of(pair_list)
-    check = [k for k, (a, _) in enumerate(pair_list) if a != STAGE_ID and known[k] is None]
+    check = [
+        k
+        for k, (a, row) in enumerate(zip(first, known, strict=True))
+        if row is None and a != STAGE_ID
+    ]
     if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
-    apart = set(np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)].tolist())
-    return [pair for k, pair in enumerate(pair_list) if k not in apart]
+    keep = np.ones(len(pair_list), dtype=bool)
+    keep[np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)]] = False
+    return list(compress(pair_list, keep.tolist()))  # in order, without the apart pairs
 
 
 def changed_pairs(
@@ -312,7 +323,7 @@ def changed_pairs(
     # only resting contacts are kept: a pair overlapping deeper than SLEEP_MAX_PENETRATION
     # is still being pushed apart, and its contacts must follow that (asked every step)
     point_a, point_b, normal = store.world_points(rows[known], rotation, b.body_position)
-    depth = ((point_a - point_b) * normal).sum(axis=2)  # (p_a - p_b) . n per slot
+    depth = dot(point_a - point_b, normal)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
     shallow = np.where(used, depth, -np.inf).max(axis=1) <= SLEEP_MAX_PENETRATION
     skip = set(known[shallow].tolist())

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .settings import STAGE_GRID_CELL, STAGE_GRID_MAX_CELLS
+from .settings import STAGE_CORNER_COSINE, STAGE_GRID_CELL, STAGE_GRID_MAX_CELLS, TINY
 
 
 @dataclass
@@ -45,7 +45,8 @@ class StageGrid:
     ``tri_lo, tri_hi (T, 3)`` world AABBs of the triangles, m; ``origin (2,)`` the grid's
     lowest (x, z) corner, m; ``cell`` its cell side, m; ``shape (n_x, n_z)`` cells;
     ``cell_start (n_x n_z + 1,)`` and ``cell_triangles (E,)``: the triangles of cell
-    ``k = i_x n_z + i_z`` are ``cell_triangles[cell_start[k]:cell_start[k + 1]]``.
+    ``k = i_x n_z + i_z`` are ``cell_triangles[cell_start[k]:cell_start[k + 1]]``;
+    ``corner_free``: no two triangles meet at a corner (:func:`corner_free`).
     """
 
     tri_lo: np.ndarray
@@ -55,6 +56,7 @@ class StageGrid:
     shape: tuple[int, int]
     cell_start: np.ndarray
     cell_triangles: np.ndarray
+    corner_free: bool = False
 
     @classmethod
     def build(cls, triangles: np.ndarray, cell: float = STAGE_GRID_CELL) -> StageGrid:
@@ -72,7 +74,9 @@ class StageGrid:
         order = np.argsort(cell_id, kind="stable")
         counts = np.bincount(cell_id, minlength=int(n_x * n_z))
         cell_start = np.concatenate([[0], np.cumsum(counts)])
-        return cls(tri_lo, tri_hi, origin, cell, (int(n_x), int(n_z)), cell_start, owner[order])
+        shape = (int(n_x), int(n_z))
+        flat = corner_free(triangles)
+        return cls(tri_lo, tri_hi, origin, cell, shape, cell_start, owner[order], flat)
 
     @staticmethod
     def _cell_range(lo, hi, origin, cell, shape):
@@ -98,12 +102,32 @@ class StageGrid:
         start, stop = self.cell_start[cell_id], self.cell_start[cell_id + 1]
         owner, offset = _expand(stop - start)
         box, tri = box[owner], self.cell_triangles[start[owner] + offset]
-        # the triangle's own box must overlap the query box on all three axes
-        overlap = np.all((self.tri_lo[tri] <= hi[box]) & (self.tri_hi[tri] >= lo[box]), axis=1)
+        # the triangle's own box must overlap the query box on all three axes (the three
+        # written out: .all over a length-3 axis pays per row)
+        each = (self.tri_lo[tri] <= hi[box]) & (self.tri_hi[tri] >= lo[box])  # (e, 3)
+        overlap = each[:, 0] & each[:, 1] & each[:, 2]
         # one pair per (box, triangle): a triangle may share several cells with a box
         n_tri = len(self.tri_lo)
         key = np.unique(box[overlap] * n_tri + tri[overlap])
         return key // n_tri, key % n_tri
+
+
+def corner_free(triangles: np.ndarray) -> bool:
+    """Whether no two of ``triangles (T, 3, 3)`` are turned far enough from each other to
+    form a corner for the stage-hull rule (``|n_s . n_t| < STAGE_CORNER_COSINE``, about 45
+    degrees): every triangle's normal line lies within half that angle of the first's, so
+    any two lie within the whole angle (a flat floor; the rule's corner pass has nothing to
+    find). A small margin keeps rounding on the safe side; a degenerate triangle (no
+    normal) answers False.
+    """
+    e0, e1 = triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
+    normal = np.cross(e0, e1)
+    length = np.linalg.norm(normal, axis=1)
+    if len(normal) == 0 or (length <= TINY).any():
+        return False
+    normal /= length[:, None]
+    half = 0.5 * np.arccos(STAGE_CORNER_COSINE) - 1e-6  # rad, half the corner angle
+    return bool((np.abs(normal @ normal[0]) >= np.cos(half)).all())
 
 
 def _expand(counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

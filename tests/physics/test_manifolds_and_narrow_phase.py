@@ -18,7 +18,7 @@ from helpers import add, make_world, register_primitive, run
 from test_reference_path import CONE, CYLINDER
 
 from engine import mn
-from engine.physics import settings
+from engine.physics import batched_stage, settings
 from engine.physics.collision_stage import broad_phase, touching_candidates, update_manifolds
 from engine.physics.contacts import FreshPoints, ManifoldStore
 from engine.physics.narrow_phase import narrow_phase
@@ -300,3 +300,47 @@ def test_quaternion_tables_match_engine_mn_formulas():
         np.testing.assert_allclose(quat_multiply(q1, q2), (m1 * m2).xyzw, atol=1e-14)
         a, b = rng.normal(size=3), rng.normal(size=3)
         np.testing.assert_allclose(cross(a, b), np.cross(a, b), atol=1e-14)
+
+
+@pytest.mark.parametrize("full_pass", [False, True])
+def test_an_edge_job_on_the_stage_takes_fcls_points_with_its_first_triangles_normal(
+    monkeypatch, full_pass
+):
+    """A cube standing on a corner 2.5 cm above the floor: no vertex within the stage's
+    speculative distance (2 cm), but its probe (grown 2 cm along its axes, 3.5 cm at the
+    corner) touches, so the stage-hull rule takes fcl's points (the edge pass, which
+    reuses the first pass's outward normals, or with ``full_pass`` the second pass over
+    fcl's triangles that it falls back to) and must agree with the per-pair reference."""
+    world, templates = make_world()
+    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
+    corner_down = 0.1 * 3**0.5 + 0.025  # the lowest corner 2.5 cm above the floor
+    body = add(world, templates, handle, [0.3, corner_down, 0.2])
+    # turn the body diagonal (1, 1, 1) / sqrt(3) onto -y: axis (1, 1, 1) x (0, -1, 0)
+    axis = np.array([1.0, 0.0, -1.0]) / 2**0.5
+    angle = np.pi - np.arccos(1 / 3**0.5)
+    q = np.concatenate([np.sin(angle / 2) * axis, [np.cos(angle / 2)]])
+    body.rotation = mn.Quaternion.from_xyzw(q)
+    pairs, rotation = candidate_pairs(world)
+    edges = []  # the jobs the edge pass answered from the first pass's normals
+    known_edge = batched_stage._known_edge
+    monkeypatch.setattr(
+        batched_stage,
+        "_known_edge",
+        lambda *args: edges.append(not full_pass and known_edge(*args)) or edges[-1],
+    )
+    assert pairs == [(0, body.object_id)]
+    lowest = (rotation[1] @ np.array([1.0, 1.0, 1.0]) * 0.1)[1] + corner_down
+    assert lowest == pytest.approx(0.025, abs=1e-9)  # the corner really points down
+    position, point_a, point_b, normal = narrow_phase(
+        world.bodies, world.collision_objects, world.manifolds, pairs, rotation
+    )
+    reference = pair_contacts(
+        world.bodies, world.collision_objects, world.manifolds, 0, 1, rotation
+    )
+    assert len(reference) == len(position) >= 1
+    for contact, pa, pb, n in zip(reference, point_a, point_b, normal, strict=True):
+        np.testing.assert_allclose(contact.point_a, pa, atol=1e-12)
+        np.testing.assert_allclose(contact.point_b, pb, atol=1e-12)
+        np.testing.assert_allclose(contact.normal, n, atol=1e-12)
+    assert edges == [not full_pass]
+    np.testing.assert_allclose(normal, [[0.0, 1.0, 0.0]] * len(normal), atol=1e-12)

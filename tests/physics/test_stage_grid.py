@@ -147,3 +147,31 @@ def test_vertex_in_a_floor_wall_corner_gets_both_surfaces_on_both_paths():
     np.testing.assert_allclose(depth[inside & back], 0.005, atol=1e-9)
     np.testing.assert_allclose(depth[up], 0.01, atol=1e-9)  # all four bottom vertices
     assert np.count_nonzero(up) == 4
+
+
+def _tilted_square(degrees: float) -> np.ndarray:
+    """Two triangles of a 2 m square turned ``degrees`` about the x axis, ``(2, 3, 3)``."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    corners = np.array([[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]])
+    turned = corners @ np.array([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])
+    return turned[[[0, 2, 1], [0, 3, 2]]]
+
+
+def test_a_stage_is_corner_free_only_when_no_two_triangles_could_form_a_corner():
+    floor = _tilted_square(0.0)
+    # 45.6 degrees apart is a corner (STAGE_CORNER_COSINE 0.7); below half of it, either
+    # way of winding, every pair is safely less than that apart
+    half = np.degrees(0.5 * np.arccos(settings.STAGE_CORNER_COSINE))
+    assert StageGrid.build(floor).corner_free
+    assert StageGrid.build(np.concatenate([floor, _tilted_square(half - 0.5)])).corner_free
+    assert StageGrid.build(np.concatenate([floor, _tilted_square(180.0 - 10.0)])).corner_free
+    assert not StageGrid.build(np.concatenate([floor, _tilted_square(half + 0.5)])).corner_free
+    assert not StageGrid.build(np.concatenate([floor, _tilted_square(90.0)])).corner_free
+    degenerate = np.concatenate([floor, np.zeros((1, 3, 3))])
+    assert not StageGrid.build(degenerate).corner_free
+
+
+def test_the_apartment_has_corners_and_the_benchmark_floor_has_none(apartment_triangles):
+    assert not StageGrid.build(apartment_triangles).corner_free
+    vertices, faces = floor_mesh(20.0).vertices, floor_mesh(20.0).faces
+    assert StageGrid.build(np.asarray(vertices)[np.asarray(faces)].astype(float)).corner_free
