@@ -60,9 +60,10 @@ from .contact_helpers import (
 from .pair_rules import ContactBatch, PairContext, PairJob
 from .stage_grid import stage_grid
 
-#: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)`` and
-#: their outward normals ``(T, 3)`` (stage -> body), from :func:`_stage_group`
-EdgeJob = tuple[PairJob, np.ndarray, np.ndarray]
+#: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)``, their
+#: outward normals ``(T, 3)`` (stage -> body) and the signed heights ``(T, V)`` of the hull's
+#: vertices above their planes, from :func:`_stage_group`
+EdgeJob = tuple[PairJob, np.ndarray, np.ndarray, np.ndarray]
 
 
 def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
@@ -73,9 +74,9 @@ def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatc
         bodies = np.array(sorted({edge[0].body_b for edge in edge_jobs}), dtype=np.int64)
         context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
         asked = []
-        for job, ids, normals in edge_jobs:
+        for job, ids, normals, heights in edge_jobs:
             records = fcl_raw_contacts(job.object_a, job.probe_b)
-            if records and not _known_edge(job.seq, records, ids, normals, out):
+            if records and not _known_edge(job.seq, records, (ids, normals, heights), out):
                 asked.append(job._replace(records=records))
         if asked:  # fcl named a triangle the grid did not (never seen): the full pass
             named = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
@@ -84,28 +85,39 @@ def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatc
     return []
 
 
-def _known_edge(seq: int, records: list, ids: np.ndarray, normals: np.ndarray, out) -> bool:
+def _known_edge(seq: int, records: list, triangles, out) -> bool:
     """Add fcl's points of an edge job (no vertex in contact) when every triangle fcl
-    names was among its grid triangles ``ids (T,)``; returns whether it did.
+    names was among its grid triangles; returns whether it did. ``triangles``: the job's
+    grid triangle ids ``(T,)``, their outward normals ``(T, 3)`` and the hull's vertex
+    heights ``(T, V)`` above them (:data:`EdgeJob`).
 
     Those triangles were tested in the first pass (vertex candidates are per triangle and
-    vertex, so fcl's subset has none either), and their outward normals ``normals (T, 3)``
-    are known: the job's contacts are fcl's points with the normal of the lowest-id
-    triangle fcl names, exactly what :func:`_stage_group` gives with ``edges_from_fcl``,
-    without a second pass over the arrays."""
+    vertex, so fcl's subset has none either), and their normals and heights are known: the
+    job's contacts are fcl's points with the normal of the lowest-id triangle fcl names,
+    exactly what :func:`_stage_group` gives with ``edges_from_fcl``, without a second pass
+    over the arrays."""
+    ids, normals, heights = triangles
     touched = sorted({c.b1 for c in records})
     grid = ids.tolist()
     if touched[0] < 0 or not set(touched) <= set(grid):
         return False
-    _add_fcl_points(out, seq, records, normals[grid.index(touched[0])])
+    first = grid.index(touched[0])
+    _add_fcl_points(out, seq, records, normals[first], -heights[first].min())
     return True
 
 
-def _add_fcl_points(out: ContactBatch, seq: int, records: list, normal: np.ndarray) -> None:
+def _add_fcl_points(
+    out: ContactBatch, seq: int, records: list, normal: np.ndarray, plane_depth: float
+) -> None:
     """fcl's midpoints of a stage job's probe records, all with ``normal (3,)`` (stage ->
-    body), their depths turned from the probe's into the shape's."""
+    body), their depths turned from the probe's into the shape's and at most
+    ``plane_depth``, how far the hull's deepest vertex is below that triangle's plane:
+    no point of a convex hull is deeper below a plane than its deepest vertex, while fcl's
+    depth of a probe against a single triangle can be the way out through the triangle
+    (measured: up to 0.5 m for 0.2 m cubes on a floor, popping them up)."""
     mid, _, depths, _ = contact_arrays(records)
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+    depths = np.minimum(depths, plane_depth)
     out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths))
 
 
@@ -229,10 +241,10 @@ def _stage_group(
     if not stage_grid(stage).corner_free:
         _corner_contacts(contacts, seq, candidate, best, normal, height, verts)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
-    if not edges_from_fcl:  # with their triangles and outward normals, for _known_edge
-        return [(jobs[k], ids[k], normal[k]) for k in untouched]
+    if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
+        return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
     for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
-        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0])
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], -height[k, 0].min())
     return []
 
 

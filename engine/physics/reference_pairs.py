@@ -200,7 +200,8 @@ def stage_polyhedron_contacts(
 ) -> list[Contact]:
     """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles
     ``triangle_ids`` (ascending); when none touches and fcl's records ``found`` are given,
-    fcl's points with the first triangle's normal (an edge crossing a face).
+    fcl's points with the first triangle's normal (an edge crossing a face), no deeper
+    than the hull's deepest vertex below that triangle's plane.
 
     Mirrors ``batched_stage._stage_group``. For every touched triangle t (normal n_t turned to
     the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
@@ -254,6 +255,8 @@ def stage_polyhedron_contacts(
     if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+        # at most the depth of the hull's deepest vertex below the first triangle's plane
+        depths = np.minimum(depths, -min(heights[0]))
         contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
     return contacts
 

@@ -344,3 +344,26 @@ def test_an_edge_job_on_the_stage_takes_fcls_points_with_its_first_triangles_nor
         np.testing.assert_allclose(contact.normal, n, atol=1e-12)
     assert edges == [not full_pass]
     np.testing.assert_allclose(normal, [[0.0, 1.0, 0.0]] * len(normal), atol=1e-12)
+    # a speculative gap no deeper than the corner's 2.5 cm (fcl's probe depth said +5.1 cm)
+    depth = ((point_a - point_b) * normal).sum(axis=1)
+    np.testing.assert_allclose(depth, -0.025, atol=1e-9)
+
+
+def test_cube_falling_corner_down_onto_the_floor_never_rises():
+    """The corner's probe touches the floor 3.5 cm early (the edge pass): its contact is a
+    speculative gap, so the falling cube is not pushed up (it was, 1.6 cm in one step, when
+    fcl's depth of the probe against the floor triangle was taken as the cube's)."""
+    world, templates = make_world()
+    handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
+    corner_down = 0.1 * 3**0.5
+    body = add(world, templates, handle, [0.3, corner_down + 0.03, 0.2])
+    axis = np.array([1.0, 0.0, -1.0]) / 2**0.5
+    angle = np.pi - np.arccos(1 / 3**0.5)
+    q = np.concatenate([np.sin(angle / 2) * axis, [np.cos(angle / 2)]])
+    body.rotation = mn.Quaternion.from_xyzw(q)
+    heights = [body.translation[1]]
+    for _ in range(8):
+        world.step_physics(1.0 / 60.0)
+        heights.append(body.translation[1])
+    assert np.all(np.diff(heights) <= 1e-9)
+    assert heights[-1] == pytest.approx(corner_down, abs=3e-3)  # resting on its corner
