@@ -391,9 +391,11 @@ def _merge_into_store(
     """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.merge_fresh`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     row_of_pair = np.array(store.rows_of(pairs, -1), dtype=np.int64)  # -1: no manifold yet
-    for k in np.flatnonzero((row_of_pair < 0) & has_points).tolist():  # first touch
+    for k in ((row_of_pair < 0) & has_points).nonzero()[0].tolist():  # first touch
         row_of_pair[k] = add_manifold_row(bodies, store, pairs[k])
-    updated = row_of_pair >= 0  # pairs with a manifold: every pair with points, and more
+    # the manifolds to update: every pair with points, and the others' non-empty manifolds
+    # (an empty manifold without fresh points stays empty: skipping it changes nothing)
+    updated = (row_of_pair >= 0) & (has_points | (store.count[row_of_pair] > 0))  # -1: masked
     row_position = np.cumsum(updated) - 1  # pair position -> row position (updated pairs)
     fresh = FreshPoints(int(updated.sum()), row_position[pair_position], point_a, point_b, normal)
     store.merge_fresh(row_of_pair[updated], rotation, bodies.body_position, fresh)

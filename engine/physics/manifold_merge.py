@@ -12,7 +12,9 @@ Call counts: the merge runs every step on arrays of a few hundred numbers, so it
 the number of NumPy calls, not the arithmetic. A point's fields therefore live in one array
 (:class:`FreshPoints`, :class:`LocalPoints`; the field names are views), the body frames of a
 row in one array (:class:`RowFrames`), and the greedy loops run only where a choice depends
-on an earlier one (:func:`distinct_points`, :func:`inherit_impulses`).
+on an earlier one (:func:`distinct_points`, :func:`inherit_impulses`). Method forms
+(``x.argsort()``, ``x.nonzero()[0]``) replace ``np.argsort`` and ``np.flatnonzero``: the same
+C function without several Python wrapper calls each.
 """
 
 from __future__ import annotations
@@ -55,8 +57,7 @@ class FreshPoints:
         # (row_position is sorted: a row's points start at the points of the rows before it)
         starts = np.cumsum(counts) - counts
         slot = np.arange(len(row_position)) - starts[row_position]
-        self.valid = np.zeros((n_rows, width), dtype=bool)
-        self.valid[row_position, slot] = True
+        self.valid = np.arange(width) < counts[:, None]  # a row's points fill its first slots
         self.data = np.zeros((n_rows, width, 3, 3))
         for field, value in enumerate((point_a, point_b, normal)):
             self.data[row_position, slot, field] = value
@@ -100,6 +101,9 @@ class RowFrames:
         return self.rotation[:, 1], self.position[:, 1]
 
 
+#: ``EARLIER[i, j]``: slot j comes before slot i (a strictly lower triangle)
+EARLIER = np.tri(SLOTS, SLOTS, -1, dtype=bool)
+
 #: the fields of a manifold point, in the order of the last-but-one axis of its data
 POINT_FIELDS = ("local_a", "local_b", "normal_local", "impulse")
 
@@ -122,7 +126,7 @@ class LocalPoints:
         """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
         if in_front(keep):  # the stable sort would be the identity: no copies
             return LocalPoints(self.data, keep)
-        order = np.argsort(~keep, axis=1, kind="stable")
+        order = (~keep).argsort(axis=1, kind="stable")
         return LocalPoints(per_row(self.data, order), per_row(keep, order))
 
     def world(self, frames: RowFrames):
@@ -145,7 +149,7 @@ def select_fresh(
     too_many = fresh.valid.sum(axis=1) > max_points
     if not too_many.any():  # every row keeps all its points, already first in their rows
         return fresh
-    over = np.flatnonzero(too_many)  # only these rows choose (each row on its own)
+    over = too_many.nonzero()[0]  # only these rows choose (each row on its own)
     rb, xb = frames.rotation[over, 1], frames.position[over, 1]
     data, valid, count = fresh.data[over], fresh.valid[over], max_points[over]
     point_a, point_b, normal = data[:, :, 0], data[:, :, 1], data[:, :, 2]
@@ -165,7 +169,7 @@ def select_fresh(
         preferred,
         support_band(feature[over]),
     )
-    order = np.argsort(~chosen, axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
+    order = (~chosen).argsort(axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
     # the other rows keep all their points, already in their first SLOTS slots
     kept = FreshPoints.of(fresh.data[:, :SLOTS].copy(), fresh.valid[:, :SLOTS].copy())
     kept.data[over], kept.valid[over] = per_row(data, order), per_row(chosen, order)
@@ -175,24 +179,24 @@ def select_fresh(
 def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
     """Each row's points, deepest first, dropping any within ``radius (r,)`` of a kept one."""
     depth = np.where(points.valid, points.depth(), -np.inf)
-    by_depth = np.argsort(-tie_key(depth), axis=1, kind="stable")
+    by_depth = (-tie_key(depth)).argsort(axis=1, kind="stable")
     points = points.take(by_depth, per_row(points.valid, by_depth))
     # |p_i - p_j|^2 between the (at most four) points of each row, in B's world anchors
     dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
-    k = points.valid.shape[1]
+    k = points.valid.shape[1]  # at most SLOTS (select_fresh keeps no more)
     # near[r, i, j]: row r's valid point j comes before i (is deeper) and lies within radius
     near = (dist_sq < (radius * radius)[:, None, None]) & points.valid[:, None, :]
-    near &= np.tri(k, k, -1, dtype=bool)
+    near &= EARLIER[:k, :k]
     # greedy, deepest first: point i is kept unless a kept point before it is near. Only
     # the slots i with a near point in some row need the loop (in slot order, so every
     # kept[:, j < i] is final when i is decided); the others keep their valid flag
     kept = points.valid.copy()
-    for i in np.flatnonzero(near.any(axis=(0, 2))).tolist():
+    for i in near.any(axis=(0, 2)).nonzero()[0].tolist():
         kept[:, i] &= ~(kept & near[:, i]).any(axis=1)
     if in_front(kept):  # nothing dropped (or only the last points): already in order
         points.valid = kept
         return points
-    order = np.argsort(~kept, axis=1, kind="stable")
+    order = (~kept).argsort(axis=1, kind="stable")
     return points.take(order, per_row(kept, order))
 
 
@@ -282,7 +286,7 @@ def feature_length(thickness_a: float, thickness_b: float) -> float:
 
 def reduce_points(points: LocalPoints, frames: RowFrames, max_points, feature) -> LocalPoints:
     """Rows holding more than ``max_points``: keep the supporting polygon's points."""
-    over = np.flatnonzero(points.valid.sum(axis=1) > max_points)
+    over = (points.valid.sum(axis=1) > max_points).nonzero()[0]
     if len(over) == 0:
         return points
     # only the rows over their limit choose (each row on its own)
@@ -309,7 +313,8 @@ def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
 
 def tie_key(values: Any) -> Any:
     """``values`` rounded to multiples of ``TIE_QUANTUM``: equal keys are ties."""
-    return np.round(values / settings.TIE_QUANTUM)
+    # rint, halves to even, is what np.round(x) (0 decimals) calls, minus 3 Python calls
+    return np.rint(values / settings.TIE_QUANTUM)
 
 
 def masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
@@ -370,7 +375,7 @@ def select_support(
     if not (remaining > 0).any():  # every row has all its points: nothing to fill
         return chosen
     rest = np.where(valid & ~chosen, depth, -np.inf)
-    rank = np.argsort(-tie_key(rest), axis=1, kind="stable")
+    rank = (-tie_key(rest)).argsort(axis=1, kind="stable")
     take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(per_row(rest, rank))
     chosen[rows[:, None], rank] |= take
     return chosen
