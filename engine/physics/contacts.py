@@ -249,9 +249,11 @@ class ManifoldStore(MutableMapping):
         rot, pos = self.relative_poses(
             self.bodies[rows, 0], self.bodies[rows, 1], rotation, position
         )
+        shift, turn = pos - self.query_position[rows], rot - self.query_rotation[rows]
+        # |dx| and ||dR||_F written out: np.linalg.norm's own formula, without its checks
         moved_by = (
-            np.linalg.norm(pos - self.query_position[rows], axis=1)
-            + np.linalg.norm(rot - self.query_rotation[rows], axis=(1, 2)) * radius_b
+            np.sqrt((shift * shift).sum(axis=1))
+            + np.sqrt((turn * turn).sum(axis=(1, 2))) * radius_b
         )
         return self.query_valid[rows] & (moved_by < tolerance)
 

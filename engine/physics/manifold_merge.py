@@ -363,7 +363,9 @@ def select_support(
     chosen[rows, second] |= (count >= 2) & valid[rows, second]
     edge = points[rows, second] - p0
     # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
-    area = (cross(edge[:, None], points - p0[:, None]) * normal[:, None]).sum(axis=2) * scale
+    # (the edge repeated per slot: cross then needs no broadcast_arrays, 10 Python calls)
+    edges = edge[:, None].repeat(points.shape[1], axis=1)
+    area = (cross(edges, points - p0[:, None]) * normal[:, None]).sum(axis=2) * scale
     third = masked_argmax(np.abs(area), supporting)
     chosen[rows, third] |= (count >= 3) & valid[rows, third]
     # the fourth point lies on the other side of edge p0-p1 with the largest area
