@@ -401,18 +401,15 @@ def _merge_into_store(
 ) -> None:
     """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.merge_fresh`."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
-    rows, updated = [], []
-    for k, (key, row) in enumerate(zip(pairs, store.rows_of(pairs), strict=True)):
-        if row is None:
-            if not has_points[k]:
-                continue
-            row = add_manifold_row(bodies, store, key)
-        rows.append(row)
-        updated.append(k)
-    row_position = np.full(len(pairs), -1, dtype=np.int64)
-    row_position[updated] = np.arange(len(updated))  # pair position -> row position
-    fresh = FreshPoints(len(rows), row_position[pair_position], point_a, point_b, normal)
-    store.merge_fresh(np.array(rows, dtype=np.int64), rotation, bodies.body_position, fresh)
+    row_of_pair = np.array(store.rows_of(pairs, -1), dtype=np.int64)  # -1: no manifold yet
+    for k in ((row_of_pair < 0) & has_points).nonzero()[0].tolist():  # first touch
+        row_of_pair[k] = add_manifold_row(bodies, store, pairs[k])
+    # the manifolds to update: every pair with points, and the others' non-empty manifolds
+    # (an empty manifold without fresh points stays empty: skipping it changes nothing)
+    updated = (row_of_pair >= 0) & (has_points | (store.count[row_of_pair] > 0))  # -1: masked
+    row_position = np.cumsum(updated) - 1  # pair position -> row position (updated pairs)
+    fresh = FreshPoints(int(updated.sum()), row_position[pair_position], point_a, point_b, normal)
+    store.merge_fresh(row_of_pair[updated], rotation, bodies.body_position, fresh)
 
 
 def drop_stale_manifolds(

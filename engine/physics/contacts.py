@@ -38,14 +38,17 @@ reference path (:func:`reference_contacts.update_manifold`) makes the same choic
 from __future__ import annotations
 
 from collections.abc import Iterator, MutableMapping
+from itertools import repeat
 
 import numpy as np
 
 from . import settings
 from .manifold_merge import (
+    POINT_FIELDS,
     SLOTS,
     FreshPoints,
     LocalPoints,
+    RowFrames,
     combine,
     distinct_points,
     feature_length,
@@ -96,8 +99,11 @@ class ManifoldStore(MutableMapping):
 
     Arrays (``R`` rows of capacity, grown by doubling; freed rows are reused lowest first):
     ``bodies (R, 2)``, ``count (R,)`` points in use, ``max_points (R,)`` (1 for pairs with
-    a sphere: a rolling point must not persist), ``local_a, local_b, normal_local, impulse
-    (R, S, 3)``. Iteration follows insertion order, so solving order is deterministic.
+    a sphere: a rolling point must not persist), ``points (R, S, 4, 3)`` each slot's
+    ``local_a, local_b, normal_local, impulse`` (:data:`manifold_merge.POINT_FIELDS`), with
+    the views ``local_a, local_b, normal_local, impulse (R, S, 3)``: one array so that the
+    merge reads and writes all four with one NumPy call. Iteration follows insertion order,
+    so solving order is deterministic.
 
     Contact cache: ``query_rotation (R, 3, 3)`` and ``query_position (R, 3)`` hold B's pose
     in A's frame when the row's pair last went through the narrow phase, ``query_valid
@@ -111,7 +117,7 @@ class ManifoldStore(MutableMapping):
         self.count = np.zeros(0, dtype=np.int64)
         self.max_points = np.zeros(0, dtype=np.int64)
         self.feature = np.zeros(0)
-        self.local_a = self.local_b = self.normal_local = self.impulse = np.zeros((0, SLOTS, 3))
+        self.points = np.zeros((0, SLOTS, len(POINT_FIELDS), 3))
         self.query_rotation = np.zeros((0, 3, 3))
         self.query_position = np.zeros((0, 3))
         self.query_valid = np.zeros(0, dtype=bool)
@@ -124,10 +130,7 @@ class ManifoldStore(MutableMapping):
             "count",
             "max_points",
             "feature",
-            "local_a",
-            "local_b",
-            "normal_local",
-            "impulse",
+            "points",
             "query_rotation",
             "query_position",
             "query_valid",
@@ -137,6 +140,12 @@ class ManifoldStore(MutableMapping):
             grown[:old] = array
             setattr(self, name, grown)
         self._free = sorted(self._free + list(range(old, capacity)))
+
+    # the fields of every slot (R, S, 3): views of ``points``, so writing them writes it
+    local_a = property(lambda self: self.points[:, :, 0])
+    local_b = property(lambda self: self.points[:, :, 1])
+    normal_local = property(lambda self: self.points[:, :, 2])
+    impulse = property(lambda self: self.points[:, :, 3])
 
     # -- mapping protocol ------------------------------------------------------------------
     def __getitem__(self, key: tuple[int, int]) -> ManifoldView:
@@ -189,8 +198,8 @@ class ManifoldStore(MutableMapping):
 
     def rows_of(self, keys: list[tuple[int, int]], default: int | None = None) -> list:
         """:meth:`row` of every key of ``keys`` (one method call for a whole pair list)."""
-        get = self._rows.get
-        return [get(key, default) for key in keys]
+        # map runs dict.get in C: no Python loop over the (hundreds of) pairs of a step
+        return list(map(self._rows.get, keys, repeat(default, len(keys))))
 
     def rows(self) -> np.ndarray:
         """Rows of all manifolds, in insertion order."""
@@ -240,34 +249,29 @@ class ManifoldStore(MutableMapping):
         rot, pos = self.relative_poses(
             self.bodies[rows, 0], self.bodies[rows, 1], rotation, position
         )
+        shift, turn = pos - self.query_position[rows], rot - self.query_rotation[rows]
+        # |dx| and ||dR||_F written out: np.linalg.norm's own formula, without its checks
         moved_by = (
-            np.linalg.norm(pos - self.query_position[rows], axis=1)
-            + np.linalg.norm(rot - self.query_rotation[rows], axis=(1, 2)) * radius_b
+            np.sqrt((shift * shift).sum(axis=1))
+            + np.sqrt((turn * turn).sum(axis=(1, 2))) * radius_b
         )
         return self.query_valid[rows] & (moved_by < tolerance)
 
     def _clear_rows(self, rows: np.ndarray) -> None:
         self.count[rows] = 0
-        for array in (self.local_a, self.local_b, self.normal_local, self.impulse):
-            array[rows] = 0.0
+        self.points[rows] = 0.0
 
     def world_points(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray):
         """World anchors of A and B and world normals ``(r, S, 3)`` of ``rows``.
 
         ``rotation (n, 3, 3)`` and ``position (n, 3)`` are all bodies' poses.
         """
-        a, b = self.bodies[rows, 0], self.bodies[rows, 1]
-        return self._points(rows).world((rotation[a], position[a]), (rotation[b], position[b]))
+        frames = RowFrames.of_pairs(self.bodies[rows], rotation, position)
+        return self._points(rows).world(frames)
 
     def _points(self, rows: np.ndarray) -> LocalPoints:
         """The points of ``rows`` (copies), valid in their first ``count`` slots."""
-        return LocalPoints(
-            self.local_a[rows],
-            self.local_b[rows],
-            self.normal_local[rows],
-            self.impulse[rows],
-            np.arange(SLOTS) < self.count[rows, None],
-        )
+        return LocalPoints(self.points[rows], np.arange(SLOTS) < self.count[rows, None])
 
     # -- the per-step update ---------------------------------------------------------------
     def merge_fresh(
@@ -281,41 +285,33 @@ class ManifoldStore(MutableMapping):
         """
         if len(rows) == 0:
             return
-        a, b = self.bodies[rows, 0], self.bodies[rows, 1]
-        frame_a = (rotation[a], position[a])
-        frame_b = (rotation[b], position[b])
-        feature = self.feature[rows]
+        frames = RowFrames.of_pairs(self.bodies[rows], rotation, position)
+        feature, max_points = self.feature[rows], self.max_points[rows]
         every = self._points(rows)  # all cached points: their impulses for warm starting
-        cached = self._refreshed(every, frame_a, frame_b, feature)  # the ones still touching
-        max_points = self.max_points[rows]
-        points = select_fresh(fresh, cached, frame_b, max_points, feature)
+        cached = self._refreshed(every, frames, feature)  # the ones still touching
+        points = select_fresh(fresh, cached, frames, max_points, feature)
         points = distinct_points(points, feature)
-        local = to_local(points, frame_a, frame_b)
+        local = to_local(points, frames)
         used = inherit_impulses(local, every, max_points, feature)
         merged = combine(local, cached, used)
-        merged = reduce_points(merged, frame_a, frame_b, max_points, feature)
+        merged = reduce_points(merged, frames, max_points, feature)
         width = min(SLOTS, merged.valid.shape[1])
         if width < SLOTS:  # else every slot is written below
             self._clear_rows(rows)
-        valid = merged.valid[:, :width, None]
+        valid = merged.valid[:, :width, None, None]
         self.count[rows] = merged.valid.sum(axis=1)
-        for name in ("local_a", "local_b", "normal_local", "impulse"):  # empty slots stay 0
-            getattr(self, name)[rows, :width] = np.where(
-                valid, getattr(merged, name)[:, :width], 0.0
-            )
+        # all four fields of every slot in one write; empty slots stay 0
+        self.points[rows, :width] = np.where(valid, merged.data[:, :width], 0.0)
 
     @staticmethod
-    def _refreshed(cached: LocalPoints, frame_a, frame_b, feature) -> LocalPoints:
-        """The ``cached`` points still in contact (see step 1), flagged in place (slots
-        unmoved, so a slot of the result is the same point as in ``cached``)."""
-        point_a, point_b, normal = cached.world(frame_a, frame_b)
+    def _refreshed(cached: LocalPoints, frames: RowFrames, feature) -> LocalPoints:
+        """The ``cached`` points still in contact (see step 1), flagged (slots unmoved, so a
+        slot of the result is the same point as in ``cached``)."""
+        point_a, point_b, normal = cached.world(frames)
         gap = point_a - point_b
         depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
         drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
         keep = (depth > -settings.CONTACT_BREAKING_DISTANCE) & (
             drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2
         )
-        valid = cached.valid & keep
-        return LocalPoints(
-            cached.local_a, cached.local_b, cached.normal_local, cached.impulse, valid
-        )
+        return LocalPoints(cached.data, cached.valid & keep)

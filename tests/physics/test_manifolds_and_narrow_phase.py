@@ -32,6 +32,7 @@ from engine.physics.reference_contacts import (
 )
 
 IDENTITY = (np.eye(3), np.zeros(3))
+FIELDS = ("local_a", "local_b", "normal_local", "impulse")
 
 
 def tumbling_world(seconds: float):
@@ -187,6 +188,35 @@ def test_matched_points_inherit_impulses_and_separated_points_are_dropped():
     position[1] = [0.0, 1.5 * settings.CONTACT_BREAKING_DISTANCE, 0.0]
     store.merge_fresh(np.array([0]), rotation, position, fresh_points(np.zeros((0, 3))))
     assert store.count[0] == 0
+
+
+def test_two_fresh_points_near_one_cached_point_match_it_greedily_like_the_reference():
+    # cached points at x = 0 and x = 0.1; fresh points 1.2 cm either side of x = 0 (2.4 cm
+    # apart, both within the 2 cm match distance of it) and one 4 mm from the deepest (dropped
+    # as not distinct). The deepest fresh point takes the cached impulse; the other one,
+    # whose only candidate is taken, starts from zero. Batched and reference agree.
+    store, rotation, position = store_with_row()
+    store.merge_fresh(np.array([0]), rotation, position, fresh_points([[0.0, 0, 0], [0.1, 0, 0]]))
+    store.impulse[0, :2] = [[1.0, 0.1, 0.2], [2.0, 0.3, 0.4]]
+    cached = [
+        ManifoldPoint(*(getattr(store, name)[0, k].copy() for name in FIELDS)) for k in range(2)
+    ]
+    points_b = np.array([[-0.012, 0.0, 0.0], [0.012, 0.0, 0.0], [0.016, 0.0, 0.0]])
+    depth = np.array([0.001, 0.002, 0.0015])  # the point at +1.2 cm is the deepest
+    normal = np.tile([0.0, 1.0, 0.0], (3, 1))
+    point_a = points_b + depth[:, None] * normal
+    fresh = FreshPoints(1, np.zeros(3, dtype=np.int64), point_a, points_b, normal)
+    store.merge_fresh(np.array([0]), rotation, position, fresh)
+    contacts = [Contact(a, b, n) for a, b, n in zip(point_a, points_b, normal, strict=True)]
+    reference = update_manifold(cached, contacts, IDENTITY, IDENTITY, 4)
+    assert store.count[0] == len(reference) == 3
+    kept = zip(store.local_b[0, :3], store.impulse[0, :3], strict=True)
+    impulses = {round(p[0], 4): i.tolist() for p, i in kept}
+    assert impulses == {0.1: [2.0, 0.3, 0.4], 0.012: [1.0, 0.1, 0.2], -0.012: [0.0, 0.0, 0.0]}
+    for name in FIELDS:
+        np.testing.assert_array_equal(
+            getattr(store, name)[0, :3], [getattr(p, name) for p in reference]
+        )
 
 
 def test_reference_manifold_update_matches_store_on_the_same_history():
