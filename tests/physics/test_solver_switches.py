@@ -7,8 +7,13 @@ is covered by tests/physics/test_reference_path.py.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
+import pytest
 from helpers import add, make_world, register_primitive, run
+
+from engine.physics.solver import _restitution_rows
 
 BOX_HALF = 0.1
 
@@ -122,3 +127,22 @@ def test_block_jacobi_keeps_a_perfect_stack_perfect():
 
     assert lean(True) < 1e-9
     assert lean(False) > 1e-3
+
+
+def test_restitution_pass_never_pulls_a_point_already_separating_faster_than_its_bounce():
+    """One contact row, a 1 kg body B above a static A (normal +y, anchors at the centers):
+    B already separates at 3 m/s, its bounce target is only e |v_n0| = 0.5 * 2 = 1 m/s, and
+    the row holds 0.5 N s. The pass may take back at most those 0.5 N s (the accumulated
+    impulse stays >= 0: a contact pushes, never pulls), leaving 2.5 m/s."""
+    jac = np.zeros((1, 1, 12))
+    jac[0, 0, 1], jac[0, 0, 7] = -1.0, 1.0  # J = [-n, 0, n, 0]
+    w = np.zeros((1, 12, 1))
+    w[0, 7, 0] = 1.0  # W = M^-1 J^T: only B moves, inverse mass 1 / kg
+    block = SimpleNamespace(normal_jac=jac, normal_w=w, normal_mass=np.ones((1, 1, 1)))
+    vab = np.zeros((1, 12, 1))
+    vab[0, 7, 0] = 3.0
+    lam = np.full((1, 1, 1), 0.5)
+    goal = np.full((1, 1, 1), 0.5 * -2.0)  # e v_n0
+    _restitution_rows(block, vab, np.ones((1, 1, 1), dtype=bool), goal, lam)
+    assert lam[0, 0, 0] == 0.0
+    assert vab[0, 7, 0] == pytest.approx(2.5)
