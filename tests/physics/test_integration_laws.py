@@ -142,6 +142,11 @@ def test_asymmetric_box_flips_as_the_dzhanibekov_effect_predicts():
     # world angular momentum held fixed (the energy scaling moves it by ~1e-4 relative)
     l0 = inertia * w0  # the body starts at the identity rotation
     np.testing.assert_allclose(momentum, np.broadcast_to(l0, (300, 3)), atol=1e-3 * l0[1])
+    # the scaling only ever takes energy away: |L| never grows (a step that lost energy
+    # keeps its w = I_w^-1 L, it is not scaled back up)
+    size = np.linalg.norm(momentum, axis=1)
+    assert size[0] <= np.linalg.norm(l0) * (1.0 + 1e-12)
+    assert np.all(np.diff(size) <= 1e-12 * size[0])
 
     reference = _euler_reference(inertia, w0, times[-1])
     fine = np.linspace(0.0, times[-1], 200_001)
