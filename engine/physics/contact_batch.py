@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .quaternions import vector_length
 from .settings import (
     MAX_MANIFOLD_POINTS,
     PENETRATION_SLOP,
@@ -135,6 +136,12 @@ class ColorBlocks:
     blocks: list[RowBlock]
 
 
+def velocity_gather(pair_bodies: np.ndarray) -> np.ndarray:
+    """``(k, 12, 1)`` indices of [v_a, w_a, v_b, w_b] of the pairs ``pair_bodies (k, 2)`` into
+    the flattened ``(n * 6,)`` velocities: component c of body b is entry ``6 b + c``."""
+    return (6 * pair_bodies[:, :, None] + np.arange(6)).reshape(-1, 12, 1)
+
+
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
     # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
@@ -142,8 +149,7 @@ def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
     axis[..., 1] = 1.0 - axis[..., 0]
     t1 = cross3(normal, axis)
-    # |t1|: np.linalg.norm's own formula, without its Python argument handling
-    t1 /= np.maximum(np.sqrt(np.add.reduce(t1 * t1, axis=-1, keepdims=True)), TINY)
+    t1 /= np.maximum(vector_length(t1), TINY)
     return t1, cross3(normal, t1)
 
 

@@ -27,7 +27,7 @@ from engine.mn.vectors import stable_norm
 
 from . import settings
 from .bodies import DYNAMIC
-from .quaternions import quat_multiply, quat_to_matrix, rotation_quat
+from .quaternions import quat_multiply, quat_to_matrix, rotation_quat, vector_length
 
 if TYPE_CHECKING:
     from .bodies import Bodies
@@ -145,6 +145,5 @@ def integrate_positions(
 
 
 def _normalize(q: np.ndarray) -> np.ndarray:
-    """``q / |q|`` along the last axis (``np.linalg.norm``'s own formula for it, without
-    its Python-level argument handling)."""
-    return q / np.sqrt(np.add.reduce(q * q, axis=-1, keepdims=True))
+    """``q / |q|`` along the last axis."""
+    return q / vector_length(q)

@@ -71,6 +71,12 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return _outer(a, b) @ CROSS_TABLE
 
 
+def vector_length(v: np.ndarray) -> np.ndarray:
+    """``|v|`` over the last axis, kept as a length-1 axis: ``sqrt(v . v)``, the formula
+    ``np.linalg.norm`` uses, without its Python-level argument handling (a hot path)."""
+    return np.sqrt(np.add.reduce(v * v, axis=-1, keepdims=True))
+
+
 def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
     """Hamilton product ``q1 * q2`` of ``(..., 4)`` arrays [x, y, z, w]."""
     return _outer(q1, q2) @ PRODUCT_TABLE

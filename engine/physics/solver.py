@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .contact_batch import SLOTS, ColorBlocks, ContactBatch, RowBlock
+from .contact_batch import SLOTS, ColorBlocks, ContactBatch, RowBlock, velocity_gather
 from .settings import (
     DEEP_OVERLAP,
     MAX_CORRECTION_SPEED,
@@ -89,11 +89,9 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
         for color, (start, stop) in enumerate(batch.color_slices):
             s, used = slice(start, stop), batch.color_points[color]
             slots = [slice(0, used)] if block_jacobi else [slice(k, k + 1) for k in range(used)]
-            # flat index of component c of body b: 6 b + c
-            gather = 6 * batch.pair_bodies[s, :, None] + np.arange(6)
             colors.append(
                 ColorBlocks(
-                    gather.reshape(-1, 12, 1),
+                    velocity_gather(batch.pair_bodies[s]),
                     [_row_block(batch, scaled, s, rows) for rows in slots],
                 )
             )

@@ -23,14 +23,11 @@ bodies below, a stronger form of the same priority.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .contact_batch import ContactBatch, velocity_gather
 from .settings import TINY, SolverSettings
-
-if TYPE_CHECKING:
-    from .contact_batch import ContactBatch
 
 
 def stage_rows_last(batch, flat, bias, settings: SolverSettings) -> None:
@@ -138,8 +135,7 @@ def _sweep_blocks(batch, key: str, ranges, rows: LumpedRows) -> list[tuple]:
             if start == stop:
                 continue
             s = slice(start, stop)
-            # flat index of component c of body b: 6 b + c
-            gather = (6 * batch.pair_bodies[s, :, None] + np.arange(6)).reshape(-1, 12, 1)
+            gather = velocity_gather(batch.pair_bodies[s])
             blocks.append((s, gather, rows.jac[s], rows.w[s], rows.neg_mass[s]))
         batch.cache.sweeps[key] = blocks
     return batch.cache.sweeps[key]
