@@ -102,22 +102,23 @@ def _known_edge(seq: int, records: list, triangles, out) -> bool:
     if touched[0] < 0 or not set(touched) <= set(grid):
         return False
     first = grid.index(touched[0])
-    _add_fcl_points(out, seq, records, normals[first], -heights[first].min())
+    _add_fcl_points(out, seq, records, normals[first], heights[first])
     return True
 
 
 def _add_fcl_points(
-    out: ContactBatch, seq: int, records: list, normal: np.ndarray, plane_depth: float
+    out: ContactBatch, seq: int, records: list, normal: np.ndarray, heights: np.ndarray
 ) -> None:
     """fcl's midpoints of a stage job's probe records, all with ``normal (3,)`` (stage ->
-    body), their depths turned from the probe's into the shape's and at most
-    ``plane_depth``, how far the hull's deepest vertex is below that triangle's plane:
+    body) of one triangle, their depths turned from the probe's into the shape's and at
+    most how far the hull's deepest vertex is below that triangle's plane (``heights
+    (V,)``: the vertices' signed heights above it):
     no point of a convex hull is deeper below a plane than its deepest vertex, while fcl's
     depth of a probe against a single triangle can be the way out through the triangle
     (measured: up to 0.5 m for 0.2 m cubes on a floor, popping them up)."""
     mid, _, depths, _ = contact_arrays(records)
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
-    depths = np.minimum(depths, plane_depth)
+    depths = np.minimum(depths, -heights.min())
     out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths))
 
 
@@ -244,7 +245,7 @@ def _stage_group(
     if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
         return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
     for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
-        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], -height[k, 0].min())
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], height[k, 0])
     return []
 
 
