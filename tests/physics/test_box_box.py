@@ -230,3 +230,23 @@ def test_a_cube_overhanging_a_support_of_its_own_width_stays_put():
     np.testing.assert_allclose(position[[0, 2]], [0.3, 0.3], atol=1e-4)
     assert position[1] == pytest.approx(1.0, abs=settings.PENETRATION_SLOP)
     assert not cube.awake
+
+
+def test_coplanar_thin_plates_are_pushed_apart_along_plus_u_on_both_paths():
+    """Two 1 mm plates at the same height, overlapping 5 cm edge to edge: the least overlap
+    is their thickness, along y, where the centres coincide (``u . (c_b - c_a) = 0``). The
+    rule for that tie is ``n = +u`` (B pushed up), the same on the batched and the reference
+    path, with the full thickness as the depth."""
+    eye = np.eye(3)
+    half = np.array([0.1, 0.0005, 0.1])
+    point_a, point_b, normal, depth = _one([0, 0, 0], eye, half, [0.15, 0, 0], eye, half)
+    assert len(normal) > 0
+    np.testing.assert_allclose(normal, np.tile([0.0, 1.0, 0.0], (len(normal), 1)))
+    np.testing.assert_allclose(depth, 2 * half[1], atol=1e-12)
+    origin, beside = np.zeros(3), np.array([0.15, 0.0, 0.0])
+    expected = box_box_contacts_reference((origin, eye, half), (beside, eye, half))
+    assert len(expected) == len(normal)
+    for contact, a, b, n in zip(expected, point_a, point_b, normal, strict=True):
+        np.testing.assert_allclose(contact.normal, n, atol=1e-12)
+        np.testing.assert_allclose(contact.point_a, a, atol=1e-12)
+        np.testing.assert_allclose(contact.point_b, b, atol=1e-12)

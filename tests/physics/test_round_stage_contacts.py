@@ -60,3 +60,37 @@ def test_capsule_lying_across_a_ridge_rests_on_it(flip_winding):
     position = np.asarray(capsule.translation)
     assert position[1] == pytest.approx(RADIUS, abs=settings.PENETRATION_SLOP)
     assert abs(position[0]) < 0.01 and abs(position[2]) < 0.01
+
+
+PLATFORM_HEIGHT = 1.0  # a one-sided horizontal platform: the plane y = 1, x, z in [-2, 2]
+
+
+def platform_mesh() -> MeshData:
+    """Two triangles at y = PLATFORM_HEIGHT, wound counter-clockwise seen from above (their
+    winding normal is +y): a plane that does not pass through the origin."""
+    y, s = PLATFORM_HEIGHT, 2.0
+    vertices = np.array([[-s, y, -s], [-s, y, s], [s, y, s], [s, y, -s]], dtype=float)
+    return MeshData(vertices=vertices, faces=np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int64))
+
+
+@pytest.mark.parametrize("shape", ["sphere", "capsule"])
+def test_a_ball_thrown_up_under_a_one_sided_platform_bounces_off_its_underside(shape):
+    """A body wholly behind a one-sided stage triangle stays behind it (the first rule of
+    :func:`contact_helpers.new_contact_side`): thrown up at 3 m/s from y = 0.6 its apex would
+    be y = 0.6 + v^2 / (2 g) = 1.06 without the platform, but its top stops at the
+    underside, y = 1, so its centre never rises above 1 - r (slop allowed), and it falls."""
+    world, templates = make_world(floor=False)
+    world.set_stage([platform_mesh()], StageAttributes())
+    if shape == "sphere":
+        handle = register_primitive(templates, "icosphereSolid_subdivs_1", (RADIUS,) * 3)
+    else:  # lying flat: its lowest and highest points are r from its axis
+        handle = register_primitive(templates, LONG_CAPSULE, (0.1, 0.1, 0.1))
+    body = add(world, templates, handle, [0.0, 0.6, 0.0], linear_velocity=[0.0, 3.0, 0.0])
+    if shape == "capsule":
+        body.rotation = mn.Quaternion.rotation(mn.Rad(np.pi / 2), mn.Vector3(0, 0, 1))
+    heights = []
+    for _ in range(30):  # 0.5 s: up, stopped by the platform, falling again
+        world.step_physics(1.0 / 60.0)
+        heights.append(float(body.translation[1]))
+    assert max(heights) < PLATFORM_HEIGHT - RADIUS + settings.PENETRATION_SLOP
+    assert heights[-1] < heights[len(heights) // 2]  # falling at the end
