@@ -13,13 +13,13 @@ An impulse ``lambda`` along d changes the velocities by ``W lambda`` with ``W = 
 ``m_eff / n``, so its points can be solved together as one Jacobi block.
 
 The block normal solve (``SolverSettings.block_normal_sweeps``) also needs, per manifold, the
-matrix ``K = J_n M^-1 J_n^T`` of its touching points' normal rows and its pseudo-inverse
-``B = K^+`` (:func:`normal_blocks`): ``d_lambda = -B (J V + b)`` makes every touching
-point's ``v_n + b`` zero at once (the least-squares solution where K is singular, as for a
-box face's four coplanar points, whose K has rank 3). Eigenvalues below
-``BLOCK_SOLVE_CUTOFF`` times the largest are dropped, so a near-singular K never turns
-into huge impulses (Box2D ``b2_contact_solver.cpp`` solves its two-point block exactly and
-guards its condition number the same way).
+matrix ``K = J_n M^-1 J_n^T`` of its touching points' normal rows and a smooth
+pseudo-inverse ``B = (K + d I)^-1 K (K + d I)^-1`` (:func:`normal_blocks`):
+``d_lambda = -B (J V + b)`` makes every touching point's ``v_n + b`` zero at once. K is
+singular for a box face (four coplanar points: rank 3); ``d = BLOCK_REGULARIZATION`` times
+K's largest diagonal entry keeps the directions K barely sees from huge impulses (Box2D
+``b2_contact_solver.cpp`` solves its two-point block exactly and guards its condition
+number instead).
 
 :func:`build_batch` makes all rows of a step at once from padded per-manifold arrays
 (``S = 4`` point slots): the normal rows ``(m, S, 12)``, the tangent rows ``(m, 2S, 12)``,
@@ -38,7 +38,7 @@ import numpy as np
 
 from .quaternions import vector_length
 from .settings import (
-    BLOCK_SOLVE_CUTOFF,
+    BLOCK_REGULARIZATION,
     MAX_MANIFOLD_POINTS,
     PENETRATION_SLOP,
     SPLIT_TOUCH_DISTANCE,
@@ -68,7 +68,7 @@ class ContactBatch:
     per color, the first of its stage rows; ``lower (m, 2)`` the body nearer the stage (shock
     propagation, None: no shock pass); ``slop`` (m, 1) m, penetration left by the position
     solve. ``touching (m, S)`` the slots closer than ``SPLIT_TOUCH_DISTANCE`` (the points
-    mass splitting counts), ``normal_block (m, S, S)`` their ``B = K^+`` (zero rows and
+    mass splitting counts), ``normal_block (m, S, S)`` their ``B`` (zero rows and
     columns for the other slots; None: no block normal solve, :func:`normal_blocks`).
     ``cache``: the loop's per-batch views (:class:`SolverCache`, filled on first use).
     """
@@ -263,7 +263,7 @@ def build_batch(
 ) -> ContactBatch:
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays; with
     ``split_mass`` each point's effective mass is divided by its manifold's touching points;
-    with ``block_normal`` the batch carries each manifold's ``B = K^+`` (:func:`normal_blocks`).
+    with ``block_normal`` the batch carries each manifold's ``B`` (:func:`normal_blocks`).
 
     Reference: :func:`reference_solver.build_rows` (one point at a time).
     """
@@ -323,20 +323,22 @@ def build_batch(
 
 
 def normal_blocks(normal_jac: np.ndarray, normal_w: np.ndarray, touching: np.ndarray):
-    """``B (m, S, S)``: the pseudo-inverse of each manifold's ``K = J_n M^-1 J_n^T`` over its
-    ``touching (m, S)`` slots, zero in the rows and columns of the other slots.
+    """``B (m, S, S)``: a smooth pseudo-inverse ``(K + d I)^-1 K (K + d I)^-1`` of each
+    manifold's ``K = J_n M^-1 J_n^T`` over its ``touching (m, S)`` slots, zero in the rows
+    and columns of the other slots; ``d = eps s``, ``s`` K's largest touching diagonal entry
+    and ``eps`` ``BLOCK_REGULARIZATION``.
 
-    ``normal_w (m, S, 12)`` holds the rows of ``W = M^-1 J^T``. K is symmetrized; the
-    non-touching slots' diagonal is filled with the largest touching diagonal entry (no
-    larger than K's largest eigenvalue, so the relative cutoff ``BLOCK_SOLVE_CUTOFF`` sees
-    the touching block's own spectrum), inverted with it and masked out after.
-    Reference: :func:`reference_solver.normal_block`.
+    On an eigenvalue ``w`` of K, B is ``w / (w + d)^2``: ``1 / w`` where ``w >> d``, 0 on
+    K's null space (a box face: four coplanar points, rank 3) and never more than
+    ``1 / (4 d)`` in between, so a direction K barely sees gets no large impulse.
+    ``normal_w (m, S, 12)`` holds the rows of ``W = M^-1 J^T``. The other slots are filled
+    with ``s`` on the diagonal (one batched ``np.linalg.inv`` of the padded stack) and
+    masked out after. Reference: :func:`reference_solver.normal_block`.
     """
-    k = normal_jac @ normal_w.swapaxes(1, 2)
-    k = 0.5 * (k + k.swapaxes(1, 2))
-    both = touching[:, :, None] & touching[:, None, :]
-    diagonal = np.where(touching, np.diagonal(k, axis1=1, axis2=2), 0.0)
-    fill = np.where(touching, 0.0, np.maximum(diagonal.max(axis=1, keepdims=True), TINY))
-    filled = np.where(both, k, 0.0) + fill[:, :, None] * np.eye(SLOTS)
-    inverse = np.linalg.pinv(filled, rcond=BLOCK_SOLVE_CUTOFF, hermitian=True)
-    return np.where(both, inverse, 0.0)
+    k = np.where(
+        touching[:, :, None] & touching[:, None, :], normal_jac @ normal_w.swapaxes(1, 2), 0.0
+    )
+    scale = np.maximum(np.diagonal(k, axis1=1, axis2=2).max(axis=1), TINY)[:, None]  # s, (m, 1)
+    fill = np.where(touching, BLOCK_REGULARIZATION * scale, scale)  # d, or s where not touching
+    inverse = np.linalg.inv(k + fill[:, :, None] * np.eye(SLOTS))  # (K + d I)^-1
+    return inverse @ k @ inverse  # zero rows and columns where k has them

@@ -16,9 +16,10 @@ For a contact point with unit normal ``n`` (A -> B), anchors ``r_a = p - x_a``,
   ``v_b += P / m_b``, ``w_b += I_b^-1 (r_b x P)``.
 
 Per iteration, per graph color, per manifold: the normal rows (``dl = -m_n (v_n + b)``,
-accumulated impulse clamped ``>= 0``; in the first ``block_normal_sweeps`` the block solve
-``dl = -K^+ (v_n + b)`` of the touching points, ``K_ij = J_i M^-1 J_j^T``, kept when every
-accumulated impulse stays ``>= 0``, see :func:`normal_block`) then the friction rows
+accumulated impulse clamped ``>= 0``; in the first ``block_normal_sweeps`` the block
+solve ``dl = -B (v_n + b)`` of the touching points, ``B`` a smooth pseudo-inverse of their
+``K_ij = J_i M^-1 J_j^T``, kept when every accumulated impulse stays ``>= 0``, see
+:func:`normal_block`) then the friction rows
 (2-D tangent impulse clamped to the circle ``|lambda_t| <= mu lambda_n``). With
 ``block_jacobi`` all points of a manifold read the velocities from before their common
 update (a Jacobi block); otherwise one point after the other (Gauss-Seidel). Then the
@@ -42,7 +43,7 @@ from .reference_geometry import cross3, dot, rotate
 from .rolling_friction import ContactLoads
 from .settings import (
     BLOCK_FEASIBILITY_TOLERANCE,
-    BLOCK_SOLVE_CUTOFF,
+    BLOCK_REGULARIZATION,
     DEEP_OVERLAP,
     IMPACT_SPEED,
     MAX_CORRECTION_SPEED,
@@ -72,7 +73,8 @@ class ContactRow:
 @dataclass
 class NormalBlock:
     """The block normal solve of one manifold: the indices of its ``touching`` points and
-    ``inverse``, the pseudo-inverse of their ``K_ij = J_i M^-1 J_j^T`` (:func:`normal_block`)."""
+    ``inverse``, the smooth pseudo-inverse of their ``K_ij = J_i M^-1 J_j^T``
+    (:func:`normal_block`)."""
 
     touching: list
     inverse: np.ndarray
@@ -199,18 +201,21 @@ def build_rows(
 
 
 def normal_block(state: Bodies6, a: int, b: int, points: list) -> NormalBlock:
-    """The touching points (gap below ``SPLIT_TOUCH_DISTANCE``) of a manifold and the
-    pseudo-inverse of their ``K_ij = J_i M^-1 J_j^T`` (symmetrized), dropping eigenvalues
-    below ``BLOCK_SOLVE_CUTOFF`` times the largest: a box face's four coplanar points give a
-    K of rank 3, and the least-squares solution is the one wanted."""
+    """The touching points (gap below ``SPLIT_TOUCH_DISTANCE``) of a manifold and the smooth
+    pseudo-inverse ``(K + d I)^-1 K (K + d I)^-1`` of their ``K_ij = J_i M^-1 J_j^T``, with
+    ``d = eps s``, ``s`` the largest diagonal entry and ``eps`` ``BLOCK_REGULARIZATION``:
+    ``1 / w`` on an eigenvalue ``w >> d`` of K, 0 on its null space (a box face's four
+    coplanar points give a K of rank 3), at most ``1 / (4 d)`` in between."""
     touching = [i for i, p in enumerate(points) if p.depth > -SPLIT_TOUCH_DISTANCE]
     rows = [points[i] for i in touching]
     k = np.array(
         [[dot12(jacobian_row(p), mobility_row(state, a, b, q)) for q in rows] for p in rows]
     ).reshape(len(rows), len(rows))
-    k = 0.5 * (k + k.T)
-    inverse = np.linalg.pinv(k, rcond=BLOCK_SOLVE_CUTOFF, hermitian=True) if rows else k
-    return NormalBlock(touching, inverse)
+    if not rows:
+        return NormalBlock(touching, k)
+    d = BLOCK_REGULARIZATION * max(max(k[i, i] for i in range(len(rows))), TINY)
+    inverse = np.linalg.inv(k + d * np.eye(len(rows)))
+    return NormalBlock(touching, inverse @ k @ inverse)
 
 
 def solve_reference(
@@ -289,7 +294,7 @@ def _normal_impulses(
 ) -> None:
     """Normal rows: ``dl = -m_n (v_n + b)`` with the speculative bias ``b = max(-d, 0) / h``
     (a gap d < 0 may close by |d| / h this step); with ``block`` (a block sweep) and a
-    normal block the touching points take the block solve ``dl = -K^+ (v_n + b)`` instead
+    normal block the touching points take the block solve ``dl = -B (v_n + b)`` instead
     when no accumulated impulse falls below zero by more than round-off
     (:func:`_block_steps`); clamp, then apply together."""
     residual = [
@@ -311,7 +316,7 @@ def _normal_impulses(
 
 
 def _block_steps(m: ManifoldRows, residual: list, steps: list) -> list:
-    """The block solve ``dl_i = -sum_j K^+_ij (v_n + b)_j`` over the touching points, taken
+    """The block solve ``dl_i = -sum_j B_ij (v_n + b)_j`` over the touching points, taken
     (for them; the others keep their Jacobi ``steps``) when every touching point keeps
     ``lambda + dl >= -BLOCK_FEASIBILITY_TOLERANCE lambda`` (the accumulated impulse stays
     non-negative but for round-off); else the Jacobi ``steps`` unchanged."""

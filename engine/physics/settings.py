@@ -54,8 +54,8 @@ class SolverSettings:
     block_normal_sweeps : int
         With ``block_jacobi`` and ``accumulate_impulses``: the first this many velocity
         sweeps of a step (0: none) try a block solve of a manifold's touching normal rows,
-        ``K d_lambda = -(J V + b)`` with ``K = J M^-1 J^T`` (pseudo-inverse,
-        ``BLOCK_SOLVE_CUTOFF``), and keep it only
+        ``K d_lambda = -(J V + b)`` with ``K = J M^-1 J^T`` (a smooth pseudo-inverse,
+        ``BLOCK_REGULARIZATION``), and keep it only
         where every accumulated normal impulse stays ``>= 0`` (Box2D's block solver, its
         all-points-active case); elsewhere, and in the later sweeps, the mass-split Jacobi
         update.
@@ -122,12 +122,12 @@ FEATURE_LENGTH_FRACTION = 0.25
 #: (Baumgarte factor; Bullet's default ERP).
 CONSTRAINT_BAUMGARTE = 0.2
 #: 1, the block normal solve (``SolverSettings.block_normal_sweeps``) inverts a manifold's
-#: ``K = J M^-1 J^T`` only on eigenvalues above this fraction of its largest; the rest get
-#: no impulse (a least-squares solve): a box face's four coplanar points make K rank 3 (its
-#: eigenvalues 6, 6, 4 and 0 for a cube), and points close together (a rocking mode of
-#: stiffness ~ (their distance / the body's size)^2) act as one. 1e-3 let column-100's pile
-#: stay lively about a second longer (one seed measured; 0.1 and 1e-2 settled like Jacobi).
-BLOCK_SOLVE_CUTOFF = 1e-3
+#: ``K = J M^-1 J^T`` as ``(K + d I)^-1 K (K + d I)^-1``, ``d`` this times K's largest
+#: diagonal entry: ``1 / w`` on an eigenvalue ``w >> d``, 0 on K's null space (a box
+#: face's four coplanar points: rank 3, eigenvalues 6, 6, 4 and 0 for a cube in units of
+#: 1/m) and small on directions K barely sees (never a huge impulse). A face's common mode
+#: is solved to 0.2 %; the Jacobi sweeps after the block sweep take up the rest.
+BLOCK_REGULARIZATION = 1e-3
 #: 1, the block normal solve is kept while every accumulated normal impulse stays above
 #: ``-BLOCK_FEASIBILITY_TOLERANCE`` times its value before the update (round-off: a warm
 #: start taken back whole ends at 0 give or take a few ulps), then clamped to ``>= 0``.

@@ -31,13 +31,14 @@ Block normal solve (``SolverSettings.block_normal_sweeps``, Box2D's block solver
 ``b2_contact_solver.cpp``, its all-points-active case): mass splitting removes only
 ``1/n`` of a manifold's common residual per sweep (a box face's four points: a quarter,
 ``(3/4)^10`` = 5.6 % left after ten sweeps), which left a zero-gravity cube a warm-started
-upward speed after an inelastic impact. So each sweep also computes the exact solution of
-the touching points' normal rows, ``d_lambda = -B (J V + b)`` with ``B = K^+`` (made once
-per step by :func:`contact_batch.normal_blocks`), and takes it for a manifold only where
-every accumulated ``lambda + d_lambda`` stays ``>= 0`` (there complementarity holds
-exactly: every touching point ends with ``v_n + b = 0`` and ``lambda >= 0``); elsewhere
-the mass-split Jacobi update, so a sweep is never worse than without it. Both candidates
-come from one stacked matmul (``[-m_eff J; -B J] V``).
+upward speed after an inelastic impact. So the first sweep of a step computes the solution
+of the touching points' normal rows, ``d_lambda = -B (J V + b)`` with ``B`` a smooth
+pseudo-inverse of ``K = J M^-1 J^T`` (made once per step by :func:`contact_batch.normal_blocks`),
+and takes it for a manifold only where every accumulated ``lambda + d_lambda`` stays
+``>= 0`` (there complementarity holds: every touching point ends with ``v_n + b = 0`` and
+``lambda >= 0``); elsewhere, and in the later sweeps, the mass-split Jacobi update, so a
+sweep is never worse than without it. Both candidates come from one stacked matmul
+(``[-m_eff J; -B J] V``).
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
 pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
