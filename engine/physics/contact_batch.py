@@ -12,6 +12,15 @@ An impulse ``lambda`` along d changes the velocities by ``W lambda`` with ``W = 
 (Tonge et al. 2012) each of a manifold's ``n`` touching points sees ``n x`` the inverse mass,
 ``m_eff / n``, so its points can be solved together as one Jacobi block.
 
+The block normal solve (``SolverSettings.block_normal_sweeps``) also needs, per manifold, the
+matrix ``K = J_n M^-1 J_n^T`` of its touching points' normal rows and a smooth
+pseudo-inverse ``B = (K + d I)^-1 K (K + d I)^-1`` (:func:`normal_blocks`):
+``d_lambda = -B (J V + b)`` makes every touching point's ``v_n + b`` zero at once. K is
+singular for a box face (four coplanar points: rank 3); ``d = BLOCK_REGULARIZATION`` times
+K's largest diagonal entry keeps the directions K barely sees from huge impulses (Box2D
+``b2_contact_solver.cpp`` solves its two-point block exactly and guards its condition
+number instead).
+
 :func:`build_batch` makes all rows of a step at once from padded per-manifold arrays
 (``S = 4`` point slots): the normal rows ``(m, S, 12)``, the tangent rows ``(m, 2S, 12)``,
 their ``W`` and effective masses, depths, the approach speeds ``J V`` before the solve
@@ -29,6 +38,7 @@ import numpy as np
 
 from .quaternions import vector_length
 from .settings import (
+    BLOCK_REGULARIZATION,
     MAX_MANIFOLD_POINTS,
     PENETRATION_SLOP,
     SPLIT_TOUCH_DISTANCE,
@@ -57,7 +67,10 @@ class ContactBatch:
     point; ``split (m, 1)`` the mass-splitting count of each manifold; ``priority_starts``
     per color, the first of its stage rows; ``lower (m, 2)`` the body nearer the stage (shock
     propagation, None: no shock pass); ``slop`` (m, 1) m, penetration left by the position
-    solve. ``cache``: the loop's per-batch views (:class:`SolverCache`, filled on first use).
+    solve. ``touching (m, S)`` the slots closer than ``SPLIT_TOUCH_DISTANCE`` (the points
+    mass splitting counts), ``normal_block (m, S, S)`` their ``B`` (zero rows and
+    columns for the other slots; None: no block normal solve, :func:`normal_blocks`).
+    ``cache``: the loop's per-batch views (:class:`SolverCache`, filled on first use).
     """
 
     body_a: np.ndarray
@@ -81,6 +94,8 @@ class ContactBatch:
     priority_starts: list = field(default_factory=list)
     lower: np.ndarray | None = None
     slop: np.ndarray | float = PENETRATION_SLOP
+    touching: np.ndarray | None = None
+    normal_block: np.ndarray | None = None
     cache: SolverCache = field(default_factory=lambda: SolverCache())
 
 
@@ -109,7 +124,9 @@ class RowBlock:
     ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
     are views (or small copies) made once per batch, not per iteration, so the inner loop
     only does algebra. The effective masses are folded into the Jacobians: one matmul gives
-    the ``-m_eff J V`` part of ``d_lambda = -m_eff (J V + b)``. Shapes:
+    the ``-m_eff J V`` part of ``d_lambda = -m_eff (J V + b)``. With the block normal solve,
+    ``stacked_normal_jac (k, 2r, 12)`` is ``[-m_eff J; -B J]`` (both candidate updates in one
+    matmul) and ``touching (k, r, 1)`` the slots the block solves (None without). Shapes:
     ``scaled_normal_jac (k, r, 12)`` (``-m_eff J``), ``normal_jac`` (``J``, for the one
     restitution pass), ``normal_w (k, 12, r)``, ``normal_mass (k, r, 1)`` (``m_eff``),
     ``friction (k, 1, 1)`` (``mu``), ``scaled_tangent_jac (k, 2r, 12)``, ``tangent_w (k, 12,
@@ -125,6 +142,8 @@ class RowBlock:
     friction: np.ndarray
     scaled_tangent_jac: np.ndarray
     tangent_w: np.ndarray
+    stacked_normal_jac: np.ndarray | None = None
+    touching: np.ndarray | None = None
 
 
 @dataclass
@@ -240,9 +259,11 @@ def build_batch(
     pairs: PairCoefficients,
     order: ColorOrder,
     split_mass: bool = False,
+    block_normal: bool = False,
 ) -> ContactBatch:
     """Assemble a :class:`ContactBatch` from padded per-manifold contact arrays; with
-    ``split_mass`` each point's effective mass is divided by its manifold's touching points.
+    ``split_mass`` each point's effective mass is divided by its manifold's touching points;
+    with ``block_normal`` the batch carries each manifold's ``B`` (:func:`normal_blocks`).
 
     Reference: :func:`reference_solver.build_rows` (one point at a time).
     """
@@ -296,4 +317,28 @@ def build_batch(
         else list(order.priority_starts),
         order.lower,
         PENETRATION_SLOP if pairs.slop is None else pairs.slop[:, None],
+        touching,
+        normal_blocks(normal_jac, normal_w, touching) if block_normal else None,
     )
+
+
+def normal_blocks(normal_jac: np.ndarray, normal_w: np.ndarray, touching: np.ndarray):
+    """``B (m, S, S)``: a smooth pseudo-inverse ``(K + d I)^-1 K (K + d I)^-1`` of each
+    manifold's ``K = J_n M^-1 J_n^T`` over its ``touching (m, S)`` slots, zero in the rows
+    and columns of the other slots; ``d = eps s``, ``s`` K's largest touching diagonal entry
+    and ``eps`` ``BLOCK_REGULARIZATION``.
+
+    On an eigenvalue ``w`` of K, B is ``w / (w + d)^2``: ``1 / w`` where ``w >> d``, 0 on
+    K's null space (a box face: four coplanar points, rank 3) and never more than
+    ``1 / (4 d)`` in between, so a direction K barely sees gets no large impulse.
+    ``normal_w (m, S, 12)`` holds the rows of ``W = M^-1 J^T``. The other slots are filled
+    with ``s`` on the diagonal (one batched ``np.linalg.inv`` of the padded stack) and
+    masked out after. Reference: :func:`reference_solver.normal_block`.
+    """
+    k = np.where(
+        touching[:, :, None] & touching[:, None, :], normal_jac @ normal_w.swapaxes(1, 2), 0.0
+    )
+    scale = np.maximum(np.diagonal(k, axis1=1, axis2=2).max(axis=1), TINY)[:, None]  # s, (m, 1)
+    fill = np.where(touching, BLOCK_REGULARIZATION * scale, scale)  # d, or s where not touching
+    inverse = np.linalg.inv(k + fill[:, :, None] * np.eye(SLOTS))  # (K + d I)^-1
+    return inverse @ k @ inverse  # zero rows and columns where k has them

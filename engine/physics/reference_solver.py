@@ -16,14 +16,18 @@ For a contact point with unit normal ``n`` (A -> B), anchors ``r_a = p - x_a``,
   ``v_b += P / m_b``, ``w_b += I_b^-1 (r_b x P)``.
 
 Per iteration, per graph color, per manifold: the normal rows (``dl = -m_n (v_n + b)``,
-accumulated impulse clamped ``>= 0``) then the friction rows (2-D tangent impulse clamped to
-the circle ``|lambda_t| <= mu lambda_n``). With ``block_jacobi`` all points of a manifold
-read the velocities from before their common update (a Jacobi block); otherwise one point
-after the other (Gauss-Seidel). Then the restitution pass and the stage's last word
-(:func:`stage_rows_last`: lumped push-only rows of the contacts with unmoved bodies, then
-shock propagation), and the split-impulse position solve on pseudo velocities, which also
-ends with the stage's last word. The batched :func:`solver.solve_contacts` must agree with
-:func:`solve_reference` to rounding (tested).
+accumulated impulse clamped ``>= 0``; in the first ``block_normal_sweeps`` the block
+solve ``dl = -B (v_n + b)`` of the touching points, ``B`` a smooth pseudo-inverse of their
+``K_ij = J_i M^-1 J_j^T``, kept when every accumulated impulse stays ``>= 0``, see
+:func:`normal_block`) then the friction rows
+(2-D tangent impulse clamped to the circle ``|lambda_t| <= mu lambda_n``). With
+``block_jacobi`` all points of a manifold read the velocities from before their common
+update (a Jacobi block); otherwise one point after the other (Gauss-Seidel). Then the
+restitution pass and the stage's last word (:func:`stage_rows_last`: lumped push-only rows
+of the contacts with unmoved bodies, then shock propagation), and the split-impulse
+position solve on pseudo velocities, which also ends with the stage's last word. The
+batched :func:`solver.solve_contacts` must agree with :func:`solve_reference` to rounding
+(tested).
 """
 
 from __future__ import annotations
@@ -38,6 +42,8 @@ from .quaternions import quat_to_matrix
 from .reference_geometry import cross3, dot, rotate
 from .rolling_friction import ContactLoads
 from .settings import (
+    BLOCK_FEASIBILITY_TOLERANCE,
+    BLOCK_REGULARIZATION,
     DEEP_OVERLAP,
     IMPACT_SPEED,
     MAX_CORRECTION_SPEED,
@@ -65,14 +71,26 @@ class ContactRow:
 
 
 @dataclass
+class NormalBlock:
+    """The block normal solve of one manifold: the indices of its ``touching`` points and
+    ``inverse``, the smooth pseudo-inverse of their ``K_ij = J_i M^-1 J_j^T``
+    (:func:`normal_block`)."""
+
+    touching: list
+    inverse: np.ndarray
+
+
+@dataclass
 class ManifoldRows:
-    """The contact rows of one manifold and its pair coefficients."""
+    """The contact rows of one manifold and its pair coefficients; ``block`` its normal
+    block (None: Jacobi rows only)."""
 
     body_a: int
     body_b: int
     friction: float
     restitution: float
     points: list
+    block: NormalBlock | None = None
 
 
 class Bodies6:
@@ -164,6 +182,11 @@ def build_rows(
         for p in points:
             p.masses = [effective_mass(state, a, b, p.r_a, p.r_b, d, n_split) for d in p.directions]
             p.approach_speed = dot(approach.relative_velocity(a, b, p), p.directions[0])
+        block = (
+            settings.block_normal_sweeps > 0
+            and settings.block_jacobi
+            and settings.accumulate_impulses
+        )
         manifolds.append(
             ManifoldRows(
                 a,
@@ -171,9 +194,28 @@ def build_rows(
                 bodies.body_friction[a] * bodies.body_friction[b],
                 bodies.body_restitution[a] * bodies.body_restitution[b],
                 points,
+                normal_block(state, a, b, points) if block else None,
             )
         )
     return manifolds
+
+
+def normal_block(state: Bodies6, a: int, b: int, points: list) -> NormalBlock:
+    """The touching points (gap below ``SPLIT_TOUCH_DISTANCE``) of a manifold and the smooth
+    pseudo-inverse ``(K + d I)^-1 K (K + d I)^-1`` of their ``K_ij = J_i M^-1 J_j^T``, with
+    ``d = eps s``, ``s`` the largest diagonal entry and ``eps`` ``BLOCK_REGULARIZATION``:
+    ``1 / w`` on an eigenvalue ``w >> d`` of K, 0 on its null space (a box face's four
+    coplanar points give a K of rank 3), at most ``1 / (4 d)`` in between."""
+    touching = [i for i, p in enumerate(points) if p.depth > -SPLIT_TOUCH_DISTANCE]
+    rows = [points[i] for i in touching]
+    k = np.array(
+        [[dot12(jacobian_row(p), mobility_row(state, a, b, q)) for q in rows] for p in rows]
+    ).reshape(len(rows), len(rows))
+    if not rows:
+        return NormalBlock(touching, k)
+    d = BLOCK_REGULARIZATION * max(max(k[i, i] for i in range(len(rows))), TINY)
+    inverse = np.linalg.inv(k + d * np.eye(len(rows)))
+    return NormalBlock(touching, inverse @ k @ inverse)
 
 
 def solve_reference(
@@ -200,10 +242,11 @@ def solve_reference(
                     sum(lam * d for lam, d in zip(p.impulse, p.directions, strict=True)),
                 )
     groups = _slot_groups(settings.block_jacobi)
-    for _ in range(settings.velocity_iterations):
+    for sweep in range(settings.velocity_iterations):
+        block = sweep < settings.block_normal_sweeps
         for m in manifolds:
             for group in groups(m):
-                _normal_impulses(state, m, group, h, settings.accumulate_impulses)
+                _normal_impulses(state, m, group, h, settings.accumulate_impulses, block)
                 _friction_impulses(state, m, group, settings.accumulate_impulses)
     for m in manifolds:
         for group in groups(m):
@@ -247,22 +290,51 @@ def _slot_groups(block_jacobi: bool):
 
 
 def _normal_impulses(
-    state: Bodies6, m: ManifoldRows, group: list, h: float, accumulate: bool
+    state: Bodies6, m: ManifoldRows, group: list, h: float, accumulate: bool, block: bool
 ) -> None:
     """Normal rows: ``dl = -m_n (v_n + b)`` with the speculative bias ``b = max(-d, 0) / h``
-    (a gap d < 0 may close by |d| / h this step); clamp, then apply together."""
-    steps = []
-    for p in group:
-        vn = dot(state.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
-        step = -p.masses[0] * (vn + max(-p.depth, 0.0) / h)
+    (a gap d < 0 may close by |d| / h this step); with ``block`` (a block sweep) and a
+    normal block the touching points take the block solve ``dl = -B (v_n + b)`` instead
+    when no accumulated impulse falls below zero by more than round-off
+    (:func:`_block_steps`); clamp, then apply together."""
+    residual = [
+        dot(state.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
+        + max(-p.depth, 0.0) / h
+        for p in group
+    ]
+    steps = [-p.masses[0] * r for p, r in zip(group, residual, strict=True)]
+    if block and m.block is not None:  # block_jacobi: the group is all of m.points
+        steps = _block_steps(m, residual, steps)
+    for k, p in enumerate(group):
         if accumulate:  # clamp the accumulated impulse: lambda + dl >= 0
-            step = max(step, -p.impulse[0])
+            steps[k] = max(steps[k], -p.impulse[0])
         else:  # clamp each increment (box2d-lite's toggle)
-            step = max(step, 0.0)
-        p.impulse[0] += step
-        steps.append(step)
+            steps[k] = max(steps[k], 0.0)
+        p.impulse[0] += steps[k]
     for p, step in zip(group, steps, strict=True):
         state.apply(m.body_a, m.body_b, p, step * p.directions[0])
+
+
+def _block_steps(m: ManifoldRows, residual: list, steps: list) -> list:
+    """The block solve ``dl_i = -sum_j B_ij (v_n + b)_j`` over the touching points, taken
+    (for them; the others keep their Jacobi ``steps``) when every touching point keeps
+    ``lambda + dl >= -BLOCK_FEASIBILITY_TOLERANCE lambda`` (the accumulated impulse stays
+    non-negative but for round-off); else the Jacobi ``steps`` unchanged."""
+    assert m.block is not None
+    touching, inverse = m.block.touching, m.block.inverse
+    exact = [
+        -sum(inverse[row][col] * residual[j] for col, j in enumerate(touching))
+        for row in range(len(touching))
+    ]
+    floor = 1.0 + BLOCK_FEASIBILITY_TOLERANCE
+    if not all(
+        step >= -floor * m.points[i].impulse[0] for i, step in zip(touching, exact, strict=True)
+    ):
+        return steps
+    merged = list(steps)
+    for i, step in zip(touching, exact, strict=True):
+        merged[i] = step
+    return merged
 
 
 def _friction_impulses(state: Bodies6, m: ManifoldRows, group: list, accumulate: bool) -> None:

@@ -208,6 +208,9 @@ def _solve_batched(
         PairCoefficients(friction, restitution, store.impulse[rows], problem.slop),
         ColorOrder(problem.color_slices, problem.priority_starts, problem.lower),
         split_mass=settings.block_jacobi,
+        block_normal=settings.block_normal_sweeps > 0
+        and settings.block_jacobi
+        and settings.accumulate_impulses,
     )
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
     loads = None

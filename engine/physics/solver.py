@@ -20,11 +20,25 @@ The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the i
 is kept to few calls: each color's :class:`RowBlock` views are made once per batch, the
 effective masses are folded into the Jacobians (``-m_eff J``: one matmul gives the
 ``-m_eff J V`` part of ``d_lambda``) and body velocities are gathered with one flat index.
-About 22 calls per color and sweep, 13 us at the least (four stacked matmuls cost ~50 ns per
+About 27 calls per color and sweep (22 without the block normal solve, whose normal update
+takes 12 calls instead of 7), 13 us at the least (the stacked matmuls cost ~50 ns per
 manifold each): the solve's floor is colors x iterations, not the array sizes. The
 accumulated impulses are kept with their own sign (``lambda >= 0``), as the formulas read;
 a version that kept ``-lambda`` to save one negation per color and sweep had no measurable
 gain and was reverted.
+
+Block normal solve (``SolverSettings.block_normal_sweeps``, Box2D's block solver
+``b2_contact_solver.cpp``, its all-points-active case): mass splitting removes only
+``1/n`` of a manifold's common residual per sweep (a box face's four points: a quarter,
+``(3/4)^10`` = 5.6 % left after ten sweeps), which left a zero-gravity cube a warm-started
+upward speed after an inelastic impact. So the first sweep of a step computes the solution
+of the touching points' normal rows, ``d_lambda = -B (J V + b)`` with ``B`` a smooth
+pseudo-inverse of ``K = J M^-1 J^T`` (made once per step by :func:`contact_batch.normal_blocks`),
+and takes it for a manifold only where every accumulated ``lambda + d_lambda`` stays
+``>= 0`` (there complementarity holds: every touching point ends with ``v_n + b = 0`` and
+``lambda >= 0``); elsewhere, and in the later sweeps, the mass-split Jacobi update, so a
+sweep is never worse than without it. Both candidates come from one stacked matmul
+(``[-m_eff J; -B J] V``).
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
 pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
@@ -51,6 +65,7 @@ import numpy as np
 
 from .contact_batch import SLOTS, ColorBlocks, ContactBatch, RowBlock, velocity_gather
 from .settings import (
+    BLOCK_FEASIBILITY_TOLERANCE,
     DEEP_OVERLAP,
     MAX_CORRECTION_SPEED,
     OVERLAP_BAUMGARTE,
@@ -60,6 +75,9 @@ from .settings import (
     SolverSettings,
 )
 from .stage_priority import stage_rows_last
+
+#: the block solve's bound on ``d_lambda``: ``-lambda`` less the round-off tolerance
+FEASIBLE_FLOOR = 1.0 + BLOCK_FEASIBILITY_TOLERANCE
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
@@ -84,6 +102,7 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
         scaled = (
             -batch.normal_mass[..., None] * batch.normal_jac,  # -m_n J_n, (m, S, 12)
             -batch.tangent_mass[..., None] * batch.tangent_jac,  # -m_t J_t, (m, 2S, 12)
+            None if batch.normal_block is None else -batch.normal_block @ batch.normal_jac,
         )
         colors = []
         for color, (start, stop) in enumerate(batch.color_slices):
@@ -105,8 +124,13 @@ def _color_blocks(batch: ContactBatch, block_jacobi: bool) -> list[ColorBlocks]:
 
 def _row_block(batch: ContactBatch, scaled, s: slice, rows: slice) -> RowBlock:
     """Views of the manifolds ``s``, point slots ``rows`` and their tangent rows;
-    ``scaled`` holds the batch's ``-m_eff J`` of the normal and of the tangent rows."""
+    ``scaled`` holds the batch's ``-m_eff J`` of the normal and of the tangent rows and
+    ``-B J`` of the block normal solve (None: no block solve)."""
     t_rows = slice(2 * rows.start, 2 * rows.stop)
+    stacked = touching = None
+    if scaled[2] is not None and batch.touching is not None:
+        stacked = np.concatenate([scaled[0][s, rows], scaled[2][s, rows]], axis=1)
+        touching = batch.touching[s, rows][..., None]
     return RowBlock(
         (s, rows),
         (s, t_rows),
@@ -117,6 +141,8 @@ def _row_block(batch: ContactBatch, scaled, s: slice, rows: slice) -> RowBlock:
         batch.friction[s][:, :, None],
         scaled[1][s, t_rows],
         batch.tangent_w[s, :, t_rows],
+        stacked,
+        touching,
     )
 
 
@@ -140,6 +166,29 @@ def _normal_rows(block, vab, mass_bias, lam, accumulate):
     d_lambda -= mass_bias  # d_lambda = -m_eff (J V + b)
     # clamp: the accumulated lam + d_lambda stays >= 0 (or each increment: box2d-lite)
     np.maximum(d_lambda, -lam if accumulate else 0.0, out=d_lambda)
+    lam += d_lambda
+    vab += block.normal_w @ d_lambda  # V += W d_lambda
+
+
+def _block_normal_rows(block, vab, stacked_bias, lam):
+    """The block normal solve of a block, or its mass-split Jacobi update where the block
+    solution would make an accumulated impulse negative; updates ``vab`` and ``lam (k, r,
+    1)`` in place. ``stacked_bias (k, 2r, 1)`` is ``[m_eff b; B b]`` (accumulated impulses
+    only: the block solve clamps them).
+
+    "Negative" allows round-off: a warm start that the block takes back whole (a body
+    stopped last step and now free) lands on ``lambda + d_lambda = 0`` give or take a few
+    ulps, so the test is ``d_lambda >= -(1 + BLOCK_FEASIBILITY_TOLERANCE) lambda`` and the
+    accepted step is then clamped to ``lambda + d_lambda >= 0`` like the Jacobi one."""
+    both = block.stacked_normal_jac @ vab  # [-m_eff J V; -B J V], (k, 2r, 1)
+    both -= stacked_bias  # [-m_eff (J V + b); -B (J V + b)]
+    rows = lam.shape[1]
+    jacobi, exact = both[:, :rows], both[:, rows:]  # views
+    floor = -lam  # d_lambda >= -lam keeps the accumulated lam + d_lambda >= 0
+    feasible = (exact >= floor * FEASIBLE_FLOOR).all(axis=1, keepdims=True)  # (k, 1, 1)
+    # the block's rows of non-touching slots are zero: they always take the Jacobi update
+    d_lambda = np.where(feasible & block.touching, exact, jacobi)
+    np.maximum(d_lambda, floor, out=d_lambda)
     lam += d_lambda
     vab += block.normal_w @ d_lambda  # V += W d_lambda
 
@@ -178,11 +227,13 @@ def solve_velocities(
     lam_n = batch.impulse[..., :1].copy()  # (m, S, 1) accumulated normal impulses
     lam_t = batch.impulse[..., 1:].reshape(len(lam_n), 2 * SLOTS, 1)  # (m, 2S, 1) copy
     colors = _color_blocks(batch, settings.block_jacobi)
+    stacked_bias = _stacked_bias(batch, bias, mass_bias)
     work = [
         [
             (
                 block,
                 mass_bias[block.normal_index],
+                stacked_bias(block),
                 lam_n[block.normal_index],
                 lam_t[block.tangent_index],
             )
@@ -191,11 +242,15 @@ def solve_velocities(
         for color in colors
     ]
     accumulate = settings.accumulate_impulses
-    for _ in range(settings.velocity_iterations):
+    block_sweeps = settings.block_normal_sweeps if batch.normal_block is not None else 0
+    for sweep in range(settings.velocity_iterations):
         for color, blocks in zip(colors, work, strict=True):
             vab = _gather(flat, color)
-            for block, b, ln, lt in blocks:
-                _normal_rows(block, vab, b, ln, accumulate)
+            for block, b, stacked, ln, lt in blocks:
+                if sweep < block_sweeps:
+                    _block_normal_rows(block, vab, stacked, ln)
+                else:
+                    _normal_rows(block, vab, b, ln, accumulate)
                 _friction_rows(block, vab, ln, lt, accumulate)
             _scatter(flat, color, vab)
     _restitution(batch, flat, colors, lam_n)
@@ -203,6 +258,20 @@ def solve_velocities(
     batch.impulse[..., :1] = lam_n
     batch.impulse[..., 1:] = lam_t.reshape(-1, SLOTS, 2)
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
+
+
+def _stacked_bias(batch: ContactBatch, bias: np.ndarray, mass_bias: np.ndarray):
+    """Each block's bias term of the block normal solve, ``[m_eff b; B b] (k, 2r, 1)``
+    (None for every block when the batch has no normal blocks)."""
+    if batch.normal_block is None:
+        return lambda block: None
+    block_bias = batch.normal_block @ bias  # B b, (m, S, 1)
+
+    def stacked(block: RowBlock) -> np.ndarray:
+        index = block.normal_index
+        return np.concatenate([mass_bias[index], block_bias[index]], axis=1)
+
+    return stacked
 
 
 def _restitution(batch, flat, colors, lam_n):

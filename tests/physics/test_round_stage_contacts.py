@@ -56,7 +56,9 @@ def test_capsule_lying_across_a_ridge_rests_on_it(flip_winding):
     capsule.rotation = mn.Quaternion.rotation(mn.Rad(np.pi / 2), mn.Vector3(0, 0, 1))
     end_gap = np.hypot(HALF_AXIS - RIDGE_HALF_WIDTH, RADIUS) - RADIUS
     assert end_gap > settings.STAGE_SPECULATIVE_DISTANCE  # only the middle can touch
-    run(world, 1.0)
+    # at rest (the position solve lifts it to 3.9 mm deep within about 1.5 s; at 1 s it was
+    # 3.90 mm before the block normal solve, 4.01 mm with it, both still rising)
+    run(world, 2.0)
     position = np.asarray(capsule.translation)
     assert position[1] == pytest.approx(RADIUS, abs=settings.PENETRATION_SLOP)
     assert abs(position[0]) < 0.01 and abs(position[2]) < 0.01
