@@ -48,3 +48,86 @@ def test_cube_with_a_vanishing_inertia_stays_finite_on_the_floor(
             assert _state_is_finite(world)
             w = np.asarray(cube.angular_velocity)
             assert np.linalg.norm(w) <= settings.MAX_ANGULAR_SPEED * (1 + 1e-12)
+
+
+FLOOR = -1.45  # the demo apartment's floor height
+CYLINDER = (
+    "cylinderSolid_rings_1_segments_12_halfLen_1_useTexCoords_false_useTangents_false_capEnds_true"
+)
+
+
+def _lowest_point(world, index: int) -> float:
+    """The lowest world y of body ``index``'s hull vertices, m."""
+    from engine.physics.quaternions import quat_to_matrix
+
+    b = world.bodies
+    vertices = np.concatenate([shape.hull_vertices for shape in b.shapes[index]])
+    rotation = quat_to_matrix(b.body_rotation[index][None])[0]
+    return float((vertices @ rotation.T)[:, 1].min() + b.body_position[index][1])
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_cylinder_rolling_into_a_floor_level_corner_keeps_its_floor_contact(demo_data, vectorized):
+    """Probe seed throw-floor/apartment/1: a 41 cm cylinder thrown down at 9 m/s lands on
+    its rim and rolls at 5 m/s into a corner of furniture at floor level (x = 1.8,
+    z = -1.0). Its stage manifold got 18-30 fresh points along three normals (+y floor, -x
+    and +z sides up to 20 cm deep); the four kept were all side points, so nothing held it
+    up and its rim sank 5 cm into the floor in three frames. A manifold now keeps the
+    deepest point of each other direction before its supporting polygon."""
+    from engine.assets import load_meshes
+    from engine.attributes import StageAttributes
+
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    meshes = load_meshes(demo_data / "scene_datasets" / "demo" / "apartment.glb")
+    world.set_stage(meshes, StageAttributes())
+    handle = register_primitive(
+        templates, CYLINDER, half=(0.205958,) * 3, restitution_coefficient=0.8537845024235194
+    )
+    body = add(world, templates, handle, [1.5, -0.7380833846884569, 0.4])
+    body.rotation = mn.to_quaternion(
+        [0.7059025442445032, 0.3480365654178443, -0.4186604062930267, 0.45309558744689377]
+    )
+    body.linear_velocity = [0.6186970338853612, -6.237659094480411, -5.893850387767529]
+    body.angular_velocity = [0.14211120657898393, 2.733564933062235, -3.6822704350083346]
+    lowest = []
+    for _ in range(40):
+        world.step_physics(FRAME)
+        lowest.append(_lowest_point(world, body.object_id))
+    assert min(lowest) > FLOOR - 0.01  # the rim never 1 cm into the floor (was 5.1 cm)
+
+
+def _corner_row(rng):
+    """One manifold row of 10 points: 6 on a wall (normal +x, 5-20 cm deep) and 4 on the
+    floor (normal +y, 0-5 mm deep), shuffled."""
+    wall = np.column_stack([np.zeros(6), rng.uniform(0, 0.3, 6), rng.uniform(-0.2, 0.2, 6)])
+    floor = np.column_stack([rng.uniform(0, 0.2, 4), np.zeros(4), rng.uniform(-0.2, 0.2, 4)])
+    points = np.concatenate([wall, floor])
+    normals = np.array([[1.0, 0.0, 0.0]] * 6 + [[0.0, 1.0, 0.0]] * 4)
+    depth = np.concatenate([rng.uniform(0.05, 0.2, 6), rng.uniform(0.0, 0.005, 4)])
+    order = rng.permutation(10)
+    return points[order], normals[order], depth[order]
+
+
+def test_select_with_corners_keeps_the_floor_and_agrees_with_its_reference():
+    from engine.physics.manifold_merge import select_with_corners
+    from engine.physics.reference_manifolds import select_with_corners as reference
+
+    rng = np.random.default_rng(3)
+    rows = [_corner_row(rng) for _ in range(8)]
+    points = np.stack([r[0] for r in rows])
+    normals = np.stack([r[1] for r in rows])
+    depth = np.stack([r[2] for r in rows])
+    deepest = depth.argmax(axis=1)
+    reference_normal = normals[np.arange(8), deepest]
+    count = np.full(8, 4)
+    valid = np.ones((8, 10), dtype=bool)
+    batched = select_with_corners(points, depth, normals, reference_normal, count, valid)
+    for k in range(8):
+        plain = reference(list(points[k]), list(depth[k]), list(normals[k]), reference_normal[k], 4)
+        np.testing.assert_array_equal(batched[k], plain)
+        kept = normals[k][batched[k]]
+        assert batched[k].sum() == 4
+        assert (kept[:, 1] > 0.9).sum() == 1  # the deepest floor point is kept...
+        floor_depths = np.where(normals[k][:, 1] > 0.9, depth[k], -np.inf)
+        assert batched[k][floor_depths.argmax()]  # ...and it is the deepest one
