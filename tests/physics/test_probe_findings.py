@@ -131,3 +131,51 @@ def test_select_with_corners_keeps_the_floor_and_agrees_with_its_reference():
         assert (kept[:, 1] > 0.9).sum() == 1  # the deepest floor point is kept...
         floor_depths = np.where(normals[k][:, 1] > 0.9, depth[k], -np.inf)
         assert batched[k][floor_depths.argmax()]  # ...and it is the deepest one
+
+
+@pytest.mark.parametrize("speed", [1.0, 3.0])
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_kinematic_box_moved_by_its_translation_pushes_a_cube_ahead_of_it(speed, vectorized):
+    """Habitat's kinematic objects have a Bullet motion state: a box moved by setting
+    ``obj.translation`` every frame has the velocity of that motion in its contacts
+    (``saveKinematicState``). Here it had none: the cube it met was only pushed out of the
+    overlap (1.3 cm deep at 1 m/s) and never moved on; at 3 m/s the box passed through it
+    (47 cm). Now the cube is pushed at the box's speed and never overlaps it by 1 cm."""
+    from engine.physics import MotionType
+
+    world, templates = make_world()
+    world.settings.use_vectorized = vectorized
+    box = add(world, templates, register_primitive(templates, half=(0.2,) * 3), [-0.5, 0.2, 0.0])
+    box.motion_type = MotionType.KINEMATIC
+    cube = add(world, templates, register_primitive(templates), [0.0, 0.1, 0.0])
+    overlaps = []
+    for _ in range(int(round(60 / speed))):  # 1 m of travel
+        box.translation = list(np.asarray(box.translation) + [speed * FRAME, 0.0, 0.0])
+        world.step_physics(FRAME)
+        overlaps.append((box.translation[0] + 0.2) - (cube.translation[0] - 0.1))
+    assert max(overlaps) < 0.01
+    assert abs(cube.linear_velocity[0] - speed) < 0.1 * speed  # carried at the box's speed
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_cube_rides_a_kinematic_turntable_turned_by_its_rotation(vectorized):
+    """The angular half of the same rule: a 2 x 2 m kinematic plate turned at 1 rad/s by
+    setting ``obj.rotation`` every frame carries a cube 0.5 m from its axis round with it
+    (friction 0.4 x 1; on main the cube stayed where it was)."""
+    from engine.physics import MotionType
+
+    world, templates = make_world()
+    world.settings.use_vectorized = vectorized
+    plate = add(
+        world, templates, register_primitive(templates, half=(1.0, 0.05, 1.0)), [0.0, 0.05, 0.0]
+    )
+    plate.motion_type = MotionType.KINEMATIC
+    handle = register_primitive(templates, half=(0.05,) * 3, friction_coefficient=1.0)
+    cube = add(world, templates, handle, [0.5, 0.15, 0.0])
+    for frame in range(1, 121):
+        half_angle = 0.5 * frame * FRAME  # 1 rad/s
+        plate.rotation = mn.Quaternion(mn.Vector3(0.0, np.sin(half_angle), 0.0), np.cos(half_angle))
+        world.step_physics(FRAME)
+    x, _, z = np.asarray(cube.translation)
+    assert abs(np.arctan2(-z, x) - 2.0) < 0.1  # turned with the plate (2 rad)
+    assert abs(np.hypot(x, z) - 0.5) < 0.02  # at its radius
