@@ -55,6 +55,7 @@ def integrate_stage(
 
     clamp_speeds(bodies, moving, settings.MAX_LINEAR_SPEED, settings.MAX_ANGULAR_SPEED)
     old_position = bodies.body_position[moving].copy()
+    old_rotation = bodies.body_rotation[moving].copy()
     extra_linear = None if pseudo_velocity is None else pseudo_velocity[moving, :3]
     # the split-impulse turn obeys the angular speed limit too: with a tiny inertia (a 1 kg
     # cube given 1e-300 kg m^2) its I^-1 lambda would overflow the rotation to NaN
@@ -64,7 +65,7 @@ def integrate_stage(
         else clamp_rows(pseudo_velocity[moving, 3:], settings.MAX_ANGULAR_SPEED)
     )
     integrate_positions(bodies, moving, h, extra_linear, extra_angular)
-    sweep_fast_bodies(bodies, moving, old_position)
+    sweep_fast_bodies(bodies, moving, old_position, old_rotation)
 
 
 def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarray:

@@ -179,3 +179,29 @@ def test_cube_rides_a_kinematic_turntable_turned_by_its_rotation(vectorized):
     x, _, z = np.asarray(cube.translation)
     assert abs(np.arctan2(-z, x) - 2.0) < 0.1  # turned with the plate (2 rad)
     assert abs(np.hypot(x, z) - 0.5) < 0.02  # at its radius
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_thin_slab_thrown_at_the_floor_never_digs_a_spinning_corner_into_it(vectorized):
+    """Probe seed thin/box/1: a 54 x 54 cm slab 1 mm thick thrown tilted at the floor at
+    28.5 m/s. The impact spins it up to 47 rad/s; a corner then swings 15 cm a step, and the
+    swept test, which moved the slab along its translation only, let that corner dig
+    7.9 cm into the floor. The vertices are now also swept along the chords of the turn."""
+    world, templates = make_world()
+    world.settings.use_vectorized = vectorized
+    slab = add(
+        world,
+        templates,
+        register_primitive(templates, half=(0.268115, 0.0005, 0.268115)),
+        [0.0, 0.6, 0.0],
+    )
+    slab.rotation = mn.to_quaternion(
+        [0.19655204737110374, -0.7751497649015157, 0.5385277924904597, 0.26551450311179786]
+    )
+    slab.linear_velocity = [5.493277777584843, -27.93832925124164, -1.5220946546492793]
+    lowest = []
+    for _ in range(60):
+        world.step_physics(FRAME)
+        lowest.append(_lowest_point(world, slab.object_id))
+    assert min(lowest) > -0.005  # no corner 5 mm into the floor (was 7.9 cm)
+    assert abs(slab.translation[1] - 0.0005) < 0.002  # lying on it after a second
