@@ -348,7 +348,8 @@ def select_with_corners(
     ``normals (r, k, 3)``: each point's unit normal; ``normal (r, 3)``: the row's reference
     normal (its deepest point's). A point is in another direction when ``n . n_ref <
     STAGE_CORNER_COSINE`` (about 45 degrees); a third direction is also that far from the
-    second. Only rows keeping at least 4 points reserve slots (one per extra direction).
+    second. Only touching points (depth >= 0) of rows keeping at least 4 points reserve
+    slots (one per extra direction).
     """
     reserved = corner_points(depth, normals, normal, count, valid)
     if reserved is None:  # the usual case: every point pushes along the row's normal
@@ -362,7 +363,9 @@ def corner_points(depth, normals, normal, count, valid) -> np.ndarray | None:
     """(r, k) bool, the deepest point of each extra direction of a row (see
     :func:`select_with_corners`), or None when no row has one."""
     cosine = settings.STAGE_CORNER_COSINE
-    turned = valid & ((normals * normal[:, None]).sum(axis=2) < cosine) & (count >= 4)[:, None]
+    # touching points (depth >= 0) only: a speculative wall contact keeps no floor slot
+    turned = valid & (depth >= 0.0) & (count >= 4)[:, None]
+    turned &= (normals * normal[:, None]).sum(axis=2) < cosine
     if not turned.any():
         return None
     rows = np.arange(len(depth))

@@ -193,9 +193,9 @@ def select_with_corners(
     corner of the stage: a deep wall contact must not take the floor's slots); mirrors
     ``manifold_merge.select_with_corners`` for one row.
 
-    A point is in another direction when ``n . normal < STAGE_CORNER_COSINE``; the deepest
-    such point is kept, then the deepest point turned that far from both. Only a row
-    keeping at least 4 points reserves slots."""
+    A touching point (depth >= 0) is in another direction when ``n . normal <
+    STAGE_CORNER_COSINE``; the deepest such point is kept, then the deepest point turned
+    that far from both. Only a row keeping at least 4 points reserves slots."""
     reserved = _corner_points(depths, normals, normal, count)
     if not reserved:
         return select_support(points, depths, normal, count, preferred, band)
@@ -219,7 +219,7 @@ def _corner_points(depths: list, normals: list, normal: np.ndarray, count: int) 
     if count < 4:
         return []
     cosine = settings.STAGE_CORNER_COSINE
-    turned = [i for i, n in enumerate(normals) if dot(n, normal) < cosine]
+    turned = [i for i, n in enumerate(normals) if depths[i] >= 0.0 and dot(n, normal) < cosine]
     if not turned:
         return []
     second = max(turned, key=lambda i: (tie_key(depths[i]), -i))  # first of the deepest

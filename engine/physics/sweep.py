@@ -4,7 +4,10 @@ A body that moved more than ``CCD_MOTION_FRACTION`` of its smallest half extent 
 (after the solver and the position update) is swept along its step's travel ``d = L u``:
 
 1. rays start at its hull vertices and its center, put back to the start of the step
-   (``p - d``, the orientation of the end of the step), and run along ``u`` for ``L``
+   (``p - d``, the orientation of the end of the step), and run along ``u`` for ``L``; the
+   vertex rays start ``STAGE_SPECULATIVE_DISTANCE`` earlier still, so a vertex that began
+   the step a hair inside a surface still crosses it (a crossing in that extra length
+   counts when the surface faces the body's center)
    (Moller-Trumbore against the stage's triangles near the swept box, and against the
    triangles of static and kinematic bodies);
 2. a ray that hits at ``s < L`` ends ``(L - s) |u . n|`` behind the surface (``n``, the
@@ -163,7 +166,12 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
     if length == 0.0:
         return np.zeros(3)
     u = travel / length
-    starts = np.vstack([position[None], world_vertices]) - travel  # the step's start
+    # the vertex rays start the stage's speculative distance before the step's start, so a
+    # vertex that began the step a hair inside a surface still crosses it
+    back = settings.STAGE_SPECULATIVE_DISTANCE
+    starts = np.vstack([position[None], world_vertices - back * u]) - travel
+    ray_length = np.full(len(starts), length)
+    ray_length[1:] += back
     pad = settings.SWEEP_BOX_PADDING
     lo = np.minimum(starts.min(0), starts.min(0) + travel) - pad
     hi = np.maximum(starts.max(0), starts.max(0) + travel) + pad
@@ -171,12 +179,15 @@ def sweep_body(bodies: Bodies, index: int, travel: np.ndarray, obstacle: np.ndar
     if len(triangles) == 0:
         return np.zeros(3)
     s, normal = first_hits(starts, u, triangles)
-    hit = s < length
+    # a crossing before the step's start counts when the surface faces the body's center
+    point = starts + np.where(np.isfinite(s), s, 0.0)[:, None] * u
+    facing = ((position - point) * normal).sum(axis=1) > 0.0
+    hit = (s < ray_length) & (facing | (s >= ray_length - length))
     if not np.any(hit):
         return np.zeros(3)
     cos = np.abs(normal @ u)
     # how far each ray's end is behind its surface (0 for the rays that hit nothing)
-    depth = (length - np.where(hit, s, length)) * cos
+    depth = (ray_length - np.where(hit, s, ray_length)) * cos
     # the center ray stands for the whole body: add its support along -n (half thickness)
     support = np.max(-(world_vertices - position) @ normal[0])
     depth[0] += max(support, 0.0)

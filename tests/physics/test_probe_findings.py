@@ -205,3 +205,39 @@ def test_thin_slab_thrown_at_the_floor_never_digs_a_spinning_corner_into_it(vect
         lowest.append(_lowest_point(world, slab.object_id))
     assert min(lowest) > -0.005  # no corner 5 mm into the floor (was 7.9 cm)
     assert abs(slab.translation[1] - 0.0005) < 0.002  # lying on it after a second
+
+
+CONE = "coneSolid_segments_12_halfLen_1_rings_1_useTexCoords_false_useTangents_false_capEnd_true"
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_cone_thrown_at_the_apartment_floor_at_a_grazing_angle_stays_out_of_it(
+    demo_data, vectorized
+):
+    """Probe seed throw-wall/apartment/5: a 24 cm cone thrown at 18 m/s, 22 degrees below
+    the horizontal, grazes the floor, spins up to 35 rad/s and one frame later its rim was
+    4.0 cm in: the vertex that started the step 2 mm inside the floor was not swept (its ray
+    started behind the surface). Vertex rays now start the stage's speculative distance
+    earlier; a crossing there counts when the surface faces the body's center."""
+    from engine.assets import load_meshes
+    from engine.attributes import StageAttributes
+
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    meshes = load_meshes(demo_data / "scene_datasets" / "demo" / "apartment.glb")
+    world.set_stage(meshes, StageAttributes())
+    cone = add(
+        world,
+        templates,
+        register_primitive(templates, CONE, half=(0.117933,) * 3),
+        [2.0, -0.5, -0.5],
+    )
+    cone.rotation = mn.to_quaternion(
+        [0.08975594104764606, -0.45214664439660573, -0.6420655471793384, 0.6125839665979168]
+    )
+    cone.linear_velocity = [-3.7439148694909856, -6.170775863901161, 16.36188522489565]
+    lowest = []
+    for _ in range(30):
+        world.step_physics(FRAME)
+        lowest.append(_lowest_point(world, cone.object_id))
+    assert min(lowest) > FLOOR - 0.02  # the rim never 2 cm into the floor (was 4.0 cm)
