@@ -83,7 +83,7 @@ def describe_object(template) -> BodyDescription:
         com = 0.5 * (points.min(0) + points.max(0))  # AABB center of the render meshes
     else:
         com = np.asarray(template.com, dtype=np.float64)
-    shapes = _collision_shapes(template, collision_handle, render_handle, com)
+    shapes = _shapes_around_com(template, collision_handle, render_handle, com)
     _check_size(template, shapes)
     mass = float(template.mass)
     inertia = np.asarray(template.inertia, dtype=np.float64)
@@ -94,6 +94,28 @@ def describe_object(template) -> BodyDescription:
     return BodyDescription(
         shapes, render, com, mass, inertia, points.min(0) - com, points.max(0) - com
     )
+
+
+def _shapes_around_com(template, collision_handle, render_handle, com) -> list[Shape]:
+    """The collision shapes shifted by ``-COM``; a ValueError naming the COM when it is
+    beyond float32 coordinates (as poses are) or so far out that the shifted hull is
+    lost to rounding (qhull then finds no simplex)."""
+    from scipy.spatial import QhullError
+
+    from .settings import MAX_COORDINATE
+
+    if not np.all(np.abs(com) <= MAX_COORDINATE):
+        raise ValueError(
+            f"template {template.handle!r}: COM {com.tolist()} is beyond float32 coordinates "
+            f"(|x| <= {MAX_COORDINATE:.7g} m)"
+        )
+    try:
+        return _collision_shapes(template, collision_handle, render_handle, com)
+    except QhullError as error:
+        raise ValueError(
+            f"template {template.handle!r}: no collision hull around COM {com.tolist()} "
+            f"(scale {list(template.scale)}): the shifted shape is lost to rounding"
+        ) from error
 
 
 def _check_size(template, shapes: list[Shape]) -> None:

@@ -55,10 +55,17 @@ def integrate_stage(
 
     clamp_speeds(bodies, moving, settings.MAX_LINEAR_SPEED, settings.MAX_ANGULAR_SPEED)
     old_position = bodies.body_position[moving].copy()
+    old_rotation = bodies.body_rotation[moving].copy()
     extra_linear = None if pseudo_velocity is None else pseudo_velocity[moving, :3]
-    extra_angular = None if pseudo_velocity is None else pseudo_velocity[moving, 3:]
+    # the split-impulse turn obeys the angular speed limit too: with a tiny inertia (a 1 kg
+    # cube given 1e-300 kg m^2) its I^-1 lambda would overflow the rotation to NaN
+    extra_angular = (
+        None
+        if pseudo_velocity is None
+        else clamp_rows(pseudo_velocity[moving, 3:], settings.MAX_ANGULAR_SPEED)
+    )
     integrate_positions(bodies, moving, h, extra_linear, extra_angular)
-    sweep_fast_bodies(bodies, moving, old_position)
+    sweep_fast_bodies(bodies, moving, old_position, old_rotation)
 
 
 def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarray:
@@ -102,13 +109,21 @@ def clamp_speeds(bodies, index: np.ndarray, max_linear: float, max_angular: floa
         ("body_angular_velocity", max_angular),
     ):
         velocity = getattr(bodies, name)[index]
-        # every component finite and below limit / 2 (so |v| < 0.87 limit): the scale would
-        # be exactly 1 (NaN fails the test and takes the full path below)
-        if np.abs(velocity).max(initial=0.0) < 0.5 * limit:
-            continue
-        speed = stable_norm(velocity, axis=1)  # |v| without overflow above 1e154 m/s
-        scale = np.minimum(1.0, limit / np.maximum(speed, settings.TINY))
-        getattr(bodies, name)[index] = velocity * scale[:, None]
+        clamped = clamp_rows(velocity, limit)
+        if clamped is not velocity:
+            getattr(bodies, name)[index] = clamped
+
+
+def clamp_rows(velocity: np.ndarray, limit: float) -> np.ndarray:
+    """``velocity (k, 3)`` with each row scaled to ``|row| <= limit``; the same array when
+    no row needs it."""
+    # every component finite and below limit / 2 (so |v| < 0.87 limit): the scale would
+    # be exactly 1 (NaN fails the test and takes the full path below)
+    if np.abs(velocity).max(initial=0.0) < 0.5 * limit:
+        return velocity
+    speed = stable_norm(velocity, axis=1)  # |v| without overflow above 1e154 m/s
+    scale = np.minimum(1.0, limit / np.maximum(speed, settings.TINY))
+    return velocity * scale[:, None]
 
 
 def integrate_positions(

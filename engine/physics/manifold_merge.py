@@ -160,9 +160,10 @@ def select_fresh(
     gap_sq = np.where(cached.valid[over][:, None, :], gap_sq, np.inf)
     preferred = gap_sq.min(axis=2) < feature[over, None] ** 2
     deepest = masked_argmax(depth, valid)
-    chosen = select_support(
+    chosen = select_with_corners(
         point_b,
         depth,
+        normal,
         normal[np.arange(len(over)), deepest],
         count,
         valid,
@@ -294,8 +295,14 @@ def reduce_points(points: LocalPoints, frames: RowFrames, max_points, feature) -
     point_a, point_b, normal = rows.world(frames.take(over))
     depth = ((point_a - point_b) * normal).sum(axis=2)
     chosen = points.valid.copy()
-    chosen[over] = select_support(
-        point_b, depth, normal[:, 0], max_points[over], rows.valid, band=support_band(feature[over])
+    chosen[over] = select_with_corners(
+        point_b,
+        depth,
+        normal,
+        normal[:, 0],
+        max_points[over],
+        rows.valid,
+        band=support_band(feature[over]),
     )
     return points.where(chosen)
 
@@ -320,6 +327,58 @@ def tie_key(values: Any) -> Any:
 def masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Per row, the first slot holding the largest valid value (0 for empty rows)."""
     return np.where(valid, tie_key(values), -np.inf).argmax(axis=1)
+
+
+def select_with_corners(
+    points: np.ndarray,
+    depth: np.ndarray,
+    normals: np.ndarray,
+    normal: np.ndarray,
+    count: np.ndarray,
+    valid: np.ndarray,
+    preferred: np.ndarray | None = None,
+    band: np.ndarray | None = None,
+) -> np.ndarray:
+    """:func:`select_support`, but a row whose points push along two or three directions (a
+    body in a corner of the stage: floor and walls) first keeps the deepest point of each
+    other direction, so a deep wall contact cannot take every slot and drop the floor.
+
+    Reference: :func:`reference_manifolds.select_with_corners` (one row).
+
+    ``normals (r, k, 3)``: each point's unit normal; ``normal (r, 3)``: the row's reference
+    normal (its deepest point's). A point is in another direction when ``n . n_ref <
+    STAGE_CORNER_COSINE`` (about 45 degrees); a third direction is also that far from the
+    second. Only touching points (depth >= 0) of rows keeping at least 4 points reserve
+    slots (one per extra direction).
+    """
+    reserved = corner_points(depth, normals, normal, count, valid)
+    if reserved is None:  # the usual case: every point pushes along the row's normal
+        return select_support(points, depth, normal, count, valid, preferred, band)
+    left = count - reserved.sum(axis=1)  # slots left for the row's own supporting polygon
+    chosen = select_support(points, depth, normal, left, valid & ~reserved, preferred, band)
+    return chosen | reserved
+
+
+def corner_points(depth, normals, normal, count, valid) -> np.ndarray | None:
+    """(r, k) bool, the deepest point of each extra direction of a row (see
+    :func:`select_with_corners`), or None when no row has one."""
+    cosine = settings.STAGE_CORNER_COSINE
+    # touching points (depth >= 0) only: a speculative wall contact keeps no floor slot
+    turned = valid & (depth >= 0.0) & (count >= 4)[:, None]
+    turned &= (normals * normal[:, None]).sum(axis=2) < cosine
+    if not turned.any():
+        return None
+    rows = np.arange(len(depth))
+    second = masked_argmax(depth, turned)
+    has_second = turned[rows, second]
+    reserved = np.zeros_like(valid)
+    reserved[rows, second] = has_second
+    # a third direction: turned from both the row's normal and the second one's
+    second_normal = normals[rows, second]
+    third_ok = turned & ((normals * second_normal[:, None]).sum(axis=2) < cosine)
+    third = masked_argmax(depth, third_ok)
+    reserved[rows, third] |= has_second & third_ok[rows, third]
+    return reserved
 
 
 def select_support(

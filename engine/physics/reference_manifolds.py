@@ -85,9 +85,10 @@ def update_manifold(
         merged = [p for p, is_touching, is_used in unused if is_touching and not is_used] + points
     if len(merged) > max_points:
         world = [p.world(frame_a, frame_b) for p in merged]
-        chosen = select_support(
+        chosen = select_with_corners(
             [c.point_b for c in world],
             [c.depth for c in world],
+            [c.normal for c in world],
             world[0].normal,
             max_points,
             band=band,
@@ -131,8 +132,14 @@ def _support_of_fresh(
         preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit for p in cached))
     depths = [c.depth for c in fresh]
     deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
-    chosen = select_support(
-        [c.point_b for c in fresh], depths, fresh[deepest].normal, max_points, preferred, band
+    chosen = select_with_corners(
+        [c.point_b for c in fresh],
+        depths,
+        [c.normal for c in fresh],
+        fresh[deepest].normal,
+        max_points,
+        preferred,
+        band,
     )
     return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
 
@@ -171,6 +178,55 @@ def _inherit_impulses(
             point.impulse = cached[best].impulse.copy()
             used[best] = True
     return used
+
+
+def select_with_corners(
+    points: list,
+    depths: list,
+    normals: list,
+    normal: np.ndarray,
+    count: int,
+    preferred: list | None = None,
+    band: float = settings.SUPPORT_DEPTH_BAND,
+) -> list[bool]:
+    """:func:`select_support` after keeping the deepest point of each other direction (a
+    corner of the stage: a deep wall contact must not take the floor's slots); mirrors
+    ``manifold_merge.select_with_corners`` for one row.
+
+    A touching point (depth >= 0) is in another direction when ``n . normal <
+    STAGE_CORNER_COSINE``; the deepest such point is kept, then the deepest point turned
+    that far from both. Only a row keeping at least 4 points reserves slots."""
+    reserved = _corner_points(depths, normals, normal, count)
+    if not reserved:
+        return select_support(points, depths, normal, count, preferred, band)
+    rest = [i for i in range(len(points)) if i not in reserved]
+    chosen_rest = select_support(
+        [points[i] for i in rest],
+        [depths[i] for i in rest],
+        normal,
+        count - len(reserved),
+        None if preferred is None else [preferred[i] for i in rest],
+        band,
+    )
+    chosen = [i in reserved for i in range(len(points))]
+    for i, keep in zip(rest, chosen_rest, strict=True):
+        chosen[i] = keep
+    return chosen
+
+
+def _corner_points(depths: list, normals: list, normal: np.ndarray, count: int) -> list[int]:
+    """Indices of the deepest point of each extra direction (at most two)."""
+    if count < 4:
+        return []
+    cosine = settings.STAGE_CORNER_COSINE
+    turned = [i for i, n in enumerate(normals) if depths[i] >= 0.0 and dot(n, normal) < cosine]
+    if not turned:
+        return []
+    second = max(turned, key=lambda i: (tie_key(depths[i]), -i))  # first of the deepest
+    third = [i for i in turned if dot(normals[i], normals[second]) < cosine]
+    if not third:
+        return [second]
+    return [second, max(third, key=lambda i: (tie_key(depths[i]), -i))]
 
 
 def select_support(

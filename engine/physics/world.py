@@ -76,6 +76,7 @@ from .integrate import (
     integrate_stage,
     integrate_velocities,
 )
+from .kinematic_motion import KinematicPoses, implied_velocities
 from .node_sync import NodeSync
 from .profiling import StageTimer
 from .quaternions import quat_to_matrix
@@ -125,6 +126,7 @@ class PhysicsWorld:
         self.profile = self.timer.seconds  # {stage name: wall seconds}, read by benchmarks
         self.rigid_object_manager = RigidObjectManager(self, object_template_manager, root_node)
         self.constraints = ConstraintStore()
+        self.kinematic_poses = KinematicPoses()  # kinematic poses after the last step
 
     # ------------------------------------------------------------------------------------
     # stage
@@ -261,6 +263,7 @@ class PhysicsWorld:
             array[:n] = 0.0
         b.body_sleep_time[:n] = 0.0
         self.manifolds.clear()
+        self.kinematic_poses.clear()  # the jump back is no motion
         self._time = 0.0
         self._accumulator = 0.0
 
@@ -307,10 +310,17 @@ class PhysicsWorld:
         self._read_user_moves()  # raises ValueError before it changes anything
         self._apply_velocity_control(dt)
         self._accumulator = accumulated - n_steps * self._timestep
+        if n_steps:  # Bullet's saveKinematicState: user-moved kinematic bodies get velocities
+            controlled = {i for i, c in self.velocity_controls.items() if c.is_active}
+            implied_velocities(
+                self.bodies, self.kinematic_poses, controlled, n_steps * self._timestep
+            )
         for _ in range(n_steps):
             for _ in range(self._substeps()):
                 self._step(self._timestep / self._substeps())
             self._time += self._timestep
+        if n_steps:
+            self.kinematic_poses.record(self.bodies)
         self.bodies.body_force[:] = 0.0
         self.bodies.body_torque[:] = 0.0
         self.node_sync.write_nodes()

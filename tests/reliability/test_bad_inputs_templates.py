@@ -124,3 +124,23 @@ def test_null_in_user_defined_is_skipped_with_a_warning_as_habitat(sim, tmp_path
     assert user.get_keys() == ["kept"] and user.get("kept") == 3
     assert user.get_subconfig("nested").get_keys() == ["fine"]
     templates.remove_template_by_id(template_id)
+
+
+@pytest.mark.parametrize("com", [1e39, 1e200, 1e300, -1e300])
+@pytest.mark.parametrize("asset", ["cubeSolid", "mug"])
+def test_a_com_beyond_float32_is_refused_naming_it_when_the_object_is_added(sim, com, asset):
+    """The reliability probe: a registered template with ``com`` = 1e200 made
+    ``add_object_by_template_handle`` raise qhull's internal error (QH6014, "not enough
+    points") from deep in the hull code; now a ValueError naming the COM, world unchanged."""
+    templates = sim.get_object_template_manager()
+    template = templates.get_template_by_handle(templates.get_template_handles(asset)[0])
+    template.com = [com, 0.0, 0.0]
+    template_id = templates.register_template(template, f"far_com_{asset}_{com:g}")
+    manager = sim.get_rigid_object_manager()
+    handle = templates.get_template_by_id(template_id).handle
+    try:
+        assert_refused(
+            sim, lambda: manager.add_object_by_template_handle(handle), ValueError, match="COM"
+        )
+    finally:
+        templates.remove_template_by_id(template_id)
