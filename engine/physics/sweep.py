@@ -236,7 +236,10 @@ def _triangle_boxes(shape) -> tuple[np.ndarray, np.ndarray]:
 
 
 def first_hits_each(origins: np.ndarray, directions: np.ndarray, triangles: np.ndarray):
-    """:func:`first_hits` with one unit direction per ray, ``directions (k, 3)``."""
+    """First hit ``s (k,)`` (inf: none) of rays ``origins (k, 3) + s directions (k, 3)``
+    (unit directions) with the triangles ``(t, 3, 3)``, and the hit triangle's unit normal
+    ``(k, 3)`` facing the ray's start (Moller-Trumbore, as in :func:`queries.ray_triangles`,
+    for all rays at once)."""
     a = triangles[:, 0]
     e1, e2 = triangles[:, 1] - a, triangles[:, 2] - a
     p = np.cross(directions[:, None, :], e2[None])  # (k, t, 3)
@@ -259,24 +262,5 @@ def first_hits_each(origins: np.ndarray, directions: np.ndarray, triangles: np.n
 
 
 def first_hits(origins: np.ndarray, direction: np.ndarray, triangles: np.ndarray):
-    """First hit ``s (k,)`` (inf: none) of rays ``origins (k, 3) + s direction`` with the
-    triangles ``(t, 3, 3)``, and the hit triangle's unit normal ``(k, 3)`` facing the ray's
-    start (Moller-Trumbore, as in :func:`queries.ray_triangles`, for all rays at once)."""
-    a = triangles[:, 0]
-    e1, e2 = triangles[:, 1] - a, triangles[:, 2] - a
-    p = np.cross(direction, e2)  # (t, 3), the same for every ray
-    det = np.sum(e1 * p, axis=1)
-    ok = np.abs(det) > settings.RAY_PARALLEL_DETERMINANT
-    inv_det = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-    rel = origins[:, None, :] - a[None]  # o - a, (k, t, 3)
-    u = np.einsum("kti,ti->kt", rel, p) * inv_det  # barycentric u = (o - a) . p / det
-    q = np.cross(rel, e1[None])  # (k, t, 3)
-    v = (q @ direction) * inv_det  # v = d . q / det
-    s = np.einsum("kti,ti->kt", q, e2) * inv_det
-    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (s >= 0)
-    s = np.where(hit, s, np.inf)
-    best = s.argmin(axis=1)
-    normal = np.cross(e1, e2)[best]
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), settings.TINY)
-    normal *= np.where(normal @ direction > 0, -1.0, 1.0)[:, None]  # n . u < 0: faces the start
-    return s[np.arange(len(s)), best], normal
+    """:func:`first_hits_each` with the same unit ``direction (3,)`` for every ray."""
+    return first_hits_each(origins, np.broadcast_to(direction, origins.shape), triangles)
