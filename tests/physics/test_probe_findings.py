@@ -241,3 +241,40 @@ def test_cone_thrown_at_the_apartment_floor_at_a_grazing_angle_stays_out_of_it(
         world.step_physics(FRAME)
         lowest.append(_lowest_point(world, cone.object_id))
     assert min(lowest) > FLOOR - 0.02  # the rim never 2 cm into the floor (was 4.0 cm)
+
+
+CYLINDER = (
+    "cylinderSolid_rings_1_segments_12_halfLen_1_useTexCoords_false_useTangents_false_capEnds_true"
+)
+CONE = "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true"
+
+
+@pytest.mark.parametrize("factor", [50.0, 100.0])
+@pytest.mark.parametrize("primitive", [CYLINDER, CONE], ids=["cylinder", "cone"])
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_body_whose_mass_is_raised_far_above_its_inertia_rests_on_the_floor(
+    factor, primitive, vectorized
+):
+    """``obj.mass *= 50`` or ``100`` on a 20 cm cylinder or cone keeps its inertia (as
+    Habitat's ``setMassProps`` does): a contact point's effective mass becomes about
+    ``I / r^2``, far below ``m``, and the mass-split Jacobi sweeps alone let the body sink
+    through the floor (it was 22-76 m down after 5 s). The block normal sweep supports it:
+    after 5 s it rests where the same body with its template mass rests, and never dipped
+    below that height by more than twice the penetration slop."""
+    resting = {}
+    for scale in (1.0, factor):
+        world, templates = make_world()
+        world.settings.use_vectorized = vectorized
+        handle = register_primitive(templates, primitive, (0.1, 0.1, 0.1))
+        body = add(world, templates, handle, [0.0, 0.3, 0.0])
+        body.mass = body.mass * scale
+        lowest = np.inf
+        for _ in range(300):  # 5 s
+            world.step_physics(FRAME)
+            lowest = min(lowest, float(body.translation[1]))
+        resting[scale] = (lowest, float(body.translation[1]))
+    light_end = resting[1.0][1]
+    heavy_lowest, heavy_end = resting[factor]
+    # the heavy body rests where the light one does, within twice the penetration slop
+    assert abs(heavy_end - light_end) < 2 * settings.PENETRATION_SLOP
+    assert heavy_lowest > light_end - 2 * settings.PENETRATION_SLOP
