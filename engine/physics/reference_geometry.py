@@ -16,6 +16,11 @@ def dot(u: np.ndarray, v: np.ndarray) -> float:
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
+def dot12(u: np.ndarray, v: np.ndarray) -> float:
+    """``u . v`` of two 12-vectors (a Jacobian row and a velocity or mobility row)."""
+    return float(sum(x * y for x, y in zip(u.tolist(), v.tolist(), strict=True)))
+
+
 def cross3(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``u x v`` of two 3-vectors."""
     return np.array(

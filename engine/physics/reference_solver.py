@@ -39,7 +39,7 @@ import numpy as np
 from .bodies import Bodies
 from .contacts import SLOTS, ManifoldStore
 from .quaternions import quat_to_matrix
-from .reference_geometry import cross3, dot, rotate
+from .reference_geometry import cross3, dot, dot12, rotate
 from .rolling_friction import ContactLoads
 from .settings import (
     BLOCK_FEASIBILITY_TOLERANCE,
@@ -496,8 +496,3 @@ def _lumped_push(state: Bodies6, m: ManifoldRows, frozen: int | None, bias_of) -
     step = max(-(dot12(jac, velocity) + bias) / k, 0.0)
     state.v[a], state.w[a] = state.v[a] + w[0:3] * step, state.w[a] + w[3:6] * step
     state.v[b], state.w[b] = state.v[b] + w[6:9] * step, state.w[b] + w[9:12] * step
-
-
-def dot12(u: np.ndarray, v: np.ndarray) -> float:
-    """``u . v`` of two 12-vectors."""
-    return float(sum(x * y for x, y in zip(u.tolist(), v.tolist(), strict=True)))
