@@ -20,8 +20,9 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import QhullError
 
-from .settings import MIN_BOX_HALF_EXTENT
+from .settings import MAX_COORDINATE, MIN_BOX_HALF_EXTENT
 from .shapes import Shape, box_shape, convex_shape, primitive_shape, unit_mass_inertia
 
 
@@ -100,10 +101,6 @@ def _shapes_around_com(template, collision_handle, render_handle, com) -> list[S
     """The collision shapes shifted by ``-COM``; a ValueError naming the COM when it is
     beyond float32 coordinates (as poses are) or so far out that the shifted hull is
     lost to rounding (qhull then finds no simplex)."""
-    from scipy.spatial import QhullError
-
-    from .settings import MAX_COORDINATE
-
     if not np.all(np.abs(com) <= MAX_COORDINATE):
         raise ValueError(
             f"template {template.handle!r}: COM {com.tolist()} is beyond float32 coordinates "

@@ -25,7 +25,7 @@ import numpy as np
 from . import settings
 from .bodies import KINEMATIC, Bodies
 from .integrate import clamp_rows
-from .quaternions import quat_multiply
+from .quaternions import rotation_vector
 
 
 class KinematicPoses:
@@ -76,15 +76,3 @@ def implied_velocities(
     angular = rotation_vector(bodies.body_rotation[index], turned) / duration
     bodies.body_solver_velocity[index] = clamp_rows(linear, settings.MAX_LINEAR_SPEED)
     bodies.body_solver_angular_velocity[index] = clamp_rows(angular, settings.MAX_ANGULAR_SPEED)
-
-
-def rotation_vector(q_now: np.ndarray, q_before: np.ndarray) -> np.ndarray:
-    """``(k, 3)`` axis times angle (rad, in [0, pi]) of the turn ``q_now q_before^-1`` from
-    unit quaternions ``[x, y, z, w]`` ``(k, 4)``."""
-    inverse = q_before * np.array([-1.0, -1.0, -1.0, 1.0])  # conjugate = inverse (unit)
-    turn = quat_multiply(q_now, inverse)
-    turn = np.where(turn[:, 3:] < 0.0, -turn, turn)  # q and -q: the shorter way round
-    sine = np.linalg.norm(turn[:, :3], axis=1)
-    angle = 2.0 * np.arctan2(sine, turn[:, 3])
-    axis = turn[:, :3] / np.maximum(sine, settings.TINY)[:, None]
-    return axis * angle[:, None]

@@ -17,7 +17,7 @@ import numpy as np
 # one rotation matrix -> [x, y, z, w] (Shepperd's method): the scalar path lives in engine.mn
 from engine.mn.rotations import matrix_to_quaternion as matrix_to_quat  # noqa: F401
 
-from .settings import SMALL_ROTATION_ANGLE
+from .settings import SMALL_ROTATION_ANGLE, TINY
 
 X, Y, Z, W = range(4)
 
@@ -97,6 +97,19 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
     turned = angle > SMALL_ROTATION_ANGLE
     scale = np.where(turned, np.sin(angle / 2) / np.where(turned, angle, 1.0), 0.5)
     return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
+
+
+def rotation_vector(q_now: np.ndarray, q_before: np.ndarray) -> np.ndarray:
+    """``(k, 3)`` axis times angle (rad, in [0, pi]) of the turn ``q_now q_before^-1`` (the
+    inverse of :func:`rotation_quat`) from
+    unit quaternions ``[x, y, z, w]`` ``(k, 4)``."""
+    inverse = q_before * np.array([-1.0, -1.0, -1.0, 1.0])  # conjugate = inverse (unit)
+    turn = quat_multiply(q_now, inverse)
+    turn = np.where(turn[:, 3:] < 0.0, -turn, turn)  # q and -q: the shorter way round
+    sine = vector_length(turn[:, :3])[:, 0]
+    angle = 2.0 * np.arctan2(sine, turn[:, 3])
+    axis = turn[:, :3] / np.maximum(sine, TINY)[:, None]
+    return axis * angle[:, None]
 
 
 def live_rotations(bodies) -> np.ndarray:

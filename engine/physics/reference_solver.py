@@ -182,11 +182,6 @@ def build_rows(
         for p in points:
             p.masses = [effective_mass(state, a, b, p.r_a, p.r_b, d, n_split) for d in p.directions]
             p.approach_speed = dot(approach.relative_velocity(a, b, p), p.directions[0])
-        block = (
-            settings.block_normal_sweeps > 0
-            and settings.block_jacobi
-            and settings.accumulate_impulses
-        )
         manifolds.append(
             ManifoldRows(
                 a,
@@ -194,7 +189,7 @@ def build_rows(
                 bodies.body_friction[a] * bodies.body_friction[b],
                 bodies.body_restitution[a] * bodies.body_restitution[b],
                 points,
-                normal_block(state, a, b, points) if block else None,
+                normal_block(state, a, b, points) if settings.uses_block_normal else None,
             )
         )
     return manifolds

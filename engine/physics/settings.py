@@ -95,6 +95,12 @@ class SolverSettings:
     contact_cache: bool = True
     use_vectorized: bool = True
 
+    @property
+    def uses_block_normal(self) -> bool:
+        """Whether a step runs the block normal solve: ``block_normal_sweeps > 0`` with
+        ``block_jacobi`` and ``accumulate_impulses`` (the block replaces their update)."""
+        return self.block_normal_sweeps > 0 and self.block_jacobi and self.accumulate_impulses
+
 
 # --- contact geometry -------------------------------------------------------------------
 #: m, penetration left uncorrected so resting contacts persist from step to step.

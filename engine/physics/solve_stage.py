@@ -208,9 +208,7 @@ def _solve_batched(
         PairCoefficients(friction, restitution, store.impulse[rows], problem.slop),
         ColorOrder(problem.color_slices, problem.priority_starts, problem.lower),
         split_mass=settings.block_jacobi,
-        block_normal=settings.block_normal_sweeps > 0
-        and settings.block_jacobi
-        and settings.accumulate_impulses,
+        block_normal=settings.uses_block_normal,
     )
     pseudo = solve_contacts(batch, problem.velocity, h, settings)
     loads = None
