@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from navmesh.query import NavGrid
-from navmesh.visibility import CornerGraph, taut_at
+from navmesh.visibility import ROUNDING_SLACK, CornerGraph, taut_at
 
 GOAL = -1  # parent of a corner whose shortest path goes straight to the goal
 #: (indices, points, quadrants, distances, directions to the next waypoint) of settled corners
@@ -167,12 +167,15 @@ class GeodesicField:
             if min(bound, frontier) >= at_most:
                 return min(bound, frontier), GOAL
             if not math.isfinite(frontier):
-                return math.inf, GOAL  # no corner of the island sees p (not expected)
+                # every corner settled and none passed the taut tests: try them all unpruned
+                # (a guard against rounding; the pruned tests are only shortcuts)
+                found, _ = self._best_settled(node, snapped, math.inf, set(), pruned=False)
+                return found if found is not None else (math.inf, GOAL)
             # a candidate beyond the frontier: settle up to it; none left: the next corner
             self._settle_until(max(bound, frontier) if math.isfinite(bound) else frontier)
 
     def _best_settled(
-        self, node: int, point: np.ndarray, limit: float, tried: set[int]
+        self, node: int, point: np.ndarray, limit: float, tried: set[int], pruned: bool = True
     ) -> tuple[tuple[float, int] | None, float]:
         """The best settled corner ``point`` sees, if its route is no longer than ``limit``
         (the frontier, or less); else (None, the smallest value of the corners not yet
@@ -185,8 +188,9 @@ class GeodesicField:
         # p -> c -> onward must be taut at c and bend around c's blocked square (the module)
         turn = direction[:, 0] * onward[:, 2] - direction[:, 2] * onward[:, 0]
         around = direction[:, 0] * quadrant[:, 1] - direction[:, 2] * quadrant[:, 0]
-        usable = taut_at(quadrant, direction) & (turn * around >= 0.0)
-        values[~usable] = math.inf
+        usable = taut_at(quadrant, direction) & (turn * around >= -ROUNDING_SLACK)
+        if pruned:
+            values[~usable] = math.inf
         sight, px, pz = self.grid.line_of_sight, float(point[0]), float(point[2])
         corner_nodes = self.corners.nodes
         value_list, index_list = values.tolist(), index.tolist()

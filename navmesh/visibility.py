@@ -34,6 +34,9 @@ from navmesh.layers import DIAGONAL_SIDES
 from navmesh.query import NavGrid
 from navmesh.settings import INSIDE_EPS
 
+#: square meters: products of coordinate differences this small count as zero (rounding)
+ROUNDING_SLACK = 1e-12
+
 
 def find_corners(grid: NavGrid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(nodes (C,), points (C, 3), quadrant (C, 2))`` of every reflex corner.
@@ -70,10 +73,15 @@ def find_corners(grid: NavGrid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def taut_at(quadrant: np.ndarray, direction: np.ndarray) -> np.ndarray:
     """Whether lines along ``direction (K, 2 or 3)`` (x, [y,] z) through corners with
-    blocked quadrants ``quadrant (K, 2)`` stay out of the blocked squares (see the module)."""
+    blocked quadrants ``quadrant (K, 2)`` stay out of the blocked squares (see the module).
+
+    A line along a wall (a point slid along it lies ``INSIDE_EPS`` off it, as the corner does)
+    has one component zero up to rounding: ``ROUNDING_SLACK`` keeps it. The test only prunes
+    edges no shortest path uses, so a looser one is still exact.
+    """
     along_x = quadrant[:, 0] * direction[:, 0]
     along_z = quadrant[:, 1] * direction[:, -1]
-    return along_x * along_z <= 0.0
+    return along_x * along_z <= ROUNDING_SLACK
 
 
 class CornerGraph:
