@@ -32,7 +32,7 @@ from engine.attributes_managers import (
     StageAttributesManager,
 )
 from engine.logging import get_logger
-from engine.physics.motion_type import MotionType
+from engine.physics.core.motion_type import MotionType
 from engine.scene_instance import (
     SceneInstanceAttributes,
     SceneObjectInstanceAttributes,

@@ -49,7 +49,7 @@ from engine.attributes_managers import (
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
 from engine.metadata import MetadataMediator
 from engine.pathfinder import PathFinder
-from engine.physics.objects import MotionType
+from engine.physics.objects.rigid_object_manager import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene_instance import SceneInstanceAttributes, find_scene_instance, read_scene_instance
 from engine.scene_loading import (

@@ -1,0 +1,1 @@
+"""stages of the physics step (map in commit C)."""
