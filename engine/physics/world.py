@@ -65,6 +65,7 @@ import numpy as np
 from engine import mn
 
 from .collision.collision_groups import assign_group
+from .collision.collision_objects import CollisionObjects
 from .collision.contacts import ManifoldStore
 from .core.bodies import DYNAMIC, KINEMATIC, STAGE_ID, STATIC, Bodies
 from .core.profiling import StageTimer
@@ -83,7 +84,7 @@ from .solver.integrate import (
     integrate_velocities,
 )
 from .solver.sleeping import update_sleep, wake_body, wake_island, wake_touched
-from .stages.collision_stage import CollisionObjects, collision_stage, update_world_aabbs
+from .stages.collision_stage import collision_stage, update_world_aabbs
 from .stages.solve_stage import solve_stage
 
 __all__ = ["STAGE_ID", "PhysicsWorld"]

@@ -4,7 +4,8 @@ A capsule lying across a narrow ridge of the stage touches it only under the mid
 axis: neither end sphere comes within the stage's speculative distance of the ridge, so the
 contact takes the normal of the deepest triangle the stage's collision query reports, turned
 to face the capsule's centre
-(:func:`engine.physics.collision.collide.round_stage_contacts`). A normal facing away would push the capsule into the ridge, and a zero one would not hold it up.
+(:func:`engine.physics.collision.collide.round_stage_contacts`). A normal facing away would
+push the capsule into the ridge, and a zero one would not hold it up.
 """
 
 from __future__ import annotations

@@ -70,7 +70,7 @@ def job_columns(jobs: list[PairJob]) -> JobColumns:
 @dataclass
 class PairContext:
     """What a rule may read besides its jobs: the bodies, their fcl objects
-    (``collision_stage.CollisionObjects``), the manifolds before this step's update (their
+    (``collision_objects.CollisionObjects``), the manifolds before this step's update (their
     cached normals keep a stage contact on its side) and every body's rotation matrix
     ``(n, 3, 3)``."""
 

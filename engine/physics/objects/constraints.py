@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -55,9 +55,7 @@ from ..solver.coloring import color_manifolds
 from ..solver.integrate import world_inverse_inertia
 from ..solver.sleeping import wake_body
 from ..stages.solve_stage import solver_velocities
-
-if TYPE_CHECKING:
-    from ..world import PhysicsWorld
+from .world_view import WorldView
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
 
@@ -202,7 +200,7 @@ class ConstraintStore:
         return len(self._settings)
 
     # -- API ---------------------------------------------------------------------------------
-    def create(self, world: PhysicsWorld, settings: RigidConstraintSettings) -> int:
+    def create(self, world: WorldView, settings: RigidConstraintSettings) -> int:
         """A new constraint's id, or -1 with a warning when its bodies are not live objects
         (Habitat's failure value)."""
         if not isinstance(settings, RigidConstraintSettings):
@@ -219,14 +217,14 @@ class ConstraintStore:
         return constraint_id
 
     def update(
-        self, world: PhysicsWorld, constraint_id: int, settings: RigidConstraintSettings
+        self, world: WorldView, constraint_id: int, settings: RigidConstraintSettings
     ) -> None:
         self._get(constraint_id)
         self._check_bodies(world, settings)
         self._settings[constraint_id] = settings.copy()
         self.wake_bodies(world.bodies)
 
-    def remove(self, world: PhysicsWorld, constraint_id: int) -> None:
+    def remove(self, world: WorldView, constraint_id: int) -> None:
         settings = self._get(constraint_id)
         del self._settings[constraint_id]
         for index in (settings.object_id_a, settings.object_id_b):
@@ -245,7 +243,7 @@ class ConstraintStore:
         return self._settings[constraint_id]
 
     @staticmethod
-    def _check_bodies(world: PhysicsWorld, settings: RigidConstraintSettings) -> None:
+    def _check_bodies(world: WorldView, settings: RigidConstraintSettings) -> None:
         b = world.bodies
         for name in ("object_id_a", "object_id_b"):
             index = getattr(settings, name)

@@ -15,7 +15,7 @@ what rests on it. After removal ``is_alive`` is False and any other access raise
 from __future__ import annotations
 
 import copy
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -45,9 +45,7 @@ from .object_checks import (
 )
 from .queries import contact_test
 from .velocity_control import RigidState
-
-if TYPE_CHECKING:
-    from ..world import PhysicsWorld
+from .world_view import WorldView
 
 __all__ = ["ManagedPhysicsObject"]
 
@@ -60,7 +58,7 @@ class ManagedPhysicsObject:
     """
 
     def __init__(
-        self, world: PhysicsWorld, index, handle, template, description, root, visual
+        self, world: WorldView, index, handle, template, description, root, visual
     ) -> None:
         self._world, self._index, self._handle = world, index, handle
         self._template = copy.copy(template.copy())

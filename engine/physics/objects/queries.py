@@ -33,7 +33,7 @@ from ..core.settings import RAY_PARALLEL_DETERMINANT, RAY_SPHERE_MARGIN, TINY
 from ..solver.contact_batch import tangent_basis
 
 if TYPE_CHECKING:
-    from ..stages.collision_stage import CollisionObjects
+    from ..collision.collision_objects import CollisionObjects
 
 _TEST_REQUEST = fcl.CollisionRequest()
 

@@ -32,7 +32,6 @@ runs the iterations on a :class:`ContactBatch`.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -45,9 +44,7 @@ from ..core.settings import (
     TANGENT_AXIS_SWITCH,
     TINY,
 )
-
-if TYPE_CHECKING:
-    from .stage_priority import LumpedRows
+from .lumped_rows import LumpedRows
 
 #: point slots per manifold
 SLOTS = MAX_MANIFOLD_POINTS

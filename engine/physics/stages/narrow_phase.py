@@ -23,9 +23,9 @@ from ..collision.pair_rules import ContactBatch, PairContext, PairJob
 from .pair_table import PAIR_TABLE
 
 if TYPE_CHECKING:
+    from ..collision.collision_objects import CollisionObjects
     from ..collision.contacts import ManifoldStore
     from ..core.bodies import Bodies
-    from .collision_stage import CollisionObjects
 
 
 def narrow_phase(
