@@ -77,6 +77,8 @@ from .objects.constraints import ConstraintStore
 from .objects.kinematic_motion import KinematicPoses, implied_velocities
 from .objects.node_sync import NodeSync
 from .objects.queries import ContactPointData, RaycastResults
+from .pipeline.collision_stage import collision_stage, update_world_aabbs
+from .pipeline.solve_stage import solve_stage
 from .solver.integrate import (
     awake_dynamic_bodies,
     body_velocities,
@@ -84,8 +86,6 @@ from .solver.integrate import (
     integrate_velocities,
 )
 from .solver.sleeping import update_sleep, wake_body, wake_island, wake_touched
-from .stages.collision_stage import collision_stage, update_world_aabbs
-from .stages.solve_stage import solve_stage
 
 __all__ = ["STAGE_ID", "PhysicsWorld"]
 

@@ -193,7 +193,7 @@ def test_deep_box_pair_asks_fcl_at_the_current_poses(vectorized):
     """Box pairs do not move their fcl objects (analytic contacts); a pair left to fcl (deeper
     than BOX_DEEP_OVERLAP) moves them first, so its contacts follow the bodies' poses even
     when the fcl objects were last placed far away."""
-    from engine.physics.stages.collision_stage import collision_stage
+    from engine.physics.pipeline.collision_stage import collision_stage
 
     from .helpers import add, make_world, register_primitive
 

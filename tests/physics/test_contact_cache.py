@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-import engine.physics.stages.collision_stage as collision_stage
+import engine.physics.pipeline.collision_stage as collision_stage
 from engine.physics.core import settings as physics_settings
 from engine.physics.solver.coloring import color_manifolds
 

@@ -22,9 +22,13 @@ from engine.physics.collision import batched_stage
 from engine.physics.collision.contacts import FreshPoints, ManifoldStore
 from engine.physics.core import settings
 from engine.physics.core.quaternions import cross, quat_multiply, quat_to_matrix
-from engine.physics.stages.collision_stage import broad_phase, touching_candidates, update_manifolds
-from engine.physics.stages.narrow_phase import narrow_phase
-from engine.physics.stages.reference_contacts import (
+from engine.physics.pipeline.collision_stage import (
+    broad_phase,
+    touching_candidates,
+    update_manifolds,
+)
+from engine.physics.pipeline.narrow_phase import narrow_phase
+from engine.physics.pipeline.reference_contacts import (
     Contact,
     ManifoldPoint,
     pair_contacts,
@@ -270,6 +274,7 @@ def test_effective_mass_under_the_center_of_mass_is_the_body_mass():
 
 
 def test_batched_jacobians_and_effective_masses_match_the_reference_build():
+    from engine.physics.pipeline.solve_stage import gather_solver_input
     from engine.physics.reference.reference_solver import Bodies6, build_rows
     from engine.physics.solver.contact_batch import (
         ColorOrder,
@@ -278,7 +283,6 @@ def test_batched_jacobians_and_effective_masses_match_the_reference_build():
         SolverBodies,
         build_batch,
     )
-    from engine.physics.stages.solve_stage import gather_solver_input
 
     world = tumbling_world(0.5)
     b, store = world.bodies, world.manifolds

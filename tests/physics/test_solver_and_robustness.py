@@ -50,7 +50,7 @@ def test_graph_coloring_puts_each_dynamic_body_once_per_color():
 
 
 def test_color_order_ends_each_color_with_its_stage_rows_and_keeps_the_rest():
-    from engine.physics.stages.solve_stage import color_order
+    from engine.physics.pipeline.solve_stage import color_order
 
     rng = np.random.default_rng(4)
     for _ in range(50):

@@ -118,9 +118,9 @@ def test_vertex_in_a_floor_wall_corner_gets_both_surfaces_on_both_paths():
     body driven into a corner sank into the floor), on the batched and the reference path
     alike (same points, same order)."""
     from engine.assets import MeshData
-    from engine.physics.stages.collision_stage import update_world_aabbs
-    from engine.physics.stages.narrow_phase import narrow_phase
-    from engine.physics.stages.reference_contacts import pair_contacts
+    from engine.physics.pipeline.collision_stage import update_world_aabbs
+    from engine.physics.pipeline.narrow_phase import narrow_phase
+    from engine.physics.pipeline.reference_contacts import pair_contacts
 
     wall = MeshData(
         vertices=np.array([[0.5, -1, -2], [0.5, 2, -2], [0.5, 2, 2], [0.5, -1, 2]], dtype=float),

@@ -136,6 +136,7 @@ def test_no_import_cycles_at_run_time():
     assert len(modules) > 100
     graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
     assert (
-        "engine.physics.stages.reference_contacts" in graph["engine.physics.stages.collision_stage"]
+        "engine.physics.pipeline.reference_contacts"
+        in graph["engine.physics.pipeline.collision_stage"]
     )
     assert import_cycles(graph) == []

@@ -3,8 +3,8 @@ fcl about, and the probes (shapes grown by ``STAGE_SPECULATIVE_DISTANCE``) that 
 triangles near a body.
 
 :class:`CollisionObjects` is the world's ``collision_objects``; the collision stage
-(:mod:`engine.physics.stages.collision_stage`) moves the objects of the pairs that ask fcl,
-the narrow phase (:mod:`engine.physics.stages.narrow_phase`) and the contact test of
+(:mod:`engine.physics.pipeline.collision_stage`) moves the objects of the pairs that ask fcl,
+the narrow phase (:mod:`engine.physics.pipeline.narrow_phase`) and the contact test of
 :mod:`engine.physics.objects.queries` read them. It lives below all three so that none of
 them imports another for its type.
 """

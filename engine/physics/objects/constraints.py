@@ -51,10 +51,10 @@ from engine.named_enum import NamedIntEnum
 from ..core.bodies import Bodies
 from ..core.quaternions import cross, quat_to_matrix
 from ..core.settings import CONSTRAINT_BAUMGARTE, TINY, SolverSettings
+from ..pipeline.solve_stage import solver_velocities
 from ..solver.coloring import color_manifolds
 from ..solver.integrate import world_inverse_inertia
 from ..solver.sleeping import wake_body
-from ..stages.solve_stage import solver_velocities
 from .world_view import WorldView
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]

@@ -1,1 +1,0 @@
-"""stages of the physics step (map in commit C)."""
