@@ -171,7 +171,7 @@ class StaticLayer:
 
     Valid only for the camera (intrinsics and pose), the static meshes and their poses and
     the lights it was rendered with: the caller decides when that holds (the engine checks
-    it exactly, see ``engine.scene_render``). ``render_over_layer`` then rasterizes only the
+    it exactly, see ``engine.sensors.scene_render``). ``render_over_layer`` then rasterizes only the
     moving meshes, depth-tested against ``seed``.
 
     Attributes

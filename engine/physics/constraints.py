@@ -45,8 +45,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from engine import mn
-from engine.fixed_fields import unknown_attribute_error
-from engine.named_enum import NamedIntEnum
+from engine.core.fixed_fields import unknown_attribute_error
+from engine.core.named_enum import NamedIntEnum
 
 from .bodies import Bodies
 from .coloring import color_manifolds
