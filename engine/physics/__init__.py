@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from engine.named_enum import NamedIntEnum
+from engine.core.named_enum import NamedIntEnum
 
 from .collision.collision_groups import CollisionGroupHelper, CollisionGroups
 from .core.settings import SolverSettings
