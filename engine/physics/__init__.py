@@ -24,7 +24,7 @@ below it; no import circle, type-hint imports included, between modules or folde
 
 from __future__ import annotations
 
-from engine.named_enum import NamedIntEnum
+from engine.core.named_enum import NamedIntEnum
 
 from .collision.collision_groups import CollisionGroupHelper, CollisionGroups
 from .core.settings import SolverSettings

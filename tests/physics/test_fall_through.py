@@ -13,9 +13,9 @@ import pytest
 from helpers import add, floor_mesh, make_world, register_primitive
 
 from engine import mn
-from engine.assets import load_meshes
 from engine.attributes import StageAttributes
 from engine.physics.core import settings
+from engine.scene.assets import load_meshes
 
 FLOOR = -1.45  # the apartment's floor height (tests/engine/test_datasets.py)
 FRAME = 1.0 / 60.0

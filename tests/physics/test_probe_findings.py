@@ -74,8 +74,8 @@ def test_cylinder_rolling_into_a_floor_level_corner_keeps_its_floor_contact(demo
     and +z sides up to 20 cm deep); the four kept were all side points, so nothing held it
     up and its rim sank 5 cm into the floor in three frames. A manifold now keeps the
     deepest point of each other direction before its supporting polygon."""
-    from engine.assets import load_meshes
     from engine.attributes import StageAttributes
+    from engine.scene.assets import load_meshes
 
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized
@@ -219,8 +219,8 @@ def test_cone_thrown_at_the_apartment_floor_at_a_grazing_angle_stays_out_of_it(
     4.0 cm in: the vertex that started the step 2 mm inside the floor was not swept (its ray
     started behind the surface). Vertex rays now start the stage's speculative distance
     earlier; a crossing there counts when the surface faces the body's center."""
-    from engine.assets import load_meshes
     from engine.attributes import StageAttributes
+    from engine.scene.assets import load_meshes
 
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized

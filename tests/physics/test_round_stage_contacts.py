@@ -15,9 +15,9 @@ import pytest
 from helpers import add, make_world, register_primitive, run
 
 from engine import mn
-from engine.assets import MeshData
 from engine.attributes import StageAttributes
 from engine.physics.core import settings
+from engine.scene.assets import MeshData
 
 # capsule of radius 0.1 m and axis half length 0.2 m (template scale 0.1)
 LONG_CAPSULE = (

@@ -181,7 +181,7 @@ def test_bad_gravity_and_empty_stage_meshes_raise():
     before = world.state_hash()
     with pytest.raises(ValueError, match="gravity"):
         world.set_gravity([0, np.nan, 0])
-    from engine.assets import MeshData
+    from engine.scene.assets import MeshData
 
     empty = MeshData(vertices=np.zeros((0, 3)), faces=np.zeros((0, 3), dtype=np.int64))
     with pytest.raises(ValueError, match="stage"):

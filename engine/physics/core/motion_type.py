@@ -6,7 +6,7 @@ to them, so ``bodies.body_motion_type == MotionType.DYNAMIC`` is a plain array c
 
 from __future__ import annotations
 
-from engine.named_enum import NamedIntEnum
+from engine.core.named_enum import NamedIntEnum
 
 
 class MotionType(NamedIntEnum):

@@ -49,7 +49,7 @@ class BodyDescription:
 
 def _load(handle: str, template) -> list:
     """Meshes of an asset handle in the object's frame, scaled."""
-    from engine.assets import load_meshes, primitive_meshes
+    from engine.scene.assets import load_meshes, primitive_meshes
 
     scale = np.asarray(template.scale, dtype=np.float64)
     if _is_primitive(handle):
@@ -67,7 +67,7 @@ def _load(handle: str, template) -> list:
 
 
 def _is_primitive(handle: str) -> bool:
-    from engine.attributes import is_primitive_handle
+    from engine.templates.attributes import is_primitive_handle
 
     return is_primitive_handle(handle)
 

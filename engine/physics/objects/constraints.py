@@ -45,8 +45,8 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.fixed_fields import unknown_attribute_error
-from engine.named_enum import NamedIntEnum
+from engine.core.fixed_fields import unknown_attribute_error
+from engine.core.named_enum import NamedIntEnum
 
 from ..core.bodies import Bodies
 from ..core.quaternions import cross, quat_to_matrix

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.attributes import check_inertia
+from engine.templates.attributes import check_inertia
 
 from ..collision.collision_groups import assign_group
 from ..core.bodies import DYNAMIC, KINEMATIC, STATIC

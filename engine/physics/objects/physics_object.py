@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.fixed_fields import public_names, unknown_attribute_error
+from engine.core.fixed_fields import public_names, unknown_attribute_error
 from engine.mn.matrices import rotation_and_scaling
 from engine.mn.vectors import stable_norm
 
@@ -130,7 +130,7 @@ class ManagedPhysicsObject:
     @property
     def visual_scene_nodes(self) -> list:
         """The visual node, the scale node, the asset's root, then one node per node of the
-        render asset (:mod:`engine.visual_nodes`): set ``semantic_id`` on one to relabel a
+        render asset (:mod:`engine.scene.visual_nodes`): set ``semantic_id`` on one to relabel a
         part."""
         self._check()
         return list(getattr(self, "_visual_nodes", [self._visual_node]))
@@ -256,7 +256,7 @@ class ManagedPhysicsObject:
     def translate_local(self, vector: Any) -> None:
         """Move by ``vector`` as Habitat does: its object moves its TRS scene node with
         ``translateLocal``, which adds the vector in the parent frame without rotating it,
-        the same as :meth:`translate` (``engine.scene_node`` explains the Magnum rule)."""
+        the same as :meth:`translate` (``engine.scene.graph`` explains the Magnum rule)."""
         self.translate(vector)
 
     def rotate(self, angle: Any, axis: Any, local: bool = False) -> None:

@@ -83,8 +83,8 @@ class RigidObjectManager:
         )
 
     def _add(self, template, attachment_node, light_setup_key: str = "") -> ManagedRigidObject:
-        from engine.scene_node import Drawable, SceneNode
-        from engine.visual_nodes import build_visual_nodes
+        from engine.scene.graph import Drawable, SceneNode
+        from engine.scene.visual_nodes import build_visual_nodes
 
         if not isinstance(light_setup_key, str):
             raise TypeError(f"light_setup_key must be a str, got {light_setup_key!r}")
