@@ -297,10 +297,11 @@ class PathFinder:
         return True
 
     def geodesic_field(self, goal: ArrayLike) -> GeodesicField:
-        """Geodesic distances to ``goal`` from everywhere, from one Dijkstra search.
+        """Geodesic distances to ``goal`` from everywhere, from one search from the goal.
 
-        ``field.distance(point)`` then answers in microseconds (see ``navmesh.geodesic_field``
-        for the rule and its accuracy); a greedy follower asks it once per candidate action.
+        ``field.distance(point)`` is ``find_path``'s geodesic distance from ``point`` (the same
+        search over the visibility graph, see ``navmesh.geodesic_field``), answered without a
+        new search; a greedy follower asks it once per candidate action.
         """
         return GeodesicField(self._require_grid(), self._corner_graph(), as_point(goal, "goal"))
 

@@ -85,7 +85,7 @@ def test_deleting_a_missing_sensor_is_logged_and_changes_nothing(caplog):
     node = habitat_sim.SceneGraph().get_root_node().create_child()
     SensorFactory.create_sensors(node, [camera("kept")])
     other = node.create_child()
-    with caplog.at_level(logging.DEBUG, logger="engine.sensor"):
+    with caplog.at_level(logging.DEBUG, logger=SensorFactory.__module__):
         SensorFactory.delete_subtree_sensor(other, "kept")  # not below `other`
         SensorFactory.delete_subtree_sensor(node, "missing")
     assert list(node.subtree_sensors) == ["kept"]
