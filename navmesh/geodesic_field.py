@@ -24,7 +24,8 @@ corners and the taut edges between corners that see each other):
 The distances are those of the shortest path in the polygon the navigable squares form (3D
 segment lengths, bends only at corners): ``PathFinder.find_path`` answers the same question for
 one start with the same corners and visibility (``tests/navmesh/test_polygons_and_field.py``
-compares them). :meth:`GeodesicField.path_from` returns the path itself.
+compares them). :meth:`GeodesicField.path_from` returns the path itself. Exact answers are
+kept per snapped point: a follower's next pose is one of the candidate ends it just scored.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from navmesh.query import NavGrid
 from navmesh.visibility import ROUNDING_SLACK, CornerGraph, taut_at
 
 GOAL = -1  # parent of a corner whose shortest path goes straight to the goal
+MAX_REMEMBERED = 100_000  # exact answers kept per field (then the memo starts again)
 #: (indices, points, quadrants, distances, directions to the next waypoint) of settled corners
 _SettledView = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
@@ -57,6 +59,8 @@ class GeodesicField:
         #: the next corner on c's shortest path (GOAL: straight to the goal)
         self.parent = np.full(corners.size, GOAL, dtype=np.int64)
         self._settled: list[int] = []
+        #: exact answers by snapped point (node, x, y, z): see _remember
+        self._answers: dict[tuple, tuple[float, int]] = {}
         self._settled_arrays: _SettledView | None = None
         # (key, corner, via): via GOAL entries still need the goal's line of sight checked
         self._heap: list[tuple[float, int, int]] = []
@@ -151,18 +155,34 @@ class GeodesicField:
         if goal is None or snapped is None or grid.island[node] != grid.island[self.goal_node]:
             return math.inf, GOAL
         sx, sy, sz = (float(v) for v in snapped)
+        key = (node, sx, sy, sz)
+        known = self._answers.get(key)
+        if known is not None:
+            return known
         gx, gy, gz = (float(v) for v in goal)
         straight = math.hypot(gx - sx, gy - sy, gz - sz)
         if straight >= at_most:  # every path is at least the straight line
             return straight, GOAL
         if grid.line_of_sight(node, (sx, sz), (gx, gz), self.goal_node):
-            return straight, GOAL
+            return self._remember(key, (straight, GOAL))
+        return self._search_corners(node, snapped, at_most)
+
+    def _remember(self, key: tuple, answer: tuple[float, int]) -> tuple[float, int]:
+        """Keep an exact answer for the same snapped point (a follower's next pose is a
+        candidate end it scored); the memo starts again beyond ``MAX_REMEMBERED``."""
+        if len(self._answers) >= MAX_REMEMBERED:
+            self._answers.clear()
+        self._answers[key] = answer
+        return answer
+
+    def _search_corners(self, node: int, snapped: np.ndarray, at_most: float) -> tuple[float, int]:
+        """Step 2 of the module for a point the goal does not see (see :meth:`_first_hop`)."""
         tried: set[int] = set()
         while True:
             frontier = self.frontier
             found, bound = self._best_settled(node, snapped, min(frontier, at_most), tried)
             if found is not None:
-                return found
+                return self._remember((node, *(float(v) for v in snapped)), found)
             # untried settled corners give at least `bound`, unsettled ones the frontier
             if min(bound, frontier) >= at_most:
                 return min(bound, frontier), GOAL
@@ -170,7 +190,9 @@ class GeodesicField:
                 # every corner settled and none passed the taut tests: try them all unpruned
                 # (a guard against rounding; the pruned tests are only shortcuts)
                 found, _ = self._best_settled(node, snapped, math.inf, set(), pruned=False)
-                return found if found is not None else (math.inf, GOAL)
+                if found is None:
+                    return math.inf, GOAL
+                return self._remember((node, *(float(v) for v in snapped)), found)
             # a candidate beyond the frontier: settle up to it; none left: the next corner
             self._settle_until(max(bound, frontier) if math.isfinite(bound) else frontier)
 

@@ -96,13 +96,14 @@ def largest_island_centre(pathfinder) -> np.ndarray:
     return centres[int(np.argmin(((centres[:, [0, 2]] - mean) ** 2).sum(axis=1)))]
 
 
-def test_example_programs_action_shortest_path_plans_from_every_frame(demo_data):
+def test_example_programs_action_shortest_path_plans_from_every_frame(demo_data, habitat_data):
     """``demo_runner``'s loop with both flags (its seeds, start rule and follower): a random
     action, then ``find_path`` and the follower's ``find_path`` to the goal, 300 frames."""
     settings = {
         **default_sim_settings,
         "scene": str(demo_data / "scene_datasets/demo/apartment.glb"),
         "color_sensor": False,
+        "physics_config_file": str(habitat_data / "default.physics_config.json"),
     }
     with habitat_sim.Simulator(make_cfg(settings)) as sim:
         random.seed(settings["seed"])
