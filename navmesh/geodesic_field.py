@@ -41,8 +41,8 @@ from navmesh.visibility import ROUNDING_SLACK, CornerGraph, taut_at
 
 GOAL = -1  # parent of a corner whose shortest path goes straight to the goal
 MAX_REMEMBERED = 100_000  # exact answers kept per field (then the memo starts again)
-#: (indices, points, quadrants, distances, directions to the next waypoint) of settled corners
-_SettledView = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+#: columns of the settled corners (see GeodesicField._settled_view)
+_SettledView = tuple[np.ndarray, ...]
 
 
 class GeodesicField:
@@ -108,8 +108,8 @@ class GeodesicField:
                     heapq.heappush(self._heap, (key + length, other, corner))
 
     def _settled_view(self) -> _SettledView:
-        """(indices, points, quadrants, distances, directions to the next waypoint) of the
-        settled corners."""
+        """Columns of the settled corners: indices, x, y, z, blocked quadrant signs sx, sz,
+        distances D, and the x, z of the direction to the next waypoint."""
         if self._settled_arrays is None:
             assert self.goal is not None
             index = np.array(self._settled, dtype=np.int64)
@@ -119,12 +119,16 @@ class GeodesicField:
                 (parent == GOAL)[:, None], self.goal, corners.points[np.maximum(parent, 0)]
             )
             points = corners.points[index]
+            onward = following - points
+            quadrant = corners.quadrant[index]
             self._settled_arrays = (
                 index,
-                points,
-                corners.quadrant[index],
+                *(np.ascontiguousarray(points[:, k]) for k in range(3)),
+                np.ascontiguousarray(quadrant[:, 0]),
+                np.ascontiguousarray(quadrant[:, 1]),
                 self.corner_distance[index],
-                following - points,
+                np.ascontiguousarray(onward[:, 0]),
+                np.ascontiguousarray(onward[:, 2]),
             )
         return self._settled_arrays
 
@@ -202,31 +206,34 @@ class GeodesicField:
         """The best settled corner ``point`` sees, if its route is no longer than ``limit``
         (the frontier, or less); else (None, the smallest value of the corners not yet
         tried, or inf)."""
-        index, points, quadrant, distance, onward = self._settled_view()
+        index, xs, ys, zs, sx, sz, distance, onward_x, onward_z = self._settled_view()
         if index.size == 0:
             return None, math.inf
-        direction = points - point
-        values = np.sqrt(np.einsum("ij,ij->i", direction, direction)) + distance
-        # p -> c -> onward must be taut at c and bend around c's blocked square (the module)
-        turn = direction[:, 0] * onward[:, 2] - direction[:, 2] * onward[:, 0]
-        around = direction[:, 0] * quadrant[:, 1] - direction[:, 2] * quadrant[:, 0]
-        usable = taut_at(quadrant, direction) & (turn * around >= -ROUNDING_SLACK)
+        dx, dz = xs - float(point[0]), zs - float(point[2])
+        dy = ys - float(point[1])
+        values = np.sqrt(dx * dx + dy * dy + dz * dz) + distance
         if pruned:
-            values[~usable] = math.inf
+            # p -> c -> onward must be taut at c and bend around c's blocked square (module)
+            taut = (sx * dx) * (sz * dz) <= ROUNDING_SLACK
+            turn = dx * onward_z - dz * onward_x
+            around = dx * sz - dz * sx
+            values[~(taut & (turn * around >= -ROUNDING_SLACK))] = math.inf
+        # only candidates within the limit are tried; the rest bound the answer from below
+        within = np.flatnonzero(values <= limit)
+        order = within[np.argsort(values[within], kind="stable")].tolist()
         sight, px, pz = self.grid.line_of_sight, float(point[0]), float(point[2])
         corner_nodes = self.corners.nodes
-        value_list, index_list = values.tolist(), index.tolist()
-        for k in np.argsort(values, kind="stable").tolist():
-            value, corner = value_list[k], index_list[k]
+        for k in order:
+            corner = int(index[k])
             if corner in tried:
                 continue
-            if value > limit or not math.isfinite(value):
-                return None, value
             tried.add(corner)
-            target = (float(points[k, 0]), float(points[k, 2]))
+            target = (float(xs[k]), float(zs[k]))
             if sight(node, (px, pz), target, int(corner_nodes[corner])):
-                return (value, corner), value
-        return None, math.inf
+                return (float(values[k]), corner), float(values[k])
+        # the smallest value beyond the limit among corners not tried (inf: none)
+        untried = values > limit
+        return None, float(values[untried].min()) if np.any(untried) else math.inf
 
     def path_from(self, point: ArrayLike) -> list[np.ndarray]:
         """Waypoints of the shortest path from (snapped) ``point`` to the goal: the point, the
