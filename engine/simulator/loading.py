@@ -25,7 +25,7 @@ import numpy as np
 
 from engine import mn
 from engine.logging import get_logger
-from engine.physics.motion_type import MotionType
+from engine.physics.core.motion_type import MotionType
 from engine.scene.assets import MeshData, load_meshes, merge_meshes
 from engine.scene.instance import (
     SceneInstanceAttributes,

@@ -66,7 +66,7 @@ class SimulatorPhysics:
         """Turn the stage's collisions on or off (objects then fall through it)."""
         self._world.set_stage_is_collidable(collidable)
 
-    # -- rigid constraints (engine.physics.constraints) -------------------------------------
+    # -- rigid constraints (engine.physics.objects.constraints) ------------------------------
     def create_rigid_constraint(self, settings) -> int:
         """Hold two objects (or an object and the world) together; returns the constraint id."""
         return self._world.constraints.create(self._world, settings)

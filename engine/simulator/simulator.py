@@ -42,7 +42,7 @@ from engine.agent.agent import numpy_quaternion
 from engine.agent.controls.pyrobot_noisy_controls import seed_noise
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
 from engine.nav.pathfinder import PathFinder
-from engine.physics.objects import MotionType
+from engine.physics.objects.rigid_object_manager import MotionType
 from engine.physics.world import PhysicsWorld
 from engine.scene.graph import Drawable, SceneGraph, SceneNode
 from engine.scene.instance import SceneInstanceAttributes, find_scene_instance, read_scene_instance

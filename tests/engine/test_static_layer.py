@@ -12,7 +12,7 @@ import pytest
 import engine as habitat_sim
 import engine.simulator.simulator
 from engine.demo import demo_data_path
-from engine.physics.objects import MotionType
+from engine.physics.objects.rigid_object_manager import MotionType
 from engine.sensors.render_scheduler import RenderScheduler
 from engine.sensors.scene_render import SceneRenderer
 from engine.tutorial.cli import run_tutorial

@@ -12,7 +12,7 @@ import pytest
 from helpers import add, make_world, register_primitive
 
 from engine import mn
-from engine.physics import settings
+from engine.physics.core import settings
 
 FRAME = 1.0 / 60.0
 
@@ -58,7 +58,7 @@ CYLINDER = (
 
 def _lowest_point(world, index: int) -> float:
     """The lowest world y of body ``index``'s hull vertices, m."""
-    from engine.physics.quaternions import quat_to_matrix
+    from engine.physics.core.quaternions import quat_to_matrix
 
     b = world.bodies
     vertices = np.concatenate([shape.hull_vertices for shape in b.shapes[index]])
@@ -110,8 +110,8 @@ def _corner_row(rng):
 
 
 def test_select_with_corners_keeps_the_floor_and_agrees_with_its_reference():
-    from engine.physics.manifold_merge import select_with_corners
-    from engine.physics.reference_manifolds import select_with_corners as reference
+    from engine.physics.collision.manifold_merge import select_with_corners
+    from engine.physics.reference.reference_manifolds import select_with_corners as reference
 
     rng = np.random.default_rng(3)
     rows = [_corner_row(rng) for _ in range(8)]
