@@ -1,7 +1,7 @@
 """Shared pytest fixtures: where the real Habitat test assets live.
 
-The assets sit in ``../shared/assets/habitat/data`` beside the repository
-root; ``RIGIDSIM_HABITAT_DATA`` overrides the location.
+The assets are Habitat-sim's MIT-licensed test assets, committed in ``tests/habitat_data``
+(see its README); ``RIGIDSIM_HABITAT_DATA`` names another copy with the same layout.
 """
 
 from __future__ import annotations
@@ -16,23 +16,27 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from browser_support import browser, page  # noqa: E402,F401 - fixtures for the page tests
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
+#: Habitat's test assets as committed in the repository (Habitat's ``data/`` layout)
+BUNDLED_HABITAT_DATA = Path(__file__).resolve().parent / "habitat_data"
 
 
 def habitat_data_dir() -> Path:
     """Return the folder holding Habitat's ``test_assets`` and physics configs."""
-    # resolved: template handles are resolved paths, so a symlinked ``shared`` still matches
+    # resolved: template handles are resolved paths, so a symlinked copy still matches
     override = os.environ.get("RIGIDSIM_HABITAT_DATA")
     if override:
         return Path(override).resolve()
-    return (REPO_ROOT.parent / "shared" / "assets" / "habitat" / "data").resolve()
+    return BUNDLED_HABITAT_DATA
 
 
 @pytest.fixture(scope="session")
 def habitat_data() -> Path:
     path = habitat_data_dir()
     if not path.is_dir():
-        pytest.fail(f"Habitat test assets not found at {path}; set RIGIDSIM_HABITAT_DATA")
+        pytest.fail(
+            f"Habitat test assets not found at {path}: RIGIDSIM_HABITAT_DATA names a folder "
+            "that does not exist (unset it to use tests/habitat_data)"
+        )
     return path
 
 
