@@ -30,6 +30,7 @@ from engine.async_render import AsyncRender
 from engine.cubemap_sensors import observe_with_cube_maps
 from engine.debug_lines import DebugLineRender
 from engine.line_overlay import LineOverlay
+from engine.observations import Observations
 from engine.scene_node import SceneNode
 from engine.sensor import SensorFactory
 from engine.sensor_wrapper import Sensor
@@ -157,7 +158,7 @@ class SimulatorSensors:
         self._draw_sensors([s for sensors in per_agent.values() for s in sensors])
         observations: dict[int, dict[str, Any]] = OrderedDict()
         for agent_id, sensors in per_agent.items():
-            observations[agent_id] = {s.uuid: s.get_observation() for s in sensors}
+            observations[agent_id] = Observations((s.uuid, s.get_observation()) for s in sensors)
         return next(iter(observations.values())) if single else observations
 
     # -- asynchronous rendering --------------------------------------------------------------
