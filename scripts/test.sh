@@ -17,4 +17,4 @@ export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
-.venv/bin/python -m pytest -q -n auto --dist loadgroup "$@"
+.venv/bin/python -m pytest -q -n auto --dist loadfile "$@"

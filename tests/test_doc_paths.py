@@ -7,8 +7,7 @@ leaves such a pointer dangling. This test collects every ``engine/``, ``render/`
 path ending in ``/``) written in ``README.md`` and ``docs/*.md`` and fails on one that does
 not exist. Paths under ``tests/`` and ``examples/`` are left out: the docs also quote
 Habitat-sim's own ``tests/test_sensors.py`` and a placeholder ``examples/NAME.py``. The
-README's table of ``engine/physics/`` must list each module of the package exactly once, and
-the bare module names (`` `pair_table.py` ``) of the README and the architecture pages
+bare module names (`` `pair_table.py` ``) of the README and the architecture pages
 (contacts, rendering, solver) must be files of the repository.
 """
 
@@ -59,27 +58,6 @@ def test_every_bare_module_name_of_the_architecture_pages_exists() -> None:
         if name not in files
     ]
     assert missing == [], "named but not in the repository:\n" + "\n".join(missing)
-
-
-def test_the_readme_names_the_modules_it_is_checked_for() -> None:
-    readme = named_paths((ROOT / "README.md").read_text(encoding="utf-8"))
-    for path in ("engine/physics/world.py", "render/frame.py", "render/reference.py"):
-        assert path in readme
-
-
-def physics_table(readme: str) -> str:
-    """The README's table of ``engine/physics/`` modules by stage (up to the next paragraph)."""
-    start = readme.index("**`engine/physics/`")
-    return readme[start : readme.index("\n\n", readme.index("| group |", start))]
-
-
-def test_the_readme_lists_every_physics_module_in_exactly_one_group() -> None:
-    table = physics_table((ROOT / "README.md").read_text(encoding="utf-8"))
-    rows = [line for line in table.splitlines() if line.startswith("| ")][1:]  # no header
-    named = re.findall(r"`(\w+\.py)`", "\n".join(row.split("|")[2] for row in rows))
-    modules = sorted(path.name for path in (ROOT / "engine" / "physics").glob("*.py"))
-    assert sorted(named) == modules, f"listed {sorted(set(named) ^ set(modules))} wrongly"
-    assert len(named) == len(set(named)), "a module is listed in two groups"
 
 
 def test_a_wrong_name_is_found(tmp_path: Path) -> None:
