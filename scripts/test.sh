@@ -17,4 +17,5 @@ export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
+.venv/bin/lint-imports  # import contracts, configured in pyproject.toml ([tool.importlinter])
 .venv/bin/python -m pytest -q -n auto --dist loadfile "$@"
