@@ -9,7 +9,7 @@ pulling). Turning the search around answers every such question from one search:
    square centres) gives ``D[n]``, the grid distance from the centre of node ``n`` to the goal
    point, for every node of the goal's island (``scipy.sparse.csgraph.dijkstra``, compiled).
 2. **A point ``p``** snaps to its node ``n`` (``NavGrid.nearest_node``). When the straight
-   segment ``p -> goal`` stays on the navmesh the distance is exact, ``|p - goal|``; otherwise
+   segment ``p -> goal`` stays on the navmesh the distance is exact, ``|p - goal|``; otherwise::
 
        d(p) = min over m in {n and its 8 neighbours} of ( |p - c_m| + D[m] )
 
