@@ -13,11 +13,13 @@ page shows an absolute path of the build.
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
 import threading
 from collections.abc import Iterator
+from dataclasses import dataclass
 from functools import partial
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -28,6 +30,14 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 # pages Sphinx writes besides the content pages: indexes and the search page
 GENERATED = {"genindex.html", "search.html", "py-modindex.html"}
+
+
+@dataclass(frozen=True)
+class SiteBuild:
+    site: Path  # the built site's folder
+    log: str  # everything the build printed
+
+
 # Sphinx's math elements ("math notranslate nohighlight"; MathJax's own output also has
 # spans of class "math", hence the second class): each must hold MathJax's typeset output
 MATH_TYPESET = """() => [...document.querySelectorAll('.math.notranslate')].every(
@@ -35,7 +45,7 @@ MATH_TYPESET = """() => [...document.querySelectorAll('.math.notranslate')].ever
 
 
 @pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory, executed_notebooks: Path) -> Path:
+def site_build(tmp_path_factory: pytest.TempPathFactory, executed_notebooks: Path) -> SiteBuild:
     out = tmp_path_factory.mktemp("site") / "docs"
     env = dict(os.environ, PYTHON=sys.executable)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
@@ -49,7 +59,34 @@ def site(tmp_path_factory: pytest.TempPathFactory, executed_notebooks: Path) -> 
         timeout=1800,
     )
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    return out
+    return SiteBuild(out, done.stdout + done.stderr)
+
+
+@pytest.fixture(scope="module")
+def site(site_build: SiteBuild) -> Path:
+    return site_build.site
+
+
+def test_the_build_reports_no_warning_or_error(site_build: SiteBuild) -> None:
+    # Sphinx's own warnings already fail the build (-W); this also catches what runs beside
+    # it: a notebook kernel's or the replay writer's WARNING or ERROR lines
+    flagged = [line for line in site_build.log.splitlines() if "WARNING" in line or "ERROR" in line]
+    assert flagged == []
+
+
+def test_each_object_is_described_once_and_pages_are_indexed_with_their_text(site: Path) -> None:
+    text = (site / "searchindex.js").read_text(encoding="utf-8")
+    index = json.loads(text[text.index("(") + 1 : text.rindex(")")])
+    described = [
+        f"{prefix}.{entry[4]}" for prefix, entries in index["objects"].items() for entry in entries
+    ]
+    assert len(described) == len(set(described))
+    methods = [name for name in described if name.endswith(".ManagedRigidObject.apply_impulse")]
+    assert len(methods) == 1, methods  # once, in the module that defines the class
+    # a word of a page's body (not of its titles) finds that page
+    docnames = index["docnames"]
+    pages = index["terms"]["sutherland"]  # Sutherland-Hodgman clipping, in the rendering guide
+    assert docnames.index("rendering") in (pages if isinstance(pages, list) else [pages])
 
 
 class QuietHandler(SimpleHTTPRequestHandler):
