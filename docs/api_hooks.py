@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import inspect
 import sys
-from typing import Any
+from typing import Any, TypeVar
 
 from sphinx import addnodes
 
@@ -94,39 +94,91 @@ def resolve_type_names(app: Any, doctree: Any) -> None:
         node[TYPE_FIELD] = True
 
 
+def lookup(path: str) -> object:
+    """The object a dotted path names when Python follows it from one of rigidsim's packages
+    (``navmesh.PathFinder`` is ``navmesh.pathfinder.PathFinder``); None when it names nothing."""
+    parts = path.split(".")
+    if parts[0] not in PACKAGES:
+        return None
+    value: object = sys.modules.get(parts[0])
+    for depth, part in enumerate(parts[1:], start=2):
+        submodule = sys.modules.get(".".join(parts[:depth]))
+        value = submodule if submodule is not None else getattr(value, part, None)
+        if value is None:
+            return None
+    return value
+
+
+def defining_class(owner: object, name: str) -> type | None:
+    """The class of ``owner``'s MRO that defines or annotates ``name``, else None."""
+    for klass in getattr(owner, "__mro__", ()):
+        if name in vars(klass) or name in getattr(klass, "__annotations__", {}):
+            return klass
+    return None
+
+
+def candidates_for(target: str, module: str, owner: str) -> list[str]:
+    """Dotted paths ``target`` may mean, seen from ``module`` (and its class ``owner``)."""
+    parts = module.split(".")
+    paths = [".".join([*parts[:depth], target]) for depth in range(len(parts), 0, -1)]
+    paths.append(target)
+    if owner:
+        paths.insert(0, f"{module}.{owner}.{target}")
+    return paths
+
+
 def resolve_within_package(app: Any, env: Any, node: Any, contnode: Any) -> Any:
     """Resolve what Sphinx could not, or leave it as plain text where no page can describe it.
 
-    Called for every reference Sphinx did not find (``missing-reference``): a name written
-    relative to the module's package (``:mod:`pair_table``` in ``engine.physics``) is looked
-    up in the module's package, then its parents, then as the one object of the same top
-    package whose name ends with it (so a module that moves to another folder is still
-    found). Types (field types, base classes) outside rigidsim's packages stay plain text:
-    no inventory of NumPy's or Python's docs is read offline. What remains is a reference
-    into rigidsim that names nothing: the build warns (``nitpicky``), and fails.
+    Called for every reference Sphinx did not find (``missing-reference``). A name is looked up
+    as Python would: relative to the module's class and package (``:mod:`pair_table``` in
+    ``engine.physics.collision``), then through imports (``navmesh.PathFinder``), then as the
+    one object of the same top package whose name ends with it (a module moved to another
+    folder is still found). Left as plain text, since no page describes them: types of fields
+    and bases outside rigidsim (no inventory of NumPy's or Python's docs is read offline),
+    private names, type variables, names a class inherits from outside rigidsim (Gymnasium's
+    ``render_mode``) and names that exist but have no description (a constant without a
+    ``#:`` comment). What remains is a reference to a name that does not exist (a typo, a
+    module moved away): the build warns (``nitpicky``), and fails.
     """
     if node.get("refdomain") != "py":
         return None
     target = node.get("reftarget", "").lstrip("~.")
-    if node.get(TYPE_FIELD) or (
-        node.get("reftype") in ("class", "obj", "exc") and target.split(".")[0] not in PACKAGES
-    ):
+    external = target.split(".")[0] not in PACKAGES
+    if node.get(TYPE_FIELD) or target.split(".")[-1].startswith("_"):
+        return contnode
+    if external and node.get("reftype") in ("class", "obj", "exc"):
         return contnode
     domain = env.domains["py"]
-    module = node.get("py:module") or ""
-    parts = module.split(".")
-    candidates = [".".join([*parts[:depth], target]) for depth in range(len(parts), 0, -1)]
-    top = parts[0] if parts[0] in PACKAGES else None
-    if top is not None:
-        start, end = f"{top}.", f".{target}"
-        suffix = [name for name in domain.objects if name.startswith(start) and name.endswith(end)]
-        candidates += suffix if len(suffix) == 1 else []
-    for candidate in candidates:
-        if candidate in domain.objects:
+    module, owner = node.get("py:module") or "", node.get("py:class") or ""
+    exists = False  # the name is in the code, though no page may describe it
+    for path in candidates_for(target, module, owner):
+        value = lookup(path)
+        exists = exists or value is not None
+        found = path if path in domain.objects else qualified_name(value)
+        if isinstance(value, TypeVar):
+            return contnode
+        if found in domain.objects:
             return domain.resolve_xref(
-                env, node["refdoc"], app.builder, node["reftype"], candidate, node, contnode
+                env, node["refdoc"], app.builder, node["reftype"], found, node, contnode
             )
-    return None
+    definer = defining_class(lookup(f"{module}.{owner}") if owner else None, target)
+    if definer is not None and definer.__module__.split(".")[0] not in PACKAGES:
+        return contnode  # inherited from outside rigidsim
+    top = target.split(".")[0] if not external else module.split(".")[0]
+    kinds = set(domain.objtypes_for_role(node["reftype"]) or ())
+    for tail in dict.fromkeys([target, target.split(".")[-1]]):  # whole name, then last part
+        start, end = f"{top}.", f".{tail}"
+        ending = [
+            name
+            for name, entry in domain.objects.items()
+            if name.startswith(start) and name.endswith(end) and entry.objtype in kinds
+        ]
+        if len(ending) == 1:
+            return domain.resolve_xref(
+                env, node["refdoc"], app.builder, node["reftype"], ending[0], node, contnode
+            )
+    return contnode if exists else None  # an undescribed constant stays plain text
 
 
 PACKAGES = ("engine", "render", "navmesh")

@@ -50,11 +50,11 @@ contacts and trajectories to rounding. Wall time per stage is summed by
 the per-object dictionaries ``nodes``, ``velocity_controls``, ``render_meshes``,
 ``creation_state``. Its methods are of three kinds, each a few lines: the step above;
 body bookkeeping that must touch several parts at once (:meth:`add_body`,
-:meth:`remove_body`, :meth:`set_body_pose`, :meth:`reset`, :meth:`set_stage`); and
-Habitat's world API (time, gravity, ray casts, contact points), one-line calls of
-:mod:`queries` and :mod:`sleeping` functions that take the parts they read explicitly. A
-reader looking for what ``cast_ray`` does opens one function in one module, with every
-input in its signature; no method is inherited.
+:meth:`remove_body`, :meth:`~PhysicsWorld.set_body_pose`, :meth:`~PhysicsWorld.reset`,
+:meth:`set_stage`); and Habitat's world API (time, gravity, ray casts, contact points),
+one-line calls of :mod:`queries` and :mod:`sleeping` functions that take the parts they
+read explicitly. A reader looking for what ``cast_ray`` does opens one function in one
+module, with every input in its signature; no method is inherited.
 
 ``step_physics(dt)`` wraps it the way Habitat wraps ``btDiscreteDynamicsWorld::
 stepSimulation``: it accumulates ``dt`` and runs whole fixed steps of ``timestep`` (0.008 s
