@@ -8,7 +8,9 @@ would serve it (and once from disk, as a student opens ``build/docs/index.html``
 network, and checks what a reader sees: every page is reachable from the index's navigation,
 equations are typeset by the bundled MathJax (no raw ``$$`` or ``\\(`` left), the notebooks'
 figures and videos are there and load, no page logs an error, search finds a class, and no
-page shows an absolute path of the build.
+page shows an absolute path of the build. Without a browser it still checks that the build
+printed no ``WARNING`` or ``ERROR`` line (Sphinx runs with ``-W``), that the search index
+describes each object once and indexes the pages' text.
 """
 
 from __future__ import annotations
