@@ -16,7 +16,9 @@ in reading order:
    and when the camera groups render (threads, the render worker, a shared frame);
 9. :mod:`~engine.sensors.async_render`: render this frame while physics steps the next;
 10. :mod:`~engine.sensors.debug_lines`, :mod:`~engine.sensors.line_overlay`: debug lines
-    drawn into the color frames.
+    drawn into the color frames;
+11. :mod:`~engine.sensors.observations`: the observations dict (uuid -> frame), whose missing
+    key names the uuids there are.
 
 May import: ``render``, ``engine.scene``, ``engine.core``, ``engine.mn`` and the small
 Habitat modules (``geo``, ``errors``). Never physics, agents or the simulator.
