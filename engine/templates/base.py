@@ -38,7 +38,7 @@ class Field:
     default: Any
 
 
-#: |up . front| allowed between a template's unit ``up`` and ``front`` (the asset loader's).
+#: ``|up . front|`` allowed between a template's unit ``up`` and ``front`` (the asset loader's).
 FRAME_ORTHOGONAL_TOLERANCE = 1e-6
 
 

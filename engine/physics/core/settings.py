@@ -158,7 +158,7 @@ SUPPORT_DEPTH_BAND = 0.004
 #: 1 (cosine), a polyhedron face serves as reference face of a contact only if its outward
 #: normal is at least this aligned with fcl's contact normal (about 45 degrees).
 REFERENCE_FACE_ALIGNMENT = 0.7
-#: 1, tangent_basis builds t1 from the world X axis unless |n_x| reaches this (then Y):
+#: 1, tangent_basis builds t1 from the world X axis unless ``|n_x|`` reaches this (then Y):
 #: just below 1/sqrt(3), so the chosen axis is never nearly parallel to n.
 TANGENT_AXIS_SWITCH = 0.57
 #: m (or m^2 for areas), manifold choices (deepest point, farthest point, largest area)
@@ -319,7 +319,7 @@ SWEEP_BOX_PADDING = 1e-6
 BOX_AXIS_RELATIVE = 0.95
 #: m, see ``BOX_AXIS_RELATIVE``.
 BOX_AXIS_ABSOLUTE = 0.0005
-#: 1, |a_i x b_j| below this: the two edges are parallel and their cross product is no axis.
+#: 1, ``|a_i x b_j|`` below this: the two edges are parallel and their cross product is no axis.
 BOX_PARALLEL_EDGES = 1e-6
 #: m, clipping tolerance: a point this close outside a face's rectangle still counts.
 BOX_CLIP_TOLERANCE = 1e-7
