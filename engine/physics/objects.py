@@ -24,6 +24,7 @@ import numpy as np
 
 from .bodies import DYNAMIC, KINEMATIC, STATIC
 from .body_builder import describe_object
+from .mass_ratio import warn_beyond_stable_ratio
 from .motion_type import MotionType
 from .object_properties import DeadObjectError, ManagedRigidObject
 
@@ -36,6 +37,8 @@ class RigidObjectManager:
         self._templates = template_manager
         self._root_node = root_node
         self._objects: dict[int, ManagedRigidObject] = {}
+        #: objects already warned of a mass ratio beyond what the solver holds (mass_ratio.py)
+        self.mass_ratio_warned: set[int] = set()
 
     # -- adding ----------------------------------------------------------------------------
     def add_object_by_template_id(
@@ -91,6 +94,8 @@ class RigidObjectManager:
         description = describe_object(template)  # raises before the world changes
         world = self._world
         index = world.add_body(description, template)
+        self.mass_ratio_warned.discard(index)  # a reused slot is checked afresh
+        warn_beyond_stable_ratio(world.bodies, index, self.mass_ratio_warned)
         root = attachment_node if attachment_node is not None else SceneNode(self._root_node)
         visual = SceneNode(root, name="visual")
         visual.translation = -description.com
