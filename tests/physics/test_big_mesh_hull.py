@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from engine.physics import hull_sampling
-from engine.physics.settings import HULL_SAMPLE_POINTS, MAX_HULL_POINTS
+from engine.physics.core.settings import HULL_SAMPLE_POINTS, MAX_HULL_POINTS
+from engine.physics.objects import hull_sampling
 from engine.simulator import Configuration, Simulator, SimulatorConfiguration
 
 HALF_AXES = np.array([0.3, 0.2, 0.25])  # m, the ellipsoid's semi-axes

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from engine import mn
-from engine.physics.mass_ratio import MAX_STABLE_MASS_RATIO
+from engine.physics.objects.mass_ratio import MAX_STABLE_MASS_RATIO
 from engine.simulator import Configuration, Simulator, SimulatorConfiguration
 
 HALF = 0.1  # m, the cubes' half extent

@@ -21,9 +21,9 @@ from bad_inputs import assert_refused
 
 import engine as habitat_sim
 from engine import mn
-from engine.assets import load_meshes
 from engine.attributes import PhysicsManagerAttributes
 from engine.physics import RigidConstraintSettings
+from engine.scene.assets import load_meshes
 
 
 def _first_object(sim):
