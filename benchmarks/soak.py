@@ -372,9 +372,10 @@ class Soak:
         if self.steps == self.depths_checked_at:
             return  # the depths change only when the world steps
         self.depths_checked_at = self.steps
+        awake = self.world.bodies.body_awake
         for object_id in sorted(self.tracked):
-            if self.steps - self.placed.get(object_id, 0) < SETTLE_STEPS:
-                continue
+            if self.steps - self.placed.get(object_id, 0) < SETTLE_STEPS or not awake[object_id]:
+                continue  # settling, or asleep (checked while it came to rest)
             depth = self.depth_below_stage(object_id)
             report.deepest = max(report.deepest, depth)
             if depth > SINK_TOLERANCE:
@@ -393,15 +394,17 @@ class Soak:
         world = points @ rotation.T + b.body_position[object_id]
         lowest = world[np.argmin(world[:, 1])]
         center = b.body_position[object_id]
-        tops = [center] + [
+        tops = [
             np.array([lowest[0] + dx * SINK_TOLERANCE, center[1], lowest[2] + dz * SINK_TOLERANCE])
             for dx, dz in ((0, 0), (1, 0), (-1, 0), (0, 1), (0, -1))
-        ]
+        ] + [center]
         depth = np.inf
-        for top in tops:
+        for top in tops:  # the least depth: stop at the first ray that finds none
             hits = cast_ray_bodies(b, [0], top, np.array([0.0, -1.0, 0.0]), 5.0)
             surface = hits[0][2][1] if hits else -np.inf
             depth = min(depth, max(0.0, float(surface - lowest[1])))
+            if depth == 0.0:
+                break
         return depth
 
     def rest_depths(self, report: SoakReport) -> None:
