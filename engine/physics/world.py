@@ -126,6 +126,8 @@ class PhysicsWorld:
         self.manifolds = ManifoldStore()
         self.nodes: dict[int, Any] = {}
         self.velocity_controls: dict[int, Any] = {}
+        #: bodies already warned of a mass ratio beyond what the solver holds (mass_ratio.py)
+        self.mass_ratio_warned: set[int] = set()
         self.render_meshes: dict[int, list] = {}
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self.node_sync = NodeSync(self.bodies, self.nodes)

@@ -263,6 +263,11 @@ RAY_SPHERE_MARGIN = 1e-3
 #: m, a hull vertex this close to the hull's center has no outward direction: growing the
 #: hull into its speculative probe divides by this instead of its distance.
 PROBE_MIN_OFFSET = 1e-12
+#: points, a collision point set larger than this gets the hull of a capped sample
+#: (hull_sampling.py): every hull pass and every contact step would pay for each vertex.
+MAX_HULL_POINTS = 4096
+#: points, about how many such a sample keeps (one per occupied cell of a grid).
+HULL_SAMPLE_POINTS = 1024
 #: m^3, a convex collision hull with no more volume than this is degenerate (refused).
 MIN_HULL_VOLUME = 1e-12
 #: 1, a point set whose smallest principal extent is at most this fraction of its largest
