@@ -29,12 +29,14 @@ from typing import Any
 import numpy as np
 
 from engine import mn
+from engine.debug_lines import DebugLineRender
 from engine.fixed_fields import unknown_attribute_error
 from engine.named_enum import NamedIntEnum
 from render.lights import AMBIENT, DEFAULT_LIGHTS, Lights
 
 __all__ = [
     "DEFAULT_LIGHTING_KEY",
+    "DebugLineRender",
     "NO_LIGHT_KEY",
     "LightInfo",
     "LightPositionModel",

@@ -47,6 +47,7 @@ from engine.attributes_managers import (
     StageAttributesManager,
 )
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
+from engine.habitat_compat.simulator_names import SimulatorHabitatNames
 from engine.metadata import MetadataMediator
 from engine.pathfinder import PathFinder
 from engine.physics.objects import MotionType
@@ -62,23 +63,27 @@ from engine.scene_loading import (
 )
 from engine.scene_node import Drawable, SceneGraph, SceneNode
 from engine.scene_render import SceneRenderer
+from engine.sensor_wrapper import Sensor
 from engine.simulator_config import Configuration, Random, SimulatorConfiguration
 from engine.simulator_physics import SimulatorPhysics
 from engine.simulator_queries import SimulatorQueries
 from engine.simulator_sensors import SimulatorSensors
 from navmesh import NavMeshSettings
 
-__all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
+# Sensor: Habitat's habitat_sim.simulator.Sensor, the wrapper of sim.sensors[uuid]
+__all__ = ["Configuration", "Random", "Sensor", "Simulator", "SimulatorConfiguration"]
 
 
-class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics):
+class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics, SimulatorHabitatNames):
     """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
 
     The sensor API (``sensors``, ``create_sensor``, ``get_sensor_observations``,
     asynchronous rendering) is :class:`engine.simulator_sensors.SimulatorSensors`; the
     scene queries are :class:`engine.simulator_queries.SimulatorQueries`; the physics calls
     (stepping, gravity, rays, contacts, rigid constraints) are
-    :class:`engine.simulator_physics.SimulatorPhysics`.
+    :class:`engine.simulator_physics.SimulatorPhysics`; the names habitat-lab reads
+    (``renderer`` and two placeholders) are
+    :class:`engine.habitat_compat.simulator_names.SimulatorHabitatNames`.
     """
 
     def __init__(self, config: Configuration) -> None:

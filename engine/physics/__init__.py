@@ -4,11 +4,22 @@
 ``RaycastResults``, ``RayHitInfo``, ``ContactPointData``, ``RigidState`` and the world,
 ``PhysicsWorld``. See :mod:`engine.physics.world` for the step pipeline and
 :mod:`engine.physics.settings` for the conventions (Y up, meters, quaternions
-``[x, y, z, w]``, contact normals from body A to body B).
+``[x, y, z, w]``, contact normals from body A to body B). The articulated-object names
+(``ManagedArticulatedObject``, ``ArticulatedObjectManager``, ``JointMotorSettings``, ...) are
+placeholders that raise ``NotImplementedError`` when used
+(:mod:`engine.habitat_compat.articulated`).
 """
 
 from __future__ import annotations
 
+from engine.habitat_compat.articulated import (  # placeholders: no articulated objects
+    ArticulatedObjectManager,
+    JointMotorSettings,
+    JointMotorType,
+    JointType,
+    ManagedArticulatedObject,
+    ManagedBulletArticulatedObject,
+)
 from engine.named_enum import NamedIntEnum
 
 from .collision_groups import CollisionGroupHelper, CollisionGroups
@@ -30,6 +41,12 @@ class PhysicsSimulationLibrary(NamedIntEnum):
 
 __all__ = [
     "STAGE_ID",
+    "ArticulatedObjectManager",
+    "JointMotorSettings",
+    "JointMotorType",
+    "JointType",
+    "ManagedArticulatedObject",
+    "ManagedBulletArticulatedObject",
     "CollisionGroupHelper",
     "CollisionGroups",
     "PhysicsSimulationLibrary",
