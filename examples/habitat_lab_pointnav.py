@@ -116,19 +116,12 @@ def evaluate_oracle(config: Any) -> list[dict[str, float]]:
     return results
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--episodes", type=int, default=3, help="episodes to generate")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--work", type=Path, help="folder for the episode dataset (temp)")
-    args = parser.parse_args(argv)
-    logging.basicConfig(level=logging.WARNING)
-    with tempfile.TemporaryDirectory() as temporary:
-        work = args.work or Path(temporary)
-        config = pointnav_config(work / "pointnav_demo")
-        dataset_file = generate_episodes(config, args.episodes, args.seed)
-        print(f"{args.episodes} PointNav episodes on the demo apartment -> {dataset_file}")
-        results = evaluate_oracle(config)
+def run_pointnav(work: Path, episodes: int = 3, seed: int = 0) -> list[dict[str, float]]:
+    """Steps 1 to 3 of the module docstring, the dataset written under ``work``."""
+    config = pointnav_config(work / "pointnav_demo")
+    dataset_file = generate_episodes(config, episodes, seed)
+    print(f"{episodes} PointNav episodes on the demo apartment -> {dataset_file}")
+    results = evaluate_oracle(config)
     for row in results:
         print(
             f"episode {row['episode']:.0f}: {row['steps']:.0f} steps "
@@ -140,6 +133,21 @@ def main(argv: list[str] | None = None) -> int:
         f"mean success {np.mean([r['success'] for r in results]):.3f}, "
         f"mean SPL {np.mean([r['spl'] for r in results]):.3f}"
     )
+    return results
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=3, help="episodes to generate")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--work", type=Path, help="folder for the episode dataset (temp)")
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING)
+    if args.work is not None:
+        run_pointnav(args.work, args.episodes, args.seed)
+    else:
+        with tempfile.TemporaryDirectory() as temporary:
+            run_pointnav(Path(temporary), args.episodes, args.seed)
     return 0
 
 

@@ -16,3 +16,4 @@ python3 -m venv .venv
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
 .venv/bin/python -m pytest -q "$@"
+bash scripts/habitat_lab_check.sh  # habitat-lab on rigidsim, in its own venv (.venv-habitat-lab)
