@@ -17,8 +17,8 @@ Spherical 2, Planar 3, Fixed 4, Invalid 5). Nothing in rigidsim produces them.
 
 from __future__ import annotations
 
+from engine.core.named_enum import NamedIntEnum
 from engine.habitat_compat.placeholder import Placeholder
-from engine.named_enum import NamedIntEnum
 
 __all__ = [
     "ArticulatedObjectManager",

@@ -3,14 +3,14 @@
 Mixed into :class:`engine.Simulator`:
 
 - ``sim.renderer``: Habitat's property for the simulator's renderer; here the same object as
-  ``sim.get_renderer()`` (rigidsim's :class:`engine.scene_render.SceneRenderer`);
+  ``sim.get_renderer()`` (rigidsim's :class:`engine.sensors.scene_render.SceneRenderer`);
 - ``sim.get_articulated_object_manager()``: raises ``NotImplementedError`` (rigidsim has no
   articulated objects, :mod:`engine.habitat_compat.articulated`);
 - ``sim.gfx_replay_manager``: an object whose every method raises ``NotImplementedError``
   (no gfx-replay keyframes, :mod:`engine.habitat_compat.replay`).
 
 (``sim.step_world(dt)``, the backend's physics step, is real:
-:meth:`engine.simulator_physics.SimulatorPhysics.step_world`.)
+:meth:`engine.simulator.physics.SimulatorPhysics.step_world`.)
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from typing import NoReturn
 
 from engine.habitat_compat.articulated import ArticulatedObjectManager
 from engine.habitat_compat.replay import GfxReplayManager
-from engine.scene_render import SceneRenderer
+from engine.sensors.scene_render import SceneRenderer
 
 __all__ = ["SimulatorHabitatNames"]
 

@@ -21,7 +21,7 @@ __all__ = [
 ]
 
 _MISSING = "Magnum's mesh tools work on magnum.trade.MeshData, which rigidsim never produces"
-_INSTEAD = "engine.assets.MeshData holds NumPy vertices and faces; transform them with NumPy"
+_INSTEAD = "engine.scene.assets.MeshData holds NumPy vertices and faces; transform them with NumPy"
 
 
 class InterleaveFlags(enum.Flag):

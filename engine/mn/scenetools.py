@@ -2,7 +2,7 @@
 
 Magnum's ``scenetools.absolute_field_transformations3d(scene, field)`` composes an imported
 scene's node transforms into world transforms. rigidsim imports scenes with trimesh
-(:func:`engine.assets.load_meshes` already applies every node's world transform) and never
+(:func:`engine.scene.assets.load_meshes` already applies every node's world transform) and never
 produces the ``trade`` scene data this function takes, so it raises ``NotImplementedError``.
 """
 
@@ -15,5 +15,5 @@ __all__ = ["absolute_field_transformations3d"]
 absolute_field_transformations3d = placeholder_function(
     "magnum.scenetools.absolute_field_transformations3d",
     "Magnum's scene tools work on magnum.trade scene data, which rigidsim never produces",
-    "engine.assets.load_meshes(path) returns meshes already moved by their nodes' world transforms",
+    "engine.scene.assets.load_meshes(path) returns meshes moved by their nodes' world transforms",
 )

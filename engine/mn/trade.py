@@ -5,7 +5,7 @@ In Magnum, ``trade.ImporterManager()`` finds importer plugins, ``manager.load_an
 named by ``trade.MeshAttribute``) and scene fields (``trade.SceneField``). habitat-lab creates
 an ``ImporterManager`` when its receptacle module is imported and uses the importer only for
 rearrange receptacle meshes. rigidsim loads assets with trimesh into NumPy meshes
-(:func:`engine.assets.load_meshes` returns :class:`engine.assets.MeshData`), so:
+(:func:`engine.scene.assets.load_meshes` returns :class:`engine.scene.assets.MeshData`), so:
 
 - ``ImporterManager()`` constructs (habitat-lab calls it at import); every method raises
   ``NotImplementedError``;
@@ -23,7 +23,9 @@ from engine.habitat_compat.placeholder import Placeholder, PlaceholderObject
 __all__ = ["ImporterManager", "MeshAttribute", "MeshData", "MeshPrimitive", "SceneField"]
 
 _MISSING = "Magnum's asset importers (plugins returning trade.MeshData) are not available"
-_INSTEAD = "engine.assets.load_meshes(path) loads a mesh file into NumPy arrays (assets.MeshData)"
+_INSTEAD = (
+    "engine.scene.assets.load_meshes(path) loads a mesh file into NumPy arrays (assets.MeshData)"
+)
 
 
 class MeshPrimitive(enum.Enum):

@@ -119,7 +119,7 @@ def test_placeholder_function_raises_when_called(module: str, name: str) -> None
 
 def test_importer_manager_constructs_at_import_time_and_raises_when_used() -> None:
     manager = habitat_name("magnum.trade", "ImporterManager")()  # type: ignore[operator]
-    with pytest.raises(NotImplementedError, match="load_and_instantiate.*engine.assets"):
+    with pytest.raises(NotImplementedError, match="load_and_instantiate.*engine.scene.assets"):
         manager.load_and_instantiate("AnySceneImporter")
 
 

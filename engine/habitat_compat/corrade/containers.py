@@ -19,7 +19,7 @@ __all__ = [
 ]
 
 _MISSING = "Corrade array views over Magnum data are never produced (there is no Magnum importer)"
-_INSTEAD = "NumPy arrays (rigidsim loads meshes with trimesh, see engine.assets)"
+_INSTEAD = "NumPy arrays (rigidsim loads meshes with trimesh, see engine.scene.assets)"
 
 
 class ArrayView(Placeholder):
