@@ -196,13 +196,14 @@ def install(force: bool = False) -> None:
             f"importable ({where}); use that installation, uninstall it, or call "
             f"install(force=True) to let rigidsim's modules win for every later import"
         )
-    sys.meta_path.insert(0, _FINDER)
+    if not is_installed():  # the look-ups above may have run the start-up hook, which installs
+        sys.meta_path.insert(0, _FINDER)
 
 
 def uninstall() -> None:
     """Remove the alias: its finder and the module names it served from ``sys.modules``
     (the rigidsim modules themselves stay imported under their own names)."""
-    if _FINDER in sys.meta_path:
+    while _FINDER in sys.meta_path:
         sys.meta_path.remove(_FINDER)
     for name in _FINDER.served:
         sys.modules.pop(name, None)

@@ -141,25 +141,40 @@ def test_startup_install_reads_its_switch_and_only_warns(
         alias.uninstall()
 
 
-def test_start_up_hook_of_the_alias_distribution() -> None:
-    """The .pth line of scripts/habitat_alias, run in a fresh interpreter: nothing is imported
-    until an aliased name is, then habitat-lab's spellings give rigidsim's modules."""
+def run_with_start_up_hook(code: str) -> str:
+    """Run ``code`` in a fresh interpreter after the .pth line of scripts/habitat_alias (as the
+    installed distribution does at start-up); returns what it prints."""
     pth = (REPO_ROOT / "scripts" / "habitat_alias" / "rigidsim_habitat_alias.pth").read_text()
-    code = (
-        pth.strip()
-        + "\nimport sys\nassert 'engine' not in sys.modules\n"
-        + "import magnum as mn, habitat_sim, engine\n"
-        + "from habitat_sim.physics import ManagedArticulatedObject\n"
-        + "assert habitat_sim is engine and mn is engine.mn\n"
-        + "print('aliased')\n"
-    )
     path = os.pathsep.join([str(REPO_ROOT), str(REPO_ROOT / "scripts" / "habitat_alias")])
     result = subprocess.run(
-        [sys.executable, "-c", code],
+        [sys.executable, "-c", pth.strip() + "\n" + code],
         env={**os.environ, "PYTHONPATH": path},
         capture_output=True,
         text=True,
         timeout=300,
     )
     assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "aliased"
+    return result.stdout.strip()
+
+
+def test_start_up_hook_imports_nothing_until_an_aliased_name_is_imported() -> None:
+    code = (
+        "import sys\nassert 'engine' not in sys.modules\n"
+        "import magnum as mn, habitat_sim, engine\n"
+        "from habitat_sim.physics import ManagedArticulatedObject\n"
+        "assert habitat_sim is engine and mn is engine.mn\n"
+        "print('aliased')\n"
+    )
+    assert run_with_start_up_hook(code) == "aliased"
+
+
+def test_start_up_hook_and_an_explicit_install_make_one_alias() -> None:
+    code = (
+        "import sys\nfrom engine.habitat_compat import alias\n"
+        "alias.install()  # its look-up for a real habitat_sim wakes the hook, which installs\n"
+        "assert sum(finder is alias._FINDER for finder in sys.meta_path) == 1\n"
+        "import habitat_sim, engine\nassert habitat_sim is engine\n"
+        "alias.uninstall()\n"
+        "try:\n    import habitat_sim\nexcept ModuleNotFoundError:\n    print('removed')\n"
+    )
+    assert run_with_start_up_hook(code) == "removed"
