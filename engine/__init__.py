@@ -66,9 +66,9 @@ _LAZY = {
     "built_with_bullet": "engine.bindings",
     "cuda_enabled": "engine.bindings",
     "audio_enabled": "engine.bindings",
-    # placeholders: rigidsim has no batch replay renderer (engine.habitat_compat.replay)
-    "ReplayRenderer": "engine.habitat_compat.replay",
-    "ReplayRendererConfiguration": "engine.habitat_compat.replay",
+    # placeholders: rigidsim has no batch replay renderer (engine.sensors.replay)
+    "ReplayRenderer": "engine.sensors.replay",
+    "ReplayRendererConfiguration": "engine.sensors.replay",
 }
 _SUBMODULES = {
     "agent",

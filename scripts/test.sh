@@ -15,5 +15,6 @@ python3 -m venv .venv
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
+.venv/bin/lint-imports  # import contracts, configured in pyproject.toml ([tool.importlinter])
 .venv/bin/python -m pytest -q "$@"
 bash scripts/habitat_lab_check.sh  # habitat-lab on rigidsim, in its own venv (.venv-habitat-lab)

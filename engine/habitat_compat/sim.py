@@ -11,7 +11,7 @@ work, constructing it or calling a method on it raises ``NotImplementedError``.
 
 from __future__ import annotations
 
-from engine.habitat_compat.placeholder import Placeholder
+from engine.core.placeholder import Placeholder
 from engine.simulator.config import SimulatorConfiguration
 
 __all__ = ["SimulatorBackend", "SimulatorConfiguration"]

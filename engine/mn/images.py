@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import enum
 
-from engine.habitat_compat.placeholder import Placeholder
+from engine.core.placeholder import Placeholder
 
 __all__ = ["MutableImageView2D", "PixelFormat", "PixelStorage"]
 

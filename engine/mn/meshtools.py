@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import enum
 
-from engine.habitat_compat.placeholder import placeholder_function
+from engine.core.placeholder import placeholder_function
 
 __all__ = [
     "InterleaveFlags",

@@ -8,7 +8,7 @@ produces the ``trade`` scene data this function takes, so it raises ``NotImpleme
 
 from __future__ import annotations
 
-from engine.habitat_compat.placeholder import placeholder_function
+from engine.core.placeholder import placeholder_function
 
 __all__ = ["absolute_field_transformations3d"]
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import enum
 
-from engine.habitat_compat.placeholder import Placeholder, PlaceholderObject
+from engine.core.placeholder import Placeholder, PlaceholderObject
 
 __all__ = ["ImporterManager", "MeshAttribute", "MeshData", "MeshPrimitive", "SceneField"]
 

@@ -41,7 +41,6 @@ from engine.agent import Agent, AgentState
 from engine.agent.agent import numpy_quaternion
 from engine.agent.controls.pyrobot_noisy_controls import seed_noise
 from engine.gfx import DEFAULT_LIGHTING_KEY, LightInfo, LightSetups
-from engine.habitat_compat.simulator_names import SimulatorHabitatNames
 from engine.nav.pathfinder import PathFinder
 from engine.physics.objects.rigid_object_manager import MotionType
 from engine.physics.world import PhysicsWorld
@@ -50,6 +49,7 @@ from engine.scene.instance import SceneInstanceAttributes, find_scene_instance, 
 from engine.sensors.scene_render import SceneRenderer
 from engine.sensors.sensor_wrapper import Sensor
 from engine.simulator.config import Configuration, Random, SimulatorConfiguration
+from engine.simulator.habitat_names import SimulatorHabitatNames
 from engine.simulator.loading import (
     append_triangles,
     load_navmesh_beside_stage,

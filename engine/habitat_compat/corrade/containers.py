@@ -8,7 +8,7 @@ arrays. The names exist for annotations; constructing one raises ``NotImplemente
 
 from __future__ import annotations
 
-from engine.habitat_compat.placeholder import Placeholder
+from engine.core.placeholder import Placeholder
 
 __all__ = [
     "ArrayView",

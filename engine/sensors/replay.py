@@ -12,7 +12,7 @@ renders each simulator's sensors itself (:mod:`render`) and runs many simulators
 
 from __future__ import annotations
 
-from engine.habitat_compat.placeholder import Placeholder, PlaceholderObject
+from engine.core.placeholder import Placeholder, PlaceholderObject
 
 __all__ = ["GfxReplayManager", "ReplayRenderer", "ReplayRendererConfiguration"]
 

@@ -5,9 +5,9 @@ Mixed into :class:`engine.Simulator`:
 - ``sim.renderer``: Habitat's property for the simulator's renderer; here the same object as
   ``sim.get_renderer()`` (rigidsim's :class:`engine.sensors.scene_render.SceneRenderer`);
 - ``sim.get_articulated_object_manager()``: raises ``NotImplementedError`` (rigidsim has no
-  articulated objects, :mod:`engine.habitat_compat.articulated`);
+  articulated objects, :mod:`engine.physics.objects.articulated`);
 - ``sim.gfx_replay_manager``: an object whose every method raises ``NotImplementedError``
-  (no gfx-replay keyframes, :mod:`engine.habitat_compat.replay`).
+  (no gfx-replay keyframes, :mod:`engine.sensors.replay`).
 
 (``sim.step_world(dt)``, the backend's physics step, is real:
 :meth:`engine.simulator.physics.SimulatorPhysics.step_world`.)
@@ -17,8 +17,8 @@ from __future__ import annotations
 
 from typing import NoReturn
 
-from engine.habitat_compat.articulated import ArticulatedObjectManager
-from engine.habitat_compat.replay import GfxReplayManager
+from engine.physics.objects.articulated import ArticulatedObjectManager
+from engine.sensors.replay import GfxReplayManager
 from engine.sensors.scene_render import SceneRenderer
 
 __all__ = ["SimulatorHabitatNames"]

@@ -5,7 +5,7 @@ prismatic, spherical, planar or fixed joints, driven by joint motors) through Bu
 Featherstone solver; habitat-lab's rearrange tasks and robots build on them. rigidsim
 simulates rigid objects only (:class:`engine.physics.ManagedRigidObject`, joined if need be by
 :class:`engine.physics.RigidConstraintSettings`), so the classes here are
-:class:`~engine.habitat_compat.placeholder.Placeholder`\\ s: habitat-lab imports and annotates
+:class:`~engine.core.placeholder.Placeholder`\\ s: habitat-lab imports and annotates
 with them; constructing one, or calling a method on the class, raises
 ``NotImplementedError``. :meth:`engine.Simulator.get_articulated_object_manager` raises the
 same way.
@@ -18,7 +18,7 @@ Spherical 2, Planar 3, Fixed 4, Invalid 5). Nothing in rigidsim produces them.
 from __future__ import annotations
 
 from engine.core.named_enum import NamedIntEnum
-from engine.habitat_compat.placeholder import Placeholder
+from engine.core.placeholder import Placeholder
 
 __all__ = [
     "ArticulatedObjectManager",
