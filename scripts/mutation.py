@@ -205,10 +205,6 @@ def _config(module: str, tests: tuple[str, ...], timeout: float) -> str:
 
 def _cosmic_ray(work: Path, *args: str) -> None:
     env = dict(os.environ, PYTHONPATH=str(work))
-    # the copy has no ../shared beside it: point the tests at this checkout's Habitat assets
-    env.setdefault(
-        "RIGIDSIM_HABITAT_DATA", str((ROOT.parent / "shared/assets/habitat/data").resolve())
-    )
     cosmic_ray = str(Path(sys.executable).parent / "cosmic-ray")
     subprocess.run([cosmic_ray, *args], cwd=work, env=env, check=True)
 
