@@ -141,11 +141,12 @@ def test_startup_install_reads_its_switch_and_only_warns(
         alias.uninstall()
 
 
-def run_with_start_up_hook(code: str) -> str:
+def run_with_start_up_hook(code: str, *extra_path: Path) -> str:
     """Run ``code`` in a fresh interpreter after the .pth line of scripts/habitat_alias (as the
     installed distribution does at start-up); returns what it prints."""
     pth = (REPO_ROOT / "scripts" / "habitat_alias" / "rigidsim_habitat_alias.pth").read_text()
-    path = os.pathsep.join([str(REPO_ROOT), str(REPO_ROOT / "scripts" / "habitat_alias")])
+    folders = [*extra_path, REPO_ROOT, REPO_ROOT / "scripts" / "habitat_alias"]
+    path = os.pathsep.join(str(folder) for folder in folders)
     result = subprocess.run(
         [sys.executable, "-c", pth.strip() + "\n" + code],
         env={**os.environ, "PYTHONPATH": path},
@@ -178,3 +179,14 @@ def test_start_up_hook_and_an_explicit_install_make_one_alias() -> None:
         "try:\n    import habitat_sim\nexcept ModuleNotFoundError:\n    print('removed')\n"
     )
     assert run_with_start_up_hook(code) == "removed"
+
+
+def test_start_up_hook_leaves_a_real_habitat_sim_in_place(tmp_path: Path) -> None:
+    _fake_real_package(tmp_path, "habitat_sim")
+    code = (
+        "import warnings\nwarnings.simplefilter('error')\n"
+        "try:\n    import habitat_sim\nexcept RuntimeWarning as warning:\n"
+        "    print('warned:', 'habitat_sim at' in str(warning))\n"
+        "warnings.simplefilter('ignore')\nimport habitat_sim\nprint('real:', habitat_sim.REAL)\n"
+    )
+    assert run_with_start_up_hook(code, tmp_path).splitlines() == ["warned: True", "real: True"]
