@@ -27,12 +27,14 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "DOUBLE_EPSILON",
     "FLOAT_EPSILON",
     "Deg",
     "Rad",
     "Vector2",
     "Vector2i",
     "Vector3",
+    "Vector3d",
     "Vector3i",
     "Vector4",
     "finite_array",
@@ -45,6 +47,8 @@ __all__ = [
 
 #: Magnum's ``TypeTraits<Float>::epsilon()``: the fuzzy-compare tolerance of float types.
 FLOAT_EPSILON = 1.0e-5
+#: Magnum's ``TypeTraits<Double>::epsilon()``: the tolerance of double types (``Vector3d``).
+DOUBLE_EPSILON = 1.0e-14
 
 
 def fuzzy_equal(a: Any, b: Any, epsilon: float = FLOAT_EPSILON) -> bool:
@@ -169,6 +173,7 @@ class _VectorN:
     """Shared arithmetic of :class:`Vector2` and :class:`Vector3` (a wrapped float64 array)."""
 
     _size = 3
+    _epsilon = FLOAT_EPSILON  # the fuzzy-compare tolerance of ==
     __slots__ = ("_data",)
     __array_priority__ = 20.0  # so ndarray + Vector3 defers to Vector3.__radd__
 
@@ -219,7 +224,7 @@ class _VectorN:
             return False
         if other_array.shape != self._data.shape:
             return False
-        return fuzzy_equal(self._data, other_array)
+        return fuzzy_equal(self._data, other_array, self._epsilon)
 
     # No __hash__: fuzzy equality has no consistent hash (Magnum's types are unhashable);
     # a class that defines __eq__ and no __hash__ gets ``__hash__ = None`` from Python.
@@ -366,6 +371,14 @@ class Vector3(_VectorN):
     @staticmethod
     def z_axis(length: float = 1.0) -> Vector3:
         return Vector3(0.0, 0.0, length)
+
+
+class Vector3d(Vector3):
+    """Magnum's double-precision ``Vector3d``. rigidsim's ``Vector3`` already holds float64, so
+    the two differ only in ``==``: Magnum's double epsilon ``1e-14`` instead of ``1e-5``."""
+
+    _epsilon = DOUBLE_EPSILON
+    __slots__ = ()
 
 
 class Vector4(Vector3):

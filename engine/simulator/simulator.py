@@ -47,7 +47,9 @@ from engine.physics.world import PhysicsWorld
 from engine.scene.graph import Drawable, SceneGraph, SceneNode
 from engine.scene.instance import SceneInstanceAttributes, find_scene_instance, read_scene_instance
 from engine.sensors.scene_render import SceneRenderer
+from engine.sensors.sensor_wrapper import Sensor
 from engine.simulator.config import Configuration, Random, SimulatorConfiguration
+from engine.simulator.habitat_names import SimulatorHabitatNames
 from engine.simulator.loading import (
     append_triangles,
     load_navmesh_beside_stage,
@@ -68,7 +70,8 @@ from engine.templates.managers import (
 from engine.templates.metadata import MetadataMediator
 from navmesh import NavMeshSettings
 
-__all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
+# Sensor: Habitat's habitat_sim.simulator.Sensor, the wrapper of sim.sensors[uuid]
+__all__ = ["Configuration", "Random", "Sensor", "Simulator", "SimulatorConfiguration"]
 
 
 #: why ``copy.copy``, ``copy.deepcopy`` and ``pickle`` refuse a simulator (Habitat's C++
@@ -81,7 +84,7 @@ _NO_COPY = (
 )
 
 
-class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics):
+class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics, SimulatorHabitatNames):
     """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
 
     The sensor API (``sensors``, ``create_sensor``, ``get_sensor_observations``,

@@ -17,8 +17,10 @@ What is here, in reading order:
    the velocity of a kinematic body moved by its pose;
 7. ``constraints.py``: Habitat's rigid constraints and their per-step solve;
    ``constraint_settings.py``: their settings and checks;
-8. ``queries.py``: ray casts, contact tests, contact records, the state hash.
+8. ``queries.py``: ray casts, contact tests, contact records, the state hash;
+9. ``articulated.py``: Habitat's articulated-object names, placeholders (rigidsim has no
+   articulated objects) that raise ``NotImplementedError`` when used.
 
-May import: ``core``, ``collision``, ``solver``, ``pipeline``. Never ``world.py`` (the world
-imports them) and never ``reference``.
+May import: ``core`` (and ``engine.core``), ``collision``, ``solver``, ``pipeline``. Never
+``world.py`` (the world imports them) and never ``reference``.
 """
