@@ -194,6 +194,17 @@ def run_scene(name, scene, bullet, results, options):
             "     n/a    n/a     n/a",
             "n/a",
         )
+    split = shares(ours["profile"], ours["wall"])
+    split_text = " ".join(f"{100 * split[k]:3.0f}" for k in (*STAGES, "rest"))
+    print(
+        f"{name:<11} {seconds:4.1f} {ms_step:8.3f} {cpu_step:8.3f} {ms_sim:8.0f} {bullet_text} "
+        f"{ours['asleep']:4d}/{len(positions):<4d} "
+        f"{ours['deepest'][0] * 1000:4.1f}/{ours['deepest'][1] * 1000:5.1f} "
+        f"{ours['resting_depth'][0] * 1000:4.1f}/{ours['resting_depth'][1] * 1000:5.1f} "
+        f"{ours['energy_change']:8.3f} "
+        f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}"
+    )
+    print(f"{'':<11} profile % {split_text}")
     ops = None
     if options.ops and name.startswith(("column", "plane-column", "apartment")):
         ops, counter = count_operations(positions, rotations, sleep=sleep, stage=stage)
@@ -212,17 +223,6 @@ def run_scene(name, scene, bullet, results, options):
             f"{'':<11} pybullet btMultiBody (not Habitat's body): {multi_step:.3f} CPU ms/step, "
             f"rigidsim {cpu_step / multi_step:.1f}x of it"
         )
-    split = shares(ours["profile"], ours["wall"])
-    split_text = " ".join(f"{100 * split[k]:3.0f}" for k in (*STAGES, "rest"))
-    print(
-        f"{name:<11} {seconds:4.1f} {ms_step:8.3f} {cpu_step:8.3f} {ms_sim:8.0f} {bullet_text} "
-        f"{ours['asleep']:4d}/{len(positions):<4d} "
-        f"{ours['deepest'][0] * 1000:4.1f}/{ours['deepest'][1] * 1000:5.1f} "
-        f"{ours['resting_depth'][0] * 1000:4.1f}/{ours['resting_depth'][1] * 1000:5.1f} "
-        f"{ours['energy_change']:8.3f} "
-        f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}"
-    )
-    print(f"{'':<11} profile % {split_text}")
     if base_step is not None:
         print(
             f"{'':<11} baseline checkout: {base_step:.3f} CPU ms/step, this one "

@@ -82,7 +82,8 @@ class OpCounter:
     ``counts`` holds the totals by kind, ``by_function`` by ``(file name, qualified name)``;
     ``total`` is their sum. ``instructions`` counts every bytecode instruction executed in
     counted frames, NumPy's or not (pure-Python work such as a loop over dicts shows there,
-    not in ``total``). Tracing replaces any other trace function while active.
+    not in ``total``), ``instructions_by_code`` the same per code object (see
+    :meth:`instructions_by_function`). Tracing replaces any other trace function while active.
     """
 
     def __init__(self, roots: tuple[str, ...] = DEFAULT_ROOTS) -> None:
@@ -97,6 +98,7 @@ class OpCounter:
         self.counts: Counter[str] = Counter()
         self.by_function: Counter[tuple[str, str]] = Counter()
         self.instructions = 0
+        self.instructions_by_code: Counter[CodeType] = Counter()
         self._tables: dict[CodeType, list | None] = {}
         self._saved = None
 
@@ -108,6 +110,14 @@ class OpCounter:
         self.counts.clear()
         self.by_function.clear()
         self.instructions = 0
+        self.instructions_by_code.clear()
+
+    def instructions_by_function(self) -> Counter[tuple[str, str]]:
+        """Bytecode instructions executed, by ``(file name, qualified name)``."""
+        out: Counter[tuple[str, str]] = Counter()
+        for code, count in self.instructions_by_code.items():
+            out[(Path(code.co_filename).name, code.co_qualname)] += count
+        return out
 
     def __enter__(self) -> OpCounter:
         self._saved = sys.gettrace()
@@ -159,11 +169,12 @@ class OpCounter:
     def _on_opcode(self, frame: FrameType, event: str, arg):
         if event != "opcode":
             return self._on_opcode
+        code = frame.f_code
         self.instructions += 1
-        entry = self._tables[frame.f_code][frame.f_lasti // 2]
+        self.instructions_by_code[code] += 1
+        entry = self._tables[code][frame.f_lasti // 2]
         if entry is not None and self._counts(frame, entry[1], entry[2]):
             self.counts[entry[0]] += 1
-            code = frame.f_code
             self.by_function[(Path(code.co_filename).name, code.co_qualname)] += 1
         return self._on_opcode
 
