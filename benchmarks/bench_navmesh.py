@@ -8,7 +8,7 @@ Run on demand (not a test)::
 Scenes: Habitat's ``test_assets/scenes/stage_floor1.glb`` (Y up, scale 2: a 40 x 40 m
 terrain), ``simple_room.glb`` (Z up) and, when ``engine.demo.datasets.demo_data_path()`` can
 provide it, the generated demo ``apartment.glb``. Each stage is loaded through
-``engine.assets.load_meshes`` with its stage config's up / front / scale, merged, and built
+``engine.scene.assets.load_meshes`` with its stage config's up / front / scale, merged, and built
 with the default ``NavMeshSettings`` (0.05 m cells). Reported: median build time, grid size,
 islands and area; ``find_path`` calls per second between random navigable points (the first
 call, which also builds the Dijkstra graph, is timed apart); ``try_step`` and
@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.assets import load_meshes, merge_meshes
+from engine.scene.assets import load_meshes, merge_meshes
 from navmesh import NavMeshSettings, PathFinder, ShortestPath
 
 HABITAT_SCENES = Path(__file__).resolve().parents[1].parent / "shared/assets/habitat/data"

@@ -33,10 +33,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "physics"
 from helpers import add, make_world, register_primitive  # noqa: E402
 
 from engine import mn  # noqa: E402
-from engine.assets import MeshData, load_meshes  # noqa: E402
 from engine.attributes import StageAttributes  # noqa: E402
-from engine.physics import settings as physics_settings  # noqa: E402
-from engine.physics.quaternions import quat_to_matrix  # noqa: E402
+from engine.physics.core import settings as physics_settings  # noqa: E402
+from engine.physics.core.quaternions import quat_to_matrix  # noqa: E402
+from engine.scene.assets import MeshData, load_meshes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 PLANE_GLB = ROOT.parent / "shared" / "assets" / "habitat" / "data" / "test_assets" / "scenes"

@@ -23,10 +23,10 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from helpers import add, make_world, register_primitive  # noqa: E402
 
 from engine import mn  # noqa: E402
-from engine.assets import MeshData, load_meshes  # noqa: E402
 from engine.attributes import StageAttributes  # noqa: E402
 from engine.physics import MotionType  # noqa: E402
-from engine.physics.quaternions import quat_to_matrix  # noqa: E402
+from engine.physics.core.quaternions import quat_to_matrix  # noqa: E402
+from engine.scene.assets import MeshData, load_meshes  # noqa: E402
 
 FRAME = 1.0 / 60.0
 GRAVITY = 9.8

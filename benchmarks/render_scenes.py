@@ -75,7 +75,7 @@ def apartment_scenes() -> list[tuple[str, list[RenderMesh], np.ndarray, bool]]:
     renders, with back faces culled as the engine's sensors do.
     """
     from engine.demo import demo_data_path
-    from engine.scene_render import _render_mesh
+    from engine.sensors.scene_render import _render_mesh
     from engine.tutorial.scene_setup import make_configuration, place_agent
 
     sim = __import__("engine").Simulator(make_configuration(str(demo_data_path())))

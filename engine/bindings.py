@@ -34,21 +34,21 @@ stage_id: int = 0
 
 # public name -> module that defines it
 _CLASSES = {
-    "Configuration": "engine.user_config",
-    "ConfigValType": "engine.user_config",
+    "Configuration": "engine.templates.user_config",
+    "ConfigValType": "engine.templates.user_config",
     "RigidState": "engine.physics",
-    "SceneGraph": "engine.scene_node",
-    "SceneNode": "engine.scene_node",
-    "SimulatorConfiguration": "engine.simulator_config",
-    "GreedyFollowerCodes": "engine.nav",
-    "PathFinder": "engine.pathfinder",
+    "SceneGraph": "engine.scene.graph",
+    "SceneNode": "engine.scene.graph",
+    "SimulatorConfiguration": "engine.simulator.config",
+    "GreedyFollowerCodes": "engine.nav.greedy_geodesic_follower",
+    "PathFinder": "engine.nav.pathfinder",
     "ShortestPath": "navmesh",
     "MultiGoalShortestPath": "navmesh",
     "HitRecord": "navmesh",
     "NavMeshSettings": "navmesh",
 }
-#: sensor classes and specs live in engine.sensors (whatever it defines is re-exported)
-_SENSOR_MODULE = "engine.sensors"
+#: sensor classes and specs live in engine.sensors.cameras (whatever it defines is re-exported)
+_SENSOR_MODULE = "engine.sensors.cameras"
 
 __all__ = [
     "audio_enabled",

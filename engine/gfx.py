@@ -29,8 +29,8 @@ from typing import Any
 import numpy as np
 
 from engine import mn
-from engine.fixed_fields import unknown_attribute_error
-from engine.named_enum import NamedIntEnum
+from engine.core.fixed_fields import unknown_attribute_error
+from engine.core.named_enum import NamedIntEnum
 from render.lights import AMBIENT, DEFAULT_LIGHTS, Lights
 
 __all__ = [

@@ -1,19 +1,9 @@
-"""Habitat's ``habitat_sim.sensor`` module: the sensor specs, the sensor classes and the
-``SensorFactory`` that attaches sensors to scene nodes.
+"""Habitat's ``habitat_sim.sensor``: the sensor specs, the sensor classes and
+``SensorFactory`` (defined in :mod:`engine.sensors`)."""
 
-``SensorFactory.create_sensors(node, [spec, ...])`` creates, per spec, a leaf child of
-``node`` carrying the sensor the spec's subtype asks for (PINHOLE / ORTHOGRAPHIC ->
-:class:`CameraSensor`, FISHEYE -> :class:`FisheyeSensor`, EQUIRECTANGULAR ->
-:class:`EquirectangularSensor`) and returns them by uuid; ``delete_sensor(sensor)`` removes a
-sensor's leaf node, ``delete_subtree_sensor(node, uuid)`` the one below ``node`` with that uuid.
-The sensors of a node and everything under it are ``node.subtree_sensors``.
-"""
-
-from __future__ import annotations
-
-from collections.abc import Iterable
-
-from engine.cubemap_sensors import (
+from engine.sensors.factory import (
+    CameraSensor,
+    CameraSensorSpec,
     CubeMapSensorBase,
     CubeMapSensorBaseSpec,
     EquirectangularSensor,
@@ -22,16 +12,13 @@ from engine.cubemap_sensors import (
     FisheyeSensorDoubleSphereSpec,
     FisheyeSensorModelType,
     FisheyeSensorSpec,
-)
-from engine.scene_node import SceneNode
-from engine.sensors import (
-    CameraSensor,
-    CameraSensorSpec,
     SemanticSensorTarget,
     Sensor,
+    SensorFactory,
     SensorSpec,
     SensorSubType,
     SensorType,
+    VisualSensor,
     VisualSensorSpec,
 )
 
@@ -55,49 +42,3 @@ __all__ = [
     "VisualSensor",
     "VisualSensorSpec",
 ]
-
-VisualSensor = Sensor  # Habitat's base class of image sensors; every rigidsim sensor is one
-
-_SENSOR_OF_SUBTYPE: dict[SensorSubType, type[Sensor]] = {
-    SensorSubType.PINHOLE: CameraSensor,
-    SensorSubType.ORTHOGRAPHIC: CameraSensor,
-    SensorSubType.FISHEYE: FisheyeSensor,
-    SensorSubType.EQUIRECTANGULAR: EquirectangularSensor,
-}
-
-
-class SensorFactory:
-    """Creates and deletes sensors on scene nodes (Habitat's static ``SensorFactory``)."""
-
-    @staticmethod
-    def create_sensors(node: SceneNode, specs: Iterable[SensorSpec]) -> dict[str, Sensor]:
-        """One sensor per spec on a new leaf child of ``node``; all specs are checked before
-        any sensor is made. Returns the new sensors by uuid."""
-        if not isinstance(node, SceneNode):
-            raise TypeError(f"create_sensors needs a SceneNode, got {node!r}")
-        specs = list(specs)
-        for spec in specs:
-            if not isinstance(spec, SensorSpec):
-                raise TypeError(f"create_sensors needs SensorSpecs, got {spec!r}")
-            spec.validate()
-            if spec.sensor_subtype not in _SENSOR_OF_SUBTYPE:
-                raise ValueError(
-                    f"sensor {spec.uuid!r}: no sensor for sensor_subtype {spec.sensor_subtype}"
-                )
-        created: dict[str, Sensor] = {}
-        for spec in specs:
-            created[spec.uuid] = _SENSOR_OF_SUBTYPE[spec.sensor_subtype](spec, node)  # type: ignore[arg-type]
-        return created
-
-    @staticmethod
-    def delete_sensor(sensor: Sensor) -> None:
-        """Remove ``sensor`` and its leaf node from the scene graph."""
-        sensor.detach()
-
-    @staticmethod
-    def delete_subtree_sensor(node: SceneNode, uuid: str) -> None:
-        """Remove the sensor ``uuid`` found on ``node`` or below it (KeyError if none)."""
-        sensors = node.subtree_sensors
-        if uuid not in sensors:
-            raise KeyError(f"no sensor {uuid!r} under node {node.name!r}; it has {sorted(sensors)}")
-        sensors[uuid].detach()

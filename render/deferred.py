@@ -13,19 +13,16 @@ nothing was drawn.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from render import cull, raster
+from render.buffers import FrameBuffers
 from render.packed_rgba import pack_rgba
 from render.resolve import AttributePlanes, VisiblePixels
 from render.scene import RenderScene
 from render.settings import DEFAULT_SETTINGS, RenderSettings
 from render.shade import MaterialTable, shade_pixels
-
-if TYPE_CHECKING:
-    from render.frame import FrameBuffers
 
 #: color of pixels where nothing is drawn (opaque black, like Habitat's default clear color)
 BACKGROUND_RGBA = (0, 0, 0, 255)

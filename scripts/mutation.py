@@ -26,7 +26,7 @@ How one module is run
 Usage::
 
     bash scripts/mutation.sh                       # every module below
-    bash scripts/mutation.sh navmesh/step_filter.py engine/physics/integrate.py
+    bash scripts/mutation.sh navmesh/step_filter.py engine/physics/solver/integrate.py
     bash scripts/mutation.sh --per-module 20 render/camera.py
     bash scripts/mutation.sh --recheck navmesh/search.py   # after adding tests: re-run only
                                                            # the report row's survivors
@@ -75,7 +75,7 @@ NAV = "tests/navmesh/"
 # reference_solver, whose tests take 45 s per mutant. A full run of both stages takes about
 # three hours on 2 cores; run the modules you changed (see docs/testing.md).
 MODULES: dict[str, Module] = {
-    "engine/physics/integrate.py": Module(
+    "engine/physics/solver/integrate.py": Module(
         (
             PHYS + "test_integration_laws.py",
             PHYS + "test_single_body.py",
@@ -83,11 +83,11 @@ MODULES: dict[str, Module] = {
         ),
         (PHYS + "test_contact_laws.py", PHYS + "test_solver_switches.py"),
     ),
-    "engine/physics/sleeping.py": Module(
+    "engine/physics/solver/sleeping.py": Module(
         (PHYS + "test_sleep_islands.py",),
         (PHYS + "test_sleeping.py", PHYS + "test_lifecycle.py"),
     ),
-    "engine/physics/velocity_control.py": Module(
+    "engine/physics/objects/velocity_control.py": Module(
         (PHYS + "test_velocity_control_frames.py",),
         (PHYS + "test_single_body.py", PHYS + "test_velocity_control_friction.py"),
     ),
@@ -97,7 +97,7 @@ MODULES: dict[str, Module] = {
     "navmesh/step_filter.py": Module(
         (NAV + "test_step_filter.py", NAV + "test_step_islands.py"), (NAV + "test_pathfinder.py",)
     ),
-    "engine/physics/solver.py": Module(
+    "engine/physics/solver/sequential_impulses.py": Module(
         (PHYS + "test_solver_switches.py", PHYS + "test_split_impulse.py"),
         (
             PHYS + "test_contact_laws.py",
@@ -105,19 +105,19 @@ MODULES: dict[str, Module] = {
             PHYS + "test_translation_invariance.py",
         ),
     ),
-    "engine/physics/contact_batch.py": Module(
+    "engine/physics/solver/contact_batch.py": Module(
         (PHYS + "test_manifolds_and_narrow_phase.py",),
         (PHYS + "test_reference_path.py", PHYS + "test_contact_laws.py"),
     ),
-    "engine/physics/reference_solver.py": Module(
+    "engine/physics/reference/reference_solver.py": Module(
         (PHYS + "test_reference_path.py",),
         (PHYS + "test_solver_switches.py", PHYS + "test_rolling_friction.py"),
         sample=30,
     ),
-    "engine/physics/box_box.py": Module(
+    "engine/physics/collision/box_box.py": Module(
         (PHYS + "test_box_box.py",), (PHYS + "test_manifolds_and_narrow_phase.py",)
     ),
-    "engine/physics/collide.py": Module(
+    "engine/physics/collision/collide.py": Module(
         (
             PHYS + "test_closest_points.py",
             PHYS + "test_manifolds_and_narrow_phase.py",
@@ -133,7 +133,7 @@ MODULES: dict[str, Module] = {
         ),
     ),
     # the narrow phase of body pairs left collide.py for the pair table's batched rules
-    "engine/physics/batched_pairs.py": Module(
+    "engine/physics/collision/batched_pairs.py": Module(
         (PHYS + "test_pair_table.py", PHYS + "test_manifolds_and_narrow_phase.py"),
         (
             PHYS + "test_box_box.py",

@@ -1,7 +1,7 @@
 """Every module path the README and the docs name is a file of the repository.
 
 The README's architecture section and the pages of ``docs/`` point readers to modules
-(``engine/physics/pair_table.py``, ``render/reference.py`` ...); a module renamed or split
+(``engine/physics/pipeline/pair_table.py``, ``render/reference.py`` ...); a module renamed or split
 leaves such a pointer dangling. This test collects every ``engine/``, ``render/``,
 ``navmesh/``, ``benchmarks/`` and ``scripts/`` path ending in ``.py`` (and every such folder
 path ending in ``/``) written in ``README.md`` and ``docs/*.md`` and fails on one that does

@@ -27,10 +27,10 @@ import quaternion
 
 from engine import mn
 from engine.agent.controls import ActuationSpec, ObjectControls, UnknownActionError
-from engine.fixed_fields import FixedFields
-from engine.scene_node import SceneNode
-from engine.sensor import SensorFactory
-from engine.sensors import Sensor, SensorSpec
+from engine.core.fixed_fields import FixedFields
+from engine.scene.graph import SceneNode
+from engine.sensors.cameras import Sensor, SensorSpec
+from engine.sensors.factory import SensorFactory
 
 __all__ = ["ActionSpec", "Agent", "AgentConfiguration", "AgentState", "SixDOFPose"]
 

@@ -59,7 +59,7 @@ def run_serial(
 # What every worker imports before its first episode: the fork server imports these once and
 # each worker starts as a copy of it, instead of every spawned interpreter importing rigidsim
 # (about 0.5 s) and building its first Simulator (about 0.7 s of lazy imports) on its own.
-WORKER_PRELOAD = ("__main__", "engine", "engine.simulator", "engine.batch")
+WORKER_PRELOAD = ("__main__", "engine", "engine.simulator.simulator", "engine.batch")
 # Episodes shorter than this go to a worker several at a time (one round trip per chunk).
 CHUNK_SECONDS = 0.05
 

@@ -132,7 +132,7 @@ def _write_navmesh(stage_glb: Path, out: Path) -> None:
     Raises RuntimeError if the build fails or comes out empty. The stage config is Y-up, so
     the stage frame is the world frame here.
     """
-    from engine.assets import load_meshes, merge_meshes
+    from engine.scene.assets import load_meshes, merge_meshes
     from navmesh import NavMeshSettings, PathFinder
 
     stage = merge_meshes(load_meshes(stage_glb))

@@ -10,7 +10,7 @@ light into their vertex colors: each face is multiplied by a factor that depends
 direction its normal points (:data:`BAKED_LIGHT`), which keeps corners and edges legible.
 
 Conventions: Y up, meters, faces counter-clockwise seen from outside. UVs use the
-OpenGL convention of ``engine.assets``: texel row = ``(1 - v) * (h - 1)``.
+OpenGL convention of ``engine.scene.assets``: texel row = ``(1 - v) * (h - 1)``.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import trimesh
 from numpy.typing import ArrayLike
 from PIL import Image
 
-from engine.primitives import box_geometry, concatenate_geometry, lathe
+from engine.scene.primitives import box_geometry, concatenate_geometry, lathe
 
 # Brightness factor of a face whose unit normal is mostly +X, -X, +Y, -Y, +Z, -Z.
 BAKED_LIGHT = {(0, 1): 0.88, (0, -1): 0.80, (1, 1): 1.0, (1, -1): 0.72, (2, 1): 0.94, (2, -1): 0.84}
@@ -93,7 +93,7 @@ def lathe_part(
     axis: str = "y",
     name: str = "lathe",
 ) -> Part:
-    """Surface of revolution (see ``engine.primitives.lathe``) around an axis through
+    """Surface of revolution (see ``engine.scene.primitives.lathe``) around an axis through
     ``center``; ``axis`` "y" keeps it vertical, "x" or "z" lays it along that axis."""
     vertices, faces = lathe(np.asarray(radii, float), np.asarray(heights, float), segments)
     vertices = vertices @ _AXIS_FROM_Y[axis].T + np.asarray(center, dtype=np.float64)

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from engine.demo.geometry import Part, box, cylinder, lathe_part, merge_parts, tube
-from engine.primitives import icosphere_solid
+from engine.scene.primitives import icosphere_solid
 
 CHEEZIT_SIZE = (0.16, 0.06, 0.21)  # x, y (thickness), z (height, YCB up) in meters
 CHEF_CAN_RADIUS = 0.051

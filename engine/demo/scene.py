@@ -35,7 +35,7 @@ from engine.demo.geometry import (
     merge_parts,
     quad,
 )
-from engine.primitives import icosphere_solid
+from engine.scene.primitives import icosphere_solid
 
 FLOOR_Y = -1.45  # top of the floor, meters
 CEILING_Y = 1.3  # underside of the ceiling (2.75 m rooms)

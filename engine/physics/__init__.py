@@ -3,20 +3,25 @@
 ``MotionType``, ``VelocityControl``, ``RigidObjectManager``, ``ManagedRigidObject``,
 ``RaycastResults``, ``RayHitInfo``, ``ContactPointData``, ``RigidState`` and the world,
 ``PhysicsWorld``. See :mod:`engine.physics.world` for the step pipeline and
-:mod:`engine.physics.settings` for the conventions (Y up, meters, quaternions
+:mod:`engine.physics.core.settings` for the conventions (Y up, meters, quaternions
 ``[x, y, z, w]``, contact normals from body A to body B).
 """
 
 from __future__ import annotations
 
-from engine.named_enum import NamedIntEnum
+from engine.core.named_enum import NamedIntEnum
 
-from .collision_groups import CollisionGroupHelper, CollisionGroups
-from .constraints import RigidConstraintSettings, RigidConstraintType
-from .objects import DeadObjectError, ManagedRigidObject, MotionType, RigidObjectManager
-from .queries import ContactPointData, RaycastResults, RayHitInfo
-from .settings import SolverSettings
-from .velocity_control import RigidState, VelocityControl
+from .collision.collision_groups import CollisionGroupHelper, CollisionGroups
+from .core.settings import SolverSettings
+from .objects.constraints import RigidConstraintSettings, RigidConstraintType
+from .objects.queries import ContactPointData, RaycastResults, RayHitInfo
+from .objects.rigid_object_manager import (
+    DeadObjectError,
+    ManagedRigidObject,
+    MotionType,
+    RigidObjectManager,
+)
+from .objects.velocity_control import RigidState, VelocityControl
 from .world import STAGE_ID, PhysicsWorld
 
 

@@ -64,27 +64,28 @@ import numpy as np
 
 from engine import mn
 
-from . import queries
-from .bodies import DYNAMIC, KINEMATIC, STAGE_ID, STATIC, Bodies
-from .collision_groups import assign_group
-from .collision_stage import CollisionObjects, collision_stage, update_world_aabbs
-from .constraints import ConstraintStore
-from .contacts import ManifoldStore
-from .integrate import (
+from .collision.collision_groups import assign_group
+from .collision.collision_objects import CollisionObjects
+from .collision.contacts import ManifoldStore
+from .core.bodies import DYNAMIC, KINEMATIC, STAGE_ID, STATIC, Bodies
+from .core.profiling import StageTimer
+from .core.quaternions import quat_to_matrix
+from .core.settings import MAX_STEPS_PER_CALL, SolverSettings
+from .core.shapes import mesh_shape
+from .objects import queries
+from .objects.constraints import ConstraintStore
+from .objects.kinematic_motion import KinematicPoses, implied_velocities
+from .objects.node_sync import NodeSync
+from .objects.queries import ContactPointData, RaycastResults
+from .pipeline.collision_stage import collision_stage, update_world_aabbs
+from .pipeline.solve_stage import solve_stage
+from .solver.integrate import (
     awake_dynamic_bodies,
     body_velocities,
     integrate_stage,
     integrate_velocities,
 )
-from .kinematic_motion import KinematicPoses, implied_velocities
-from .node_sync import NodeSync
-from .profiling import StageTimer
-from .quaternions import quat_to_matrix
-from .queries import ContactPointData, RaycastResults
-from .settings import MAX_STEPS_PER_CALL, SolverSettings
-from .shapes import mesh_shape
-from .sleeping import update_sleep, wake_body, wake_island, wake_touched
-from .solve_stage import solve_stage
+from .solver.sleeping import update_sleep, wake_body, wake_island, wake_touched
 
 __all__ = ["STAGE_ID", "PhysicsWorld"]
 
@@ -96,7 +97,7 @@ class PhysicsWorld:
     def __init__(
         self, physics_attributes, root_node, object_template_manager, asset_template_manager=None
     ) -> None:
-        from .objects import RigidObjectManager
+        from .objects.rigid_object_manager import RigidObjectManager
 
         self._timestep = float(physics_attributes.timestep)
         if not (math.isfinite(self._timestep) and self._timestep > 0):
@@ -417,7 +418,7 @@ class PhysicsWorld:
 
         Every kinematic pose is computed first (a non-finite one raises ValueError before
         any body moves), then committed."""
-        from .velocity_control import RigidState
+        from .objects.velocity_control import RigidState
 
         b = self.bodies
         new_poses = {}

@@ -11,7 +11,7 @@ set to True (pinhole ``color_sensor``, ``depth_sensor``, ``semantic_sensor``; or
 the agent (radius, height, static objects). The wide-angle keys (``fisheye_rgba_sensor``,
 ``fisheye_depth_sensor``, ``fisheye_semantic_sensor``, ``equirect_*``) add Habitat's
 double-sphere fisheye (its "GoPro" lens: ``xi`` -0.27, ``alpha`` 0.57, focal length
-``(364.84, 364.86)`` px) and equirectangular sensors (:mod:`engine.cubemap_sensors`).
+``(364.84, 364.86)`` px) and equirectangular sensors (:mod:`engine.sensors.cubemap`).
 
 Use::
 
@@ -26,13 +26,13 @@ from typing import Any
 
 from engine import mn
 from engine.agent import ActionSpec, ActuationSpec, AgentConfiguration
-from engine.cubemap_sensors import (
+from engine.sensors.cameras import CameraSensorSpec, SensorSubType, SensorType
+from engine.sensors.cubemap import (
     CubeMapSensorBaseSpec,
     EquirectangularSensorSpec,
     FisheyeSensorDoubleSphereSpec,
 )
-from engine.sensors import CameraSensorSpec, SensorSubType, SensorType
-from engine.simulator import Configuration, SimulatorConfiguration
+from engine.simulator.simulator import Configuration, SimulatorConfiguration
 from navmesh import NavMeshSettings
 
 __all__ = ["default_sim_settings", "make_cfg"]

@@ -75,7 +75,7 @@ def default_camera(sim: Any) -> list[float] | None:
 
 
 class Viewer:
-    """A 3D view of a :class:`~engine.simulator.Simulator` with switchable overlays.
+    """A 3D view of a :class:`~engine.simulator.simulator.Simulator` with switchable overlays.
 
     Parameters
     ----------

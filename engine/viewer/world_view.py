@@ -75,7 +75,7 @@ def pack_rgb(rgb: np.ndarray) -> np.ndarray:
 
 
 def vertex_colors(mesh: Any) -> np.ndarray:
-    """``(V,)`` packed colours of a :class:`~engine.assets.MeshData`: what the renderer shades.
+    """``(V,)`` packed colours of a :class:`~engine.scene.assets.MeshData`, as the renderer shades.
 
     Vertex colours when the mesh has them, else the texture sampled (nearest texel) at each
     vertex's UV, else the flat base colour; every one multiplied by ``base_color / 255``.

@@ -1,4 +1,4 @@
-"""Tests for engine.assets and engine.primitives: real Habitat assets and unit primitives."""
+"""Tests for engine.scene.assets and engine.scene.primitives: Habitat assets, unit primitives."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from engine.assets import (
+from engine.scene.assets import (
     PRIMITIVE_ASSET_HANDLES,
     MeshData,
     clear_mesh_cache,
@@ -22,7 +22,7 @@ from engine.assets import (
     mesh_aabb,
     primitive_meshes,
 )
-from engine.primitives import is_primitive_handle, parse_primitive_handle
+from engine.scene.primitives import is_primitive_handle, parse_primitive_handle
 
 # Loading and transforming float64 data: only rounding error (positions are O(10) m).
 POSITION_TOL = 1e-9

@@ -1,7 +1,7 @@
 """Tests for engine.demo.datasets: the generated demo apartment and objects.
 
 Geometry is checked with ray casts (trimesh's pure-Python ray/triangle test) against the
-stage exactly as ``engine.assets.load_meshes`` returns it. Positions in the generated
+stage exactly as ``engine.scene.assets.load_meshes`` returns it. Positions in the generated
 files are float32, so heights are compared to 1e-5 m.
 """
 
@@ -17,9 +17,9 @@ import pytest
 import trimesh
 
 import engine.demo.datasets as datasets
-from engine.assets import load_meshes, merge_meshes, mesh_aabb
 from engine.attributes_managers import ObjectAttributesManager, StageAttributesManager
 from engine.demo.datasets import DATASET_VERSION, demo_data_path
+from engine.scene.assets import load_meshes, merge_meshes, mesh_aabb
 
 FLOAT32_TOL = 1e-5  # meters: float32 storage of positions of a few meters
 

@@ -1,5 +1,5 @@
 """Debug lines in fisheye and equirectangular frames and in asynchronous renders
-(engine.line_overlay): drawn into the cube faces before the resampling, so a line lands on
+(engine.sensors.line_overlay): drawn into the cube faces before the resampling, so a line lands on
 the pixels whose rays point at it.
 
 Hand geometry: the sensor is at the agent's height ``h = 1.5 m`` looking down -Z, in an empty

@@ -1,8 +1,8 @@
-"""The split row of a shared full render moves toward balance (engine.frame_sharing)."""
+"""The split row of a shared full render moves toward balance (engine.sensors.frame_sharing)."""
 
 from __future__ import annotations
 
-from engine.frame_sharing import PER_FRAME_STAGES, next_split, rows_there
+from engine.sensors.frame_sharing import PER_FRAME_STAGES, next_split, rows_there
 from render.camera import Camera
 from render.frame import band_rows
 

@@ -17,8 +17,8 @@ import trimesh
 import engine as habitat_sim
 from engine import mn
 from engine.agent.controls.pyrobot_noisy_controls import seed_noise
-from engine.follower_poses import ArrayPose
-from engine.follower_probe import navmesh_sliding
+from engine.nav.follower_poses import ArrayPose
+from engine.nav.follower_probe import navmesh_sliding
 from engine.registry import registry
 
 TURN_DEGREES = 30.0
@@ -136,7 +136,7 @@ def test_thrashing_is_detected_after_alternating_turns(demo_data):
 @pytest.mark.parametrize("allow_sliding", [False, True])
 def test_the_fast_poses_choose_the_actions_of_the_agents_own_controls(demo_data, allow_sliding):
     """Two paths, one behaviour: the array twin of the default controls scored in batches
-    (the default: ``engine.follower_probe``) and the agent's controls on scratch scene nodes
+    (the default: ``engine.nav.follower_probe``) and the agent's controls on scratch scene nodes
     scored one at a time through the PathFinder API (Habitat's way) plan the same actions."""
     with make_sim(demo_data, allow_sliding) as sim:
         sim.pathfinder.seed(11 + allow_sliding)

@@ -17,7 +17,7 @@ from engine.bindings import Configuration, ConfigValType
 from engine.logging import parse_filter
 from engine.physics import MotionType
 from engine.scene import SceneGraph
-from engine.scene_node import SceneNode
+from engine.scene.graph import SceneNode
 from engine.utils import datasets_download
 
 

@@ -13,7 +13,7 @@ import pytest
 
 import engine as habitat_sim
 from engine.agent.controls.pyrobot_noisy_controls import pyrobot_noise_models, seed_noise
-from engine.scene_node import SceneGraph
+from engine.scene.graph import SceneGraph
 
 SAMPLES = 120
 

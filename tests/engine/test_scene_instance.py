@@ -1,6 +1,6 @@
 """Scene instances (``*.scene_instance.json``) through a dataset written by the test.
 
-The numbers are hand computed from Habitat's rules (engine.scene_instance): a COM corrected
+The numbers are hand computed from Habitat's rules (engine.scene.instance): a COM corrected
 instance puts the asset origin at ``translation``, so the body (its center of mass ``c``)
 sits at ``translation + R c``; scale multiplies, mass follows the scaled volume.
 """
@@ -16,7 +16,7 @@ import pytest
 
 from engine import mn
 from engine.physics import MotionType
-from engine.scene_instance import find_scene_instance, read_scene_instance
+from engine.scene.instance import find_scene_instance, read_scene_instance
 from engine.simulator import Configuration, Simulator, SimulatorConfiguration
 
 FLOOR_OBJ = """v -5 0 -5

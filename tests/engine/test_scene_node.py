@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from engine import mn
-from engine.scene_node import SceneNode
+from engine.scene.graph import SceneNode
 
 
 def test_child_world_matrix_is_parent_times_local():

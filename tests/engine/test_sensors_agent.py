@@ -8,10 +8,10 @@ import quaternion
 
 from engine import mn
 from engine.agent import Agent, AgentConfiguration, AgentState
-from engine.assets import MeshData
-from engine.scene_node import Drawable, SceneNode
-from engine.scene_render import SceneRenderer
+from engine.scene.assets import MeshData
+from engine.scene.graph import Drawable, SceneNode
 from engine.sensors import CameraSensorSpec, SensorType, euler_xyz_matrix
+from engine.sensors.scene_render import SceneRenderer
 
 
 def test_orientation_minus_45_is_radians_and_pitches_down_58_3_degrees():

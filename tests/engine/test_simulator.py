@@ -136,7 +136,7 @@ def test_bad_configuration_raises_clear_errors(tmp_path):
 def test_stage_navmesh_loads_beside_the_stage_and_sliding_is_read_at_call_time(tmp_path):
     import trimesh
 
-    from engine.assets import load_meshes
+    from engine.scene.assets import load_meshes
     from navmesh import NavMeshSettings, PathFinder
 
     floor = trimesh.creation.box(extents=[4.0, 0.1, 4.0])

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 import engine as habitat_sim
-import engine.simulator
+import engine.simulator.simulator
 from engine.demo import demo_data_path
-from engine.physics.objects import MotionType
-from engine.render_scheduler import RenderScheduler
-from engine.scene_render import SceneRenderer
+from engine.physics.objects.rigid_object_manager import MotionType
+from engine.sensors.render_scheduler import RenderScheduler
+from engine.sensors.scene_render import SceneRenderer
 from engine.tutorial.cli import run_tutorial
 from engine.tutorial.scene_setup import make_configuration, place_agent
 from render.settings import RenderSettings
@@ -62,7 +62,7 @@ class CheckedRenderer(SceneRenderer):
 @pytest.fixture
 def checked(monkeypatch):
     CheckedRenderer.modes, CheckedRenderer.places = Counter(), Counter()
-    monkeypatch.setattr(engine.simulator, "SceneRenderer", CheckedRenderer)
+    monkeypatch.setattr(engine.simulator.simulator, "SceneRenderer", CheckedRenderer)
     monkeypatch.setattr(CheckedRenderer, "PROCESSES", 1)
     return CheckedRenderer
 

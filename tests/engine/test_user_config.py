@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from engine import mn
-from engine.user_config import Configuration, ConfigValType
+from engine.templates.user_config import Configuration, ConfigValType
 
 
 def test_get_as_string_formats_match_habitat():

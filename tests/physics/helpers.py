@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from engine.assets import MeshData
 from engine.attributes import PhysicsManagerAttributes, StageAttributes
 from engine.attributes_managers import ObjectAttributesManager
 from engine.physics import PhysicsWorld
-from engine.scene_node import SceneNode
+from engine.scene.assets import MeshData
+from engine.scene.graph import SceneNode
 
 
 def floor_mesh(half: float = 10.0, height: float = 0.0, slope_deg: float = 0.0) -> MeshData:

@@ -1,5 +1,5 @@
-"""Analytic box-box contacts (engine/physics/box_box.py) against fcl, hand geometry and the
-per-pair reference (engine/physics/reference_box_box.py)."""
+"""Analytic box-box contacts (engine/physics/collision/box_box.py) against fcl, hand geometry
+and the per-pair reference (engine/physics/reference/reference_box_box.py)."""
 
 from __future__ import annotations
 
@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-from engine.physics import MotionType, settings
-from engine.physics.box_box import box_box_contacts, separating_axes
-from engine.physics.quaternions import quat_to_matrix
-from engine.physics.reference_box_box import box_box_contacts_reference
+from engine.physics import MotionType
+from engine.physics.collision.box_box import box_box_contacts, separating_axes
+from engine.physics.core import settings
+from engine.physics.core.quaternions import quat_to_matrix
+from engine.physics.reference.reference_box_box import box_box_contacts_reference
 
 
 def _random_pairs(count: int, seed: int = 0, reach=(0.1, 0.6), tilt: float | None = None):
@@ -192,7 +193,7 @@ def test_deep_box_pair_asks_fcl_at_the_current_poses(vectorized):
     """Box pairs do not move their fcl objects (analytic contacts); a pair left to fcl (deeper
     than BOX_DEEP_OVERLAP) moves them first, so its contacts follow the bodies' poses even
     when the fcl objects were last placed far away."""
-    from engine.physics.collision_stage import collision_stage
+    from engine.physics.pipeline.collision_stage import collision_stage
 
     from .helpers import add, make_world, register_primitive
 

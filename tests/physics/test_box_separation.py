@@ -5,8 +5,8 @@ from __future__ import annotations
 import fcl
 import numpy as np
 
-from engine.physics.collide import boxes_separated
-from engine.physics.quaternions import quat_to_matrix
+from engine.physics.collision.collide import boxes_separated
+from engine.physics.core.quaternions import quat_to_matrix
 
 
 def _random_boxes(rng, count):

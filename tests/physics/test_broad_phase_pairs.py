@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from engine.physics.collide import (
+from engine.physics.collision.collide import (
     all_pairs_overlaps,
     overlapping_pairs,
     sweep_and_prune_overlaps,

@@ -16,12 +16,12 @@ import pytest
 from helpers import add, make_world, register_primitive, run
 
 from engine import mn
-from engine.physics import settings
-from engine.physics.capsule_contacts import capsule_pair, capsule_pair_batch
-from engine.physics.contact_helpers import segment_in_body
-from engine.physics.pair_rules import ContactBatch, PairContext, PairJob
-from engine.physics.quaternions import quat_to_matrix
-from engine.physics.shapes import primitive_shape
+from engine.physics.collision.capsule_contacts import capsule_pair, capsule_pair_batch
+from engine.physics.collision.contact_helpers import segment_in_body
+from engine.physics.collision.pair_rules import ContactBatch, PairContext, PairJob
+from engine.physics.core import settings
+from engine.physics.core.quaternions import quat_to_matrix
+from engine.physics.core.shapes import primitive_shape
 
 CAPSULE = (
     "capsule3DSolid_hemiRings_4_cylRings_1_segments_12_halfLen_0.75"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from engine.physics.collide import closest_points_on_triangles
+from engine.physics.collision.collide import closest_points_on_triangles
 
 # a right triangle in the plane y = 1: legs 2 m along +x and 1 m along +z
 TRI = np.array([[[0.0, 1.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 1.0]]])

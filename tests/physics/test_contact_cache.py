@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-import engine.physics.collision_stage as collision_stage
-from engine.physics import settings as physics_settings
-from engine.physics.coloring import color_manifolds
+import engine.physics.pipeline.collision_stage as collision_stage
+from engine.physics.core import settings as physics_settings
+from engine.physics.solver.coloring import color_manifolds
 
 
 @pytest.fixture
@@ -150,7 +150,7 @@ def test_bitmask_coloring_is_the_textbook_greedy():
 
 
 def test_sweep_and_prune_finds_the_brute_force_pairs():
-    from engine.physics.collide import all_pairs_overlaps, sweep_and_prune_overlaps
+    from engine.physics.collision.collide import all_pairs_overlaps, sweep_and_prune_overlaps
 
     rng = np.random.default_rng(5)
     for trial in range(30):
@@ -173,8 +173,8 @@ def test_sweep_and_prune_finds_the_brute_force_pairs():
 def test_deepest_record_matches_the_numpy_tie_rule():
     from types import SimpleNamespace
 
-    from engine.physics.contact_helpers import deepest_record
-    from engine.physics.contacts import tie_key
+    from engine.physics.collision.contact_helpers import deepest_record
+    from engine.physics.collision.contacts import tie_key
 
     rng = np.random.default_rng(7)
     for _ in range(200):

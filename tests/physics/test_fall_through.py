@@ -13,9 +13,9 @@ import pytest
 from helpers import add, floor_mesh, make_world, register_primitive
 
 from engine import mn
-from engine.assets import load_meshes
 from engine.attributes import StageAttributes
-from engine.physics import settings
+from engine.physics.core import settings
+from engine.scene.assets import load_meshes
 
 FLOOR = -1.45  # the apartment's floor height (tests/engine/test_datasets.py)
 FRAME = 1.0 / 60.0
@@ -314,8 +314,8 @@ def test_ball_dropped_on_a_floor_wound_either_way_rests_on_it(faces_down):
 def test_new_contact_side_agrees_with_its_reference_on_every_case():
     """The batched rule and its plain twin on a grid of normals and heights (both signs,
     floor-like and wall-like, the center on the plane)."""
-    from engine.physics.contact_helpers import new_contact_side
-    from engine.physics.reference_pairs import new_contact_side_reference
+    from engine.physics.collision.contact_helpers import new_contact_side
+    from engine.physics.reference.reference_pairs import new_contact_side_reference
 
     values = np.array([-1.0, -0.6, -0.5, -0.2, 0.0, 0.2, 0.5, 0.6, 1.0])
     ny, hc, hm = (a.ravel() for a in np.meshgrid(values, values / 10, values / 10))
@@ -336,7 +336,7 @@ def test_new_contact_side_agrees_with_its_reference_on_every_case():
 
 def lowest_point(world, index: int) -> float:
     """The lowest world y of body ``index``'s hull vertices, m."""
-    from engine.physics.quaternions import quat_to_matrix
+    from engine.physics.core.quaternions import quat_to_matrix
 
     b = world.bodies
     vertices = np.concatenate([shape.hull_vertices for shape in b.shapes[index]])

@@ -18,12 +18,17 @@ from helpers import add, make_world, register_primitive, run
 from test_reference_path import CONE, CYLINDER
 
 from engine import mn
-from engine.physics import batched_stage, settings
-from engine.physics.collision_stage import broad_phase, touching_candidates, update_manifolds
-from engine.physics.contacts import FreshPoints, ManifoldStore
-from engine.physics.narrow_phase import narrow_phase
-from engine.physics.quaternions import cross, quat_multiply, quat_to_matrix
-from engine.physics.reference_contacts import (
+from engine.physics.collision import batched_stage
+from engine.physics.collision.contacts import FreshPoints, ManifoldStore
+from engine.physics.core import settings
+from engine.physics.core.quaternions import cross, quat_multiply, quat_to_matrix
+from engine.physics.pipeline.collision_stage import (
+    broad_phase,
+    touching_candidates,
+    update_manifolds,
+)
+from engine.physics.pipeline.narrow_phase import narrow_phase
+from engine.physics.pipeline.reference_contacts import (
     Contact,
     ManifoldPoint,
     pair_contacts,
@@ -252,7 +257,7 @@ def test_reference_manifold_update_matches_store_on_the_same_history():
 def test_effective_mass_under_the_center_of_mass_is_the_body_mass():
     # a 2 kg box resting flat: each corner's normal row sees 1/m + (r x n) I^-1 (r x n); the
     # point straight below the COM has r x n = 0, so m_eff = m (split by the touching points)
-    from engine.physics.reference_solver import Bodies6, effective_mass
+    from engine.physics.reference.reference_solver import Bodies6, effective_mass
 
     inv_inertia = np.zeros((2, 3, 3))
     inv_inertia[1] = np.diag([3.0, 3.0, 3.0])
@@ -269,15 +274,15 @@ def test_effective_mass_under_the_center_of_mass_is_the_body_mass():
 
 
 def test_batched_jacobians_and_effective_masses_match_the_reference_build():
-    from engine.physics.contact_batch import (
+    from engine.physics.pipeline.solve_stage import gather_solver_input
+    from engine.physics.reference.reference_solver import Bodies6, build_rows
+    from engine.physics.solver.contact_batch import (
         ColorOrder,
         ManifoldPoints,
         PairCoefficients,
         SolverBodies,
         build_batch,
     )
-    from engine.physics.reference_solver import Bodies6, build_rows
-    from engine.physics.solve_stage import gather_solver_input
 
     world = tumbling_world(0.5)
     b, store = world.bodies, world.manifolds

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive
 
-from engine.physics.contact_helpers import spread_direction
+from engine.physics.collision.contact_helpers import spread_direction
 
 FRAME = 1.0 / 60.0
 HALF = 0.1

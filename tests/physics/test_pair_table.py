@@ -12,11 +12,11 @@ from test_capsule_contacts import CAPSULE, SPHERE
 from test_manifolds_and_narrow_phase import candidate_pairs
 
 from engine import mn
-from engine.physics.narrow_phase import narrow_phase
-from engine.physics.pair_rules import PairRule, PairTable
-from engine.physics.pair_table import PAIR_TABLE
-from engine.physics.reference_contacts import pair_contacts
-from engine.physics.shapes import ShapeKind
+from engine.physics.collision.pair_rules import PairRule, PairTable
+from engine.physics.core.shapes import ShapeKind
+from engine.physics.pipeline.narrow_phase import narrow_phase
+from engine.physics.pipeline.pair_table import PAIR_TABLE
+from engine.physics.pipeline.reference_contacts import pair_contacts
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "contacts.md"
 
@@ -72,7 +72,8 @@ def test_a_fallback_must_be_a_later_rule():
 
 def test_the_documented_table_is_the_table_in_use():
     # after changing a rule, paste the output of
-    #   python -c "from engine.physics.pair_table import PAIR_TABLE; print(PAIR_TABLE.markdown())"
+    #   python -c "from engine.physics.pipeline.pair_table import PAIR_TABLE;
+    #   print(PAIR_TABLE.markdown())"
     # over the table in docs/contacts.md
     assert PAIR_TABLE.markdown() in DOCS.read_text(), "docs/contacts.md shows an old pair table"
 

@@ -12,7 +12,7 @@ import pytest
 from helpers import add, make_world, register_primitive
 
 from engine import mn
-from engine.physics import settings
+from engine.physics.core import settings
 
 FRAME = 1.0 / 60.0
 
@@ -58,7 +58,7 @@ CYLINDER = (
 
 def _lowest_point(world, index: int) -> float:
     """The lowest world y of body ``index``'s hull vertices, m."""
-    from engine.physics.quaternions import quat_to_matrix
+    from engine.physics.core.quaternions import quat_to_matrix
 
     b = world.bodies
     vertices = np.concatenate([shape.hull_vertices for shape in b.shapes[index]])
@@ -74,8 +74,8 @@ def test_cylinder_rolling_into_a_floor_level_corner_keeps_its_floor_contact(demo
     and +z sides up to 20 cm deep); the four kept were all side points, so nothing held it
     up and its rim sank 5 cm into the floor in three frames. A manifold now keeps the
     deepest point of each other direction before its supporting polygon."""
-    from engine.assets import load_meshes
     from engine.attributes import StageAttributes
+    from engine.scene.assets import load_meshes
 
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized
@@ -110,8 +110,8 @@ def _corner_row(rng):
 
 
 def test_select_with_corners_keeps_the_floor_and_agrees_with_its_reference():
-    from engine.physics.manifold_merge import select_with_corners
-    from engine.physics.reference_manifolds import select_with_corners as reference
+    from engine.physics.collision.manifold_merge import select_with_corners
+    from engine.physics.reference.reference_manifolds import select_with_corners as reference
 
     rng = np.random.default_rng(3)
     rows = [_corner_row(rng) for _ in range(8)]
@@ -219,8 +219,8 @@ def test_cone_thrown_at_the_apartment_floor_at_a_grazing_angle_stays_out_of_it(
     4.0 cm in: the vertex that started the step 2 mm inside the floor was not swept (its ray
     started behind the surface). Vertex rays now start the stage's speculative distance
     earlier; a crossing there counts when the surface faces the body's center."""
-    from engine.assets import load_meshes
     from engine.attributes import StageAttributes
+    from engine.scene.assets import load_meshes
 
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized

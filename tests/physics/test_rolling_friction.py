@@ -104,8 +104,9 @@ def test_both_solver_paths_agree_on_rolling_and_spinning():
 
 def _count_contact_loads(monkeypatch) -> list:
     """Record every ContactLoads (rolling friction's input) either solve path builds."""
-    from engine.physics import reference_solver, solve_stage
-    from engine.physics.rolling_friction import ContactLoads
+    from engine.physics.pipeline import solve_stage
+    from engine.physics.reference import reference_solver
+    from engine.physics.solver.rolling_friction import ContactLoads
 
     built = []
 
@@ -129,7 +130,7 @@ def rolled_state(vectorized: bool, rolling: float = 0.0) -> str:
 
 @pytest.mark.parametrize("vectorized", [True, False])
 def test_all_zero_coefficients_skip_rolling_friction_and_change_nothing(monkeypatch, vectorized):
-    from engine.physics import solve_stage
+    from engine.physics.pipeline import solve_stage
 
     built = _count_contact_loads(monkeypatch)
     skipped = rolled_state(vectorized)

@@ -3,8 +3,9 @@
 A capsule lying across a narrow ridge of the stage touches it only under the middle of its
 axis: neither end sphere comes within the stage's speculative distance of the ridge, so the
 contact takes the normal of the deepest triangle the stage's collision query reports, turned
-to face the capsule's centre (:func:`engine.physics.collide.round_stage_contacts`). A normal
-facing away would push the capsule into the ridge, and a zero one would not hold it up.
+to face the capsule's centre
+(:func:`engine.physics.collision.collide.round_stage_contacts`). A normal facing away would
+push the capsule into the ridge, and a zero one would not hold it up.
 """
 
 from __future__ import annotations
@@ -14,9 +15,9 @@ import pytest
 from helpers import add, make_world, register_primitive, run
 
 from engine import mn
-from engine.assets import MeshData
 from engine.attributes import StageAttributes
-from engine.physics import settings
+from engine.physics.core import settings
+from engine.scene.assets import MeshData
 
 # capsule of radius 0.1 m and axis half length 0.2 m (template scale 0.1)
 LONG_CAPSULE = (

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-from engine.physics import MotionType, settings
+from engine.physics import MotionType
+from engine.physics.core import settings
 
 FRAME = 1.0 / 60.0
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from engine import mn
-from engine.physics import settings
+from engine.physics.core import settings
 from engine.simulator import Configuration, Simulator, SimulatorConfiguration
 
 from .helpers import add, make_world, register_primitive, run

@@ -16,7 +16,7 @@ from helpers import add, make_world, register_primitive, run
 
 from engine import mn
 from engine.physics import MotionType
-from engine.physics.coloring import color_manifolds
+from engine.physics.solver.coloring import color_manifolds
 
 
 def _pile_world(**solver_options):
@@ -50,7 +50,7 @@ def test_graph_coloring_puts_each_dynamic_body_once_per_color():
 
 
 def test_color_order_ends_each_color_with_its_stage_rows_and_keeps_the_rest():
-    from engine.physics.solve_stage import color_order
+    from engine.physics.pipeline.solve_stage import color_order
 
     rng = np.random.default_rng(4)
     for _ in range(50):
@@ -181,7 +181,7 @@ def test_bad_gravity_and_empty_stage_meshes_raise():
     before = world.state_hash()
     with pytest.raises(ValueError, match="gravity"):
         world.set_gravity([0, np.nan, 0])
-    from engine.assets import MeshData
+    from engine.scene.assets import MeshData
 
     empty = MeshData(vertices=np.zeros((0, 3)), faces=np.zeros((0, 3), dtype=np.int64))
     with pytest.raises(ValueError, match="stage"):

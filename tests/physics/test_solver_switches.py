@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-from engine.physics.solver import _restitution_rows
+from engine.physics.solver.sequential_impulses import _restitution_rows
 
 BOX_HALF = 0.1
 

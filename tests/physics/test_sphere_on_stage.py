@@ -1,5 +1,5 @@
 """Spheres on a stage mesh (the exact sphere-triangle contact of
-:func:`engine.physics.collide.round_stage_contacts`): rest heights, sideways drift and the
+:func:`engine.physics.collision.collide.round_stage_contacts`): rest heights, sideways drift and the
 edge of the stage.
 
 The floor is two triangles (the plane y = 0, x and z in [-5, 5]); a sphere of radius r at
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-from engine.physics import settings
+from engine.physics.core import settings
 
 SPHERE = "icosphereSolid_subdivs_1"
 RADIUS = 0.1

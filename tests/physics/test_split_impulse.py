@@ -21,8 +21,8 @@ import pytest
 from helpers import add, make_world, register_primitive
 
 from engine import mn
-from engine.physics import settings
-from engine.physics.quaternions import quat_to_matrix
+from engine.physics.core import settings
+from engine.physics.core.quaternions import quat_to_matrix
 
 HALF = 0.1
 TILT = np.radians(20.0)

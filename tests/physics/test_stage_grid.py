@@ -12,13 +12,13 @@ import pytest
 from helpers import add, floor_mesh, make_world, register_primitive
 
 from engine import mn
-from engine.assets import load_meshes
 from engine.attributes import StageAttributes
-from engine.physics import settings
-from engine.physics.contact_helpers import fcl_raw_contacts
-from engine.physics.quaternions import quat_to_matrix
-from engine.physics.reference_pairs import stage_polyhedron_contacts
-from engine.physics.stage_grid import StageGrid, candidate_triangles_reference, stage_grid
+from engine.physics.collision.contact_helpers import fcl_raw_contacts
+from engine.physics.collision.stage_grid import StageGrid, candidate_triangles_reference, stage_grid
+from engine.physics.core import settings
+from engine.physics.core.quaternions import quat_to_matrix
+from engine.physics.reference.reference_pairs import stage_polyhedron_contacts
+from engine.scene.assets import load_meshes
 
 FLOOR = -1.45  # the demo apartment's floor height
 
@@ -117,10 +117,10 @@ def test_vertex_in_a_floor_wall_corner_gets_both_surfaces_on_both_paths():
     the floor also the floor's (before, each vertex kept only its shallowest surface, and a
     body driven into a corner sank into the floor), on the batched and the reference path
     alike (same points, same order)."""
-    from engine.assets import MeshData
-    from engine.physics.collision_stage import update_world_aabbs
-    from engine.physics.narrow_phase import narrow_phase
-    from engine.physics.reference_contacts import pair_contacts
+    from engine.physics.pipeline.collision_stage import update_world_aabbs
+    from engine.physics.pipeline.narrow_phase import narrow_phase
+    from engine.physics.pipeline.reference_contacts import pair_contacts
+    from engine.scene.assets import MeshData
 
     wall = MeshData(
         vertices=np.array([[0.5, -1, -2], [0.5, 2, -2], [0.5, 2, 2], [0.5, -1, 2]], dtype=float),

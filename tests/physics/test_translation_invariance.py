@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-from engine.physics import settings
+from engine.physics.core import settings
 
 HALF = 0.1
 

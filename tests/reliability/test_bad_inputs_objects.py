@@ -168,7 +168,7 @@ def test_values_that_overflow_only_when_used_are_refused(sim, name, big, sign, a
 )
 @given(speed=st.floats(1e154, 1.7e308), angular=st.booleans())
 def test_huge_speeds_are_clamped_to_the_limit_not_to_zero(sim, speed, angular):
-    from engine.physics import settings as constants
+    from engine.physics.core import settings as constants
 
     obj = objects(sim)[2]
     original = obj.translation

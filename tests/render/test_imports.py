@@ -135,5 +135,8 @@ def test_no_import_cycles_at_run_time():
     modules = module_files()
     assert len(modules) > 100
     graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
-    assert "engine.physics.reference_contacts" in graph["engine.physics.collision_stage"]
+    assert (
+        "engine.physics.pipeline.reference_contacts"
+        in graph["engine.physics.pipeline.collision_stage"]
+    )
     assert import_cycles(graph) == []

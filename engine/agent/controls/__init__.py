@@ -1,7 +1,7 @@
 """Agent controls, structured as Habitat's ``habitat_sim.agent.controls``.
 
 ``ActuationSpec`` and ``SceneNodeControl`` (:mod:`.controls`), the default controls
-(:mod:`.default_controls`, registered by :mod:`engine.registry`),
+(:mod:`.default_controls`, registered by :mod:`engine.agent.controls.registry`),
 the noisy PyRobot controls (:mod:`.pyrobot_noisy_controls`) and ``ObjectControls``
 (:mod:`.object_controls`).
 """

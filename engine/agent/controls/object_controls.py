@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 
 from engine.agent.controls.controls import ActuationSpec
-from engine.registry import registry
-from engine.scene_node import SceneNode
+from engine.agent.controls.registry import registry
+from engine.scene.graph import SceneNode
 
 __all__ = ["ObjectControls", "UnknownActionError"]
 

@@ -19,7 +19,7 @@ parent frame), intended translation ``a`` (m) and rotation ``theta`` (degrees), 
 
 Every Gaussian is truncated at 3 standard deviations. The offset goes through
 ``translate_local`` with parent-frame axes, exactly as Habitat does (a TRS node adds a
-``translate_local`` vector in the parent frame, see ``engine.scene_node``). Samples come
+``translate_local`` vector in the parent frame, see ``engine.scene.graph``). Samples come
 from one ``numpy.random.RandomState``, seeded by ``Simulator.seed(n)`` and the
 configuration's ``random_seed`` (``seed_noise``): the same seed gives the same noisy
 trajectory.
@@ -34,8 +34,8 @@ import scipy.stats
 
 from engine import mn
 from engine.agent.controls.controls import ActuationSpec, SceneNodeControl
-from engine.registry import registry
-from engine.scene_node import SceneNode
+from engine.agent.controls.registry import registry
+from engine.scene.graph import SceneNode
 
 __all__ = [
     "MotionNoiseModel",

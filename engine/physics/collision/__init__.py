@@ -1,0 +1,1 @@
+"""collision of the physics step (map in commit C)."""

@@ -1,0 +1,306 @@
+r"""Batched contacts of hulls resting on the stage mesh (rule ``stage-hull`` of :mod:`pair_table`).
+
+The stage's triangle grid (:mod:`stage_grid`, built once) names the triangles near every
+body at once: those whose box overlaps the body's AABB grown by
+``STAGE_NEAR_DISTANCE`` (a superset of what fcl's BVH reports for the body's *probe*, the
+shape grown by ``STAGE_SPECULATIVE_DISTANCE``, which reaches at most that far). The contacts
+are the body's hull vertices lying in the prism of a nearby triangle, just below its plane
+(method 2 of :mod:`collide`). For vertex ``v`` and triangle ``t`` (unit normal ``n_t``,
+corner ``p0_t``) the signed height is
+
+::
+
+    h_{tv} = n_t \cdot (x_v - p_{0t}),
+
+and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
+* extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each
+vertex keeps its shallowest triangle, the contact depth is ``-h``, and in a corner also the
+shallowest of the triangles turned 45 to 135 degrees from that one
+(``|n_t . n_best| < STAGE_CORNER_COSINE``) that it has passed (``h < 0``; a speculative
+contact there would crowd the manifold): a vertex pressed into a floor beside a wall is
+pushed out of both, not only out of the (shallower) wall (the opposite face of a thin
+slab is never a second surface: it would push the vertex through the slab). The triangle's normal is
+turned to the stage's *outward side*: the side the body was on when the contact began,
+remembered by the pair's manifold (its cached normals point from the stage to the body).
+Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
+the whole hull is behind the plane (a body behind a one-sided wall), up on a floor-like
+triangle when the body's center is on or above its plane (a stage may wind its floor
+either way), else the triangle's front (its winding normal): a body spawned or teleported
+with its center below a floor is pushed up, never down through it, and a thin plate
+pushed past the surface's plane is still pushed back out.
+
+A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
+vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
+it. A job whose hull has no vertex in contact (an edge crossing a face) asks fcl after all
+and takes fcl's points, as before the grid, with the outward normal of the lowest-id
+triangle fcl names (kept from the first pass, :func:`_known_edge`). Jobs are grouped by
+the hull's vertex count ``V``; each group is a handful of ``(g, T, V)`` array operations,
+whatever its size ``g``.
+Reference: :func:`reference_pairs.stage_hull_pair`.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from itertools import chain
+
+import numpy as np
+
+from ..core import settings
+from .collide import dot
+from .contact_helpers import (
+    body_poses,
+    contact_arrays,
+    fcl_raw_contacts,
+    midpoint_contacts,
+    new_contact_side,
+    to_world,
+    triangle_table,
+)
+from .pair_rules import ContactBatch, PairContext, PairJob
+from .stage_grid import stage_grid
+
+#: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)``, their
+#: outward normals ``(T, 3)`` (stage -> body) and the signed heights ``(T, V)`` of the hull's
+#: vertices above their planes, from :func:`_stage_group`
+EdgeJob = tuple[PairJob, np.ndarray, np.ndarray, np.ndarray]
+
+
+def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
+    """Contacts of hull shapes (box, convex, cylinder, cone) with the stage mesh (A)."""
+    nearby, count = nearby_triangles(jobs, context)
+    edge_jobs = _vertex_contacts(jobs, nearby, count, context, out, edges_from_fcl=False)
+    if edge_jobs:  # no vertex in contact: fcl's triangles and points for these few
+        bodies = np.array(sorted({edge[0].body_b for edge in edge_jobs}), dtype=np.int64)
+        context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
+        asked = []
+        for job, ids, normals, heights in edge_jobs:
+            records = fcl_raw_contacts(job.object_a, job.probe_b)
+            if records and not _known_edge(job.seq, records, (ids, normals, heights), out):
+                asked.append(job._replace(records=records))
+        if asked:  # fcl named a triangle the grid did not (never seen): the full pass
+            named = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
+            touched, count = _touched_triangles(named, len(jobs[0].shape_a.ray_triangles))
+            _vertex_contacts(asked, touched, count, context, out, edges_from_fcl=True)
+    return []
+
+
+def _known_edge(seq: int, records: list, triangles, out) -> bool:
+    """Add fcl's points of an edge job (no vertex in contact) when every triangle fcl
+    names was among its grid triangles; returns whether it did. ``triangles``: the job's
+    grid triangle ids ``(T,)``, their outward normals ``(T, 3)`` and the hull's vertex
+    heights ``(T, V)`` above them (:data:`EdgeJob`).
+
+    Those triangles were tested in the first pass (vertex candidates are per triangle and
+    vertex, so fcl's subset has none either), and their normals and heights are known: the
+    job's contacts are fcl's points with the normal of the lowest-id triangle fcl names,
+    exactly what :func:`_stage_group` gives with ``edges_from_fcl``, without a second pass
+    over the arrays."""
+    ids, normals, heights = triangles
+    touched = sorted({c.b1 for c in records})
+    grid = ids.tolist()
+    if touched[0] < 0 or not set(touched) <= set(grid):
+        return False
+    first = grid.index(touched[0])
+    _add_fcl_points(out, seq, records, normals[first], heights[first])
+    return True
+
+
+def _add_fcl_points(
+    out: ContactBatch, seq: int, records: list, normal: np.ndarray, heights: np.ndarray
+) -> None:
+    """fcl's midpoints of a stage job's probe records, all with ``normal (3,)`` (stage ->
+    body) of one triangle, their depths turned from the probe's into the shape's and at
+    most how far the hull's deepest vertex is below that triangle's plane (``heights
+    (V,)``: the vertices' signed heights above it):
+    no point of a convex hull is deeper below a plane than its deepest vertex, while fcl's
+    depth of a probe against a single triangle can be the way out through the triangle
+    (measured: up to 0.5 m for 0.2 m cubes on a floor, popping them up)."""
+    mid, _, depths, _ = contact_arrays(records)
+    depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+    depths = np.minimum(depths, -heights.min())
+    out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths))
+
+
+def nearby_triangles(jobs: list[PairJob], context: PairContext) -> tuple[np.ndarray, np.ndarray]:
+    """Ids of the stage triangles near each job's body B: their box overlaps B's world AABB
+    grown by ``STAGE_NEAR_DISTANCE`` (all jobs in one grid query, :mod:`stage_grid`), as
+    padded rows (:func:`_padded_rows`): ``ids (g, T)`` and ``count (g,)``."""
+    bodies = context.bodies
+    body = np.array([job.body_b for job in jobs], dtype=np.int64)
+    lo = bodies.body_aabb_min[body] - settings.STAGE_NEAR_DISTANCE
+    hi = bodies.body_aabb_max[body] + settings.STAGE_NEAR_DISTANCE
+    owner, triangle = stage_grid(jobs[0].shape_a).candidates(lo, hi)  # sorted, distinct
+    return _padded_rows(owner, triangle, len(jobs))
+
+
+def _vertex_contacts(
+    jobs, ids: np.ndarray, count: np.ndarray, context, out, edges_from_fcl: bool
+) -> list[EdgeJob]:
+    """Contacts of ``jobs`` with their triangles (padded rows ``ids (g, T)`` holding
+    ``count (g,)`` ids each), grouped by hull size; returns the jobs with triangles but no
+    vertex in contact, as :data:`EdgeJob` (unless ``edges_from_fcl``: then those take
+    fcl's points, see :func:`_stage_group`)."""
+    groups: defaultdict[int, list[int]] = defaultdict(list)
+    for k, (job, n_ids) in enumerate(zip(jobs, count.tolist(), strict=True)):
+        if n_ids:
+            groups[len(job.shape_b.hull_vertices)].append(k)
+    edge_jobs: list[EdgeJob] = []
+    for group in groups.values():
+        members = [jobs[k] for k in group]
+        rows = np.array(group, dtype=np.int64)
+        # the group's rows, padded to its own longest (the same ids, fewer repeats)
+        group_ids = ids[rows, : count[rows].max()]
+        cached = _cached_normals(context.store, [job.body_b for job in members])
+        edge_jobs += _stage_group(
+            members,
+            group_ids,
+            (context.rotation, context.bodies.body_position),
+            out,
+            cached,
+            edges_from_fcl,
+        )
+    return edge_jobs
+
+
+def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """World normals ``(g, S, 3)`` (stage -> body), stage points ``(g, S, 3)`` and ``valid
+    (g, S)`` of the manifolds of the stage with ``bodies`` (the stage frame is the world
+    frame)."""
+    rows = store.rows_of([(0, body) for body in bodies])
+    known = np.array([row is not None for row in rows])
+    index = np.array([row if row is not None else 0 for row in rows], dtype=np.int64)
+    slots = np.arange(store.normal_local.shape[1])
+    valid = known[:, None] & (slots < store.count[index][:, None])
+    return store.normal_local[index], store.local_a[index], valid
+
+
+def _outward_side(
+    normal: np.ndarray, corner: np.ndarray, height: np.ndarray, center: np.ndarray, cached
+) -> np.ndarray:
+    """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to the triangle's decides when it is within 60
+    degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
+    vertex of each triangle); otherwise (a new contact) :func:`new_contact_side` from the
+    vertices' heights ``height (g, T, V)`` and the body's center ``center (g, 3)``.
+    """
+    cached_normal, cached_point, valid = cached
+    # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
+    offset = np.abs(
+        np.einsum("gti,gki->gtk", normal, cached_point) - dot(normal, corner)[..., None]
+    )
+    on_plane = valid[:, None, :] & (offset < settings.OUTWARD_SIDE_PLANE_DISTANCE)
+    # n_t . c_k for every triangle t and cached normal k, (g, T, S)
+    alignment = np.einsum("gti,gki->gtk", normal, cached_normal) * on_plane
+    strongest = np.take_along_axis(alignment, np.abs(alignment).argmax(axis=2)[..., None], axis=2)[
+        ..., 0
+    ]
+    # a new contact: the body's heights decide (floor-like triangles push up)
+    center_height = np.einsum("gti,gi->gt", normal, center) - dot(normal, corner)
+    new = new_contact_side(normal[..., 1], center_height, height.max(axis=2))
+    return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), new)
+
+
+def _stage_group(
+    jobs, ids: np.ndarray, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
+) -> list[EdgeJob]:
+    """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
+    triangles ``ids (g, T)`` (ascending per row, padded by repeats; ``poses``: every body's rotation
+    ``(n, 3, 3)`` and position ``(n, 3)``; ``cached``: the pairs' cached manifold normals,
+    see :func:`_cached_normals`). Returns the jobs without a vertex in contact with their
+    triangles and outward normals (:data:`EdgeJob`), or with ``edges_from_fcl`` gives them
+    fcl's points (their ``records``) and returns none.
+
+    Reference: :func:`reference_pairs.stage_polyhedron_contacts` (one shape pair)."""
+    rotation, position = poses
+    stage = jobs[0].shape_a
+    table = triangle_table(stage)
+    seq = np.array([job.seq for job in jobs], dtype=np.int64)
+    tris = stage.ray_triangles[ids]  # (g, T, 3, 3) world (the stage frame is world)
+    r, x = body_poses([job.body_b for job in jobs], rotation, position)
+    # (g, V, 3) body-frame hulls: one concatenate (np.stack pays a Python call per array)
+    hull = np.concatenate([job.shape_b.hull_vertices for job in jobs]).reshape(len(jobs), -1, 3)
+    verts = to_world(r, x, hull)  # (g, V, 3)
+    normal = table["normal"][ids]
+    # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
+    height = np.einsum("gti,gvi->gtv", normal, verts) - dot(normal, tris[:, :, 0])[..., None]
+    side = _outward_side(normal, tris[:, :, 0], height, x, cached)  # (g, T)
+    normal, height = normal * side[..., None], height * side[..., None]
+    extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
+    # a vertex far below a thin triangle is on the other side of it, not in contact
+    candidate = (
+        (height < settings.STAGE_SPECULATIVE_DISTANCE)
+        & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
+        & _in_prisms(table, ids, tris, verts)
+    )
+    # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
+    best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
+    _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
+    # ... and, in a corner, the shallowest of those facing another way (floor and wall;
+    # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
+    if not stage_grid(stage).corner_free:
+        _corner_contacts(contacts, seq, candidate, best, normal, height, verts)
+    untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
+    if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
+        return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
+    for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], height[k, 0])
+    return []
+
+
+def _corner_contacts(contacts, seq, candidate, best, normal, height, verts) -> None:
+    """Second contacts of vertices in a corner: of the ``candidate (g, T, V)`` triangles
+    turned 45 to 135 degrees from the vertex's shallowest one ``best (g, V)``, the
+    shallowest it has passed (``h < 0``), ordered after the first contacts (``V + v``)."""
+    best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
+    alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
+    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
+    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
+    second = np.where(corner, height, -np.inf).argmax(axis=1)
+    _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, verts.shape[1])
+
+
+def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts, first: int):
+    """Add one contact per vertex ``v`` with a ``candidate (g, T, V)`` triangle: the one
+    ``chosen (g, V)``, depth ``-h``, A's point ``x_v + n depth``; ordered ``first + v``."""
+    g, v = np.nonzero(candidate.any(axis=1))
+    t = chosen[g, v]
+    n, depth, point_b = normal[g, t], -height[g, t, v], verts[g, v]
+    contacts.add(seq[g], first + v, point_b + n * depth[:, None], point_b, n)
+
+
+def _touched_triangles(triangle_ids: list, n_triangles: int) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct triangles (ids ``>= 0``) of each job's id array ``triangle_ids``, as
+    padded rows (:func:`_padded_rows`)."""
+    lengths = [len(ids) for ids in triangle_ids]
+    job = np.repeat(np.arange(len(triangle_ids)), lengths)
+    tri = np.fromiter(chain.from_iterable(triangle_ids), dtype=np.int64, count=sum(lengths))
+    # one key per (job, triangle): unique keys are sorted by job, then by triangle
+    key = np.unique((job * n_triangles + tri)[tri >= 0])
+    job, tri = np.divmod(key, n_triangles)
+    return _padded_rows(job, tri, len(triangle_ids))
+
+
+def _padded_rows(job: np.ndarray, tri: np.ndarray, n_jobs: int) -> tuple[np.ndarray, np.ndarray]:
+    """Flat ``(job, triangle)`` pairs, sorted by job then triangle, distinct, as ``ids
+    (n_jobs, T)`` (row k: job k's triangles, ascending, padded by repeating its last id; a
+    duplicate triangle changes no result) and ``count (n_jobs,)`` (a row without
+    triangles, ``count == 0``, holds no meaning)."""
+    count = np.bincount(job, minlength=n_jobs)
+    starts = np.cumsum(count) - count
+    slot = np.minimum(np.arange(count.max()), count[:, None] - 1)
+    return tri[starts[:, None] + slot], count
+
+
+def _in_prisms(table: dict, ids: np.ndarray, tris: np.ndarray, verts: np.ndarray) -> np.ndarray:
+    """(g, T, V) bool: vertex v projected on triangle t's plane falls inside the triangle."""
+    e0, e1, denom = table["e0"][ids], table["e1"][ids], table["denom"][ids]
+    d00, d01, d11 = table["d00"][ids], table["d01"][ids], table["d11"][ids]
+    rel = verts[:, None, :, :] - tris[:, :, None, 0]  # x_v - p0_t, (g, T, V, 3)
+    d20, d21 = dot(rel, e0[:, :, None]), dot(rel, e1[:, :, None])  # (g, T, V)
+    # barycentric (v, w) of the projection: [d00 d01; d01 d11] [v; w] = [d20; d21]
+    bary_v = (d11[..., None] * d20 - d01[..., None] * d21) / denom[..., None]
+    bary_w = (d00[..., None] * d21 - d01[..., None] * d20) / denom[..., None]
+    tolerance = settings.BARYCENTRIC_TOLERANCE
+    return (bary_v >= -tolerance) & (bary_w >= -tolerance) & (bary_v + bary_w <= 1 + tolerance)

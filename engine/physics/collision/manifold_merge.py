@@ -1,0 +1,442 @@
+"""Merging fresh narrow-phase points into manifolds, one batch for all rows.
+
+The array steps of :meth:`contacts.ManifoldStore.merge_fresh` (whose docstring gives the rules):
+:class:`FreshPoints` (this step's points padded per row) and :class:`LocalPoints` (points in
+the body frames), then :func:`select_fresh` (too many fresh points: the supporting polygon),
+:func:`distinct_points`, :func:`to_local`, :func:`inherit_impulses` (warm starting),
+:func:`combine` and :func:`reduce_points` (at most four: :func:`select_support`). Per-row
+choices compare values rounded by :func:`tie_key`, so that the per-pair reference
+(:func:`reference_contacts.update_manifold`) makes the same choices.
+
+Call counts: the merge runs every step on arrays of a few hundred numbers, so its cost is
+the number of NumPy calls, not the arithmetic. A point's fields therefore live in one array
+(:class:`FreshPoints`, :class:`LocalPoints`; the field names are views), the body frames of a
+row in one array (:class:`RowFrames`), and the greedy loops run only where a choice depends
+on an earlier one (:func:`distinct_points`, :func:`inherit_impulses`). Method forms
+(``x.argsort()``, ``x.nonzero()[0]``) replace ``np.argsort`` and ``np.flatnonzero``: the same
+C function without several Python wrapper calls each.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..core import settings
+from ..core.quaternions import cross
+
+#: point slots per manifold row.
+SLOTS = settings.MAX_MANIFOLD_POINTS
+
+
+class FreshPoints:
+    """Narrow-phase points padded per manifold row: ``data (r, F, 3, 3)`` holds each slot's
+    ``point_a, point_b, normal`` (one array, so reordering a row's points is one NumPy call
+    for all three; the names are views of it), ``valid (r, F)``.
+
+    Built from flat arrays ``row_position (q,)`` (index into the rows being updated, sorted
+    ascending) and ``point_a, point_b, normal (q, 3)``.
+    """
+
+    point_a = property(lambda self: self.data[:, :, 0])
+    point_b = property(lambda self: self.data[:, :, 1])
+    normal = property(lambda self: self.data[:, :, 2])
+
+    def __init__(
+        self,
+        n_rows: int,
+        row_position: np.ndarray,
+        point_a: np.ndarray,
+        point_b: np.ndarray,
+        normal: np.ndarray,
+    ) -> None:
+        counts = np.bincount(row_position, minlength=n_rows)
+        width = max(int(counts.max(initial=0)), 1)
+        # slot of each point inside its row: its rank among the points of the same row
+        # (row_position is sorted: a row's points start at the points of the rows before it)
+        starts = np.cumsum(counts) - counts
+        slot = np.arange(len(row_position)) - starts[row_position]
+        self.valid = np.arange(width) < counts[:, None]  # a row's points fill its first slots
+        self.data = np.zeros((n_rows, width, 3, 3))
+        for field, value in enumerate((point_a, point_b, normal)):
+            self.data[row_position, slot, field] = value
+
+    def depth(self) -> np.ndarray:
+        return ((self.point_a - self.point_b) * self.normal).sum(axis=2)
+
+    def take(self, index: np.ndarray, valid: np.ndarray) -> FreshPoints:
+        """Points ``index (r, k)`` of every row, flagged ``valid (r, k)``."""
+        return FreshPoints.of(per_row(self.data, index), valid)
+
+    @staticmethod
+    def of(data: np.ndarray, valid: np.ndarray) -> FreshPoints:
+        """Fresh points from their ``data (r, k, 3, 3)`` and ``valid (r, k)`` arrays."""
+        out = object.__new__(FreshPoints)
+        out.data, out.valid = data, valid
+        return out
+
+
+class RowFrames:
+    """The body frames of each manifold row, in the order of a point's fields:
+    ``rotation (r, 3, 3, 3)`` holds ``R_a, R_b, R_a`` (the frames of anchor A, anchor B and
+    the normal) and ``position (r, 2, 3)`` holds ``x_a, x_b`` (a normal has no offset).
+    One array for the three frames lets one einsum move all of a point's fields."""
+
+    def __init__(self, rotation: np.ndarray, position: np.ndarray) -> None:
+        self.rotation, self.position = rotation, position
+
+    @staticmethod
+    def of_pairs(pairs: np.ndarray, rotation: np.ndarray, position: np.ndarray) -> RowFrames:
+        """Frames of body pairs ``pairs (r, 2)`` from all bodies' ``rotation (n, 3, 3)`` and
+        ``position (n, 3)``."""
+        return RowFrames(rotation[pairs[:, [0, 1, 0]]], position[pairs])
+
+    def take(self, rows: np.ndarray) -> RowFrames:
+        return RowFrames(self.rotation[rows], self.position[rows])
+
+    @property
+    def b(self) -> tuple[np.ndarray, np.ndarray]:
+        """B's rotations ``(r, 3, 3)`` and positions ``(r, 3)``."""
+        return self.rotation[:, 1], self.position[:, 1]
+
+
+#: ``EARLIER[i, j]``: slot j comes before slot i (a strictly lower triangle)
+EARLIER = np.tri(SLOTS, SLOTS, -1, dtype=bool)
+
+#: the fields of a manifold point, in the order of the last-but-one axis of its data
+POINT_FIELDS = ("local_a", "local_b", "normal_local", "impulse")
+
+
+class LocalPoints:
+    """Manifold points in the body frames, padded per row: ``data (r, k, 4, 3)`` holds each
+    slot's ``local_a, local_b, normal_local, impulse`` (:data:`POINT_FIELDS`; one array, so a
+    gather, a reorder or a store write is one NumPy call for all four; the names are views
+    of it), ``valid (r, k)``."""
+
+    local_a = property(lambda self: self.data[:, :, 0])
+    local_b = property(lambda self: self.data[:, :, 1])
+    normal_local = property(lambda self: self.data[:, :, 2])
+    impulse = property(lambda self: self.data[:, :, 3])
+
+    def __init__(self, data: np.ndarray, valid: np.ndarray) -> None:
+        self.data, self.valid = data, valid
+
+    def where(self, keep: np.ndarray) -> LocalPoints:
+        """The points flagged by ``keep (r, k)``, moved to the front of each row (stable)."""
+        if in_front(keep):  # the stable sort would be the identity: no copies
+            return LocalPoints(self.data, keep)
+        order = (~keep).argsort(axis=1, kind="stable")
+        return LocalPoints(per_row(self.data, order), per_row(keep, order))
+
+    def world(self, frames: RowFrames):
+        """World anchors of A and B and world normals ``(r, k, 3)`` (views of one array)."""
+        # p = R local + x for every slot and field: one einsum over each row's three frames
+        # (R_a local_a, R_b local_b, R_a normal_local), then the anchors' offsets x_a, x_b
+        world = np.einsum("rfij,rsfj->rsfi", frames.rotation, self.data[:, :, :3])
+        world[:, :, :2] += frames.position[:, None]
+        return world[:, :, 0], world[:, :, 1], world[:, :, 2]
+
+
+def select_fresh(
+    fresh: FreshPoints, cached: LocalPoints, frames: RowFrames, max_points, feature
+) -> FreshPoints:
+    """Rows with more fresh points than they may keep: the supporting polygon only.
+
+    Among near-ties the points matching cached ones win (hysteresis), so a flat face
+    resting on many coplanar vertices keeps the same four points from step to step.
+    """
+    too_many = fresh.valid.sum(axis=1) > max_points
+    if not too_many.any():  # every row keeps all its points, already first in their rows
+        return fresh
+    over = too_many.nonzero()[0]  # only these rows choose (each row on its own)
+    rb, xb = frames.rotation[over, 1], frames.position[over, 1]
+    data, valid, count = fresh.data[over], fresh.valid[over], max_points[over]
+    point_a, point_b, normal = data[:, :, 0], data[:, :, 1], data[:, :, 2]
+    depth = ((point_a - point_b) * normal).sum(axis=2)
+    # fresh anchors in B's frame R^T (p - x), compared with every cached anchor
+    local_b = np.einsum("rji,rsj->rsi", rb, point_b - xb[:, None])
+    gap_sq = ((local_b[:, :, None] - cached.local_b[over][:, None]) ** 2).sum(axis=3)
+    gap_sq = np.where(cached.valid[over][:, None, :], gap_sq, np.inf)
+    preferred = gap_sq.min(axis=2) < feature[over, None] ** 2
+    deepest = masked_argmax(depth, valid)
+    chosen = select_with_corners(
+        point_b,
+        depth,
+        normal,
+        normal[np.arange(len(over)), deepest],
+        count,
+        valid,
+        preferred,
+        support_band(feature[over]),
+    )
+    order = (~chosen).argsort(axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
+    # the other rows keep all their points, already in their first SLOTS slots
+    kept = FreshPoints.of(fresh.data[:, :SLOTS].copy(), fresh.valid[:, :SLOTS].copy())
+    kept.data[over], kept.valid[over] = per_row(data, order), per_row(chosen, order)
+    return kept
+
+
+def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
+    """Each row's points, deepest first, dropping any within ``radius (r,)`` of a kept one."""
+    depth = np.where(points.valid, points.depth(), -np.inf)
+    by_depth = (-tie_key(depth)).argsort(axis=1, kind="stable")
+    points = points.take(by_depth, per_row(points.valid, by_depth))
+    # |p_i - p_j|^2 between the (at most four) points of each row, in B's world anchors
+    dist_sq = ((points.point_b[:, :, None] - points.point_b[:, None]) ** 2).sum(axis=3)
+    k = points.valid.shape[1]  # at most SLOTS (select_fresh keeps no more)
+    # near[r, i, j]: row r's valid point j comes before i (is deeper) and lies within radius
+    near = (dist_sq < (radius * radius)[:, None, None]) & points.valid[:, None, :]
+    near &= EARLIER[:k, :k]
+    # greedy, deepest first: point i is kept unless a kept point before it is near. Only
+    # the slots i with a near point in some row need the loop (in slot order, so every
+    # kept[:, j < i] is final when i is decided); the others keep their valid flag
+    kept = points.valid.copy()
+    for i in near.any(axis=(0, 2)).nonzero()[0].tolist():
+        kept[:, i] &= ~(kept & near[:, i]).any(axis=1)
+    if in_front(kept):  # nothing dropped (or only the last points): already in order
+        points.valid = kept
+        return points
+    order = (~kept).argsort(axis=1, kind="stable")
+    return points.take(order, per_row(kept, order))
+
+
+def to_local(points: FreshPoints, frames: RowFrames) -> LocalPoints:
+    """Fresh world points -> body-frame anchors ``R^T (p - x)``, normals ``R_a^T n`` (no
+    offset: its x is 0), all three in one einsum; impulses 0."""
+    r, k = points.valid.shape
+    offset = np.zeros((r, 1, 3, 3))  # x_a, x_b, 0 per row
+    offset[:, 0, :2] = frames.position
+    data = np.zeros((r, k, 4, 3))  # the impulse field stays 0
+    data[:, :, :3] = np.einsum("rfji,rsfj->rsfi", frames.rotation, points.data - offset)
+    return LocalPoints(data, points.valid)
+
+
+def inherit_impulses(fresh: LocalPoints, cached: LocalPoints, max_points, feature) -> np.ndarray:
+    """Give matched fresh points their cached impulses; returns the used cached slots.
+
+    Greedy one-to-one matching, deepest fresh point first: each takes the nearest unused
+    cached point (in B's frame) closer than the row's feature length. A single rolling
+    point (``max_points == 1``) always keeps the impulse of the cached one.
+    """
+    # |cached_i - fresh_j|^2 in B's frame, (r, fresh j, cached i); inf for empty cached slots
+    dist_sq = ((fresh.local_b[:, :, None] - cached.local_b[:, None]) ** 2).sum(axis=3)
+    dist_sq = np.where(cached.valid[:, None, :], dist_sq, np.inf)
+    within = (dist_sq < (feature**2)[:, None, None]) & fresh.valid[:, :, None]
+    if (within.sum(axis=1) <= 1).all():
+        used = _match_without_conflicts(fresh, cached, dist_sq, within)
+    else:
+        used = _match_greedily(fresh, cached, dist_sq, feature**2)
+    rolling = max_points == 1
+    if rolling.any():
+        fresh.impulse[rolling] = np.where(
+            cached.valid[rolling, :1, None], cached.impulse[rolling, :1], 0.0
+        )
+        used[rolling] = cached.valid[rolling]
+    return used
+
+
+def _match_greedily(fresh: LocalPoints, cached: LocalPoints, dist_sq, limit) -> np.ndarray:
+    """The greedy matching, one fresh slot j at a time (each row on its own)."""
+    rows = np.arange(len(limit))
+    used = np.zeros_like(cached.valid)
+    for j in range(fresh.valid.shape[1]):
+        candidates = np.where(used, np.inf, dist_sq[:, j])
+        nearest = candidates.argmin(axis=1)
+        matched = fresh.valid[:, j] & (candidates[rows, nearest] < limit)
+        fresh.impulse[matched, j] = cached.impulse[matched, nearest[matched]]
+        used[matched, nearest[matched]] = True
+    return used
+
+
+def _match_without_conflicts(fresh: LocalPoints, cached: LocalPoints, dist_sq, within):
+    """The greedy matching when no cached point is within reach of two fresh points
+    (``within (r, j, i)``: cached i closer than the feature length to valid fresh j): no
+    point can then take another's match, so every fresh point takes its nearest cached
+    point at once (the same first-of-equals choice as one greedy step)."""
+    nearest = dist_sq.argmin(axis=2)  # (r, j)
+    matched = within.any(axis=2)  # the nearest is within reach
+    fresh.impulse[...] = np.where(matched[..., None], per_row(cached.impulse, nearest), 0.0)
+    slots = np.arange(cached.valid.shape[1])
+    return ((nearest[:, :, None] == slots) & matched[:, :, None]).any(axis=1)
+
+
+def combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> LocalPoints:
+    """Three or more fresh points replace a row's cache; fewer join its unused points."""
+    replace = fresh.valid.sum(axis=1) >= 3
+    keep_cached = cached.valid & ~used & ~replace[:, None]
+    data = np.concatenate([cached.data, fresh.data], axis=1)
+    valid = np.concatenate([keep_cached, fresh.valid], axis=1)
+    return LocalPoints(data, valid).where(valid)
+
+
+def support_band(feature: np.ndarray) -> np.ndarray:
+    """(r,) m, the support depth band of each row: ``SUPPORT_DEPTH_BAND`` capped at ``f``."""
+    return np.minimum(settings.SUPPORT_DEPTH_BAND, feature)
+
+
+def feature_length(thickness_a: float, thickness_b: float) -> float:
+    """m, a pair's feature length: ``FEATURE_LENGTH_FRACTION`` (a quarter) of the thinner
+    body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE`` (pass ``inf`` for the
+    stage)."""
+    return min(
+        settings.CONTACT_MATCH_DISTANCE,
+        settings.FEATURE_LENGTH_FRACTION * min(thickness_a, thickness_b),
+    )
+
+
+def reduce_points(points: LocalPoints, frames: RowFrames, max_points, feature) -> LocalPoints:
+    """Rows holding more than ``max_points``: keep the supporting polygon's points."""
+    over = (points.valid.sum(axis=1) > max_points).nonzero()[0]
+    if len(over) == 0:
+        return points
+    # only the rows over their limit choose (each row on its own)
+    rows = LocalPoints(points.data[over], points.valid[over])
+    point_a, point_b, normal = rows.world(frames.take(over))
+    depth = ((point_a - point_b) * normal).sum(axis=2)
+    chosen = points.valid.copy()
+    chosen[over] = select_with_corners(
+        point_b,
+        depth,
+        normal,
+        normal[:, 0],
+        max_points[over],
+        rows.valid,
+        band=support_band(feature[over]),
+    )
+    return points.where(chosen)
+
+
+def in_front(flags: np.ndarray) -> bool:
+    """True when every row of ``flags (r, k)`` holds its True values before its False ones
+    (a stable sort of ``~flags`` per row would change nothing)."""
+    return not (flags[:, 1:] & ~flags[:, :-1]).any()
+
+
+def per_row(array: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``array[r, index[r, k]]`` for every row r: reorders ``(r, k, ...)`` slots per row."""
+    return array[np.arange(len(index))[:, None], index]
+
+
+def tie_key(values: Any) -> Any:
+    """``values`` rounded to multiples of ``TIE_QUANTUM``: equal keys are ties."""
+    # rint, halves to even, is what np.round(x) (0 decimals) calls, minus 3 Python calls
+    return np.rint(values / settings.TIE_QUANTUM)
+
+
+def masked_argmax(values: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """Per row, the first slot holding the largest valid value (0 for empty rows)."""
+    return np.where(valid, tie_key(values), -np.inf).argmax(axis=1)
+
+
+def select_with_corners(
+    points: np.ndarray,
+    depth: np.ndarray,
+    normals: np.ndarray,
+    normal: np.ndarray,
+    count: np.ndarray,
+    valid: np.ndarray,
+    preferred: np.ndarray | None = None,
+    band: np.ndarray | None = None,
+) -> np.ndarray:
+    """:func:`select_support`, but a row whose points push along two or three directions (a
+    body in a corner of the stage: floor and walls) first keeps the deepest point of each
+    other direction, so a deep wall contact cannot take every slot and drop the floor.
+
+    Reference: :func:`reference_manifolds.select_with_corners` (one row).
+
+    ``normals (r, k, 3)``: each point's unit normal; ``normal (r, 3)``: the row's reference
+    normal (its deepest point's). A point is in another direction when ``n . n_ref <
+    STAGE_CORNER_COSINE`` (about 45 degrees); a third direction is also that far from the
+    second. Only touching points (depth >= 0) of rows keeping at least 4 points reserve
+    slots (one per extra direction).
+    """
+    reserved = corner_points(depth, normals, normal, count, valid)
+    if reserved is None:  # the usual case: every point pushes along the row's normal
+        return select_support(points, depth, normal, count, valid, preferred, band)
+    left = count - reserved.sum(axis=1)  # slots left for the row's own supporting polygon
+    chosen = select_support(points, depth, normal, left, valid & ~reserved, preferred, band)
+    return chosen | reserved
+
+
+def corner_points(depth, normals, normal, count, valid) -> np.ndarray | None:
+    """(r, k) bool, the deepest point of each extra direction of a row (see
+    :func:`select_with_corners`), or None when no row has one."""
+    cosine = settings.STAGE_CORNER_COSINE
+    # touching points (depth >= 0) only: a speculative wall contact keeps no floor slot
+    turned = valid & (depth >= 0.0) & (count >= 4)[:, None]
+    turned &= (normals * normal[:, None]).sum(axis=2) < cosine
+    if not turned.any():
+        return None
+    rows = np.arange(len(depth))
+    second = masked_argmax(depth, turned)
+    has_second = turned[rows, second]
+    reserved = np.zeros_like(valid)
+    reserved[rows, second] = has_second
+    # a third direction: turned from both the row's normal and the second one's
+    second_normal = normals[rows, second]
+    third_ok = turned & ((normals * second_normal[:, None]).sum(axis=2) < cosine)
+    third = masked_argmax(depth, third_ok)
+    reserved[rows, third] |= has_second & third_ok[rows, third]
+    return reserved
+
+
+def select_support(
+    points: np.ndarray,
+    depth: np.ndarray,
+    normal: np.ndarray,
+    count: np.ndarray,
+    valid: np.ndarray,
+    preferred: np.ndarray | None = None,
+    band: np.ndarray | None = None,
+) -> np.ndarray:
+    """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
+
+    Reference: :func:`reference_contacts.select_support` (one row).
+
+    Parameters
+    ----------
+    points : (r, k, 3) world points, depth : (r, k) m, normal : (r, 3) unit.
+    count : (r,) int, how many to keep. valid : (r, k) bool, slots holding points.
+    preferred : (r, k) bool, points matching cached ones; they win near-ties (1 mm of depth,
+        10 % of distance or area).
+    band : (r,) m, the depth band of supporting points (``SUPPORT_DEPTH_BAND`` if None).
+
+    Supporting points lie within ``SUPPORT_DEPTH_BAND`` of the row's deepest point. Among
+    them: the deepest, the farthest from it, the one spanning the largest triangle with
+    those two, then the largest on the other side of that edge. Slots left over take the
+    remaining (speculative) points, deepest first.
+    """
+    rows = np.arange(len(count))
+    deepest_depth = np.where(valid, depth, -np.inf).max(axis=1, initial=-np.inf)
+    band = np.full(len(count), settings.SUPPORT_DEPTH_BAND) if band is None else band
+    supporting = valid & (depth >= deepest_depth[:, None] - band[:, None])
+    bonus = np.zeros(depth.shape) if preferred is None else preferred.astype(np.float64)
+    scale = 1.0 + settings.PREFERRED_SIZE_BONUS * bonus
+    chosen = np.zeros_like(valid)
+    first = masked_argmax(depth + settings.PREFERRED_DEPTH_BONUS * bonus, supporting)
+    chosen[rows, first] = valid[rows, first]
+    p0 = points[rows, first]
+    far = ((points - p0[:, None]) ** 2).sum(axis=2) * scale  # |p - p0|^2
+    second = masked_argmax(far, supporting)
+    chosen[rows, second] |= (count >= 2) & valid[rows, second]
+    edge = points[rows, second] - p0
+    # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
+    # (the edge repeated per slot: cross then needs no broadcast_arrays, 10 Python calls)
+    edges = edge[:, None].repeat(points.shape[1], axis=1)
+    area = (cross(edges, points - p0[:, None]) * normal[:, None]).sum(axis=2) * scale
+    third = masked_argmax(np.abs(area), supporting)
+    chosen[rows, third] |= (count >= 3) & valid[rows, third]
+    # the fourth point lies on the other side of edge p0-p1 with the largest area
+    opposite = np.where(supporting & ~chosen, -np.sign(area[rows, third])[:, None] * area, -np.inf)
+    fourth = tie_key(opposite).argmax(axis=1)
+    chosen[rows, fourth] |= (count >= 4) & np.isfinite(opposite[rows, fourth])
+    # fill the slots left over with the deepest remaining points
+    remaining = count - chosen.sum(axis=1)
+    if not (remaining > 0).any():  # every row has all its points: nothing to fill
+        return chosen
+    rest = np.where(valid & ~chosen, depth, -np.inf)
+    rank = (-tie_key(rest)).argsort(axis=1, kind="stable")
+    take = (np.arange(depth.shape[1]) < remaining[:, None]) & np.isfinite(per_row(rest, rank))
+    chosen[rows[:, None], rank] |= take
+    return chosen

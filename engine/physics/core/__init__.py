@@ -1,0 +1,1 @@
+"""core of the physics step (map in commit C)."""

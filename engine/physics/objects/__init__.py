@@ -1,0 +1,1 @@
+"""objects of the physics step (map in commit C)."""

@@ -1,0 +1,1 @@
+"""pipeline of the physics step (map in the next commit)."""

@@ -1,0 +1,1 @@
+"""reference of the physics step (map in commit C)."""

@@ -1,0 +1,283 @@
+"""Reference path of the manifold update: one manifold at a time, in plain loops.
+
+The plain version of :meth:`contacts.ManifoldStore.merge_fresh` (the batched refresh, merge and
+reduction of :mod:`manifold_merge`), box2d-lite's ``Arbiter::Update`` size: a persistent
+:class:`ManifoldPoint` list per body pair, refreshed (:func:`still_touching`), merged with
+this step's contacts (:func:`update_manifold`) and cut to the supporting polygon
+(:func:`select_support`). ``SolverSettings.use_vectorized = False`` routes the world
+through it (via :func:`reference_contacts.update_manifolds_reference`); tests prove both
+paths keep the same manifolds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..collision.contacts import tie_key
+from ..core import settings
+from ..core.reference_geometry import Contact, cross3, dot, rotate, unrotate
+
+
+@dataclass
+class ManifoldPoint:
+    """A persistent point: anchors in the body frames, normal in A's frame, and the solver's
+    accumulated impulse ``[normal, tangent1, tangent2]`` in N s."""
+
+    local_a: np.ndarray
+    local_b: np.ndarray
+    normal_local: np.ndarray
+    impulse: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def world(self, frame_a, frame_b) -> Contact:
+        (ra, xa), (rb, xb) = frame_a, frame_b
+        return Contact(
+            rotate(ra, self.local_a) + xa,
+            rotate(rb, self.local_b) + xb,
+            rotate(ra, self.normal_local),
+        )
+
+
+def update_manifold(
+    cached: list[ManifoldPoint],
+    fresh: list[Contact],
+    frame_a,
+    frame_b,
+    max_points: int,
+    feature: float = settings.CONTACT_MATCH_DISTANCE,
+) -> list[ManifoldPoint]:
+    """One manifold's step (box2d-lite's ``Arbiter::Update``, with Bullet's persistence).
+
+    ``feature`` (m) is the pair's feature length (``contacts.feature_length``): the match,
+    drift and support-band distances are capped at it, so a small body keeps distinct points.
+
+    1. keep the cached points still in contact (:func:`still_touching`);
+    2. too many fresh points: keep the supporting polygon, preferring points that match
+       kept ones; drop fresh points within ``feature`` of a deeper one;
+    3. fresh points inherit the impulse of the nearest unused cached point closer than
+       ``feature`` in B's frame (warm starting), kept or not: the anchor in B's frame is
+       B's feature (a box corner), which keeps its load while it slides; a rolling point
+       always inherits;
+    4. three or more fresh points replace the cache, fewer join its unmatched points;
+    5. more than ``max_points``: the supporting polygon's points.
+    """
+    touching = [still_touching(p, frame_a, frame_b, feature) for p in cached]
+    kept = [p for p, is_touching in zip(cached, touching, strict=True) if is_touching]
+    (ra, xa), (rb, xb) = frame_a, frame_b
+    band = min(settings.SUPPORT_DEPTH_BAND, feature)
+    if len(fresh) > max_points:
+        fresh = _support_of_fresh(fresh, kept, rb, xb, max_points, feature, band)
+    fresh = _distinct(fresh, feature)
+    points = [
+        ManifoldPoint(
+            unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb), unrotate(ra, c.normal)
+        )
+        for c in fresh
+    ]
+    # every cached point may pass its impulse on, also one that slid out of contact: the
+    # anchor in B's frame names B's feature (a box corner sliding on the floor keeps it)
+    used = _inherit_impulses(points, cached, max_points, feature)
+    if len(points) >= 3:
+        merged = points
+    else:
+        unused = zip(cached, touching, used, strict=True)
+        merged = [p for p, is_touching, is_used in unused if is_touching and not is_used] + points
+    if len(merged) > max_points:
+        world = [p.world(frame_a, frame_b) for p in merged]
+        chosen = select_with_corners(
+            [c.point_b for c in world],
+            [c.depth for c in world],
+            [c.normal for c in world],
+            world[0].normal,
+            max_points,
+            band=band,
+        )
+        merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
+    return merged
+
+
+def still_touching(
+    point: ManifoldPoint, frame_a, frame_b, feature: float = settings.CONTACT_DRIFT_DISTANCE
+) -> bool:
+    """A cached point persists while its bodies separate less than
+    ``CONTACT_BREAKING_DISTANCE`` along the normal and its anchors drift apart less than
+    ``CONTACT_DRIFT_DISTANCE`` (capped at the feature length) tangentially."""
+    contact = point.world(frame_a, frame_b)
+    gap = contact.point_a - contact.point_b
+    depth = dot(gap, contact.normal)
+    drift_sq = dot(gap, gap) - depth**2  # |tangential part of the gap|^2
+    return bool(
+        depth > -settings.CONTACT_BREAKING_DISTANCE
+        and drift_sq < min(settings.CONTACT_DRIFT_DISTANCE, feature) ** 2
+    )
+
+
+def _support_of_fresh(
+    fresh: list[Contact],
+    cached: list[ManifoldPoint],
+    rb,
+    xb,
+    max_points: int,
+    feature: float,
+    band: float,
+) -> list[Contact]:
+    """The fresh points spanning the supporting polygon; near-ties go to points matching a
+    cached one within ``feature`` (hysteresis: a face on many coplanar vertices keeps the
+    same four)."""
+    limit = feature**2
+    preferred = []
+    for contact in fresh:
+        local_b = unrotate(rb, contact.point_b - xb)
+        preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit for p in cached))
+    depths = [c.depth for c in fresh]
+    deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
+    chosen = select_with_corners(
+        [c.point_b for c in fresh],
+        depths,
+        [c.normal for c in fresh],
+        fresh[deepest].normal,
+        max_points,
+        preferred,
+        band,
+    )
+    return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
+
+
+def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
+    """Deepest first, drop any point within ``radius`` of a kept one (B's world anchors)."""
+    # stable sort, deepest first: equal depths (to TIE_QUANTUM) keep their order
+    by_depth = sorted(fresh, key=lambda c: -tie_key(c.depth))
+    kept: list[Contact] = []
+    for contact in by_depth:
+        if all(
+            dot(contact.point_b - k.point_b, contact.point_b - k.point_b) >= radius * radius
+            for k in kept
+        ):
+            kept.append(contact)
+    return kept
+
+
+def _inherit_impulses(
+    points: list[ManifoldPoint], cached: list[ManifoldPoint], max_points: int, feature: float
+) -> list[bool]:
+    """Greedy one-to-one matching in B's frame; returns which cached points were used."""
+    used = [False] * len(cached)
+    if max_points == 1:  # a rolling point keeps the impulse of the cached one
+        for point in points:
+            point.impulse = cached[0].impulse.copy() if cached else np.zeros(3)
+        return [True] * len(cached)
+    limit = feature**2
+    for point in points:
+        best, best_sq = None, np.inf
+        for i, old in enumerate(cached):
+            gap = point.local_b - old.local_b
+            if not used[i] and dot(gap, gap) < best_sq:
+                best, best_sq = i, dot(gap, gap)
+        if best is not None and best_sq < limit:
+            point.impulse = cached[best].impulse.copy()
+            used[best] = True
+    return used
+
+
+def select_with_corners(
+    points: list,
+    depths: list,
+    normals: list,
+    normal: np.ndarray,
+    count: int,
+    preferred: list | None = None,
+    band: float = settings.SUPPORT_DEPTH_BAND,
+) -> list[bool]:
+    """:func:`select_support` after keeping the deepest point of each other direction (a
+    corner of the stage: a deep wall contact must not take the floor's slots); mirrors
+    ``manifold_merge.select_with_corners`` for one row.
+
+    A touching point (depth >= 0) is in another direction when ``n . normal <
+    STAGE_CORNER_COSINE``; the deepest such point is kept, then the deepest point turned
+    that far from both. Only a row keeping at least 4 points reserves slots."""
+    reserved = _corner_points(depths, normals, normal, count)
+    if not reserved:
+        return select_support(points, depths, normal, count, preferred, band)
+    rest = [i for i in range(len(points)) if i not in reserved]
+    chosen_rest = select_support(
+        [points[i] for i in rest],
+        [depths[i] for i in rest],
+        normal,
+        count - len(reserved),
+        None if preferred is None else [preferred[i] for i in rest],
+        band,
+    )
+    chosen = [i in reserved for i in range(len(points))]
+    for i, keep in zip(rest, chosen_rest, strict=True):
+        chosen[i] = keep
+    return chosen
+
+
+def _corner_points(depths: list, normals: list, normal: np.ndarray, count: int) -> list[int]:
+    """Indices of the deepest point of each extra direction (at most two)."""
+    if count < 4:
+        return []
+    cosine = settings.STAGE_CORNER_COSINE
+    turned = [i for i, n in enumerate(normals) if depths[i] >= 0.0 and dot(n, normal) < cosine]
+    if not turned:
+        return []
+    second = max(turned, key=lambda i: (tie_key(depths[i]), -i))  # first of the deepest
+    third = [i for i in turned if dot(normals[i], normals[second]) < cosine]
+    if not third:
+        return [second]
+    return [second, max(third, key=lambda i: (tie_key(depths[i]), -i))]
+
+
+def select_support(
+    points: list,
+    depths: list,
+    normal: np.ndarray,
+    count: int,
+    preferred: list | None = None,
+    band: float = settings.SUPPORT_DEPTH_BAND,
+) -> list[bool]:
+    """Up to ``count`` of the points spanning the largest supporting area (mirrors
+    ``contacts.select_support`` for one row).
+
+    Supporting points lie within ``band`` (m) of the deepest. Among them: the
+    deepest (``p0``), the farthest from it (``p1``), the one spanning the largest triangle
+    with those two, then the largest on the other side of edge p0-p1. Preferred points win
+    near-ties (1 mm of depth, 10 % of distance or area). Slots left over take the remaining
+    points, deepest first.
+    """
+    k = len(points)
+    lowest = max(depths) - band
+    supporting = [d >= lowest for d in depths]
+    bonus = [float(p) for p in preferred] if preferred is not None else [0.0] * k
+    scale = [1.0 + settings.PREFERRED_SIZE_BONUS * b for b in bonus]
+    chosen = [False] * k
+
+    def best_of(values):  # the first supporting slot holding the largest value
+        masked = [tie_key(v) if s else -np.inf for v, s in zip(values, supporting, strict=True)]
+        return int(np.argmax(masked))
+
+    first = best_of(
+        [d + settings.PREFERRED_DEPTH_BONUS * b for d, b in zip(depths, bonus, strict=True)]
+    )
+    chosen[first] = True
+    p0 = points[first]
+    second = best_of([dot(p - p0, p - p0) * s for p, s in zip(points, scale, strict=True)])
+    chosen[second] |= count >= 2
+    edge = points[second] - p0
+    # signed area of triangle (p0, p1, p) about the normal: ((p1 - p0) x (p - p0)) . n / 2
+    area = [dot(cross3(edge, p - p0), normal) * s for p, s in zip(points, scale, strict=True)]
+    third = best_of([abs(a) for a in area])
+    chosen[third] |= count >= 3
+    side = -np.sign(area[third])
+    opposite = [
+        side * a if s and not c else -np.inf
+        for a, s, c in zip(area, supporting, chosen, strict=True)
+    ]
+    fourth = int(np.argmax(tie_key(np.array(opposite))))
+    chosen[fourth] |= count >= 4 and bool(np.isfinite(opposite[fourth]))
+    remaining = count - sum(chosen)
+    rest = sorted((i for i in range(k) if not chosen[i]), key=lambda i: -tie_key(depths[i]))
+    for i in rest[: max(remaining, 0)]:
+        chosen[i] = True
+    return chosen

@@ -1,0 +1,362 @@
+"""Reference twins of the pair table's rules: contacts of one shape pair, in plain loops.
+
+The plain version of :mod:`batched_stage` and :mod:`batched_pairs` (box pairs in
+:mod:`reference_box_box`), the size of box2d-lite's ``Collide``: loops over vertices and
+triangles a student can step through in a debugger. Each ``*_pair`` function is the
+``reference`` column of one rule of :mod:`pair_table` and takes one :class:`PairJob`;
+it returns the job's contacts, or None to decline it to the rule's fallback. Tests prove
+that both paths produce the same contact points (to rounding); each function names the
+batched code it mirrors.
+
+Vectors are ``(3,)`` float arrays in the world frame unless named ``_local`` (body frame).
+Matrix-vector products are written out as three dot products (:func:`rotate`,
+:func:`unrotate`) so they round exactly like the batched ``einsum`` calls.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..collision.collide import round_stage_contacts
+from ..collision.contact_helpers import (
+    coincident,
+    coincident_spheres,
+    contact_arrays,
+    deepest_record,
+    fcl_raw_contacts,
+    generic_contacts,
+    spread_direction,
+    triangle_table,
+)
+from ..collision.contacts import ManifoldStore, tie_key
+from ..collision.pair_rules import PairContext, PairJob
+from ..collision.stage_grid import candidate_triangles_reference
+from ..core import settings
+from ..core.reference_geometry import Contact, dot, rotate, unrotate
+from .reference_box_box import box_box_contacts_reference
+
+
+def as_contacts(result) -> list[Contact]:
+    """``(point_a, point_b, normal)`` arrays ``(k, 3)`` (or None) as a list of contacts."""
+    if result is None:
+        return []
+    return [Contact(*point) for point in zip(*result, strict=True)]
+
+
+# ------------------------------------------------------------------------------------------
+# the rules' reference functions (one job each)
+# ------------------------------------------------------------------------------------------
+def stage_hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
+    """Rule ``stage-hull``: hull vertices resting on the stage triangles near the hull
+    (mirrors :func:`batched_stage.stage_hull_batch`)."""
+    bodies, b = context.bodies, job.body_b
+    # the triangles whose box overlaps B's AABB grown by the probe's reach
+    near = candidate_triangles_reference(
+        job.shape_a.ray_triangles,
+        bodies.body_aabb_min[b : b + 1] - settings.STAGE_NEAR_DISTANCE,
+        bodies.body_aabb_max[b : b + 1] + settings.STAGE_NEAR_DISTANCE,
+    )[0].tolist()
+    if not near:
+        return []
+    cached = cached_stage_normals(context.store, b)
+    pose = context.pose(b)
+    contacts = stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, near, cached)
+    if contacts:
+        return contacts
+    # no vertex in contact (an edge crossing a face): fcl's triangles and points
+    context.objects.move(bodies, np.array([b]), context.rotation[[b]])  # and its probe
+    found = fcl_raw_contacts(job.object_a, job.probe_b)
+    if not found:
+        return []
+    touched = sorted({int(record.b1) for record in found if record.b1 >= 0})
+    return stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, touched, cached, found)
+
+
+def box_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
+    """Rule ``box-box``: separating axes + clipping, no fcl (mirrors
+    :func:`batched_pairs.box_pair_batch`); None (declined to ``hull-hull``, fcl objects
+    moved) when the boxes share a center or overlap deeper than ``BOX_DEEP_OVERLAP``."""
+    a, c = job.body_a, job.body_b
+    if not coincident(context.bodies, a, c):
+        boxed = box_box_contacts_reference(
+            box_frame(job.shape_a, context.pose(a)), box_frame(job.shape_b, context.pose(c))
+        )
+        if boxed is not None:
+            return boxed
+    context.objects.move_shapes(context.bodies, [a, c], context.rotation)
+    return None
+
+
+def hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
+    """Rule ``hull-hull``: fcl's normal, then vertices inside the other hull (mirrors
+    :func:`batched_pairs.hull_pair_batch`)."""
+    found = fcl_raw_contacts(job.object_a, job.object_b)
+    if not found:
+        return []
+    a, c = job.body_a, job.body_b
+    # bodies created at one point: fcl's normal is arbitrary, use the pair's spread direction
+    spread = spread_direction(a, c) if coincident(context.bodies, a, c) else None
+    return polyhedron_contacts(
+        job.shape_a, context.pose(a), job.shape_b, context.pose(c), found, spread
+    )
+
+
+def sphere_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
+    """Rule ``sphere-sphere`` (mirrors :func:`batched_pairs.sphere_pair_batch`)."""
+    a, c = job.body_a, job.body_b
+    if coincident(context.bodies, a, c):
+        return as_contacts(
+            coincident_spheres(context.bodies, a, job.shape_a, c, job.shape_b, context.rotation)
+        )
+    return as_contacts(generic_contacts(job.object_a, job.object_b))
+
+
+def stage_round_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
+    """Rule ``stage-round`` (mirrors :func:`batched_pairs.stage_round_batch`)."""
+    pose_b = context.pose(job.body_b)
+    return as_contacts(
+        round_stage_contacts(job.shape_a, job.object_a, job.shape_b, pose_b, job.probe_b)
+    )
+
+
+def fcl_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
+    """Rule ``fcl``: fcl's own points (mirrors :func:`batched_pairs.fcl_pair_batch`)."""
+    return as_contacts(generic_contacts(job.object_a, job.object_b))
+
+
+# ------------------------------------------------------------------------------------------
+# the per-pair geometry behind them
+# ------------------------------------------------------------------------------------------
+def box_frame(shape, pose) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A box shape in the world: center ``R t + x``, axes (rows: the columns of
+    ``R R_shape``) and half extents (mirrors ``box_box.box_shape_frames``)."""
+    rotation, position = pose
+    offset = shape.body_from_shape
+    center = rotate(rotation, offset[:3, 3]) + position
+    world = rotation @ offset[:3, :3]
+    half = np.asarray(shape.geometry.side, dtype=np.float64) / 2.0
+    return center, world.T.copy(), half
+
+
+def cached_stage_normals(store: ManifoldStore, body: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(world normal (stage -> body), stage point)`` of the points of the stage's manifold
+    with ``body`` (the stage frame is the world frame); empty for a new contact."""
+    row = store.row((0, body))
+    if row is None:
+        return []
+    return [(store.normal_local[row, s], store.local_a[row, s]) for s in range(store.count[row])]
+
+
+def outward_side(
+    normal: np.ndarray,
+    corner: np.ndarray,
+    heights: list[float],
+    center: np.ndarray,
+    cached: list[tuple[np.ndarray, np.ndarray]],
+) -> float:
+    """+1 or -1 turning a triangle's normal to the stage's outward side.
+
+    The cached normal most (anti-)parallel to it decides when it is within 60 degrees
+    (``|n . c| > 0.5``) and its point lies on the triangle's plane (within
+    ``OUTWARD_SIDE_PLANE_DISTANCE`` of the plane through ``corner``): the body stays on the
+    side where the contact began. A new contact, or one cached on another surface, follows
+    :func:`new_contact_side_reference` with the hull vertices' ``heights`` and the body's
+    ``center``.
+    """
+    alignments = [
+        dot(normal, c)
+        if abs(dot(normal, p) - dot(normal, corner)) < settings.OUTWARD_SIDE_PLANE_DISTANCE
+        else 0.0
+        for c, p in cached
+    ]
+    if alignments:
+        strongest = alignments[int(np.argmax(np.abs(alignments)))]
+        if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
+            return float(np.sign(strongest))
+    center_height = dot(normal, center) - dot(normal, corner)
+    return new_contact_side_reference(float(normal[1]), center_height, max(heights))
+
+
+def new_contact_side_reference(normal_y: float, center_height: float, max_height: float) -> float:
+    """Plain twin of :func:`contact_helpers.new_contact_side` (one triangle): the back when
+    the whole body is behind the plane; on a floor-like triangle up when the body's center
+    is on or above its plane, else the front; on a wall-like one the center's side."""
+    if max_height <= 0:
+        return -1.0  # wholly behind: a body behind a one-sided wall stays there
+    if abs(normal_y) >= settings.FLOOR_NORMAL_Y:  # a floor or a ceiling
+        if center_height * normal_y >= 0:  # the center on the up side of the plane
+            return 1.0 if normal_y > 0 else -1.0  # up, whichever way the floor is wound
+        return 1.0
+    return 1.0 if center_height >= 0 else -1.0  # a wall: where most of the body is
+
+
+def stage_polyhedron_contacts(
+    stage,
+    hull,
+    pose,
+    triangle_ids: list[int],
+    cached: list[tuple[np.ndarray, np.ndarray]],
+    found: list | None = None,
+) -> list[Contact]:
+    """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles
+    ``triangle_ids`` (ascending); when none touches and fcl's records ``found`` are given,
+    fcl's points with the first triangle's normal (an edge crossing a face), no deeper
+    than the hull's deepest vertex below that triangle's plane.
+
+    Mirrors ``batched_stage._stage_group``. For every touched triangle t (normal n_t turned to
+    the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
+    and hull vertex v, the signed height
+    ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
+    it is not more than half the hull's extent below the plane, and its projection falls
+    inside the triangle. Each vertex keeps its shallowest triangle (the largest h) and, in a
+    corner, the shallowest of those turned 45 to 135 degrees from it that it has passed
+    (``h < 0``; listed after all the first contacts, as the batched path orders them).
+    """
+    table = triangle_table(stage)
+    rotation, position = pose
+    vertices = [rotate(rotation, v) + position for v in hull.hull_vertices]
+    extent = max(
+        max(v[axis] for v in vertices) - min(v[axis] for v in vertices) for axis in range(3)
+    )
+    normals, heights = [], []
+    for t in triangle_ids:
+        normal, corner = table["normal"][t], stage.ray_triangles[t][0]
+        height = [dot(normal, v) - dot(normal, corner) for v in vertices]
+        side = outward_side(normal, corner, height, position, cached)
+        normal, height = normal * side, [value * side for value in height]
+        normals.append(normal)
+        heights.append(height)  # (T, V) signed heights, m
+    contacts, corner_contacts = [], []
+    for k, vertex in enumerate(vertices):
+        # positions i of the triangles this vertex touches
+        touching = [
+            i
+            for i, t in enumerate(triangle_ids)
+            if settings.STAGE_SPECULATIVE_DISTANCE > heights[i][k]
+            and heights[i][k] > -settings.STAGE_BELOW_FRACTION * extent
+            and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+        ]
+        if not touching:
+            continue
+        best = _shallowest(touching, heights, k)
+        contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
+        # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
+        # which the vertex has passed (h < 0)
+        turned = [
+            i
+            for i in touching
+            if abs(dot(normals[i], normals[best])) < settings.STAGE_CORNER_COSINE
+            and heights[i][k] < 0
+        ]
+        if turned:
+            second = _shallowest(turned, heights, k)
+            corner_contacts.append(_vertex_contact(vertex, normals[second], heights[second][k]))
+    contacts += corner_contacts  # the batched path orders them after every first contact
+    if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
+        mid, _, depths, _ = contact_arrays(found)
+        depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
+        # at most the depth of the hull's deepest vertex below the first triangle's plane
+        depths = np.minimum(depths, -min(heights[0]))
+        contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
+    return contacts
+
+
+def _shallowest(positions: list[int], heights: list, k: int) -> int:
+    """The position in ``positions`` whose triangle vertex ``k`` is highest above (the
+    first of equal heights)."""
+    best = positions[0]
+    for i in positions[1:]:
+        if heights[i][k] > heights[best][k]:
+            best = i
+    return best
+
+
+def _vertex_contact(vertex: np.ndarray, normal: np.ndarray, height: float) -> Contact:
+    """Vertex ``vertex`` at ``height`` above a plane of outward ``normal``: depth ``-height``,
+    A's point on the plane."""
+    return Contact(vertex - normal * height, vertex, normal)
+
+
+def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.ndarray) -> bool:
+    """True when ``point`` projected on triangle t's plane lies inside the triangle.
+
+    Barycentric ``(v, w)`` solve ``[d00 d01; d01 d11] [v; w] = [d20; d21]`` with the Gram
+    entries of the edges e0, e1 from ``corner`` (Ericson 3.4); inside when ``v, w >= 0`` and
+    ``v + w <= 1`` (within ``BARYCENTRIC_TOLERANCE``).
+    """
+    relative = point - corner
+    d20, d21 = dot(relative, table["e0"][t]), dot(relative, table["e1"][t])
+    d00, d01, d11, denom = (table[key][t] for key in ("d00", "d01", "d11", "denom"))
+    v = (d11 * d20 - d01 * d21) / denom
+    w = (d00 * d21 - d01 * d20) / denom
+    tolerance = settings.BARYCENTRIC_TOLERANCE
+    return bool(v >= -tolerance and w >= -tolerance and v + w <= 1 + tolerance)
+
+
+def polyhedron_contacts(
+    shape_a, pose_a, shape_b, pose_b, found: list, spread: np.ndarray | None = None
+) -> list[Contact]:
+    """Vertex contacts of two polyhedra (method 1 of :mod:`collide`).
+
+    Mirrors ``batched_pairs._polyhedron_group``. fcl's deepest normal ``n`` (A -> B) picks a
+    reference face on A (the face most aligned with ``n``) and one on B (most aligned with
+    ``-n``); a face counts only if ``n_face . (+-n) >= REFERENCE_FACE_ALIGNMENT``. Every
+    vertex of the other body inside the reference hull (its planes inflated by
+    ``SPECULATIVE_DISTANCE``) and at most that far above the face becomes a contact,
+    A's face first. Without any, fcl's own points are used. ``spread``: the direction that
+    replaces fcl's normal for bodies created at one point (:func:`contact_helpers.coincident`).
+    """
+    deepest = deepest_record(found)  # the first of near-equal depths
+    n = np.asarray(deepest.normal, dtype=np.float64) if spread is None else spread
+    contacts: list[Contact] = []
+    for reference, pose_ref, incident, pose_inc, sign in (
+        (shape_a, pose_a, shape_b, pose_b, 1.0),
+        (shape_b, pose_b, shape_a, pose_a, -1.0),
+    ):
+        rotation_inc, position_inc = pose_inc
+        vertices = [rotate(rotation_inc, v) + position_inc for v in incident.hull_vertices]
+        for vertex, on_face, face_normal in _reference_face_contacts(
+            reference, pose_ref, vertices, sign * n
+        ):
+            if sign > 0:
+                contacts.append(Contact(on_face, vertex, face_normal))
+            else:
+                contacts.append(Contact(vertex, on_face, -face_normal))
+    if not contacts:  # no face faces the other body: fcl's points
+        mid, normals, depths, _ = contact_arrays(found)
+        contacts = midpoint_contact_list(mid, list(normals), depths)
+    return contacts
+
+
+def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarray) -> list:
+    """``[(vertex, point on the face, face normal)]`` of ``vertices`` inside ``reference``."""
+    rotation, position = pose
+    face_normals = [rotate(rotation, plane) for plane in reference.plane_normals]
+    alignment = [dot(normal, towards) for normal in face_normals]
+    face = int(np.argmax(tie_key(np.array(alignment))))  # the first of equally aligned faces
+    if alignment[face] < settings.REFERENCE_FACE_ALIGNMENT:
+        return []
+    normal = face_normals[face]
+    tolerance = settings.SPECULATIVE_DISTANCE
+    # the face plane n . x = c_f + n . x_ref in the world
+    plane_offset = reference.plane_offsets[face] + dot(normal, position)
+    contacts = []
+    for vertex in vertices:
+        local = unrotate(rotation, vertex - position)
+        inside = all(
+            dot(local, plane) - offset <= tolerance
+            for plane, offset in zip(reference.plane_normals, reference.plane_offsets, strict=True)
+        )
+        depth = plane_offset - dot(vertex, normal)
+        if inside and depth > -tolerance:
+            contacts.append((vertex, vertex + depth * normal, normal))
+    return contacts
+
+
+def midpoint_contact_list(mid, normals, depths) -> list[Contact]:
+    """fcl midpoints -> contacts: A's point half a depth along +n, B's half a depth back."""
+    contacts = []
+    for point, normal, depth in zip(mid, normals, depths, strict=True):
+        half = 0.5 * depth * normal
+        contacts.append(Contact(point + half, point - half, normal))
+    return contacts

@@ -1,0 +1,1 @@
+"""solver of the physics step (map in commit C)."""

@@ -1,0 +1,2 @@
+"""Templates and configuration: attributes, their managers, user configuration, JSON
+config files, scene datasets."""
