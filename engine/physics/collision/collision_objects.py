@@ -11,6 +11,7 @@ them imports another for its type.
 
 from __future__ import annotations
 
+from itertools import chain
 from typing import Any
 
 import fcl
@@ -140,3 +141,10 @@ class CollisionObjects:
             if probe is not None:
                 probe.setRotation(rot)
                 probe.setTranslation(pos)
+
+
+def pairs_as_array(pairs: list[tuple[int, int]]) -> np.ndarray:
+    """``(p, 2)`` int64 array of a list of body pairs, read through one flat iterator (about
+    twice as fast as ``np.array`` on a list of tuples)."""
+    flat = np.fromiter(chain.from_iterable(pairs), dtype=np.int64, count=2 * len(pairs))
+    return flat.reshape(-1, 2)

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..collision.collide import boxes_separated, dot, overlapping_pairs, world_aabbs
 from ..collision.collision_groups import filter_pairs
-from ..collision.collision_objects import CollisionObjects
+from ..collision.collision_objects import CollisionObjects, pairs_as_array
 from ..collision.contacts import FreshPoints, ManifoldStore
 from ..collision.manifold_rows import add_manifold_row
 from ..core.bodies import DYNAMIC, STAGE_ID, Bodies
@@ -110,7 +110,7 @@ def move_fcl_users(
         return
     # each distinct pair of body kinds asked once (a few), not each body pair (hundreds):
     # the pairs' kind codes as one integer each, c_a K + c_c, looked up in NumPy
-    codes = objects.kind_code[np.array(pairs, dtype=np.int64)]  # (p, 2)
+    codes = objects.kind_code[pairs_as_array(pairs)]  # (p, 2)
     width = len(objects.code_kinds)
     pair_code = codes[:, 0] * width + codes[:, 1]
     distinct = np.unique(pair_code).tolist()

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..collision.collision_objects import pairs_as_array
 from ..collision.pair_rules import ContactBatch, PairContext, PairJob
 from .pair_table import PAIR_TABLE
 
@@ -74,7 +75,7 @@ def _file_jobs(objects: CollisionObjects, pairs: list, jobs: dict[str, list[Pair
     entries = objects.shape_entries  # every body's (shape, fcl object, probe object)
     kinds_of_code = objects.code_kinds
     width = len(kinds_of_code)
-    pair_array = np.array(pairs, dtype=np.int64)  # (p, 2)
+    pair_array = pairs_as_array(pairs)  # (p, 2)
     codes = objects.kind_code[pair_array]
     shape_counts = np.array([len(kinds) for kinds in kinds_of_code], dtype=np.int64)
     per_pair = shape_counts[codes[:, 0]] * shape_counts[codes[:, 1]]  # jobs of each pair
