@@ -40,7 +40,7 @@ import numpy as np
 from engine.scene.assets import load_meshes, merge_meshes
 from navmesh import NavMeshSettings, PathFinder, ShortestPath
 
-HABITAT_SCENES = Path(__file__).resolve().parents[1].parent / "shared/assets/habitat/data"
+HABITAT_SCENES = Path(__file__).resolve().parents[1] / "tests" / "habitat_data"
 STEP_LENGTH = 0.25  # meters, the tutorial's forward step
 FOLLOWER_TARGET_MS = 50.0  # a 50-action path, planned by find_path, CPU milliseconds
 FOLLOWER_EPISODES = 12

@@ -39,8 +39,7 @@ from engine.physics.core.quaternions import quat_to_matrix  # noqa: E402
 from engine.scene.assets import MeshData, load_meshes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-PLANE_GLB = ROOT.parent / "shared" / "assets" / "habitat" / "data" / "test_assets" / "scenes"
-PLANE_GLB = PLANE_GLB / "plane.glb"
+PLANE_GLB = ROOT / "tests" / "habitat_data" / "test_assets" / "scenes" / "plane.glb"
 APARTMENT_FLOOR = -1.45  # m, the demo apartment's floor height
 TABLE_TOP = -1.05  # m, its coffee table's top
 FRAME = 1.0 / 60.0

@@ -14,8 +14,8 @@ Data paths are changed by a folder of stand-ins, ``<work>/data`` (each program s
 path it names; built by ``habitat_stand_ins.py``, which lists them): rigidsim's demo apartment
 for Habitat's test scenes (moved for skokloster-castle so that ``example.py``'s hard-coded goal
 is on its navmesh; hard-coded positions and path lengths still differ), rigidsim's demo
-objects, and Habitat's MIT test assets (``../shared/assets/habitat/data`` or
-``RIGIDSIM_HABITAT_DATA``).
+objects, and Habitat's MIT test assets (``tests/habitat_data``, or the copy
+``RIGIDSIM_HABITAT_DATA`` names).
 
 Nothing of habitat-sim is copied into this repository: the work folder is temporary unless
 ``--keep`` names one.
@@ -177,9 +177,7 @@ def main() -> int:
 
     from engine.demo import demo_data_path
 
-    assets = Path(
-        os.environ.get("RIGIDSIM_HABITAT_DATA", REPO_ROOT.parent / "shared/assets/habitat/data")
-    )
+    assets = Path(os.environ.get("RIGIDSIM_HABITAT_DATA", REPO_ROOT / "tests" / "habitat_data"))
     work = options.keep or Path(tempfile.mkdtemp(prefix="habitat-programs-"))
     if not (work / "examples").exists():
         work.mkdir(parents=True, exist_ok=True)

@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
-# Install rigidsim with its test extras into ./.venv and run the test suite.
+# The test command: installs rigidsim with its test extras into ./.venv and the notebooks'
+# environment ./.venv-notebook (the notebook extra alone; both created where missing), then runs
+# ruff, ruff format, mypy and the test suite on every core (pytest-xdist), and prints how long
+# it took. It installs nothing system-wide: the browser tests use a Chromium that is already
+# there, or skip with a message (.ci/run installs one for CI). Extra args go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# headless Chromium for the page tests (docs site, viewer): Debian's package, where it is missing
-# and this user may install it; the tests skip with a message where no browser can be had
-if ! command -v chromium >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
-  (apt-get install -y -q chromium >/dev/null 2>&1 \
-    || (apt-get update -q >/dev/null 2>&1 && apt-get install -y -q chromium >/dev/null 2>&1)) \
-    || echo "scripts/test.sh: could not install chromium; page tests will be skipped"
-fi
+trap 'echo "scripts/test.sh: $((SECONDS / 60)) min $((SECONDS % 60)) s"' EXIT
 python3 -m venv .venv
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -e '.[dev,notebook,ray,gym,viewer,docs]'
+# the notebooks execute in a kernel of this environment (docs/testing.md)
+python3 -m venv .venv-notebook
+.venv-notebook/bin/python -m pip install -q -e '.[notebook]'
+export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
-.venv/bin/python -m pytest -q "$@"
+.venv/bin/lint-imports  # import contracts, configured in pyproject.toml ([tool.importlinter])
+.venv/bin/python -m pytest -q -n auto --dist loadfile "$@"

@@ -2,9 +2,10 @@
 
 The browser is Debian's ``chromium`` (``/usr/bin/chromium``; ``RIGIDSIM_CHROMIUM`` overrides the
 path), driven through Playwright's Python API with ``executable_path`` so that Playwright never
-downloads a browser of its own. ``scripts/test.sh`` installs the package where it is missing and
-the machine allows it. Where no browser can be found, the tests that need one are skipped with a
-message saying what is missing; they never pass without having looked.
+downloads a browser of its own. The test command installs no browser: where none can be found,
+the tests that need one are skipped with a message saying what is missing; they never pass
+without having looked. CI (``.ci/run``) installs Debian's package and sets
+``RIGIDSIM_REQUIRE_BROWSER=1``, which turns that skip into a failure.
 
 The flags are those of a closed network: no background connections, no component updates, no sync,
 software WebGL (SwiftShader), a fresh profile each launch.
@@ -60,6 +61,8 @@ def browser() -> Iterator[Any]:
     """One headless Chromium for the whole session; skips with the reason where none exists."""
     reason = why_no_browser()
     if reason is not None:
+        if os.environ.get("RIGIDSIM_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"RIGIDSIM_REQUIRE_BROWSER=1 but {reason}")
         pytest.skip(reason)
     from playwright.sync_api import sync_playwright
 

@@ -1,15 +1,15 @@
 """Every module path the README and the docs name is a file of the repository.
 
 The README's architecture section and the pages of ``docs/`` point readers to modules
-(``engine/physics/pipeline/pair_table.py``, ``render/reference.py`` ...); a module renamed or split
-leaves such a pointer dangling. This test collects every ``engine/``, ``render/``,
+(``engine/physics/pipeline/pair_table.py``, ``render/reference.py`` ...); a module renamed or
+split leaves such a pointer dangling. This test collects every ``engine/``, ``render/``,
 ``navmesh/``, ``benchmarks/`` and ``scripts/`` path ending in ``.py`` (and every such folder
 path ending in ``/``) written in ``README.md`` and ``docs/*.md`` and fails on one that does
 not exist. Paths under ``tests/`` and ``examples/`` are left out: the docs also quote
 Habitat-sim's own ``tests/test_sensors.py`` and a placeholder ``examples/NAME.py``. The
-README's table of ``engine/physics/`` must list each module of the package exactly once, and
-the bare module names (`` `pair_table.py` ``) of the README and the architecture pages
-(contacts, rendering, solver) must be files of the repository.
+folder map of ``docs/physics.md`` must list each module of ``engine/physics/`` exactly once,
+in the row of its folder, and the bare module names (`` `pair_table.py` ``) of the README
+and the architecture pages (contacts, rendering, solver) must be files of the repository.
 """
 
 from __future__ import annotations
@@ -67,19 +67,31 @@ def test_the_readme_names_the_modules_it_is_checked_for() -> None:
         assert path in readme
 
 
-def physics_table(readme: str) -> str:
-    """The README's table of ``engine/physics/`` modules by stage (up to the next paragraph)."""
-    start = readme.index("**`engine/physics/`")
-    return readme[start : readme.index("\n\n", readme.index("| group |", start))]
-
-
-def test_the_readme_lists_every_physics_module_in_exactly_one_group() -> None:
-    table = physics_table((ROOT / "README.md").read_text(encoding="utf-8"))
+def physics_map(page: str) -> dict[str, list[str]]:
+    """The folder map of ``docs/physics.md``: the modules named in each folder's row."""
+    start = page.index("## Where the code is")
+    table = page[start : page.index("\n\n", page.index("| layer |", start))]
     rows = [line for line in table.splitlines() if line.startswith("| ")][1:]  # no header
-    named = re.findall(r"`(\w+\.py)`", "\n".join(row.split("|")[2] for row in rows))
-    modules = sorted(path.name for path in (ROOT / "engine" / "physics").glob("*.py"))
-    assert sorted(named) == modules, f"listed {sorted(set(named) ^ set(modules))} wrongly"
-    assert len(named) == len(set(named)), "a module is listed in two groups"
+    named: dict[str, list[str]] = {}
+    for row in rows:
+        cells = row.split("|")
+        folder = re.findall(r"`(engine/physics/[\w/]*)`", cells[2])[0]
+        named[folder] = re.findall(r"`(\w+\.py)`", cells[3])
+    return named
+
+
+def test_the_physics_page_maps_every_physics_module_exactly_once() -> None:
+    named = physics_map((ROOT / "docs" / "physics.md").read_text(encoding="utf-8"))
+    physics = ROOT / "engine" / "physics"
+    folders = [physics, *sorted(p for p in physics.iterdir() if (p / "__init__.py").is_file())]
+    assert sorted(named) == sorted(f"{f.relative_to(ROOT).as_posix()}/" for f in folders)
+    for folder in folders:
+        listed = named[f"{folder.relative_to(ROOT).as_posix()}/"]
+        modules = sorted(p.name for p in folder.glob("*.py"))
+        if folder != physics:
+            modules.remove("__init__.py")  # the folder's map, not a module of the table
+        assert sorted(listed) == modules, f"{folder.name}: {sorted(set(listed) ^ set(modules))}"
+        assert len(listed) == len(set(listed)), f"{folder.name}: a module is listed twice"
 
 
 def test_a_wrong_name_is_found(tmp_path: Path) -> None:

@@ -1,8 +1,15 @@
-"""Habitat's ``habitat_sim.agent`` package: agents (:mod:`.agent`) and their controls.
+"""Agents and their controls: Habitat's ``habitat_sim.agent`` package.
 
-``engine.agent.AgentConfiguration``, ``AgentState``, ``Agent``, ``ActionSpec``,
-``SixDOFPose`` and, from :mod:`engine.agent.controls`, ``ActuationSpec``,
-``SceneNodeControl``, ``ObjectControls``, ``PyRobotNoisyActuationSpec``.
+``AgentConfiguration``, ``AgentState``, ``Agent``, ``ActionSpec``, ``SixDOFPose`` and, from
+:mod:`engine.agent.controls`, ``ActuationSpec``, ``SceneNodeControl``, ``ObjectControls``,
+``PyRobotNoisyActuationSpec`` are importable from here. What is here, in reading order:
+
+1. :mod:`engine.agent.controls`: what an action does to a scene node (its own map);
+2. :mod:`~engine.agent.agent`: ``Agent`` (a body node with sensors below it), its
+   configuration and state, ``agent.act(name)``.
+
+May import: ``engine.sensors`` (an agent's sensors are made by ``SensorFactory``),
+``engine.scene``, ``engine.core``, ``engine.mn``. Navigation and the simulator build on it.
 """
 
 from engine.agent.agent import ActionSpec, Agent, AgentConfiguration, AgentState, SixDOFPose

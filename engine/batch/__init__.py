@@ -20,6 +20,9 @@ Ray cluster, optional extra ``rigidsim[ray]``). Seeds depend only on the batch s
 episode index (:mod:`engine.batch.episodes`), so every backend and worker count gives the
 same results. With ``output_dir`` the results are written as they finish
 (:mod:`engine.batch.store`) and ``resume=True`` continues an interrupted batch.
+
+May import: the standard library and the optional Ray extra; an episode function brings
+its own simulator, so nothing of ``engine`` is imported here. The tutorial builds on it.
 """
 
 from engine.batch.backends import WorkerPool

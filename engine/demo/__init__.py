@@ -5,6 +5,10 @@
 apartment stage, :mod:`engine.demo.objects` the example objects, :mod:`engine.demo.geometry`
 the mesh and glTF helpers they share. The Habitat-mirroring API (``engine``) never needs
 this package; the tutorial, notebooks and tests do.
+
+May import: ``engine.scene`` (assets, primitives) and ``navmesh`` (the apartment's
+navmesh); never the simulator. Read :mod:`~engine.demo.geometry` first, then
+:mod:`~engine.demo.scene`, :mod:`~engine.demo.objects`, :mod:`~engine.demo.datasets`.
 """
 
 from __future__ import annotations

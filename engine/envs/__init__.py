@@ -17,6 +17,10 @@ Importing this package registers:
 
 Both are deterministic under ``reset(seed=...)``. ``gym.make("engine.envs:rigidsim/...")``
 imports this package by itself (handy in subprocesses).
+
+Read :mod:`~engine.envs.point_nav`, then :mod:`~engine.envs.push_object` and
+:mod:`~engine.envs.greedy_follower`. May import: the whole ``engine`` (they are programs
+on top of it), ``navmesh`` and ``gymnasium``; nothing of the engine imports them.
 """
 
 from __future__ import annotations

@@ -23,6 +23,10 @@ Conventions (declared once, used everywhere in rigidsim)
 Magnum quirks kept on purpose: ``Vector3.dot()`` with no argument is the **squared** length, and
 ``Matrix4.translation`` is both a static constructor (``Matrix4.translation(v)``) and, on an
 instance, the translation part (``m.translation``).
+
+Read :mod:`~engine.mn.vectors`, :mod:`~engine.mn.rotations`, :mod:`~engine.mn.matrices`,
+:mod:`~engine.mn.ranges`, :mod:`~engine.mn.colors`, :mod:`~engine.mn.math`. May import:
+NumPy only; every other folder of ``engine`` may import it.
 """
 
 from __future__ import annotations

@@ -2,9 +2,24 @@
 
 ``MotionType``, ``VelocityControl``, ``RigidObjectManager``, ``ManagedRigidObject``,
 ``RaycastResults``, ``RayHitInfo``, ``ContactPointData``, ``RigidState`` and the world,
-``PhysicsWorld``. See :mod:`engine.physics.world` for the step pipeline and
-:mod:`engine.physics.core.settings` for the conventions (Y up, meters, quaternions
-``[x, y, z, w]``, contact normals from body A to body B).
+``PhysicsWorld``, are importable from here as from Habitat. ``world.py`` holds
+``PhysicsWorld`` and its step (read it first); ``core/settings.py`` the conventions (Y up,
+meters, quaternions ``[x, y, z, w]``, contact normals from body A to body B).
+
+The code is in folders by stage of the step, like Bullet's and Jolt's sources; each
+folder's ``__init__`` maps it. The layering, lowest first (a folder imports only folders
+below it; no import circle, type-hint imports included, between modules or folders):
+
+1. ``core/``: settings, body state arrays, shapes, quaternions, timers;
+2. ``collision/`` and ``solver/``, independent of each other: the batched pieces of the
+   collision stage (broad phase, contact rules, manifolds) and of the solve, integrate
+   and sleep stages (rows, colors, sweeps, stage priority);
+3. ``reference/``: their plain twins, one pair or one contact point at a time;
+4. ``pipeline/``: the collision and solve stages, which pick the batched path or the twin,
+   and the contact pair table;
+5. ``objects/``: Habitat's object API (manager, object handles, velocity control,
+   constraints, queries);
+6. ``world.py`` and this ``__init__``: ``PhysicsWorld``, its step and the public names.
 """
 
 from __future__ import annotations

@@ -33,6 +33,7 @@ from typing import Any
 
 from engine.sensors.cubemap import observe_later_with_cube_maps, observe_with_cube_maps
 from engine.sensors.line_overlay import LineOverlay
+from engine.sensors.observations import Observations
 
 __all__ = ["AsyncRender"]
 
@@ -121,9 +122,9 @@ class AsyncRender:
         observations: dict[int, dict[str, Any]] = OrderedDict()
         for agent_id in ids:
             uuids = {s.uuid for s in self._sim._agent_sensors(agent_id)}
-            observations[agent_id] = {
-                s.uuid: s.get_observation_async() for s in self._sensors if s.uuid in uuids
-            }
+            observations[agent_id] = Observations(
+                (s.uuid, s.get_observation_async()) for s in self._sensors if s.uuid in uuids
+            )
         self._sensors = []
         return next(iter(observations.values())) if single else observations
 

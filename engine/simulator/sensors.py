@@ -33,6 +33,7 @@ from engine.sensors.cubemap import observe_with_cube_maps
 from engine.sensors.debug_lines import DebugLineRender
 from engine.sensors.factory import SensorFactory
 from engine.sensors.line_overlay import LineOverlay
+from engine.sensors.observations import Observations
 from engine.sensors.sensor_wrapper import Sensor
 
 __all__ = ["SimulatorSensors"]
@@ -157,7 +158,7 @@ class SimulatorSensors:
         self._draw_sensors([s for sensors in per_agent.values() for s in sensors])
         observations: dict[int, dict[str, Any]] = OrderedDict()
         for agent_id, sensors in per_agent.items():
-            observations[agent_id] = {s.uuid: s.get_observation() for s in sensors}
+            observations[agent_id] = Observations((s.uuid, s.get_observation()) for s in sensors)
         return next(iter(observations.values())) if single else observations
 
     # -- asynchronous rendering --------------------------------------------------------------

@@ -58,6 +58,26 @@ PRIMITIVE_OBJECT_SCALE = 0.1
 T = TypeVar("T", bound=AbstractAttributes)
 
 
+def unknown_handle_message(manager: _AttributesManager, handle: str) -> str:
+    """The warning for a handle (or search text) that names no template: the full handles that
+    contain it (handles of loaded configs are file paths), or, where none does, the templates
+    there are and that the config must be loaded first."""
+    known = manager._matching_handles("", True)
+    matching = manager._matching_handles(handle, True)
+    if matching and handle not in matching:
+        shown = ", ".join(repr(h) for h in matching[:5]) + (" ..." if len(matching) > 5 else "")
+        return (
+            f"no template with handle {handle!r}; handles are full names, and these contain "
+            f"it: {shown} (get_template_handles({handle!r})[0] is the first)"
+        )
+    files = [h for h in known if h not in PRIMITIVE_ASSET_HANDLES]
+    what = f"{len(files)} loaded from config files" if files else "none loaded from config files"
+    return (
+        f"no template handle contains {handle!r} ({len(known)} templates, {what}): load its "
+        f"config first, with load_configs(<path of its *{manager.config_suffix} or its folder>)"
+    )
+
+
 class _AttributesManager(Generic[T]):
     """Handle <-> id bookkeeping shared by every template manager."""
 
@@ -84,7 +104,7 @@ class _AttributesManager(Generic[T]):
     def get_template_id_by_handle(self, handle: str) -> int:
         """The id of ``handle``, or -1 (Habitat's ``ID_UNDEFINED``) with a warning."""
         if handle not in self._ids:
-            warnings.warn(f"no template with handle {handle!r}", stacklevel=2)
+            warnings.warn(unknown_handle_message(self, handle), stacklevel=2)
             return -1
         return self._ids[handle]
 
@@ -102,19 +122,28 @@ class _AttributesManager(Generic[T]):
 
     def get_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
         """Handles that contain (or, with ``contains=False``, do not contain) ``search_str``,
-        compared case-insensitively, sorted case-insensitively."""
+        compared case-insensitively, sorted case-insensitively. When no handle contains a
+        non-empty ``search_str`` the list is empty, as Habitat's, with a warning saying which
+        templates there are and that a config file must be loaded first (``load_configs``)."""
+        handles = self._matching_handles(search_str, contains)
+        if not handles and search_str and contains:
+            warnings.warn(unknown_handle_message(self, search_str), stacklevel=2)
+        return handles
+
+    def _matching_handles(self, search_str: str, contains: bool) -> list[str]:
+        """``get_template_handles`` without its warning (for the other lookups by substring)."""
         needle = search_str.lower()
         chosen = [h for h in self._templates if (needle in h.lower()) == contains]
         return sorted(chosen, key=lambda h: (h.lower(), h))
 
     def get_random_template_handle(self) -> str:
-        return random.choice(self.get_template_handles())
+        return random.choice(self._matching_handles("", True))
 
     # -- copies in and out ----------------------------------------------------------------------
     def get_template_by_handle(self, handle: str) -> T | None:
         """A copy of the template registered under ``handle``; None (warning) if unknown."""
         if handle not in self._templates:
-            warnings.warn(f"no template with handle {handle!r}", stacklevel=2)
+            warnings.warn(unknown_handle_message(self, handle), stacklevel=2)
             return None
         return self._templates[handle].copy()
 
@@ -132,7 +161,7 @@ class _AttributesManager(Generic[T]):
     get_template_by_ID = get_template_by_id  # noqa: N815 - Habitat's older spelling
 
     def get_templates_by_handle_substring(self, search_str: str = "", contains: bool = True):
-        handles = self.get_template_handles(search_str, contains)
+        handles = self._matching_handles(search_str, contains)
         return {h: self.get_template_by_handle(h) for h in handles}
 
     def create_new_template(self, handle: str, register_template: bool = False) -> T:
@@ -203,7 +232,7 @@ class _AttributesManager(Generic[T]):
         """Remove every unlocked, deletable template whose handle matches; returns them."""
         removable = [
             h
-            for h in self.get_template_handles(search_str, contains)
+            for h in self._matching_handles(search_str, contains)
             if h not in self._locked and h not in self._undeletable
         ]
         return [self._pop(h) for h in removable]
@@ -223,7 +252,7 @@ class _AttributesManager(Generic[T]):
         self, lock: bool, search_str: str = "", contains: bool = True
     ) -> list[str]:
         """Lock or unlock every template whose handle matches; returns their handles."""
-        handles = self.get_template_handles(search_str, contains)
+        handles = self._matching_handles(search_str, contains)
         for handle in handles:
             self.set_template_lock(handle, lock)
         return handles
@@ -394,12 +423,12 @@ class ObjectAttributesManager(_AttributesManager[ObjectAttributes]):
     def get_synth_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
         """Handles of the primitive-based templates."""
         prims = set(PRIMITIVE_ASSET_HANDLES)
-        return [h for h in self.get_template_handles(search_str, contains) if h in prims]
+        return [h for h in self._matching_handles(search_str, contains) if h in prims]
 
     def get_file_template_handles(self, search_str: str = "", contains: bool = True) -> list[str]:
         """Handles of the templates loaded from config files."""
         prims = set(PRIMITIVE_ASSET_HANDLES)
-        return [h for h in self.get_template_handles(search_str, contains) if h not in prims]
+        return [h for h in self._matching_handles(search_str, contains) if h not in prims]
 
 
 class StageAttributesManager(_AttributesManager[StageAttributes]):

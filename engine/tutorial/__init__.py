@@ -17,6 +17,10 @@ code structure and names. Modules:
   :mod:`~engine.tutorial.sections_agent`: the sections, one function each;
 - :mod:`~engine.tutorial.report`: summary table and ``summary.json``;
 - :mod:`~engine.tutorial.cli`: :func:`run_tutorial` and the command line.
+
+May import: the whole ``engine`` through ``import engine as habitat_sim`` (as Habitat's
+tutorial does), ``engine.batch``, ``engine.demo`` and ``render.video``; only the viewer's
+demo replay imports it.
 """
 
 from engine.tutorial.cli import SECTIONS, main, run_tutorial

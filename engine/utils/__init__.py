@@ -8,6 +8,10 @@ numpy-quaternion), :mod:`engine.utils.settings` (``default_sim_settings``, ``mak
 ``to_grid``, ``draw_path`` as in Habitat's navigation notebook). As in Habitat,
 ``quat_from_angle_axis`` and ``quat_rotate_vector`` are also importable from here.
 Submodules load on first use, so ``import engine.utils`` stays light.
+
+May import: ``engine.simulator`` and every folder below it (``settings`` builds
+configurations), ``engine.demo``, ``render`` (videos) and ``navmesh``; nothing below the
+simulator imports ``engine.utils``.
 """
 
 from __future__ import annotations

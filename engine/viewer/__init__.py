@@ -18,6 +18,9 @@ In a notebook::
 - :mod:`engine.viewer.drawing`: frames to k3d drawables; :mod:`engine.viewer.server`: the
   live page on 127.0.0.1; :mod:`engine.viewer.demo`: the tutorial's replay
   (``python -m engine.viewer --demo-replay OUT.html``).
+
+May import: the whole ``engine`` (public queries only), ``engine.tutorial`` (the demo
+replay) and ``navmesh``; the engine never imports the viewer.
 """
 
 from __future__ import annotations

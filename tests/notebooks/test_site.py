@@ -1,7 +1,8 @@
 """The documentation site, built as ``bash scripts/docs.sh --fast`` builds it and read in Chromium.
 
 The build takes the notebooks that ``test_notebooks.py`` executed in this session (the
-``executed_notebooks`` folder; any missing one is executed by the build), so CI runs each
+``executed_notebooks`` folder, shared by the xdist workers: the build waits for the notebooks
+still running on another worker; any missing one is executed by the build), so CI runs each
 notebook once. Then headless Chromium (``tests/browser_support.py``; skipped with the reason
 where no browser exists) opens the site, served from a local server on 127.0.0.1 as a host
 would serve it (and once from disk, as a student opens ``build/docs/index.html``), with no
@@ -17,6 +18,7 @@ import os
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from functools import partial
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
@@ -34,8 +36,36 @@ MATH_TYPESET = """() => [...document.querySelectorAll('.math.notranslate')].ever
     e => e.querySelector('.MathJax, .MathJax_Display, .MathJax_SVG, .MathJax_CHTML'))"""
 
 
+#: how long the build waits for the notebooks other xdist workers are executing
+NOTEBOOK_WAIT_S = 900
+
+
+def wait_for_executed_notebooks(session: pytest.Session, folder: Path) -> None:
+    """Wait until every notebook whose execution test is in this session (on any xdist
+    worker) has its executed copy in ``folder`` or has failed; after ``NOTEBOOK_WAIT_S`` the
+    build executes what is missing itself."""
+    names = [
+        item.callspec.params["path"].name
+        for item in session.items
+        if getattr(item, "originalname", "") == "test_notebook_executes_in_fast_mode"
+    ]
+    deadline = time.monotonic() + NOTEBOOK_WAIT_S
+    while time.monotonic() < deadline:
+        waiting = [
+            n for n in names if not (folder / n).exists() and not (folder / f"{n}.failed").exists()
+        ]
+        if not waiting:
+            return
+        time.sleep(2.0)
+
+
 @pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory, executed_notebooks: Path) -> Path:
+def site(
+    request: pytest.FixtureRequest,
+    tmp_path_factory: pytest.TempPathFactory,
+    executed_notebooks: Path,
+) -> Path:
+    wait_for_executed_notebooks(request.session, executed_notebooks)
     out = tmp_path_factory.mktemp("site") / "docs"
     env = dict(os.environ, PYTHON=sys.executable)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))

@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.templates.managers import unknown_handle_message
+
 from ..core.bodies import DYNAMIC, KINEMATIC, STATIC
 from ..core.motion_type import MotionType
 from .body_builder import describe_object
@@ -59,7 +61,8 @@ class RigidObjectManager:
         if not isinstance(object_lib_handle, str):
             raise TypeError(f"template handle must be a str, got {object_lib_handle!r}")
         if not self._templates.get_library_has_handle(object_lib_handle):
-            warnings.warn(f"no object template with handle {object_lib_handle!r}", stacklevel=2)
+            message = unknown_handle_message(self._templates, object_lib_handle)
+            warnings.warn(message, stacklevel=2)
             return None
         return self._add(
             self._templates.get_template_by_handle(object_lib_handle),
