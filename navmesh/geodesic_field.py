@@ -12,7 +12,7 @@ corners and the taut edges between corners that see each other):
    Corners are settled only as far as queries need (``_settle_until``).
 2. **A point p** (snapped to its node): when the segment ``p -> goal`` stays on the navmesh the
    distance is ``|p - goal|``; otherwise the shortest path leaves ``p`` straight to a corner it
-   sees, so
+   sees, so::
 
        d(p) = min over corners c that p sees (taut at c) of ( |p - c| + D[c] ).
 

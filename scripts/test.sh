@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # The test command: installs rigidsim with its test extras into ./.venv and the notebooks'
 # environment ./.venv-notebook (the notebook extra alone; both created where missing), then runs
-# ruff, ruff format, mypy and the test suite on every core (pytest-xdist), and prints how long
-# it took. It installs nothing system-wide: the browser tests use a Chromium that is already
+# ruff, ruff format, mypy, the import contracts and the test suite on every core (pytest-xdist),
+# and prints how long it took. It installs nothing system-wide: the browser tests use a Chromium that is already
 # there, or skip with a message (.ci/run installs one for CI). Extra args go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 trap 'echo "scripts/test.sh: $((SECONDS / 60)) min $((SECONDS % 60)) s"' EXIT
-python3 -m venv .venv
+[ -x .venv/bin/python ] || python3 -m venv .venv
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -e '.[dev,notebook,ray,gym,viewer,docs]'
 # the notebooks execute in a kernel of this environment (docs/testing.md)
-python3 -m venv .venv-notebook
+[ -x .venv-notebook/bin/python ] || python3 -m venv .venv-notebook
 .venv-notebook/bin/python -m pip install -q -e '.[notebook]'
 export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py

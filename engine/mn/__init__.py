@@ -11,7 +11,7 @@ Float types compare with Magnum's fuzzy ``==`` (relative epsilon 1e-5, see
 freely with lists and ``np.ndarray`` (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``).
 
 Conventions (declared once, used everywhere in rigidsim)
--------------------------------------------------------
+--------------------------------------------------------
 * Right handed, Y up, -Z forward; meters, radians inside.
 * A quaternion is stored as a ``(4,)`` float64 array in the order ``[x, y, z, w]`` (scalar last,
   like Magnum's ``Quaternion((x, y, z), w)`` and SciPy). Conversion from other orders

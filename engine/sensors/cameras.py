@@ -92,7 +92,7 @@ class Sensor:
 
     @property
     def object(self) -> SceneNode:
-        """Habitat's alias of :attr:`node`."""
+        """Habitat's alias of ``node``."""
         return self.node
 
     def specification(self) -> SensorSpec:

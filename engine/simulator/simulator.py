@@ -71,6 +71,16 @@ from navmesh import NavMeshSettings
 __all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
 
 
+#: why ``copy.copy``, ``copy.deepcopy`` and ``pickle`` refuse a simulator (Habitat's C++
+#: simulator cannot be copied either): its renderer, asset caches and physics world are
+#: shared, live resources.
+_NO_COPY = (
+    "a Simulator cannot be copied or pickled (it owns a renderer, loaded assets and a "
+    "physics world); create another Simulator from the same Configuration, and carry "
+    "object states across with get/set of translation, rotation and velocities"
+)
+
+
 class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics):
     """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
 
@@ -432,6 +442,15 @@ class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics):
 
     def __enter__(self) -> Simulator:
         return self
+
+    def __copy__(self) -> Simulator:
+        raise TypeError(_NO_COPY)
+
+    def __deepcopy__(self, memo: dict) -> Simulator:
+        raise TypeError(_NO_COPY)
+
+    def __reduce_ex__(self, protocol: Any) -> Any:
+        raise TypeError(_NO_COPY)
 
     def __exit__(self, *exc_info: Any) -> None:
         self.close()
