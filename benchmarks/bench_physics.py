@@ -23,13 +23,20 @@ interleaved runs (rigidsim, pybullet and, with ``--baseline PATH``, another rigi
 checkout run in a subprocess, for the "x of the baseline's step" targets): other processes
 load the machine, and ratios measured in one run are what to compare.
 
+pybullet's bodies are btRigidBody (``useMaximalCoordinates=True``), the body Habitat's
+``BulletRigidObject`` builds, on the same triangles (a static concave mesh), at the same step,
+sleeping as Habitat leaves it (``physics_scenes``); ``--multibody`` adds a column timing
+pybullet's btMultiBody, labelled so (not what Habitat uses).
+
 Reported per scene: ms of wall time per fixed step and per simulated second, pybullet's
-figures and the ratio, bodies asleep at the end, the largest contact penetration over the
-run and at the end, the energy change (J), the fastest body at the end (jitter), and where
-rigidsim's time went (``world.profile``, the stage timers). ``--sweep`` adds the scaling
-table (10 to 1000 cubes in the moving column): ms per step, per body, each stage's share,
-and writes ``docs/physics_scaling.png``. The last block prints issue 22's speed targets and
-the quality gates, each with whether it is met (``physics_targets.py``). Ratios measured
+figures and the ratio, NumPy operations per step (``op_counter``: deterministic, counted
+over ``physics_scenes.OPS_WINDOW`` in a separate untimed run; ``--no-ops`` skips it), bodies
+asleep at the end, the largest contact penetration over the run and at the end, the energy
+change (J), the fastest body at the end (jitter), and where rigidsim's time went
+(``world.profile``, the stage timers). ``--sweep`` adds the scaling table (10 to 1000 cubes
+in the moving column): ms per step, per body, each stage's share, and writes
+``docs/physics_scaling.png``. The last block prints the speed targets and the quality gates,
+each with whether it is met (``physics_targets.py``). Ratios measured
 in one run are the numbers to compare; absolute times vary a lot on a shared machine.
 
 Usage::
@@ -58,10 +65,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from op_counter import KINDS  # noqa: E402
 from physics_scenes import (  # noqa: E402
     WATCH_FROM,
     apartment_positions,
     column_positions,
+    count_operations,
     have_pybullet,
     physics_settings,
     pile_positions,
@@ -196,6 +205,24 @@ def run_scene(name, scene, bullet, results, options):
         f"{ours['end_speed']:6.3f}  {quality(name, start, ours['final'])} | {bullet_quality}"
     )
     print(f"{'':<11} profile % {split_text}")
+    ops = None
+    if options.ops and name.startswith(("column", "plane-column", "apartment")):
+        ops, counter = count_operations(positions, rotations, sleep=sleep, stage=stage)
+        steps = max(1, round(counter.total / max(ops, 1e-9)))
+        kinds = ", ".join(f"{k} {counter.counts[k] / steps:.0f}" for k in KINDS)
+        print(
+            f"{'':<11} NumPy operations/step {ops:,.0f} ({kinds}); bytecodes/step "
+            f"{counter.instructions / steps:,.0f}"
+        )
+    if options.multibody and bullet:
+        multi = run_pybullet(
+            positions, rotations, seconds, sleep=sleep, stage=stage, multibody=True
+        )
+        multi_step = multi["cpu"] / multi["steps"] * 1000
+        print(
+            f"{'':<11} pybullet btMultiBody (not Habitat's body): {multi_step:.3f} CPU ms/step, "
+            f"rigidsim {cpu_step / multi_step:.1f}x of it"
+        )
     if base_step is not None:
         print(
             f"{'':<11} baseline checkout: {base_step:.3f} CPU ms/step, this one "
@@ -228,6 +255,7 @@ def run_scene(name, scene, bullet, results, options):
         cpu_ratio=cpu_ratio,
         base_ratio=None if base_step is None else cpu_step / base_step,
         bullet_step=bullet_step,
+        ops=ops,
         start=start,
         n=len(positions),
         seconds=seconds,
@@ -330,7 +358,8 @@ def plot(rows, path: Path) -> None:
         ax.legend()
         ax.grid(True, which="both", alpha=0.3)
     fig.suptitle(
-        "Moving column of 0.2 m cubes (sleeping off), CPU time per step; "
+        "Moving column of 0.2 m cubes (sleeping off), CPU time per step, pybullet "
+        "btRigidBody (as Habitat); "
         f"{machine_name()}, {date.today().isoformat()} (shared, loaded)"
     )
     fig.tight_layout()
@@ -376,6 +405,12 @@ def main() -> None:
     parser.add_argument("--verbose", action="store_true", help="also print pile settle times")
     parser.add_argument(
         "--sleep", action="store_true", help="when piles of 100 and 500 cubes fall asleep"
+    )
+    parser.add_argument(
+        "--no-ops", dest="ops", action="store_false", help="skip counting operations per step"
+    )
+    parser.add_argument(
+        "--multibody", action="store_true", help="also time pybullet's btMultiBody (labelled)"
     )
     parser.add_argument("--plot", type=Path, default=ROOT / "docs" / "physics_scaling.png")
     args = parser.parse_args()

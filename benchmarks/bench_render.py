@@ -144,7 +144,9 @@ def pybullet_renderer(meshes: list[RenderMesh], camera: Camera, world_from_camer
                 rgbaColor=color,
                 physicsClientId=client,
             )
-            p.createMultiBody(baseVisualShapeIndex=shape, physicsClientId=client)
+            p.createMultiBody(  # a static btRigidBody, as every benchmark body is
+                baseVisualShapeIndex=shape, useMaximalCoordinates=True, physicsClientId=client
+            )
     height, width = camera.resolution
     view = np.linalg.inv(world_from_camera).T.ravel().tolist()  # column-major camera_from_world
     vfov = math.degrees(2 * math.atan(math.tan(math.radians(camera.hfov) / 2) * height / width))

@@ -9,6 +9,14 @@ body fell asleep). Both engines collide with the same stage triangles
 (Habitat's test asset ``plane.glb``: 2,048 triangles, 200 x 200 m, y = 0) or ``apartment``
 (the demo apartment, 1,562 triangles, floor at y = -1.45); pybullet gets them as a static
 concave triangle mesh (``GEOM_FORCE_CONCAVE_TRIMESH``).
+
+pybullet's bodies are btRigidBody, the body Habitat-sim's ``BulletRigidObject`` builds:
+``createMultiBody(..., useMaximalCoordinates=True)`` (without it pybullet builds a Featherstone
+btMultiBody, about 2x slower per step on these scenes). Habitat leaves a btRigidBody's
+activation at Bullet's defaults (it sleeps after 2 s below 0.8 m/s and 1 rad/s); pybullet
+forbids sleeping unless a body is created with ``URDF_ENABLE_SLEEPING``, so the sleeping scenes
+pass that flag, and the scenes with sleeping off switch it off in both engines.
+``multibody=True`` builds the btMultiBody instead (for a column labelled so).
 """
 
 from __future__ import annotations
@@ -236,24 +244,55 @@ def energy(world) -> float:
 WATCH_FROM = 1.0
 
 
+def build_world(positions, rotations, stage: str, vectorized: bool = True):
+    """``(world, boxes)``: rigidsim's world with the stage's triangles and the cubes."""
+    world, templates = make_world(floor=False)
+    vertices, faces = stage_triangles(stage)
+    stage_attributes = StageAttributes()
+    stage_attributes.friction_coefficient, stage_attributes.restitution_coefficient = 0.4, 0.1
+    world.set_stage([MeshData(vertices=vertices, faces=faces)], stage_attributes)
+    world.settings.use_vectorized = vectorized
+    handle = register_primitive(templates, "cubeSolid", (HALF, HALF, HALF))
+    boxes = []
+    for p, q in zip(positions, rotations, strict=True):
+        box = add(world, templates, handle, p)
+        box.rotation = mn.Quaternion.from_xyzw(q)
+        boxes.append(box)
+    world.timer.reset()
+    return world, boxes
+
+
+#: s, the window whose steps :func:`count_operations` counts (after the drop, when the
+#: cubes of the columns land: the busiest part of the timed runs)
+OPS_WINDOW = (1.0, 1.5)
+
+
+def count_operations(positions, rotations, sleep=True, stage="box", window=OPS_WINDOW):
+    """NumPy operations per fixed step (``op_counter``'s definition, the repository's own
+    code counted) over the frames of ``window`` (s); returns ``(per step, OpCounter)``."""
+    from op_counter import OpCounter
+
+    with sleeping_disabled(not sleep):
+        world, _ = build_world(positions, rotations, stage)
+        counter = OpCounter()
+        steps = 0
+        for frame in range(int(round(window[1] / FRAME))):
+            if frame * FRAME < window[0] - 1e-9:
+                world.step_physics(FRAME)
+                continue
+            before = world._time
+            with counter:
+                world.step_physics(FRAME)
+            steps += int(round((world._time - before) / STEP))
+    return counter.total / max(steps, 1), counter
+
+
 def run_rigidsim(
     positions, rotations, seconds, sleep=True, watch=True, vectorized=True, stage="box"
 ):
     """Step a scene; wall time counts ``step_physics`` only (measurements are outside)."""
     with sleeping_disabled(not sleep):
-        world, templates = make_world(floor=False)
-        vertices, faces = stage_triangles(stage)
-        stage_attributes = StageAttributes()
-        stage_attributes.friction_coefficient, stage_attributes.restitution_coefficient = 0.4, 0.1
-        world.set_stage([MeshData(vertices=vertices, faces=faces)], stage_attributes)
-        world.settings.use_vectorized = vectorized
-        handle = register_primitive(templates, "cubeSolid", (HALF, HALF, HALF))
-        boxes = []
-        for p, q in zip(positions, rotations, strict=True):
-            box = add(world, templates, handle, p)
-            box.rotation = mn.Quaternion.from_xyzw(q)
-            boxes.append(box)
-        world.timer.reset()
+        world, boxes = build_world(positions, rotations, stage, vectorized)
         energy_start = None
         wall, cpu, settled, deepest = 0.0, 0.0, None, np.zeros(2)
         steps_before = world._time
@@ -288,10 +327,12 @@ def run_rigidsim(
         }
 
 
-def run_pybullet(positions, rotations, seconds, sleep=True, stage="box"):
-    """The scene in pybullet (btRigidBody, as Habitat uses), the stage's triangles as a
-    static concave mesh; ``settled``: simulated seconds until every velocity is exactly
-    zero (Bullet zeroes the velocities of sleeping islands), checked outside the timing."""
+def run_pybullet(positions, rotations, seconds, sleep=True, stage="box", multibody=False):
+    """The scene in pybullet, the stage's triangles as a static concave mesh: btRigidBody
+    bodies as Habitat uses (``multibody=True``: btMultiBody, not what Habitat uses), sleeping
+    as Habitat leaves it when ``sleep`` (module docstring); ``settled``: simulated seconds
+    until every velocity is exactly zero (Bullet zeroes the velocities of sleeping islands),
+    checked outside the timing."""
     import pybullet as p
 
     client = p.connect(p.DIRECT)
@@ -305,11 +346,18 @@ def run_pybullet(positions, rotations, seconds, sleep=True, stage="box"):
         flags=p.GEOM_FORCE_CONCAVE_TRIMESH,
         physicsClientId=client,
     )
-    p.createMultiBody(0, floor, physicsClientId=client)
+    maximal = not multibody
+    p.createMultiBody(0, floor, useMaximalCoordinates=maximal, physicsClientId=client)
     box = p.createCollisionShape(p.GEOM_BOX, halfExtents=[HALF] * 3, physicsClientId=client)
     bodies = [
         p.createMultiBody(
-            1.0, box, basePosition=pos, baseOrientation=list(q), physicsClientId=client
+            1.0,
+            box,
+            basePosition=pos,
+            baseOrientation=list(q),
+            useMaximalCoordinates=maximal,
+            flags=p.URDF_ENABLE_SLEEPING if sleep else 0,
+            physicsClientId=client,
         )
         for pos, q in zip(positions, rotations, strict=True)
     ]

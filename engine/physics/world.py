@@ -320,10 +320,11 @@ class PhysicsWorld:
                 f"the limit per call is {MAX_STEPS_PER_CALL}"
             )
         self._read_user_moves()  # raises ValueError before it changes anything
-        self._apply_velocity_control(dt)
+        active = [(index, c) for index, c in self.velocity_controls.items() if c.is_active]
+        self._apply_velocity_control(dt, active)
         self._accumulator = accumulated - n_steps * self._timestep
         if n_steps:  # Bullet's saveKinematicState: user-moved kinematic bodies get velocities
-            controlled = {i for i, c in self.velocity_controls.items() if c.is_active}
+            controlled = {index for index, _ in active}
             implied_velocities(
                 self.bodies, self.kinematic_poses, controlled, n_steps * self._timestep
             )
@@ -424,16 +425,16 @@ class PhysicsWorld:
     # ------------------------------------------------------------------------------------
     # velocity control
     # ------------------------------------------------------------------------------------
-    def _apply_velocity_control(self, dt: float) -> None:
+    def _apply_velocity_control(self, dt: float, active: list[tuple[int, Any]]) -> None:
         """Kinematic: integrate the pose once by ``dt``; dynamic: overwrite the velocity.
 
         Every kinematic pose is computed first (a non-finite one raises ValueError before
-        any body moves), then committed."""
+        any body moves), then committed. ``active``: ``(body index, control)`` of the
+        controls that are on (``VelocityControl.is_active``), listed once per call."""
         from .objects.velocity_control import RigidState
 
         b = self.bodies
         new_poses = {}
-        active = [(index, c) for index, c in self.velocity_controls.items() if c.is_active]
         for index, control in active:
             if b.body_alive[index] and b.body_motion_type[index] == KINEMATIC:
                 state = RigidState(

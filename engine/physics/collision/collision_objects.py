@@ -11,6 +11,7 @@ them imports another for its type.
 
 from __future__ import annotations
 
+from itertools import chain
 from typing import Any
 
 import fcl
@@ -43,6 +44,10 @@ class CollisionObjects:
         # (3,), by body index, so the box batch gathers them with one indexing call
         self.single_box = np.zeros(0, dtype=bool)
         self.box_offset, self.box_half = np.zeros((0, 4, 4)), np.zeros((0, 3))
+        # every body's kinds as a small integer (``kind_code``, by body index) and the kinds
+        # of each code (``code_kinds``), so a step's pairs are sorted by kinds in NumPy
+        self.kind_code = np.zeros(0, dtype=np.int64)
+        self.code_kinds: list[tuple[str, ...]] = []
 
     def install(self, index: int, shapes: list[Shape]) -> None:
         """Create the fcl objects of body ``index`` (placed by the next :meth:`move`)."""
@@ -58,6 +63,13 @@ class CollisionObjects:
             self.box_half = np.concatenate(
                 [self.box_half, np.zeros((size - len(self.box_half), 3))]
             )
+        if len(self.kind_code) <= index:
+            grown = np.zeros(len(self.single_box), dtype=np.int64)
+            grown[: len(self.kind_code)] = self.kind_code
+            self.kind_code = grown
+        if self.kinds[index] not in self.code_kinds:
+            self.code_kinds.append(self.kinds[index])
+        self.kind_code[index] = self.code_kinds.index(self.kinds[index])
         self.single_box[index] = len(shapes) == 1 and shapes[0].kind == "box"
         if self.single_box[index]:
             self.box_offset[index] = shapes[0].body_from_shape
@@ -129,3 +141,10 @@ class CollisionObjects:
             if probe is not None:
                 probe.setRotation(rot)
                 probe.setTranslation(pos)
+
+
+def pairs_as_array(pairs: list[tuple[int, int]]) -> np.ndarray:
+    """``(p, 2)`` int64 array of a list of body pairs, read through one flat iterator (about
+    twice as fast as ``np.array`` on a list of tuples)."""
+    flat = np.fromiter(chain.from_iterable(pairs), dtype=np.int64, count=2 * len(pairs))
+    return flat.reshape(-1, 2)

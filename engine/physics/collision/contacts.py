@@ -38,6 +38,7 @@ reference path (:func:`reference_contacts.update_manifold`) makes the same choic
 from __future__ import annotations
 
 from collections.abc import Iterator, MutableMapping
+from dataclasses import dataclass
 from itertools import repeat
 
 import numpy as np
@@ -94,6 +95,16 @@ class ManifoldView:
     impulse = property(lambda self: self._slots(self._store.impulse))
 
 
+@dataclass
+class GraphMemo:
+    """A result computed from the contact graph and the graph's bytes (``key``): the solve
+    stage keeps its solver order here (``solve_stage.solver_order``) and reuses it while
+    the graph is unchanged. ``value`` None: nothing kept yet."""
+
+    key: bytes = b""
+    value: tuple | None = None
+
+
 class ManifoldStore(MutableMapping):
     """All manifolds of a world: a mapping ``(body_a, body_b) -> ManifoldView`` over rows.
 
@@ -121,6 +132,7 @@ class ManifoldStore(MutableMapping):
         self.query_rotation = np.zeros((0, 3, 3))
         self.query_position = np.zeros((0, 3))
         self.query_valid = np.zeros(0, dtype=bool)
+        self.solver_order = GraphMemo()  # the solve stage's memo (solve_stage.solver_order)
         self._grow(capacity)
 
     def _grow(self, capacity: int) -> None:

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..collision.collide import boxes_separated, dot, overlapping_pairs, world_aabbs
 from ..collision.collision_groups import filter_pairs
-from ..collision.collision_objects import CollisionObjects
+from ..collision.collision_objects import CollisionObjects, pairs_as_array
 from ..collision.contacts import FreshPoints, ManifoldStore
 from ..collision.manifold_rows import add_manifold_row
 from ..core.bodies import DYNAMIC, STAGE_ID, Bodies
@@ -85,8 +85,8 @@ def collision_stage(
             "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
         )
     if touching:
-        queried = [row for row in store.rows_of(touching) if row is not None]
-        store.remember_queries(np.array(queried, dtype=np.int64), rotation, bodies.body_position)
+        queried = np.array(store.rows_of(touching, -1), dtype=np.int64)
+        store.remember_queries(queried[queried >= 0], rotation, bodies.body_position)
     # ---- 5. stale manifolds: pairs that separated lose their points -----------------------
     timer.run("manifolds", drop_stale_manifolds, bodies, store, pairs, active)
     return len(pairs)
@@ -106,15 +106,24 @@ def move_fcl_users(
 
     A job that an analytic rule declines to an fcl rule after all (coincident or deep box
     pairs) moves its two bodies itself (:meth:`CollisionObjects.move_shapes`)."""
-    kinds = objects.kinds
-    kind_pairs = [(kinds[a], kinds[c]) for a, c in pairs]
-    # each distinct pair of body kinds asked once (a few), not each body pair (hundreds)
-    asks_fcl = {key: PAIR_TABLE.needs_fcl(*key) for key in set(kind_pairs)}
+    if not pairs:
+        return
+    # each distinct pair of body kinds asked once (a few), not each body pair (hundreds):
+    # the pairs' kind codes as one integer each, c_a K + c_c, looked up in NumPy
+    codes = objects.kind_code[pairs_as_array(pairs)]  # (p, 2)
+    width = len(objects.code_kinds)
+    pair_code = codes[:, 0] * width + codes[:, 1]
+    distinct = np.unique(pair_code).tolist()
+    kinds = objects.code_kinds
+    asking = [
+        key for key in distinct if PAIR_TABLE.needs_fcl(kinds[key // width], kinds[key % width])
+    ]
+    if not asking:  # two boxes, say; hulls on the stage use the stage grid
+        return
     users: set[int] = set()
     near_stage: set[int] = set()
-    for (a, c), key in zip(pairs, kind_pairs, strict=True):
-        if not asks_fcl[key]:  # two boxes, say; hulls on the stage use the stage grid
-            continue
+    for k in np.flatnonzero(np.isin(pair_code, asking)).tolist():
+        a, c = pairs[k]
         if a == STAGE_ID:
             near_stage.add(c)
         else:
@@ -175,16 +184,12 @@ def touching_candidates(
     """
     first = pairs[:, 0].tolist()
     pair_list = list(zip(first, pairs[:, 1].tolist(), strict=True))  # (a, c), built in C
-    known = store.rows_of(pair_list)
-    check = [
-        k
-        for k, (a, row) in enumerate(zip(first, known, strict=True))
-        if row is None and a != STAGE_ID
-    ]
+    known = np.array(store.rows_of(pair_list, -1), dtype=np.int64)  # -1: no manifold
+    check = np.flatnonzero((known < 0) & (pairs[:, 0] != STAGE_ID))
     if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
     keep = np.ones(len(pair_list), dtype=bool)
-    keep[np.array(check)[separated_box_pairs(bodies, pairs[check], rotation)]] = False
+    keep[check[separated_box_pairs(bodies, pairs[check], rotation)]] = False
     return list(compress(pair_list, keep.tolist()))  # in order, without the apart pairs
 
 
@@ -216,8 +221,9 @@ def changed_pairs(
     depth = dot(point_a - point_b, normal)  # (p_a - p_b) . n per slot
     used = np.arange(depth.shape[1]) < store.count[rows[known], None]
     shallow = np.where(used, depth, -np.inf).max(axis=1) <= SLEEP_MAX_PENETRATION
-    skip = set(known[shallow].tolist())
-    return [pair for k, pair in enumerate(pairs) if k not in skip]
+    keep = np.ones(len(pairs), dtype=bool)
+    keep[known[shallow]] = False
+    return list(compress(pairs, keep.tolist()))
 
 
 def separated_box_pairs(bodies: Bodies, pairs: np.ndarray, rotation: np.ndarray) -> np.ndarray:

@@ -15,12 +15,18 @@ order; within a pair, the order of its rule.
 
 from __future__ import annotations
 
+from itertools import repeat
+from operator import itemgetter
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..collision.collision_objects import pairs_as_array
 from ..collision.pair_rules import ContactBatch, PairContext, PairJob
 from .pair_table import PAIR_TABLE
+
+#: the first item of a tuple: a job's sequence number, a one-shape body's only entry
+_first = itemgetter(0)
 
 if TYPE_CHECKING:
     from ..collision.collision_objects import CollisionObjects
@@ -42,25 +48,73 @@ def narrow_phase(
     :func:`reference_contacts.pair_contacts` called on each pair in turn (tested).
     """
     jobs: dict[str, list[PairJob]] = {rule.name: [] for rule in PAIR_TABLE.rules}
-    # the job list of every kind pair's rule, looked up once per shape pair
-    jobs_of_kinds = {kinds: jobs[rule.name] for kinds, rule in PAIR_TABLE.by_kinds.items()}
-    pair_of_seq: list[int] = []  # the body pair of every job, by sequence number
-    entries = objects.shape_entries  # every body's (shape, fcl object, probe object)
-    for position, (a, c) in enumerate(pairs):
-        for shape_a, object_a, _ in entries[a]:
-            for shape_c, object_c, probe_c in entries[c]:
-                kinds = (shape_a.kind, shape_c.kind)
-                if kinds not in jobs_of_kinds:
-                    PAIR_TABLE.rule_for(*kinds)  # raises the KeyError naming them
-                # PairJob(seq, shape_a, a, ...) without its Python-level __new__: a C-level
-                # tuple of the same type and fields (measured: 3.6 -> 1.6 us per job)
-                job = (len(pair_of_seq), shape_a, a, object_a, shape_c, c, object_c, probe_c, ())
-                jobs_of_kinds[kinds].append(tuple.__new__(PairJob, job))
-                pair_of_seq.append(position)
+    pair_of_seq = np.zeros(0, dtype=np.int64)  # the body pair of every job, by sequence number
+    if pairs:
+        pair_of_seq = _file_jobs(objects, pairs, jobs)
+    context, out = PairContext(bodies, objects, store, rotation), ContactBatch()
     context, out = PairContext(bodies, objects, store, rotation), ContactBatch()
     for rule in PAIR_TABLE.rules:  # in order: a fallback rule runs after the rules feeding it
         if jobs[rule.name]:
             declined = rule.batched(jobs[rule.name], context, out)
             if declined:
                 jobs[rule.fallback or ""] += declined  # the table checked the fallback exists
-    return out.sorted(np.array(pair_of_seq, dtype=np.int64))
+    return out.sorted(pair_of_seq)
+
+
+def _file_jobs(objects: CollisionObjects, pairs: list, jobs: dict[str, list[PairJob]]):
+    """Turn every shape pair of the body ``pairs`` into a :class:`PairJob` filed under its
+    rule's name in ``jobs``; returns ``pair_of_seq``, the body pair of each job.
+
+    Sequence numbers run over the pairs in order and, within a pair, over A's shapes then
+    B's. The pairs are grouped by their bodies' kinds in NumPy (``CollisionObjects.kind_code``:
+    a few groups, a box scene has one or two); a group of one-shape bodies becomes its jobs
+    by C-level maps and zips (no Python bytecode per pair), the bodies of several shapes
+    walk their shape pairs. Each
+    rule's list ends in sequence order, as one walk over the pairs would leave it.
+    """
+    entries = objects.shape_entries  # every body's (shape, fcl object, probe object)
+    kinds_of_code = objects.code_kinds
+    width = len(kinds_of_code)
+    pair_array = pairs_as_array(pairs)  # (p, 2)
+    codes = objects.kind_code[pair_array]
+    shape_counts = np.array([len(kinds) for kinds in kinds_of_code], dtype=np.int64)
+    per_pair = shape_counts[codes[:, 0]] * shape_counts[codes[:, 1]]  # jobs of each pair
+    first_seq = np.cumsum(per_pair) - per_pair
+    pair_code = codes[:, 0] * width + codes[:, 1]
+    new = tuple.__new__  # PairJob(...) without its Python-level __new__ (3.6 -> 1.6 us)
+    filled = set()
+    for key in np.unique(pair_code).tolist():
+        kinds_a, kinds_c = kinds_of_code[key // width], kinds_of_code[key % width]
+        members = np.flatnonzero(pair_code == key)
+        if len(kinds_a) == 1 and len(kinds_c) == 1:
+            rule = _rule_name(kinds_a[0], kinds_c[0])
+            body_a, body_c = pair_array[members, 0].tolist(), pair_array[members, 1].tolist()
+            # each body's one (shape, fcl object, probe) as columns, all by C-level maps
+            shapes_a, objects_a, _ = zip(
+                *map(_first, map(entries.__getitem__, body_a)), strict=True
+            )
+            shapes_c, objects_c, probes_c = zip(
+                *map(_first, map(entries.__getitem__, body_c)), strict=True
+            )
+            columns = (first_seq[members].tolist(), shapes_a, body_a, objects_a, shapes_c, body_c)
+            rows = zip(*columns, objects_c, probes_c, repeat(()), strict=False)
+            jobs[rule] += map(new, repeat(PairJob), rows)
+            filled.add(rule)
+            continue
+        for seq, position in zip(first_seq[members].tolist(), members.tolist(), strict=True):
+            a, c = pairs[position]
+            for shape_a, object_a, _ in entries[a]:
+                for shape_c, object_c, probe_c in entries[c]:
+                    rule = _rule_name(shape_a.kind, shape_c.kind)
+                    job = (seq, shape_a, a, object_a, shape_c, c, object_c, probe_c, ())
+                    jobs[rule].append(new(PairJob, job))
+                    filled.add(rule)
+                    seq += 1
+    for rule in filled:
+        jobs[rule].sort(key=_first)
+    return np.repeat(np.arange(len(pairs), dtype=np.int64), per_pair)
+
+
+def _rule_name(kind_a: str, kind_b: str) -> str:
+    """The name of the pair table's rule for two shape kinds (KeyError naming them)."""
+    return PAIR_TABLE.rule_for(kind_a, kind_b).name

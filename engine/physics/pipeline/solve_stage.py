@@ -136,9 +136,8 @@ def gather_solver_input(
     rows = rows[solvable[store.bodies[rows, 0]] | solvable[store.bodies[rows, 1]]]
     if len(rows) == 0:
         return None
-    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
-    order, color_slices, priority_starts = color_order(
-        color_manifolds(body_a, body_b, solvable), ~(solvable[body_a] & solvable[body_b])
+    order, color_slices, priority_starts, lower = solver_order(
+        store, store.bodies[rows, 0], store.bodies[rows, 1], solvable
     )
     rows = rows[order]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
@@ -150,7 +149,6 @@ def gather_solver_input(
     approach_velocity = velocity.copy()
     dynamic = b.body_motion_type[:n] == DYNAMIC
     approach_velocity[dynamic] = start_velocity[dynamic]
-    lower = lower_bodies(store.bodies[rows, 0], store.bodies[rows, 1], solvable)
     slop = np.minimum(PENETRATION_SLOP, store.feature[rows])
     return SolverInput(
         rows,
@@ -163,6 +161,32 @@ def gather_solver_input(
         velocity,
         approach_velocity,
     )
+
+
+def solver_order(
+    store: ManifoldStore, body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray
+) -> tuple[np.ndarray, list[tuple[int, int]], list[int], np.ndarray]:
+    """``(order, color_slices, priority_starts, lower)`` of the manifolds of ``body_a,
+    body_b (m,)``: :func:`color_manifolds` and :func:`color_order`, then
+    :func:`lower_bodies` of the pairs in that order.
+
+    All four are functions of the contact graph only (the pairs and which of their bodies
+    are ``solvable``), which often stays the same from one step to the next (a pile at
+    rest, a tower): then the last step's answer is reused, exactly the same arrays, instead
+    of the pure-Python greedy coloring and the level search (the memo lives on ``store``).
+    """
+    key = b"".join(
+        array.tobytes() for array in (body_a, body_b, solvable[body_a], solvable[body_b])
+    )
+    memo = store.solver_order
+    if memo.value is None or memo.key != key:
+        order, color_slices, priority_starts = color_order(
+            color_manifolds(body_a, body_b, solvable), ~(solvable[body_a] & solvable[body_b])
+        )
+        lower = lower_bodies(body_a[order], body_b[order], solvable)
+        memo.key, memo.value = key, (order, color_slices, priority_starts, lower)
+    order, color_slices, priority_starts, lower = memo.value
+    return order, list(color_slices), list(priority_starts), lower.copy()
 
 
 def color_order(

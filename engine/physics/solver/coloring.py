@@ -13,7 +13,8 @@ import numpy as np
 
 def color_manifolds(body_a: np.ndarray, body_b: np.ndarray, is_dynamic: np.ndarray) -> list:
     """Greedy coloring of manifolds: each takes the lowest color that neither of its dynamic
-    bodies uses yet (the colors a body uses are the set bits of one Python int).
+    bodies uses yet (the colors a body uses are the set bits of one Python int, so a body
+    may have any number of colors).
 
     Parameters
     ----------
@@ -24,18 +25,24 @@ def color_manifolds(body_a: np.ndarray, body_b: np.ndarray, is_dynamic: np.ndarr
     -------
     list of (k_c,) int arrays, the manifold indices of each color, in increasing order.
     """
-    colors: list[list[int]] = []
-    # used[b]: bit c is set when dynamic body b already has a manifold of color c
-    used = [0] * len(is_dynamic)
-    dyn_a, dyn_b = is_dynamic[body_a].tolist(), is_dynamic[body_b].tolist()
-    for index, (a, b) in enumerate(zip(body_a.tolist(), body_b.tolist(), strict=True)):
-        taken = (used[a] if dyn_a[index] else 0) | (used[b] if dyn_b[index] else 0)
-        color = (~taken & (taken + 1)).bit_length() - 1  # the lowest color neither uses
-        if color == len(colors):
-            colors.append([])
-        colors[color].append(index)
-        if dyn_a[index]:
-            used[a] |= 1 << color
-        if dyn_b[index]:
-            used[b] |= 1 << color
-    return [np.array(c, dtype=np.int64) for c in colors]
+    m, n = len(body_a), len(is_dynamic)
+    if m == 0:
+        return []
+    # a body the solver does not move constrains no color: it is replaced by a slot of its
+    # own (n + manifold index) that no other manifold shares, so the loop needs no test
+    own = n + np.arange(m)
+    slot_a = np.where(is_dynamic[body_a], body_a, own).tolist()
+    slot_b = np.where(is_dynamic[body_b], body_b, own).tolist()
+    # used[s]: bit c is set when slot s already has a manifold of color c
+    used = [0] * (n + m)
+    bits = []
+    for a, b in zip(slot_a, slot_b, strict=True):
+        taken = used[a] | used[b]
+        bit = ~taken & (taken + 1)  # the lowest color neither uses, as a bit
+        used[a] |= bit
+        used[b] |= bit
+        bits.append(bit)
+    color = np.array(list(map(int.bit_length, bits)), dtype=np.int64) - 1
+    order = np.argsort(color, kind="stable")  # by color, manifold order kept inside one
+    stops = np.cumsum(np.bincount(color))
+    return np.split(order, stops[:-1])

@@ -34,11 +34,7 @@ def stage_rows_last(batch, flat, bias, settings: SolverSettings) -> None:
     over the dynamic pairs with the lower body held fixed (:func:`shock_rows`).
 
     Reference: :func:`reference_solver.stage_rows_last`."""
-    stage = [
-        (start, stop)
-        for (_, stop), start in zip(batch.color_slices, batch.priority_starts, strict=True)
-    ]
-    sweeps = _sweep_blocks(batch, "stage", stage, _lumped(batch))
+    sweeps = _stage_blocks(batch)
     _lumped_sweeps(sweeps, lumped_rows(batch, bias), flat, settings.stage_iterations)
     shock = shock_rows(batch)
     if shock is not None:
@@ -87,11 +83,36 @@ def shock_rows(batch: ContactBatch) -> LumpedRows | None:
     return batch.cache.shock
 
 
+def _stage_blocks(batch: ContactBatch) -> list[tuple]:
+    """The sweep blocks of the stage rows (the last rows of each color): one block of all
+    of them when no body the sweep moves is in two of them (the usual case: one manifold
+    with the stage per body), since then the colors' order changes no number; otherwise one
+    block per color, in color order (Gauss-Seidel). Made once per batch."""
+    if "stage" not in batch.cache.sweeps:
+        rows = _lumped(batch)
+        ranges = [
+            (start, stop)
+            for (_, stop), start in zip(batch.color_slices, batch.priority_starts, strict=True)
+        ]
+        index = np.concatenate([np.arange(start, stop) for start, stop in ranges])
+        # the bodies each stage row moves: those whose half of W is not zero
+        moves = rows.w[index, :, 0].reshape(-1, 2, 6).any(axis=2)  # (k, 2)
+        moved = batch.pair_bodies[index][moves]
+        if len(index) and len(np.unique(moved)) == len(moved):
+            gather = velocity_gather(batch.pair_bodies[index])
+            block = (index, gather, rows.jac[index], rows.w[index], rows.neg_mass[index])
+            batch.cache.sweeps["stage"] = [block]
+        else:
+            _sweep_blocks(batch, "stage", ranges, rows)
+    return batch.cache.sweeps["stage"]
+
+
 def _sweep_blocks(batch, key: str, ranges, rows: LumpedRows) -> list[tuple]:
     """Per non-empty manifold range ``(start, stop)`` (one per color): ``(s, gather, J, W,
-    -m_eff)``, the slice, the flat velocity indices of its bodies and the views of its
-    ``rows``; made once per batch and kept in ``batch.cache.sweeps[key]``, since the
-    velocity and the position solve sweep the same rows (only their biases differ)."""
+    -m_eff)``, the slice (an index array for :func:`_stage_blocks`' single block), the flat
+    velocity indices of its bodies and the views of its ``rows``; made once per batch and
+    kept in ``batch.cache.sweeps[key]``, since the velocity and the position solve sweep
+    the same rows (only their biases differ)."""
     if key not in batch.cache.sweeps:
         blocks = []
         for start, stop in ranges:
