@@ -26,7 +26,9 @@ and at the end.
 The CI test ``tests/reliability/test_soak.py`` runs 2000 operations; this script runs 10^4
 with a progress bar and prints the figures::
 
-    python benchmarks/soak.py [--ops 10000] [--seed 0]
+    python benchmarks/soak.py [--ops 10000] [--seed 0] [--walls]
+
+``--walls`` soaks only cones and capsules, most operations pushing them toward the walls.
 """
 
 from __future__ import annotations
@@ -90,6 +92,13 @@ ALL_TEMPLATES = (
 CI_TEMPLATES = ("cubeSolid", "uvSphereSolid", "soak_cone", "soak_capsule", "cheezit")
 CI_MAX_OBJECTS = 10
 CI_OPERATIONS = {**OPERATIONS, "step": 20}
+#: ``--walls``: only cones and capsules, pushed, forced and struck toward the walls
+WALL_TEMPLATES = ("soak_cone", "soak_capsule")
+WALL_MAX_OBJECTS = 12
+WALL_OPERATIONS = {
+    "add": 3, "remove": 1, "teleport": 2, "linear_velocity": 2, "force": 8, "impulse": 8,
+    "push_wall": 16, "torque": 2, "step": 40,
+}  # fmt: skip
 
 
 @dataclass
@@ -467,8 +476,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ops", type=int, default=10_000)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--walls", action="store_true", help="only cones and capsules, pushed against walls"
+    )
     args = parser.parse_args()
-    report = run_soak(args.ops, args.seed, progress=True)
+    if args.walls:
+        report = run_soak(
+            args.ops, args.seed, True, None, WALL_TEMPLATES, WALL_MAX_OBJECTS, WALL_OPERATIONS
+        )
+    else:
+        report = run_soak(args.ops, args.seed, progress=True)
     print(report.summary())
 
 
