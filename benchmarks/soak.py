@@ -1,7 +1,10 @@
 """Seeded soak: thousands of mixed API operations on the demo apartment, checked after each.
 
-Operations, drawn with fixed weights from one seeded generator: add an object (cube, sphere
-or one of the tutorial's example objects) above a random navigable point, remove one,
+Operations, drawn with fixed weights from one seeded generator: add an object (cube, sphere,
+a 25 cm cone, a 27 cm capsule or one of the tutorial's example objects) above a random
+navigable point, remove one, push one against a wall (a horizontal impulse of 1-4 m/s and a
+force toward the stage surface a horizontal ray from its center meets within 2 m, both at a
+point off its center),
 teleport one, set linear / angular velocities (at most 4 m/s, 5 rad/s), apply forces,
 torques and impulses (at most 2 m/s of velocity change), change the motion type, turn
 velocity control on or off (at most 1 m/s), step the physics by 1/60 s, cast a ray, render
@@ -11,7 +14,12 @@ After every operation: no NaN or inf in any live body, the manager's object coun
 soak's own list of live wrappers and the world's live bodies (stage excluded). After every
 step: a DYNAMIC object that was put inside the apartment, never made kinematic/static or
 driven by kinematic velocity control since, and now lies outside the stage's bounding box
-grown by 0.5 m (below the floor or beyond a wall) is *lost*: recorded, then removed.
+grown by 0.5 m (below the floor or beyond a wall) is *lost*: recorded, then removed. Such an
+object whose true shape (its lowest hull vertex in the world) is more than 2 cm below the
+stage surface under it (rays cast down onto the stage alone from the object's center, from
+above that vertex and from four points 2 cm beside it: the least depth), six steps or more
+after it was put inside, has *sunk*: recorded with its depth. At the end every object rests
+for 2 s and its final depth is measured the same way.
 Memory is the process's resident set size, read after a warm-up (10 % of the operations)
 and at the end.
 
@@ -39,6 +47,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import engine as habitat_sim  # noqa: E402
 from engine.demo import demo_data_path  # noqa: E402
 from engine.physics import MotionType  # noqa: E402
+from engine.physics.core.quaternions import quat_to_matrix  # noqa: E402
+from engine.physics.objects.queries import cast_ray_bodies  # noqa: E402
 from engine.sensors import CameraSensorSpec, SensorType  # noqa: E402
 
 #: operation -> weight (probability proportional to it)
@@ -51,6 +61,7 @@ OPERATIONS = {
     "force": 5,
     "torque": 3,
     "impulse": 4,
+    "push_wall": 6,
     "motion_type": 4,
     "velocity_control": 4,
     "step": 40,
@@ -61,9 +72,22 @@ MAX_OBJECTS = 24  # an "add" with this many objects removes one instead
 MAX_SPEED = 4.0  # m/s
 MAX_SPIN = 5.0  # rad/s
 LOST_MARGIN = 0.5  # m, outside the stage's bounding box by more than this is lost
-ALL_TEMPLATES = ("cubeSolid", "uvSphereSolid", "cheezit", "banana", "chefcan", "mug")
+SINK_TOLERANCE = 0.02  # m, the lowest hull vertex this far below the stage under it has sunk
+SETTLE_STEPS = 6  # steps after being put inside before an object's depth counts
+REST_STEPS = 120  # steps of rest at the end before the final depths
+#: soak templates of Habitat's default cone and capsule primitives, scaled to 10 cm radii
+PRIMITIVES = {
+    "soak_cone": "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false"
+    "_useTangents_false_capEnd_true",
+    "soak_capsule": "capsule3DSolid_hemiRings_4_cylRings_1_segments_12_halfLen_0.75"
+    "_useTexCoords_false_useTangents_false",
+}
+ALL_TEMPLATES = (
+    "cubeSolid", "uvSphereSolid", "soak_cone", "soak_capsule", "cheezit", "banana", "chefcan",
+    "mug",
+)  # fmt: skip
 #: the CI test's lighter mix: cheaper objects, fewer of them, fewer steps
-CI_TEMPLATES = ("cubeSolid", "uvSphereSolid", "cheezit")
+CI_TEMPLATES = ("cubeSolid", "uvSphereSolid", "soak_cone", "soak_capsule", "cheezit")
 CI_MAX_OBJECTS = 10
 CI_OPERATIONS = {**OPERATIONS, "step": 20}
 
@@ -79,6 +103,11 @@ class SoakReport:
     max_objects: int = 0
     #: (operation index, handle, position, the last operations on that object)
     lost: list = field(default_factory=list)
+    #: (operation index, handle, depth in m, the last operations on that object)
+    sunk: list = field(default_factory=list)
+    deepest: float = 0.0  # m, the deepest lowest-vertex depth seen after settling
+    final_deepest: float = 0.0  # m, the deepest one after the final rest
+    final_by_kind: dict = field(default_factory=dict)  # template -> deepest final depth, m
     rss_after_warmup_mb: float = 0.0
     rss_end_mb: float = 0.0
     peak_rss_mb: float = 0.0
@@ -100,6 +129,15 @@ class SoakReport:
                 f"\n  op {i}: {h} at {np.round(p, 2).tolist()} after {history}"
                 for i, h, p, history in self.lost
             )
+            + f"\nsunk (lowest hull vertex > {SINK_TOLERANCE * 100:.0f} cm below the stage "
+            f"under it): {len(self.sunk)}, deepest {self.deepest * 100:.2f} cm"
+            + "".join(
+                f"\n  op {i}: {h} {d * 100:.1f} cm after {history}"
+                for i, h, d, history in self.sunk
+            )
+            + f"\nafter {REST_STEPS} steps of rest: deepest {self.final_deepest * 100:.2f} cm ("
+            + ", ".join(f"{k} {v * 100:.2f}" for k, v in sorted(self.final_by_kind.items()))
+            + ")"
             + f"\nresident memory: {self.rss_after_warmup_mb:.1f} MB after warm-up, "
             f"{self.rss_end_mb:.1f} MB at the end (growth {self.memory_growth_mb:+.1f} "
             f"MB), peak {self.peak_rss_mb:.1f} MB"
@@ -142,6 +180,11 @@ class Soak:
         self.sim = habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent_cfg]))
         library = self.sim.get_object_template_manager()
         library.load_configs(str(data / "objects/example_objects"))
+        for name, primitive in PRIMITIVES.items():
+            template = library.create_new_template(name)
+            template.render_asset_handle = template.collision_asset_handle = primitive
+            template.scale = [0.1, 0.1, 0.1]
+            library.register_template(template, name)
         self.handles = [library.get_template_handles(name)[0] for name in templates]
         self.max_objects = max_objects
         self.manager = self.sim.get_rigid_object_manager()
@@ -157,6 +200,10 @@ class Soak:
         self.history: dict[int, list] = {}  # object id -> its last operations
         self.picked: int | None = None  # the object the current operation used
         self.tracked: set[int] = set()  # dynamic since put inside: may not leave the stage
+        self.steps = 0  # steps run so far
+        self.placed: dict[int, int] = {}  # object id -> the step count when put inside
+        self.kinds: dict[int, str] = {}  # object id -> its template's short name
+        self.depths_checked_at = 0  # the step count at the last depth check
 
     # -- helpers ------------------------------------------------------------------------
     def _pick(self):
@@ -185,6 +232,8 @@ class Soak:
         obj.rotation = habitat_sim.mn.to_quaternion(self.rng.normal(size=4))
         self.objects[obj.object_id] = obj
         self.tracked.add(obj.object_id)
+        self.placed[obj.object_id] = self.steps
+        self.kinds[obj.object_id] = Path(handle).name.split(".")[0]
         self.picked = obj.object_id
 
     def remove(self) -> None:
@@ -202,6 +251,7 @@ class Soak:
         obj = self._pick()
         if obj is not None:
             obj.translation = self._inside_point()
+            self.placed[obj.object_id] = self.steps
             if obj.motion_type == MotionType.DYNAMIC and not self._kinematic_control(obj):
                 self.tracked.add(obj.object_id)
 
@@ -216,6 +266,20 @@ class Soak:
     def force(self) -> None:
         if (obj := self._pick()) is not None:  # at most 2 m/s over one 1/60 s frame
             obj.apply_force(self._vector(120.0 * obj.mass), self._vector(0.05))
+
+    def push_wall(self) -> None:
+        """Push a dynamic object toward the wall a horizontal ray from its center meets."""
+        obj = self._pick()
+        if obj is None or obj.motion_type != MotionType.DYNAMIC:
+            return
+        angle = self.rng.uniform(0.0, 2.0 * np.pi)
+        direction = np.array([np.cos(angle), 0.0, np.sin(angle)])
+        center = np.asarray(obj.translation)
+        if not cast_ray_bodies(self.world.bodies, [0], center, direction, 2.0):
+            return
+        offset = self._vector(0.05)
+        obj.apply_impulse(direction * self.rng.uniform(1.0, 4.0) * obj.mass, offset)
+        obj.apply_force(direction * 120.0 * obj.mass, offset)
 
     def torque(self) -> None:
         if (obj := self._pick()) is not None:
@@ -256,6 +320,7 @@ class Soak:
 
     def step(self) -> None:
         self.sim.step_physics(1.0 / 60.0)
+        self.steps += 1
 
     def ray(self) -> int:
         origin = self._inside_point()
@@ -304,6 +369,53 @@ class Soak:
             report.lost.append((op_index, obj.handle, position, history))
             self._forget(object_id)
             self.manager.remove_object_by_id(object_id)
+        if self.steps == self.depths_checked_at:
+            return  # the depths change only when the world steps
+        self.depths_checked_at = self.steps
+        awake = self.world.bodies.body_awake
+        for object_id in sorted(self.tracked):
+            if self.steps - self.placed.get(object_id, 0) < SETTLE_STEPS or not awake[object_id]:
+                continue  # settling, or asleep (checked while it came to rest)
+            depth = self.depth_below_stage(object_id)
+            report.deepest = max(report.deepest, depth)
+            if depth > SINK_TOLERANCE:
+                history = self.history.get(object_id, [])[-6:]
+                report.sunk.append((op_index, self.objects[object_id].handle, depth, history))
+
+    def depth_below_stage(self, object_id: int) -> float:
+        """How far (m) the object's lowest hull vertex is below the stage surface under it,
+        0 when above: the least depth below rays cast down onto the stage alone from the
+        object's center and from above the vertex and four points ``SINK_TOLERANCE`` beside
+        it (a vertex touching the side of a step, or a body over a table with a foot on the
+        floor, is then not taken for sunk into the step or the table)."""
+        b = self.world.bodies
+        rotation = quat_to_matrix(b.body_rotation[object_id])
+        points = np.concatenate([shape.hull_vertices for shape in b.shapes[object_id]])
+        world = points @ rotation.T + b.body_position[object_id]
+        lowest = world[np.argmin(world[:, 1])]
+        center = b.body_position[object_id]
+        tops = [
+            np.array([lowest[0] + dx * SINK_TOLERANCE, center[1], lowest[2] + dz * SINK_TOLERANCE])
+            for dx, dz in ((0, 0), (1, 0), (-1, 0), (0, 1), (0, -1))
+        ] + [center]
+        depth = np.inf
+        for top in tops:  # the least depth: stop at the first ray that finds none
+            hits = cast_ray_bodies(b, [0], top, np.array([0.0, -1.0, 0.0]), 5.0)
+            surface = hits[0][2][1] if hits else -np.inf
+            depth = min(depth, max(0.0, float(surface - lowest[1])))
+            if depth == 0.0:
+                break
+        return depth
+
+    def rest_depths(self, report: SoakReport) -> None:
+        """Step ``REST_STEPS`` times, then record each tracked object's depth by template."""
+        for _ in range(REST_STEPS):
+            self.step()
+        for object_id in sorted(self.tracked):
+            depth = self.depth_below_stage(object_id)
+            kind = self.kinds[object_id]
+            report.final_deepest = max(report.final_deepest, depth)
+            report.final_by_kind[kind] = max(report.final_by_kind.get(kind, 0.0), depth)
 
 
 def run_soak(
@@ -344,6 +456,7 @@ def run_soak(
         if op_index + 1 == warmup:
             report.rss_after_warmup_mb = resident_mb()
     report.wall_seconds = time.perf_counter() - start
+    soak.rest_depths(report)
     report.rss_end_mb = resident_mb()
     report.peak_rss_mb = peak_mb()
     soak.sim.close()

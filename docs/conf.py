@@ -9,22 +9,31 @@ The theme is Furo (navigation sidebar and Sphinx's own offline search).
 
 from __future__ import annotations
 
+import os
+import re
 import shutil
 import sys
 from datetime import date
+from importlib.metadata import PackageNotFoundError
 from importlib.metadata import version as package_version
 from pathlib import Path
 
 import jupyter_server_mathjax
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent if (HERE.parent / "engine").is_dir() else Path.cwd()
+# the checkout: docs/.. when built in place, else the folder scripts/build_docs.py names (it
+# builds from a copy of docs/ laid out under build/)
+ROOT = Path(os.environ.get("RIGIDSIM_DOCS_ROOT", HERE.parent)).resolve()
 sys.path.insert(0, str(ROOT))
 
 project = "rigidsim"
 author = "the rigidsim authors"
 copyright = f"2025-{date.today().year}, {author}"
-release = package_version("rigidsim")
+try:
+    release = package_version("rigidsim")
+except PackageNotFoundError:  # a checkout that is not installed: the version pyproject.toml gives
+    _PYPROJECT = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    release = re.search(r'^version = "([^"]+)"', _PYPROJECT, re.MULTILINE).group(1)
 version = release
 
 extensions = [
@@ -51,6 +60,17 @@ autodoc_typehints = "description"
 autodoc_member_order = "bysource"
 napoleon_numpy_docstring = True
 napoleon_google_docstring = True
+# every reference into rigidsim must name something (docs/api_hooks.py resolves names written
+# relative to their package and leaves types outside rigidsim as plain text)
+nitpicky = True
+
+
+# local extensions: docs/api_hooks.py (exports listed as links, names in types resolved as
+# Python resolves them, attribute comments kept as prose) and docs/search_offline.py (search
+# results with text on a site opened from disk)
+sys.path.insert(0, str(HERE))
+extensions += ["api_hooks", "search_offline"]
+
 
 # --- math with no network: MathJax 2 from the jupyter-server-mathjax package -----------------
 _MATHJAX = Path(jupyter_server_mathjax.__file__).parent / "static"
@@ -87,4 +107,4 @@ html_title = f"rigidsim {release}"
 html_static_path = ["_static"]
 html_show_sourcelink = False
 # ambiguous short names (a class re-exported by its package) resolve to either page: fine
-suppress_warnings = ["mystnb.unknown_mime_type", "myst.header", "ref.python"]
+suppress_warnings = ["mystnb.unknown_mime_type", "myst.header"]

@@ -9,7 +9,9 @@
     engine.HitRecord, engine.Agent, engine.ActionSpec, engine.ActuationSpec, engine.SceneGraph,
     engine.GreedyGeodesicFollower, engine.registry, engine.errors, engine.nav
 
-and ``from engine import mn`` replaces ``import magnum as mn``. Names are resolved lazily
+and ``from engine import mn`` replaces ``import magnum as mn``. To run unchanged Habitat code
+(``import habitat_sim``, ``import magnum``), install the opt-in import alias:
+``engine.habitat_compat.alias.install()`` (see ``docs/habitat_lab.md``). Names are resolved lazily
 (PEP 562), so ``from engine import mn`` does not load the physics or the renderer.
 Like ``import habitat_sim``, importing ``engine`` imports numpy-quaternion, which registers
 ``np.quaternion`` (Habitat code writes ``np.quaternion(w, x, y, z)`` after ``import numpy``).
@@ -64,6 +66,9 @@ _LAZY = {
     "built_with_bullet": "engine.bindings",
     "cuda_enabled": "engine.bindings",
     "audio_enabled": "engine.bindings",
+    # placeholders: rigidsim has no batch replay renderer (engine.sensors.replay)
+    "ReplayRenderer": "engine.sensors.replay",
+    "ReplayRendererConfiguration": "engine.sensors.replay",
 }
 _SUBMODULES = {
     "agent",
@@ -77,6 +82,7 @@ _SUBMODULES = {
     "scene",
     "nav",
     "gfx",
+    "habitat_compat",
     "metadata",
     "physics",
     "registry",
@@ -86,7 +92,13 @@ _SUBMODULES = {
     "utils",
 }
 
-__all__ = ["mn", *sorted(_LAZY), *sorted(_SUBMODULES)]
+#: Habitat's submodules that rigidsim keeps under another name (engine.habitat_compat)
+_RENAMED_SUBMODULES = {
+    "sim": "engine.habitat_compat.sim",
+    "_ext": "engine.habitat_compat.ext",
+}
+
+__all__ = ["mn", *sorted(_LAZY), *sorted(_SUBMODULES), "sim"]
 
 try:
     __version__: str = version("rigidsim")  # the installed distribution's version
@@ -99,4 +111,6 @@ def __getattr__(name: str) -> Any:
         return getattr(importlib.import_module(_LAZY[name]), name)
     if name in _SUBMODULES:
         return importlib.import_module(f"engine.{name}")
+    if name in _RENAMED_SUBMODULES:
+        return importlib.import_module(_RENAMED_SUBMODULES[name])
     raise AttributeError(f"module 'engine' has no attribute {name!r}")

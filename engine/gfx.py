@@ -20,10 +20,14 @@ rigidsim's rasterizer modulates a pixel by one gray factor, so a light's color a
 its mean intensity (a deliberate difference, in the README). rigidsim's default setup keeps
 its historic 4 directional lights of intensity 0.5 (Habitat 0.3's default is 5 lights tuned
 for its PBR shader).
+
+``DebugLineRender`` (``sim.get_debug_line_render()``) is importable from here as in Habitat; it
+is :class:`engine.sensors.debug_lines.DebugLineRender`, resolved on first use.
 """
 
 from __future__ import annotations
 
+import importlib
 from typing import Any
 
 import numpy as np
@@ -183,3 +187,12 @@ class LightSetups:
         if lights is None:
             lights = self._render_lights.setdefault(key, to_render_lights([]))
         return lights
+
+
+def __getattr__(name: str) -> Any:
+    """Habitat's ``habitat_sim.gfx.DebugLineRender`` lives in :mod:`engine.sensors.debug_lines`
+    (the sensors draw the lines); like :mod:`engine.bindings`, this face resolves it by name
+    on first use, so the gfx module stays below the sensors."""
+    if name == "DebugLineRender":
+        return importlib.import_module("engine.sensors.debug_lines").DebugLineRender
+    raise AttributeError(f"module 'engine.gfx' has no attribute {name!r}")

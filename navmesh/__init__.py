@@ -15,7 +15,8 @@ Build pipeline (``navmesh.build.build_navmesh``, after Recast's ``handleBuild``)
 8. erode: the walkable area shrinks by ``agent_radius`` (chamfer distance transform);
 9. islands: connected components; islands under ``region_min_size**2`` cells are dropped.
 
-Queries (``PathFinder``): snapping and sampling, Dijkstra + string-pulled any-angle paths,
+Queries (``PathFinder``): snapping and sampling, exact shortest paths (Dijkstra over the
+visibility graph of the navmesh's reflex corners) and the per-goal distance field,
 ``try_step`` / ``try_step_no_sliding`` (Detour's moveAlongSurface contract), obstacle
 distance, top-down maps, ``.navmesh`` save/load (an ``.npz`` archive, see
 ``navmesh.navmesh_data``). ``navmesh.topdown.plot_topdown`` draws the map with matplotlib.

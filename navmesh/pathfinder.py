@@ -31,7 +31,7 @@ from navmesh.build import build_navmesh
 from navmesh.geodesic_field import GeodesicField
 from navmesh.maps import check_topdown_arguments, topdown_island_view
 from navmesh.navmesh_data import NavMeshData
-from navmesh.path_query import best_path
+from navmesh.path_query import best_path, path_length
 from navmesh.polygons import navmesh_polygons
 from navmesh.proximity import (
     closest_boundary_point,
@@ -41,9 +41,9 @@ from navmesh.proximity import (
 )
 from navmesh.query import NavGrid
 from navmesh.records import HitRecord, MultiGoalShortestPath, ShortestPath, as_point, nan3
-from navmesh.search import GridGraph, path_length
 from navmesh.settings import NAVIGABLE_XZ_TOLERANCE, NavMeshSettings
 from navmesh.step_filter import try_step
+from navmesh.visibility import CornerGraph
 
 __all__ = ["HitRecord", "MultiGoalShortestPath", "PathFinder", "ShortestPath", "as_point"]
 
@@ -56,7 +56,7 @@ class PathFinder:
     def __init__(self) -> None:
         self._data: NavMeshData | None = None
         self._grid: NavGrid | None = None
-        self._graph: GridGraph | None = None
+        self._corners: CornerGraph | None = None
         self._island_radius: np.ndarray | None = None
         self._rng = np.random.default_rng(0)
 
@@ -93,7 +93,7 @@ class PathFinder:
             warnings.warn(f"load_nav_mesh: {err}; the previous navmesh is kept", stacklevel=2)
             return False
         self._data, self._grid = data, grid
-        self._graph, self._island_radius = None, None
+        self._island_radius, self._corners = None, None
         return True
 
     def save_nav_mesh(self, path: str | Path) -> bool:
@@ -105,7 +105,7 @@ class PathFinder:
 
     def _install(self, data: NavMeshData) -> None:
         self._data, self._grid = data, NavGrid(data)
-        self._graph, self._island_radius = None, None
+        self._island_radius, self._corners = None, None
 
     @property
     def is_loaded(self) -> bool:
@@ -288,7 +288,7 @@ class PathFinder:
         start = as_point(path.requested_start, "requested_start")
         self._require()
         path.points, path.geodesic_distance = [], math.inf
-        index, points = best_path(self._require_grid(), self._grid_graph(), start, ends)
+        index, points = best_path(self._require_grid(), self._corner_graph(), start, ends)
         if isinstance(path, MultiGoalShortestPath):
             path.closest_end_point_index = index
         if index < 0:
@@ -296,19 +296,20 @@ class PathFinder:
         path.points, path.geodesic_distance = points, path_length(points)
         return True
 
-    def _grid_graph(self) -> GridGraph:
-        """The graph of navigable squares for Dijkstra, built on first use."""
-        if self._graph is None:
-            self._graph = GridGraph(self._require_grid())
-        return self._graph
-
     def geodesic_field(self, goal: ArrayLike) -> GeodesicField:
-        """Geodesic distances to ``goal`` from everywhere, from one Dijkstra search.
+        """Geodesic distances to ``goal`` from everywhere, from one search from the goal.
 
-        ``field.distance(point)`` then answers in microseconds (see ``navmesh.geodesic_field``
-        for the rule and its accuracy); a greedy follower asks it once per candidate action.
+        ``field.distance(point)`` is ``find_path``'s geodesic distance from ``point`` (the same
+        search over the visibility graph, see ``navmesh.geodesic_field``), answered without a
+        new search; a greedy follower asks it once per candidate action.
         """
-        return GeodesicField(self._require_grid(), self._grid_graph(), as_point(goal, "goal"))
+        return GeodesicField(self._require_grid(), self._corner_graph(), as_point(goal, "goal"))
+
+    def _corner_graph(self) -> CornerGraph:
+        """The navmesh's reflex corners and their visibility rows, built on first use."""
+        if self._corners is None:
+            self._corners = CornerGraph(self._require_grid())
+        return self._corners
 
     # -- stepping ----------------------------------------------------------------------------
     def try_step(self, start: ArrayLike, end: ArrayLike) -> np.ndarray:

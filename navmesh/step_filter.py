@@ -8,7 +8,7 @@ This is the contract of Detour's ``dtNavMeshQuery::moveAlongSurface`` as Habitat
    different islands, return ``start`` unchanged. An ``end`` merely *off* the mesh (within the
    box) is not a failure: the agent moves toward it.
 2. Sliding (``allow_sliding=True``): Detour floods the polygons connected to the start whose
-   area touches the disk centred on the midpoint of start-end with radius |end - start| / 2,
+   area touches the disk centred on the midpoint of start-end with radius ``|end - start| / 2``,
    and returns the point of those polygons closest to ``end``. Here the polygons are grid
    squares. If ``end`` lies in a visited square the result is ``end``; otherwise it is the
    closest point on the reached boundary, i.e. the step slides along the wall.

@@ -6,14 +6,16 @@ contiguous ``(T,)`` array. NumPy is fast on long 1-D arrays and slow on small ax
 (a reduction over an axis of length 3 costs ~40 ns per row), so all per-triangle math here
 and in ``render.raster`` is written on these 1-D columns.
 
-Stages (numbered as in ``render_frame``, ``render/__init__.py``)
----------------------------------------------------------------
+Stages 2-3 (numbered as in ``render_frame``, ``render/__init__.py``)
+--------------------------------------------------------------------
 2. ``vertex_outcodes`` / ``triangles_in_frustum``: Cohen-Sutherland outcodes. Each vertex
    gets one bit per frustum plane it lies outside of; a triangle whose three corners share
    a bit lies entirely outside that plane and is dropped. Pinhole side planes pass through
    the eye: ``px < 0 <=> cx + fx x / z < 0 <=> fx x + cx z < 0`` with z = -z_camera.
+
 3. ``front_facing`` (optional back-face culling): counter-clockwise corners seen from the
    eye, i.e. ``n . (P0 - eye) < 0`` with ``n = (P1 - P0) x (P2 - P0)``.
+
 3. ``clip_near``: Sutherland-Hodgman against the plane ``z_camera = -near`` for one plane:
    one corner in front -> 1 triangle, two corners in front -> a quad = 2 triangles.
 """

@@ -1,9 +1,11 @@
 """Triangle rasterization with a z-buffer: setup, scanline spans, depth test.
 
-Stages (numbered as in ``render_frame``, ``render/__init__.py``: each a function below,
-after culling and near clipping, stages 2-3 in ``render.cull``; triangle batches use the
-corner-major ``(3, 3, T)`` layout described there)
----------------------------------------------------------------------------------------
+Stages 4-6 (numbered as in ``render_frame``, ``render/__init__.py``)
+--------------------------------------------------------------------
+
+Each stage is a function below; culling and near clipping, stages 2-3, are in
+``render.cull``; triangle batches use the corner-major ``(3, 3, T)`` layout described there.
+
 4. ``plane_coefficients`` (triangle setup, beside ``project_triangles``): per source
    triangle, three functions that are *affine in pixel coordinates* (the key fact of
    perspective-correct interpolation)::
@@ -25,6 +27,7 @@ corner-major ``(3, 3, T)`` layout described there)
    with ``np.minimum.at`` (depth test and tie break in one pass: the bit patterns of
    positive float32 numbers sort like the numbers, and equal depths keep the lower
    triangle index, so the result is deterministic).
+
 Reading the z-buffer back and interpolating attributes at the visible pixels (stages 7-8)
 are in ``render.resolve``.
 

@@ -8,6 +8,7 @@ Python) and is not used by the engine. Its steps carry the numbers of ``render_f
 stages (``render/__init__.py``):
 
 1. vertex stage: ``P = camera_from_world @ world_from_mesh @ p``;
+
 3. Sutherland-Hodgman clipping of the polygon against the near plane ``z_camera <= -near``,
    then a fan of triangles. Every corner carries its barycentric coordinates ``beta`` in the
    *original* triangle (the unit vectors for its own corners, interpolated along clipped

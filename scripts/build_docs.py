@@ -9,8 +9,14 @@ Steps:
    interpreter, in a scratch folder), or from an already executed copy given with
    ``--executed DIR`` (the test suite's notebook test leaves one there, so CI runs each notebook
    once); absolute paths of the scratch folder and of the repository are removed from outputs;
-3. ``sphinx-build`` writes the HTML site to ``<out>/`` (default ``build/docs/``), MathJax
+3. the measurement reports that pages link (``../benchmarks/results/<name>.md``) become pages
+   of the site;
+4. ``sphinx-build`` writes the HTML site to ``<out>/`` (default ``build/docs/``), MathJax
    copied from the ``jupyter-server-mathjax`` package so that equations render with no network.
+   Warnings are errors (``-W --keep-going``: all of them are listed, then the build fails), so
+   the site never builds with a malformed docstring, a dead link or an object described twice;
+   ``tests/notebooks/test_site.py`` also fails on any ``WARNING``/``ERROR`` line of the
+   build's output (a notebook kernel's included).
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -28,6 +35,7 @@ from pathlib import Path
 import nbformat
 from nbclient import NotebookClient
 from tqdm import tqdm
+from traitlets.config import Config
 
 LOG = logging.getLogger("rigidsim.docs")
 ROOT = Path(__file__).resolve().parents[1]
@@ -89,8 +97,12 @@ def execute_notebook(path: Path, fast: bool) -> nbformat.NotebookNode:
         os.environ["RIGIDSIM_FAST"] = "1"
     try:
         with tempfile.TemporaryDirectory(prefix="rigidsim-docs-") as scratch:
+            # the kernel talks over local sockets (IPC) in the scratch folder: over TCP
+            # without encryption keys, every kernel would log a warning into the build's output
+            sockets = os.path.join(scratch, "kernel-ipc")  # absolute: the kernel runs elsewhere
             client = NotebookClient(
                 notebook,
+                config=Config({"KernelManager": {"transport": "ipc", "ip": sockets}}),
                 timeout=CELL_TIMEOUT_S,
                 kernel_name="python3",
                 resources={"metadata": {"path": scratch}},
@@ -103,11 +115,40 @@ def execute_notebook(path: Path, fast: bool) -> nbformat.NotebookNode:
     return notebook
 
 
+REPORT_LINK = re.compile(r"\]\(\.\./benchmarks/results/([\w.-]+\.md)\)")
+
+
+def add_linked_reports(src: Path) -> None:
+    """Give every measurement report a page links to a page of its own in the site.
+
+    A page of ``docs/`` links a report as ``../benchmarks/results/<name>.md`` (the path that
+    works when the page is read in the repository); in the site the report becomes the page
+    ``reports/<name>``, the link points to it, and a "Measurement reports" table of contents
+    lists the reports.
+    """
+    names: set[str] = set()
+    for page in sorted(src.glob("*.md")):
+        text = page.read_text(encoding="utf-8")
+        names |= set(REPORT_LINK.findall(text))
+        linked = REPORT_LINK.sub(lambda match: f"](reports/{match.group(1)})", text)
+        if linked != text:
+            page.write_text(linked, encoding="utf-8")
+    if not names:
+        return
+    (src / "reports").mkdir()
+    for name in sorted(names):
+        shutil.copy2(ROOT / "benchmarks" / "results" / name, src / "reports" / name)
+    toc = ["", "```{toctree}", ":caption: Measurement reports", ":maxdepth: 1", ":glob:", ""]
+    with (src / "index.md").open("a", encoding="utf-8") as index:
+        index.write("\n".join([*toc, "reports/*", "```", ""]))
+
+
 def lay_out_sources(src: Path, executed_dir: Path | None, fast: bool) -> None:
-    """Fill ``src`` with the docs pages and the executed notebooks."""
+    """Fill ``src`` with the docs pages, the reports they link and the executed notebooks."""
     if src.exists():
         shutil.rmtree(src)
     shutil.copytree(ROOT / "docs", src)
+    add_linked_reports(src)
     (src / "notebooks").mkdir()
     notebooks = sorted((ROOT / "notebooks").glob("*.ipynb"))
     home = str(Path.home())
@@ -134,7 +175,7 @@ def scrub_site(out: Path, folders: list[str]) -> None:
     """Remove absolute folders from the written pages (autodoc prints the values of module
     constants, and a module object's repr holds its file's absolute path)."""
     folders = sorted({f.rstrip("/") for f in folders if f}, key=len, reverse=True)
-    for path in [*out.rglob("*.html"), out / "searchindex.js"]:
+    for path in [*out.rglob("*.html"), out / "searchindex.js", out / "_static" / "search_pages.js"]:
         if not path.is_file():
             continue
         text = path.read_text(encoding="utf-8")
@@ -164,6 +205,12 @@ def package_modules() -> dict[str, list[str]]:
     return packages
 
 
+# Each object is described once, in the section of the module that defines it: a package's
+# ``__all__`` re-exports names of its modules, which autodoc would otherwise describe again
+# (three ``apply_impulse`` in the search); docs/conf.py lists a module's exports as links.
+AUTOMODULE_OPTIONS = ["   :members:", "   :ignore-module-all:"]
+
+
 def write_api_pages(src: Path) -> None:
     """One API page per package, one section per module, rendered by autodoc from docstrings."""
     api = src / "api"
@@ -173,8 +220,12 @@ def write_api_pages(src: Path) -> None:
         for module in modules:
             if module != package:
                 lines += [f"## `{module}`", ""]
-            lines += ["```{eval-rst}", f".. automodule:: {module}", "   :members:", "```", ""]
+            lines += ["```{eval-rst}", f".. automodule:: {module}", *AUTOMODULE_OPTIONS, "```", ""]
         (api / f"{package}.md").write_text("\n".join(lines), encoding="utf-8")
+
+
+# warnings are errors (every one reported before the build fails), on all cores
+SPHINX_STRICT = ["-W", "--keep-going", "-j", "auto"]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -198,8 +249,9 @@ def main(argv: list[str] | None = None) -> int:
         shutil.rmtree(out)
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    env["RIGIDSIM_DOCS_ROOT"] = str(ROOT)  # docs/conf.py reads the version from its pyproject
     LOG.info("docs: sphinx-build %s -> %s", src.name, out)
-    subprocess.run(
+    sphinx = subprocess.run(
         [
             sys.executable,
             "-m",
@@ -207,15 +259,18 @@ def main(argv: list[str] | None = None) -> int:
             "-b",
             "html",
             "-q",
+            *SPHINX_STRICT,
             "-d",
             str(doctrees),
             str(src),
             str(out),
         ],
-        check=True,
         env=env,
         cwd=ROOT,
     )
+    if sphinx.returncode != 0:
+        LOG.error("docs: Sphinx failed: every warning above is an error (-W); fix them")
+        return sphinx.returncode
     scrub_site(out, [str(ROOT), os.path.realpath(ROOT), str(Path.home())])
     total_s = time.perf_counter() - start
     LOG.info(

@@ -28,7 +28,7 @@ Usage::
     bash scripts/mutation.sh                       # every module below
     bash scripts/mutation.sh navmesh/step_filter.py engine/physics/solver/integrate.py
     bash scripts/mutation.sh --per-module 20 render/camera.py
-    bash scripts/mutation.sh --recheck navmesh/search.py   # after adding tests: re-run only
+    bash scripts/mutation.sh --recheck navmesh/geodesic_field.py   # after adding tests: re-run only
                                                            # the report row's survivors
 """
 
@@ -147,10 +147,10 @@ MODULES: dict[str, Module] = {
         (REND + "test_frame.py",), (REND + "test_reference.py", REND + "test_layers.py")
     ),
     "render/reference.py": Module((REND + "test_reference.py",), (REND + "test_frame.py",)),
-    "navmesh/search.py": Module(
-        (NAV + "test_paths.py", NAV + "test_pathfinder.py"),
-        (NAV + "test_scenes.py", NAV + "test_polygons_and_field.py"),  # the field: GridGraph
-        timeout=120.0,  # a mutant that never stops widening the search hangs (tests: ~15 s)
+    "navmesh/geodesic_field.py": Module(
+        (NAV + "test_paths.py", NAV + "test_fast_queries.py"),
+        (NAV + "test_scenes.py", NAV + "test_polygons_and_field.py"),
+        timeout=120.0,  # a mutant that never stops settling corners hangs (tests: ~15 s)
     ),
     "navmesh/heightfield.py": Module(
         (NAV + "test_build.py", NAV + "test_heightfield_spans.py"),

@@ -19,3 +19,4 @@ export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
 .venv/bin/python -m mypy  # configured in pyproject.toml ([tool.mypy])
 .venv/bin/lint-imports  # import contracts, configured in pyproject.toml ([tool.importlinter])
 .venv/bin/python -m pytest -q -n auto --dist loadfile "$@"
+bash scripts/habitat_lab_check.sh  # habitat-lab on rigidsim, in its own venv (.venv-habitat-lab)

@@ -26,8 +26,8 @@ def tracked_files() -> list[Path]:
         ).stdout.split("\n")
         return [ROOT / name for name in listed if name]
     except (OSError, subprocess.CalledProcessError):
-        skip = {".git", ".venv", ".venv-notebook", "build", "__pycache__", ".pytest_cache"}
-        skip.add(".ruff_cache")
+        skip = {".git", ".venv", ".venv-notebook", ".venv-habitat-lab", "build", "__pycache__"}
+        skip |= {".pytest_cache", ".ruff_cache"}
         return [p for p in ROOT.rglob("*") if p.is_file() and not skip & set(p.parts)]
 
 

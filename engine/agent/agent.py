@@ -28,6 +28,7 @@ import quaternion
 from engine import mn
 from engine.agent.controls import ActuationSpec, ObjectControls, UnknownActionError
 from engine.core.fixed_fields import FixedFields
+from engine.mn.vectors import real_components
 from engine.scene.graph import SceneNode
 from engine.sensors.cameras import Sensor, SensorSpec
 from engine.sensors.factory import SensorFactory
@@ -64,6 +65,11 @@ class AgentConfiguration(FixedFields):
 
 def _as_position(value: Any, name: str) -> np.ndarray:
     """``(3,) float64`` copy of a 3-vector; NaN is stored (checked when the state is used)."""
+    if isinstance(value, str | bytes) or not real_components(value):
+        raise TypeError(
+            f"{name} must be a 3-vector of real numbers (no strings, bools or complex "
+            f"numbers), got {value!r}"
+        )
     try:
         position = np.array(value, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError) as err:

@@ -10,7 +10,7 @@ direction, and must reach a goal given only as a direction and distance (Habitat
 - observations (a Dict): ``rgb`` ``(H, W, 3)`` uint8 and ``depth`` ``(H, W, 1)`` float32 z-depth in
   meters clipped to [0, 10] from a camera 1.25 m above the floor, and ``pointgoal``
   ``[rho, phi]``: the goal in polar coordinates in the agent's frame, rho in meters and phi
-  in radians, positive to the agent's left (a ``turn_left`` brings it towards 0):
+  in radians, positive to the agent's left (a ``turn_left`` brings it towards 0)::
 
       d = R^-1 (goal - position)          (agent frame: forward is -z, right is +x)
       rho = |(d_x, d_z)|,  phi = atan2(-d_x, -d_z);
@@ -118,6 +118,14 @@ class PointNavEnv(gym.Env):
         return self._observe(), self._info(success=False, collided=False)
 
     def step(self, action: int):
+        """Take one discrete action (0 ``stop``, 1 ``move_forward``, 2 ``turn_left``, 3
+        ``turn_right``).
+
+        Returns Gymnasium's ``(observation, reward, terminated, truncated, info)``:
+        ``terminated`` when the action is ``stop``; ``truncated`` is always False here (the
+        registered TimeLimit truncates); the reward and ``info`` are those of the module
+        docstring. Raises ``ValueError`` for an action outside the action space.
+        """
         if not self.action_space.contains(action):
             raise ValueError(f"action must be 0..{len(ACTIONS) - 1}, got {action!r}")
         name = ACTIONS[int(action)]

@@ -105,6 +105,15 @@ class PushObjectEnv(gym.Env):
         return self._observe(), self._info()
 
     def step(self, action: np.ndarray):
+        """Drive the robot with ``action`` for one control step (0.1 s of simulated time).
+
+        ``action`` is ``[forward, turn]``, clipped to [-1, 1]; the command is set again
+        before every physics step of the control step. Returns Gymnasium's
+        ``(observation, reward, terminated, truncated, info)``: the reward and the end
+        conditions are those of the module docstring; ``truncated`` is always False here
+        (the registered TimeLimit truncates). Raises ``RuntimeError`` before ``reset`` and
+        ``ValueError`` for an action that is not 2 finite numbers.
+        """
         if self._sim is None:
             raise RuntimeError("call reset() before step()")
         action = np.asarray(action, dtype=np.float64).reshape(-1)

@@ -5,13 +5,19 @@ bindings: :class:`Vector2`, :class:`Vector3`, :class:`Vector4`, :class:`Vector2i
 :class:`Vector3i`, :class:`Color3`, :class:`Color4`, :class:`Quaternion`, :class:`Deg`,
 :class:`Rad`, :class:`Matrix3x3`, :class:`Matrix3`, :class:`Matrix4`, :class:`Range1D`,
 :class:`Range2D`, :class:`Range3D` and the free functions and constants of ``mn.math``
-(:mod:`engine.mn.math`).
+(:mod:`engine.mn.math`), and :class:`Vector3d` (``==`` with Magnum's double epsilon).
+
+Magnum names Habitat code touches for features rigidsim lacks (asset importers, mesh and
+scene tools, image views) exist so that code imports: the modules :mod:`engine.mn.trade`,
+:mod:`engine.mn.meshtools`, :mod:`engine.mn.scenetools` and the names ``MeshPrimitive``,
+``PixelFormat`` (real enums), ``PixelStorage`` and ``MutableImageView2D`` (placeholders that
+raise ``NotImplementedError`` when constructed; :mod:`engine.mn.images`).
 Float types compare with Magnum's fuzzy ``==`` (relative epsilon 1e-5, see
 :mod:`engine.mn.vectors`). The types are thin wrappers around NumPy arrays so that they mix
 freely with lists and ``np.ndarray`` (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``).
 
 Conventions (declared once, used everywhere in rigidsim)
--------------------------------------------------------
+--------------------------------------------------------
 * Right handed, Y up, -Z forward; meters, radians inside.
 * A quaternion is stored as a ``(4,)`` float64 array in the order ``[x, y, z, w]`` (scalar last,
   like Magnum's ``Quaternion((x, y, z), w)`` and SciPy). Conversion from other orders
@@ -31,8 +37,9 @@ NumPy only; every other folder of ``engine`` may import it.
 
 from __future__ import annotations
 
-from engine.mn import math
+from engine.mn import math, meshtools, scenetools, trade
 from engine.mn.colors import Color3, Color4
+from engine.mn.images import MutableImageView2D, PixelFormat, PixelStorage
 from engine.mn.matrices import Matrix3, Matrix3x3, Matrix4
 from engine.mn.ranges import Range1D, Range2D, Range3D
 from engine.mn.rotations import (
@@ -42,12 +49,14 @@ from engine.mn.rotations import (
     quaternion_to_matrix,
     to_quaternion,
 )
+from engine.mn.trade import MeshPrimitive
 from engine.mn.vectors import (
     Deg,
     Rad,
     Vector2,
     Vector2i,
     Vector3,
+    Vector3d,
     Vector3i,
     Vector4,
     stable_norm,
@@ -61,6 +70,10 @@ __all__ = [
     "Matrix3",
     "Matrix3x3",
     "Matrix4",
+    "MeshPrimitive",
+    "MutableImageView2D",
+    "PixelFormat",
+    "PixelStorage",
     "Quaternion",
     "Rad",
     "Range1D",
@@ -69,9 +82,13 @@ __all__ = [
     "Vector2",
     "Vector2i",
     "Vector3",
+    "Vector3d",
     "Vector3i",
     "Vector4",
     "math",
+    "meshtools",
+    "scenetools",
+    "trade",
     "matrix_to_quaternion",
     "quaternion_multiply",
     "quaternion_to_matrix",

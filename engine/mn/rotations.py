@@ -23,6 +23,7 @@ from engine.mn.vectors import (
     fuzzy_equal,
     is_scalar,
     radians,
+    real_components,
     stable_norm,
 )
 
@@ -126,6 +127,11 @@ class Quaternion:
             raise TypeError(
                 f"Quaternion takes (), (vector, scalar), ((x, y, z), w) or "
                 f"(vector), got {len(args)} arguments"
+            )
+        if not real_components((vector, scalar)):
+            raise TypeError(
+                f"Quaternion takes real numbers (no strings, bools or complex numbers), "
+                f"got ({vector!r}, {scalar!r})"
             )
         xyz = np.array(vector, dtype=np.float64).reshape(-1)
         if xyz.shape != (3,):

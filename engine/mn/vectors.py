@@ -4,7 +4,8 @@
 ``Vector3`` wraps a ``(3,)`` float64 array and mixes freely with lists and ndarrays
 (``Vector3 + [1, 2, 3]``, ``np.asarray(v)``); ``dot()`` with no argument is the **squared**
 length, as in Magnum. ``to_vector3`` is the one validator every public setter uses: NaN, inf,
-None, strings and wrong shapes raise a ``ValueError`` naming the parameter.
+None, strings (numeric ones too), bools, complex numbers and wrong shapes raise a
+``ValueError`` naming the parameter.
 
 Equality is Magnum's fuzzy compare (``TypeTraits<Float>::equals``), component by component,
 with the float epsilon ``e = 1e-5``::
@@ -26,23 +27,28 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "DOUBLE_EPSILON",
     "FLOAT_EPSILON",
     "Deg",
     "Rad",
     "Vector2",
     "Vector2i",
     "Vector3",
+    "Vector3d",
     "Vector3i",
     "Vector4",
     "finite_array",
     "fuzzy_equal",
     "is_scalar",
     "radians",
+    "real_components",
     "to_vector3",
 ]
 
 #: Magnum's ``TypeTraits<Float>::epsilon()``: the fuzzy-compare tolerance of float types.
 FLOAT_EPSILON = 1.0e-5
+#: Magnum's ``TypeTraits<Double>::epsilon()``: the tolerance of double types (``Vector3d``).
+DOUBLE_EPSILON = 1.0e-14
 
 
 def fuzzy_equal(a: Any, b: Any, epsilon: float = FLOAT_EPSILON) -> bool:
@@ -111,8 +117,11 @@ def finite_array(value: Any, length: int, name: str) -> np.ndarray:
     """``value`` as a finite float64 array of shape ``(length,)``, else a ValueError naming it."""
     if value is None:
         raise ValueError(f"{name} must be a {length}-vector, got None")
-    if isinstance(value, str | bytes):
-        raise ValueError(f"{name} must be a {length}-vector of numbers, got {value!r}")
+    if isinstance(value, str | bytes) or not real_components(value):
+        raise ValueError(
+            f"{name} must be a {length}-vector of real numbers (no strings, bools or "
+            f"complex numbers), got {value!r}"
+        )
     try:
         array = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
@@ -122,6 +131,19 @@ def finite_array(value: Any, length: int, name: str) -> np.ndarray:
     if not np.all(np.isfinite(array)):
         raise ValueError(f"{name} must be finite, got {array.tolist()}")
     return array
+
+
+def real_components(value: Any) -> bool:
+    """False when ``value`` holds a string, a bool or a complex number anywhere (numpy
+    would read ``"1"`` as 1.0 and ``True`` as 1.0, and drop an imaginary part with only a
+    warning); nested lists and tuples are looked into, arrays by their dtype."""
+    if isinstance(value, list | tuple):
+        return all(real_components(item) for item in value)
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind == "O":
+            return all(real_components(item) for item in value.ravel().tolist())
+        return value.dtype.kind in "iuf"
+    return not isinstance(value, str | bytes | bool | np.bool_ | complex | np.complexfloating)
 
 
 def stable_norm(array: Any, axis: int = -1) -> np.ndarray:
@@ -151,10 +173,16 @@ class _VectorN:
     """Shared arithmetic of :class:`Vector2` and :class:`Vector3` (a wrapped float64 array)."""
 
     _size = 3
+    _epsilon = FLOAT_EPSILON  # the fuzzy-compare tolerance of ==
     __slots__ = ("_data",)
     __array_priority__ = 20.0  # so ndarray + Vector3 defers to Vector3.__radd__
 
     def __init__(self, *values: Any) -> None:
+        if not real_components(values):
+            raise TypeError(
+                f"{type(self).__name__} takes real numbers (no strings, bools or complex "
+                f"numbers), got {values!r}"
+            )
         if len(values) == 0:
             data = np.zeros(self._size)
         elif len(values) == 1 and is_scalar(values[0]):
@@ -196,7 +224,7 @@ class _VectorN:
             return False
         if other_array.shape != self._data.shape:
             return False
-        return fuzzy_equal(self._data, other_array)
+        return fuzzy_equal(self._data, other_array, self._epsilon)
 
     # No __hash__: fuzzy equality has no consistent hash (Magnum's types are unhashable);
     # a class that defines __eq__ and no __hash__ gets ``__hash__ = None`` from Python.
@@ -343,6 +371,14 @@ class Vector3(_VectorN):
     @staticmethod
     def z_axis(length: float = 1.0) -> Vector3:
         return Vector3(0.0, 0.0, length)
+
+
+class Vector3d(Vector3):
+    """Magnum's double-precision ``Vector3d``. rigidsim's ``Vector3`` already holds float64, so
+    the two differ only in ``==``: Magnum's double epsilon ``1e-14`` instead of ``1e-5``."""
+
+    _epsilon = DOUBLE_EPSILON
+    __slots__ = ()
 
 
 class Vector4(Vector3):

@@ -10,7 +10,7 @@ selects the reference):
   registered control, any actuation, the agent's move filter.
 * :class:`ArrayPose` (fast): the same arithmetic as the default ``move_forward`` /
   ``turn_left`` / ``turn_right`` controls and ``ObjectControls.action``, on a position array and
-  an ``[x, y, z, w]`` quaternion, skipping the scene-node and Magnum wrappers:
+  an ``[x, y, z, w]`` quaternion, skipping the scene-node and Magnum wrappers::
 
       turn by theta about local +Y:  r = (0, sin(theta/2), 0, cos(theta/2))
                                      q <- normalize(normalize(q * r))

@@ -115,7 +115,10 @@ class BatchProbe:
         best before them: a candidate whose reward without the penalty is no more than
         ``max(best_so_far, reward of an earlier one - 0.05)`` cannot, and gets that upper
         bound instead of its reward; the best candidate and every comparison it wins are
-        exact.
+        exact. Likewise the geodesic distance after a step is searched only below the value
+        that would let the candidate beat that bound (``GeodesicField.distance_at``'s
+        ``at_most``); above it a lower bound of the distance gives an upper bound of the
+        reward, no more than the bound.
         """
         grid = self.grid
         start = poses[0].position
@@ -123,13 +126,18 @@ class BatchProbe:
             self._start = (start, *grid.nearest_node(start))
         _, start_node, start_pt = self._start
         upper, nodes, points = [], [], []
+        bound = best_so_far  # the follower's best reward is at least this before candidate k
         for pose, n in zip(poses, turns, strict=True):
             end = pose.forward_target(self.forward_amount)
             filtered = step_from(grid, start, start_node, start_pt, end, self.allow_sliding)
             after, blocked = filtered_move(start, end, filtered)
             node, snapped = grid.nearest_node(after)
-            gain = (distance - field.distance_at(node, snapped)) / self.forward_amount
+            # the candidate can win only if its distance is below this (reward > bound)
+            costs = reward_of(0.0, n, blocked, False)
+            at_most = distance - self.forward_amount * (bound - costs)
+            gain = (distance - field.distance_at(node, snapped, at_most)) / self.forward_amount
             upper.append(reward_of(gain, n, blocked, False))
+            bound = max(bound, upper[-1] - NEAR_WALL_COST)  # the reward of k is at least this
             nodes.append(node)
             points.append(after if snapped is None else snapped)
         tested = self._worth_testing(upper, nodes, best_so_far)

@@ -20,7 +20,8 @@ map-plan-baseline):
   whole best primitive instead of its first action.
 
 Speed (issue 21: a 50-action path in under 50 ms): the geodesic distance comes from one
-Dijkstra from the goal per goal (``navmesh.geodesic_field``), not a path search per candidate,
+search from the goal per goal (``navmesh.geodesic_field``: the exact distance ``find_path``
+reports, from a Dijkstra over the navmesh's visibility graph), not a path search per candidate,
 and, for the default controls on the simulator's navmesh filter, the candidates of a pose are
 scored in batches (``engine.nav.follower_probe.BatchProbe``: one start snap, one snap per new
 position, one vectorized wall test). ``use_reference_poses = True`` selects the reference:
@@ -139,7 +140,7 @@ class GreedyGeodesicFollower:
             raise ValueError(f"turn_left must turn by > 0 degrees, got {self.left_spec.amount}")
         self._actions: list[GreedyFollowerCodes] = []
         self._thrashing_actions: list[GreedyFollowerCodes] = []
-        # one geodesic distance field per goal (a Dijkstra from the goal), reused by every query
+        # one geodesic distance field per goal (a search from the goal), reused by every query
         self._field: GeodesicField | None = None
         self._field_goal: np.ndarray | None = None
         self._field_grid: object = None  # the navmesh the field was computed on

@@ -20,6 +20,10 @@ below it; no import circle, type-hint imports included, between modules or folde
 5. ``objects/``: Habitat's object API (manager, object handles, velocity control,
    constraints, queries);
 6. ``world.py`` and this ``__init__``: ``PhysicsWorld``, its step and the public names.
+
+The articulated-object names (``ManagedArticulatedObject``, ``ArticulatedObjectManager``,
+``JointMotorSettings``, ...) are placeholders that raise ``NotImplementedError`` when used
+(:mod:`engine.physics.objects.articulated`): rigidsim has no articulated objects.
 """
 
 from __future__ import annotations
@@ -28,6 +32,14 @@ from engine.core.named_enum import NamedIntEnum
 
 from .collision.collision_groups import CollisionGroupHelper, CollisionGroups
 from .core.settings import SolverSettings
+from .objects.articulated import (  # placeholders: no articulated objects
+    ArticulatedObjectManager,
+    JointMotorSettings,
+    JointMotorType,
+    JointType,
+    ManagedArticulatedObject,
+    ManagedBulletArticulatedObject,
+)
 from .objects.constraints import RigidConstraintSettings, RigidConstraintType
 from .objects.queries import ContactPointData, RaycastResults, RayHitInfo
 from .objects.rigid_object_manager import (
@@ -50,6 +62,12 @@ class PhysicsSimulationLibrary(NamedIntEnum):
 
 __all__ = [
     "STAGE_ID",
+    "ArticulatedObjectManager",
+    "JointMotorSettings",
+    "JointMotorType",
+    "JointType",
+    "ManagedArticulatedObject",
+    "ManagedBulletArticulatedObject",
     "CollisionGroupHelper",
     "CollisionGroups",
     "PhysicsSimulationLibrary",

@@ -6,27 +6,36 @@ a function of explicit arguments; data flows one way. With ``n`` bodies, ``k`` a
 ones, ``m`` manifolds of ``S = 4`` point slots:
 
 1. **forces** ``integrate_velocities`` (:mod:`integrate`)
-   reads  Bodies mass (n,), inertia (n, 3), force/torque (n, 3), damping (n,);
-          moving (k,) awake dynamic indices; gravity (3,); h
-   writes Bodies linear/angular_velocity of ``moving`` (k, 3). Before it the step copies
-          ``start_velocity (n, 6)`` for restitution.
+
+   - reads: Bodies mass (n,), inertia (n, 3), force/torque (n, 3), damping (n,); moving
+     (k,) awake dynamic indices; gravity (3,); h
+   - writes: Bodies linear/angular_velocity of ``moving`` (k, 3). Before it the step copies
+     ``start_velocity (n, 6)`` for restitution.
+
 2. **collision** ``collision_stage`` (:mod:`collision_stage`)
-   reads  Bodies poses (n, 3)/(n, 4), shapes; CollisionObjects; ManifoldStore; settings
-   writes Bodies aabb_min/max (n, 3); fcl poses; ManifoldStore rows (m, S, 3) refreshed,
-          created and deleted; returns the broad-phase pair count
+
+   - reads: Bodies poses (n, 3)/(n, 4), shapes; CollisionObjects; ManifoldStore; settings
+   - writes: Bodies aabb_min/max (n, 3); fcl poses; ManifoldStore rows (m, S, 3) refreshed,
+     created and deleted; returns the broad-phase pair count
+
 3. **solve** ``solve_stage`` (:mod:`solve_stage`)
-   reads  Bodies poses, velocities, masses; ManifoldStore (m, S); moving (k,);
-          start_velocity (n, 6); h; settings
-   writes Bodies velocities of ``moving``; ManifoldStore.impulse (m, S, 3);
-          returns SolveResult(pseudo_velocity (n, 6), overlapping_bodies (j,))
+
+   - reads: Bodies poses, velocities, masses; ManifoldStore (m, S); moving (k,);
+     start_velocity (n, 6); h; settings
+   - writes: Bodies velocities of ``moving``; ManifoldStore.impulse (m, S, 3); returns
+     SolveResult(pseudo_velocity (n, 6), overlapping_bodies (j,))
+
 4. **integrate** ``integrate_stage`` (:mod:`integrate`)
-   reads  Bodies velocities, inertia; moving (k,); pseudo_velocity (n, 6); h
-   writes Bodies position (k, 3), rotation (k, 4), angular_velocity (k, 3) (speeds
-          clamped, fast bodies swept against static geometry)
+
+   - reads: Bodies velocities, inertia; moving (k,); pseudo_velocity (n, 6); h
+   - writes: Bodies position (k, 3), rotation (k, 4), angular_velocity (k, 3) (speeds
+     clamped, fast bodies swept against static geometry)
+
 5. **sleep** ``update_sleep`` (:mod:`sleeping`)
-   reads  Bodies velocities, sleep_time; ManifoldStore (who touches whom); h;
-          overlapping_bodies (j,)
-   writes Bodies awake (n,), sleep_time (n,), velocities of bodies falling asleep
+
+   - reads: Bodies velocities, sleep_time; ManifoldStore (who touches whom); h;
+     overlapping_bodies (j,)
+   - writes: Bodies awake (n,), sleep_time (n,), velocities of bodies falling asleep
 
 ``settings.use_vectorized`` (:class:`SolverSettings`) routes stages 2 and 3 through the
 batched NumPy code or through the plain per-pair / per-point reference code
@@ -41,11 +50,11 @@ contacts and trajectories to rounding. Wall time per stage is summed by
 the per-object dictionaries ``nodes``, ``velocity_controls``, ``render_meshes``,
 ``creation_state``. Its methods are of three kinds, each a few lines: the step above;
 body bookkeeping that must touch several parts at once (:meth:`add_body`,
-:meth:`remove_body`, :meth:`set_body_pose`, :meth:`reset`, :meth:`set_stage`); and
-Habitat's world API (time, gravity, ray casts, contact points), one-line calls of
-:mod:`queries` and :mod:`sleeping` functions that take the parts they read explicitly. A
-reader looking for what ``cast_ray`` does opens one function in one module, with every
-input in its signature; no method is inherited.
+:meth:`remove_body`, :meth:`~PhysicsWorld.set_body_pose`, :meth:`~PhysicsWorld.reset`,
+:meth:`set_stage`); and Habitat's world API (time, gravity, ray casts, contact points),
+one-line calls of :mod:`queries` and :mod:`sleeping` functions that take the parts they
+read explicitly. A reader looking for what ``cast_ray`` does opens one function in one
+module, with every input in its signature; no method is inherited.
 
 ``step_physics(dt)`` wraps it the way Habitat wraps ``btDiscreteDynamicsWorld::
 stepSimulation``: it accumulates ``dt`` and runs whole fixed steps of ``timestep`` (0.008 s
@@ -117,6 +126,8 @@ class PhysicsWorld:
         self.manifolds = ManifoldStore()
         self.nodes: dict[int, Any] = {}
         self.velocity_controls: dict[int, Any] = {}
+        #: bodies already warned of a mass ratio beyond what the solver holds (mass_ratio.py)
+        self.mass_ratio_warned: set[int] = set()
         self.render_meshes: dict[int, list] = {}
         self.creation_state: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self.node_sync = NodeSync(self.bodies, self.nodes)

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import struct
 from collections import OrderedDict
 from collections.abc import Sequence
 from pathlib import Path
@@ -257,6 +258,7 @@ def _load_uncached(
     path: Path, rotation: np.ndarray, scale: np.ndarray, units: float
 ) -> tuple[MeshData, ...]:
     """Parse the file with trimesh and convert every mesh instance."""
+    _check_gltf_text(path)
     try:
         scene = trimesh.load(str(path), force="scene", process=False)
     except Exception as error:  # trimesh raises many types for broken files
@@ -280,6 +282,38 @@ def _load_uncached(
     if not meshes:
         raise ValueError(f"asset file {str(path)!r} contains no triangle mesh")
     return tuple(meshes)
+
+
+#: the type of a GLB's first chunk, "JSON" (glTF 2.0, section 4.4.3.2)
+_GLB_JSON_CHUNK = 0x4E4F534A
+
+
+def _check_gltf_text(path: Path) -> None:
+    """Refuse a ``.glb`` whose JSON chunk, or a ``.gltf`` file, is not UTF-8 text (glTF 2.0
+    requires UTF-8; trimesh would otherwise guess an encoding, or fail importing the
+    optional guesser). Other files, and GLBs too broken to find the chunk, pass on to
+    trimesh, whose error is reported with the file's name."""
+    suffix = path.suffix.lower()
+    if suffix == ".gltf":
+        text = path.read_bytes()
+    elif suffix == ".glb":
+        with path.open("rb") as stream:
+            header = stream.read(20)
+            if len(header) < 20 or header[:4] != b"glTF":
+                return
+            length, kind = struct.unpack("<II", header[12:20])
+            if kind != _GLB_JSON_CHUNK:
+                return
+            text = stream.read(length)
+    else:
+        return
+    try:
+        text.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise ValueError(
+            f"cannot read asset file {str(path)!r}: its glTF JSON is not UTF-8 text (byte "
+            f"{text[error.start]:#04x} at offset {error.start}); glTF files must be UTF-8"
+        ) from None
 
 
 def _convert_geometry(geometry: trimesh.Trimesh, name: str) -> MeshData:

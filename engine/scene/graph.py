@@ -69,8 +69,8 @@ class SceneNode:
         self._rotation = np.array([0.0, 0.0, 0.0, 1.0])  # [x, y, z, w]
         self._scaling = np.ones(3)
         self.drawables: list[Drawable] = []
-        #: sensors whose leaf node this is, by uuid (Habitat's ``node_sensors``)
-        self.node_sensors: dict[str, Any] = {}
+        #: the sensor whose leaf node this is, by uuid (see :attr:`node_sensors`)
+        self.own_sensors: dict[str, Any] = {}
         if parent is not None:
             self.parent = parent
 
@@ -132,11 +132,30 @@ class SceneNode:
             drawable.semantic_id = int(value)
 
     @property
+    def node_sensors(self) -> dict[str, Any]:
+        """The sensors of this node, by uuid (Habitat's ``node_sensors``): the one this leaf
+        carries and those on its leaf children (``SensorFactory.create_sensors(node, ...)``
+        puts each sensor on a new leaf child of ``node``). Computed from the graph on every
+        read, so it follows nodes added and removed; a uuid met twice keeps the first
+        sensor, as Habitat's sensor suites do."""
+        sensors = dict(self.own_sensors)
+        for child in self._children:
+            for uuid, sensor in child.own_sensors.items():
+                sensors.setdefault(uuid, sensor)
+        return sensors
+
+    @property
     def subtree_sensors(self) -> dict[str, Any]:
-        """Every sensor on this node or below it, by uuid (Habitat's ``subtree_sensors``)."""
-        sensors: dict[str, Any] = {}
+        """Every sensor on this node or below it, by uuid (Habitat's ``subtree_sensors``);
+        computed from the graph on every read (an agent's ``sensors`` is this of its node),
+        a uuid met twice keeps the first sensor created."""
+        found: list[tuple[int, str, Any]] = []
         for node in self.descendants():
-            sensors.update(node.node_sensors)
+            for uuid, sensor in node.own_sensors.items():
+                found.append((sensor.creation_order, uuid, sensor))
+        sensors: dict[str, Any] = {}
+        for _, uuid, sensor in sorted(found, key=lambda item: item[0]):
+            sensors.setdefault(uuid, sensor)
         return sensors
 
     # -- local transform ----------------------------------------------------------------------

@@ -18,7 +18,9 @@ in reading order:
 10. :mod:`~engine.sensors.debug_lines`, :mod:`~engine.sensors.line_overlay`: debug lines
     drawn into the color frames;
 11. :mod:`~engine.sensors.observations`: the observations dict (uuid -> frame), whose missing
-    key names the uuids there are.
+    key names the uuids there are;
+12. :mod:`~engine.sensors.replay`: Habitat's replay renderer and gfx-replay names,
+    placeholders (rigidsim has neither) that raise ``NotImplementedError`` when used.
 
 May import: ``render``, ``engine.scene``, ``engine.core``, ``engine.mn`` and the small
 Habitat modules (``geo``, ``errors``). Never physics, agents or the simulator.

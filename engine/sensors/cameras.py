@@ -19,6 +19,7 @@ re-exported here.
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Any
 
@@ -66,6 +67,9 @@ def euler_xyz_matrix(angles: Any) -> np.ndarray:
     return rot_z @ rot_y @ rot_x
 
 
+_CREATION_COUNTER = itertools.count()  # Sensor.creation_order
+
+
 class Sensor:
     """A sensor object (Habitat's C++ ``Sensor``): its spec and the leaf scene node that
     carries it, a child of the node it was created on (an agent's node, an object's node or
@@ -76,8 +80,10 @@ class Sensor:
         if not isinstance(parent_node, SceneNode):
             raise TypeError(f"a sensor needs a SceneNode to attach to, got {parent_node!r}")
         self.spec = spec
+        #: a global counter: the order sensors were made in (the first of a uuid wins)
+        self.creation_order = next(_CREATION_COUNTER)
         self.node = SceneNode(parent_node, name=f"sensor:{spec.uuid}")
-        self.node.node_sensors[spec.uuid] = self
+        self.node.own_sensors[spec.uuid] = self
         self.set_transformation_from_spec()
 
     @property
@@ -86,7 +92,7 @@ class Sensor:
 
     @property
     def object(self) -> SceneNode:
-        """Habitat's alias of :attr:`node`."""
+        """Habitat's alias of ``node``."""
         return self.node
 
     def specification(self) -> SensorSpec:
@@ -108,7 +114,7 @@ class Sensor:
 
     def detach(self) -> None:
         """Remove the sensor's leaf node from the scene graph (Habitat's ``delete_sensor``)."""
-        self.node.node_sensors.pop(self.uuid, None)
+        self.node.own_sensors.pop(self.uuid, None)
         self.node.parent = None
 
     @property

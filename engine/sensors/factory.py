@@ -4,13 +4,17 @@
 ``SensorFactory.create_sensors(node, [spec, ...])`` creates, per spec, a leaf child of
 ``node`` carrying the sensor the spec's subtype asks for (PINHOLE / ORTHOGRAPHIC ->
 :class:`CameraSensor`, FISHEYE -> :class:`FisheyeSensor`, EQUIRECTANGULAR ->
-:class:`EquirectangularSensor`) and returns them by uuid; ``delete_sensor(sensor)`` removes a
-sensor's leaf node, ``delete_subtree_sensor(node, uuid)`` the one below ``node`` with that uuid.
-The sensors of a node and everything under it are ``node.subtree_sensors``.
+:class:`EquirectangularSensor`) and returns ``node.node_sensors``; ``delete_sensor(sensor)``
+removes a sensor's leaf node, ``delete_subtree_sensor(node, uuid)`` the one below ``node`` with
+that uuid (a missing uuid is logged, not raised, as in Habitat). A node's sensors are
+``node.node_sensors`` (its leaf children's), those of everything under it
+``node.subtree_sensors``; both are read from the graph, so an agent's ``sensors``
+(``scene_node.subtree_sensors``) follows sensors added or removed anywhere below it.
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Iterable
 
 from engine.scene.graph import SceneNode
@@ -56,6 +60,8 @@ __all__ = [
     "VisualSensorSpec",
 ]
 
+logger = logging.getLogger(__name__)
+
 VisualSensor = Sensor  # Habitat's base class of image sensors; every rigidsim sensor is one
 
 _SENSOR_OF_SUBTYPE: dict[SensorSubType, type[Sensor]] = {
@@ -72,7 +78,8 @@ class SensorFactory:
     @staticmethod
     def create_sensors(node: SceneNode, specs: Iterable[SensorSpec]) -> dict[str, Sensor]:
         """One sensor per spec on a new leaf child of ``node``; all specs are checked before
-        any sensor is made. Returns the new sensors by uuid."""
+        any sensor is made. Returns ``node.node_sensors`` (as Habitat: every sensor of the
+        node by uuid, the new ones included; a uuid given twice keeps the first sensor)."""
         if not isinstance(node, SceneNode):
             raise TypeError(f"create_sensors needs a SceneNode, got {node!r}")
         specs = list(specs)
@@ -84,10 +91,9 @@ class SensorFactory:
                 raise ValueError(
                     f"sensor {spec.uuid!r}: no sensor for sensor_subtype {spec.sensor_subtype}"
                 )
-        created: dict[str, Sensor] = {}
         for spec in specs:
-            created[spec.uuid] = _SENSOR_OF_SUBTYPE[spec.sensor_subtype](spec, node)  # type: ignore[arg-type]
-        return created
+            _SENSOR_OF_SUBTYPE[spec.sensor_subtype](spec, node)  # type: ignore[arg-type]
+        return node.node_sensors
 
     @staticmethod
     def delete_sensor(sensor: Sensor) -> None:
@@ -96,8 +102,10 @@ class SensorFactory:
 
     @staticmethod
     def delete_subtree_sensor(node: SceneNode, uuid: str) -> None:
-        """Remove the sensor ``uuid`` found on ``node`` or below it (KeyError if none)."""
+        """Remove the sensor ``uuid`` found on ``node`` or below it; when there is none, log
+        it and change nothing (as Habitat, which only logs)."""
         sensors = node.subtree_sensors
         if uuid not in sensors:
-            raise KeyError(f"no sensor {uuid!r} under node {node.name!r}; it has {sorted(sensors)}")
+            logger.debug("no sensor %r under node %r (it has %s)", uuid, node.name, sorted(sensors))
+            return
         sensors[uuid].detach()

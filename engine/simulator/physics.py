@@ -32,6 +32,12 @@ class SimulatorPhysics:
         self._check_open()
         self._world.step_physics(dt)
 
+    def step_world(self, dt: float = 1.0 / 60.0) -> None:
+        """Habitat's backend call under ``step_physics``: advance the world by ``dt`` seconds.
+
+        habitat-lab calls it directly; in rigidsim it is the same step as :meth:`step_physics`."""
+        self.step_physics(dt)
+
     def get_world_time(self) -> float:
         return self._world.get_world_time()
 

@@ -47,7 +47,9 @@ from engine.physics.world import PhysicsWorld
 from engine.scene.graph import Drawable, SceneGraph, SceneNode
 from engine.scene.instance import SceneInstanceAttributes, find_scene_instance, read_scene_instance
 from engine.sensors.scene_render import SceneRenderer
+from engine.sensors.sensor_wrapper import Sensor
 from engine.simulator.config import Configuration, Random, SimulatorConfiguration
+from engine.simulator.habitat_names import SimulatorHabitatNames
 from engine.simulator.loading import (
     append_triangles,
     load_navmesh_beside_stage,
@@ -68,10 +70,21 @@ from engine.templates.managers import (
 from engine.templates.metadata import MetadataMediator
 from navmesh import NavMeshSettings
 
-__all__ = ["Configuration", "Random", "Simulator", "SimulatorConfiguration"]
+# Sensor: Habitat's habitat_sim.simulator.Sensor, the wrapper of sim.sensors[uuid]
+__all__ = ["Configuration", "Random", "Sensor", "Simulator", "SimulatorConfiguration"]
 
 
-class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics):
+#: why ``copy.copy``, ``copy.deepcopy`` and ``pickle`` refuse a simulator (Habitat's C++
+#: simulator cannot be copied either): its renderer, asset caches and physics world are
+#: shared, live resources.
+_NO_COPY = (
+    "a Simulator cannot be copied or pickled (it owns a renderer, loaded assets and a "
+    "physics world); create another Simulator from the same Configuration, and carry "
+    "object states across with get/set of translation, rotation and velocities"
+)
+
+
+class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics, SimulatorHabitatNames):
     """Habitat's simulator: stage, objects, agents with sensors, physics and navmesh.
 
     The sensor API (``sensors``, ``create_sensor``, ``get_sensor_observations``,
@@ -432,6 +445,15 @@ class Simulator(SimulatorSensors, SimulatorQueries, SimulatorPhysics):
 
     def __enter__(self) -> Simulator:
         return self
+
+    def __copy__(self) -> Simulator:
+        raise TypeError(_NO_COPY)
+
+    def __deepcopy__(self, memo: dict) -> Simulator:
+        raise TypeError(_NO_COPY)
+
+    def __reduce_ex__(self, protocol: Any) -> Any:
+        raise TypeError(_NO_COPY)
 
     def __exit__(self, *exc_info: Any) -> None:
         self.close()

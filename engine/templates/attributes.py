@@ -101,7 +101,7 @@ STAGE_FIELDS = {
 
 PHYSICS_FIELDS = {
     "simulator": Field("physics_simulator", "str", "bullet"),
-    "timestep": Field("timestep", "positive", 0.008),
+    "timestep": Field("timestep", "timestep", 0.008),
     "gravity": Field("gravity", "vec3", np.array([0.0, -9.8, 0.0])),
     "friction_coefficient": Field("friction_coefficient", "nonnegative", 0.4),
     "restitution_coefficient": Field("restitution_coefficient", "restitution", 0.1),

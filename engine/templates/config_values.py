@@ -16,7 +16,7 @@ value given                        type             returned by ``get`` / ``get_
 ``mn.Vector2i``                    ``MagnumVec2i``  ``mn.Vector2i`` / ``[1 2]``
 3 numbers                          ``MagnumVec3``   ``mn.Vector3`` / ``[2.5 0 0.2]``
 4 numbers                          ``MagnumVec4``   ``mn.Vector4`` / ``[1 2 3 4]``
-a quaternion (Magnum, numpy)      ``MagnumQuat``   ``mn.Quaternion`` as given / ``w [x y z]``
+a quaternion (Magnum, numpy)       ``MagnumQuat``   ``mn.Quaternion`` as given / ``w [x y z]``
 3x3 (``mn.Matrix3``, array)        ``MagnumMat3``   ``mn.Matrix3`` / ``[[a b c][d e f][g h i]]``
 4x4 (``mn.Matrix4``, array)        ``MagnumMat4``   ``mn.Matrix4`` / rows the same way
 =================================  ===============  ==========================================

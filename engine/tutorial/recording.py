@@ -97,7 +97,7 @@ class SectionRecorder:
     video_path : str or None
         Output file (``.mp4``) when ``video`` is given.
     keep_observations : bool
-        Also keep every observation dict in :attr:`observations` (memory heavy at full size).
+        Also keep every observation dict in ``observations`` (memory heavy at full size).
     on_frame : callable or None
         Called after each frame with the world time advanced since the previous frame (s),
         e.g. a progress bar's ``update``.

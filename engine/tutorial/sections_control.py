@@ -7,10 +7,10 @@ blocks of Habitat-sim's ``examples/tutorials/nb_python/managed_rigid_object_tuto
 The three sections share one KINEMATIC clamp. Each returns the clamp's rigid state at the
 start and at the end and the number of ``step_physics(1/60)`` calls of each phase, so a test
 can replay the commands: kinematic velocity control integrates once per call with explicit
-Euler (see :class:`engine.physics.VelocityControl`),
+Euler (see :class:`engine.physics.VelocityControl`)::
 
-    t1 = t0 + v dt                  (v rotated by q0 when ``lin_vel_is_local``)
-    q1 = normalize(dq(|w| dt, w/|w|) * q0)   (w rotated by q0 when ``ang_vel_is_local``).
+    t1 = t0 + v dt                  (v rotated by q0 when lin_vel_is_local)
+    q1 = normalize(dq(|w| dt, w/|w|) * q0)   (w rotated by q0 when ang_vel_is_local)
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Habitat pushes these ranges to NVIDIA's NVTX (seen in Nsight Systems) when the environment
 variable ``HABITAT_PROFILING`` is set to anything but ``"0"``; otherwise every call is a no-op.
 rigidsim has no GPU: with profiling on, each popped range logs its wall-clock duration on the
-``rigidsim.default`` logger at DEBUG level (``"A/B: 1.23 ms"``, nested names joined by ``/``).
+``rigidsim.default`` logger at DEBUG level (``"A/B: 1.23 ms"``, nested names joined by ``/``)::
 
     profiling_utils.configure(capture_start_step=2, num_steps_to_capture=5)
     for step in range(8):

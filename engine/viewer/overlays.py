@@ -3,23 +3,23 @@
 Each overlay is a switch of :class:`OverlaySwitches` and a function of public queries a user
 has, returning plain arrays (world frame, meters):
 
-====================  ==========================================  ===========================
-overlay               reads                                       returns
-====================  ==========================================  ===========================
-``contacts``          ``sim.get_physics_contact_points()``,       normals ``(k, 2, 3)`` from
-                      ``sim.get_physics_time_step()``             the point on B, length
-                                                                  ~ impulse; points ``(k, 3)``
-``aabbs``             each object's ``aabb`` (local) and          box edges ``(12 n, 2, 3)``;
-                      ``transformation``                          broad-phase pairs ``(p, 2, 3)``
-``sleeping``          each object's ``awake`` and                 ``{object_id: colour}`` of
-                      ``motion_type``, the contact points         the sleeping ones, by island
-``navmesh``           ``pathfinder.build_navmesh_vertices`` and   vertices, faces, colours
-                      ``build_navmesh_vertex_indices`` per island (:func:`navmesh_mesh`)
-``path``              ``pathfinder.find_path(ShortestPath)``      polyline segments ``(p, 2, 3)``
-``velocity``          each object's ``velocity_control``          segments to the target pose
-                      (``is_active``, ``integrate_transform``)    ``(c, 2, 3)``, targets ``(c, 3)``
-``agents``            agents' nodes and sensor specifications     :func:`agent_segments`
-====================  ==========================================  ===========================
+====================  ===========================================  ===============================
+overlay               reads                                        returns
+====================  ===========================================  ===============================
+``contacts``          ``sim.get_physics_contact_points()``,        normals ``(k, 2, 3)`` from
+                      ``sim.get_physics_time_step()``              the point on B, length
+                                                                   ~ impulse; points ``(k, 3)``
+``aabbs``             each object's ``aabb`` (local) and           box edges ``(12 n, 2, 3)``;
+                      ``transformation``                           broad-phase pairs ``(p, 2, 3)``
+``sleeping``          each object's ``awake`` and                  ``{object_id: colour}`` of
+                      ``motion_type``, the contact points          the sleeping ones, by island
+``navmesh``           ``pathfinder.build_navmesh_vertices`` and    vertices, faces, colours
+                      ``build_navmesh_vertex_indices`` per island  (:func:`navmesh_mesh`)
+``path``              ``pathfinder.find_path(ShortestPath)``       polyline segments ``(p, 2, 3)``
+``velocity``          each object's ``velocity_control``           segments to the target pose
+                      (``is_active``, ``integrate_transform``)     ``(c, 2, 3)``, targets ``(c, 3)``
+``agents``            agents' nodes and sensor specifications      :func:`agent_segments`
+====================  ===========================================  ===============================
 
 Contact conventions are Habitat's (Bullet's): ``contact_normal_on_b_in_ws`` points from body B
 towards body A, and ``normal_force`` is the last step's normal impulse over the fixed step, so

@@ -3,15 +3,15 @@
 For a browser tab next to a script, or a notebook whose frontend cannot run Jupyter widgets.
 The server (the standard library's ``ThreadingHTTPServer`` on a daemon thread) answers:
 
-=====================  ==========================================================
-``GET /``              the page: k3d's JavaScript (``/require.js``, ``/standalone.js``,
-                       served from the ``k3d`` pip package's ``static`` folder; no CDN), a
-                       loop that asks for changes every ``POLL_INTERVAL_MS``
-``GET /changes?since`` msgpack ``{"version", "objects", "removed", "plot"}``: every
-                       drawable property that changed after version ``since``
-``GET /scene.json``    the scene description: version and ``[{id, name, type,
-                       visible}]`` of the drawables
-=====================  ==========================================================
+======================  ================================================================
+``GET /``               the page: k3d's JavaScript (``/require.js``, ``/standalone.js``,
+                        served from the ``k3d`` pip package's ``static`` folder; no CDN), a
+                        loop that asks for changes every ``POLL_INTERVAL_MS``
+``GET /changes?since``  msgpack ``{"version", "objects", "removed", "plot"}``: every
+                        drawable property that changed after version ``since``
+``GET /scene.json``     the scene description: version and ``[{id, name, type,
+                        visible}]`` of the drawables
+======================  ================================================================
 
 A change log keeps, for every k3d object and property, the serialized value (k3d's own
 ``to_json``, what its widget sends) and the version at which it last changed.

@@ -23,9 +23,9 @@ with :meth:`Viewer.set_overlays`. Every overlay reads public queries only (see
 as a :class:`~engine.viewer.replay.Replay` (time slider, self-contained HTML).
 
 Where the page is shown: :meth:`Viewer.show` returns k3d's Jupyter widget (live in
-JupyterLab and Notebook 7); :meth:`Viewer.serve` starts :class:`~engine.viewer.server.
-LiveServer` on 127.0.0.1 for a browser tab (or a notebook whose frontend cannot run widgets),
-and :meth:`Viewer.close` stops it.
+JupyterLab and Notebook 7); :meth:`Viewer.serve` starts
+:class:`~engine.viewer.server.LiveServer` on 127.0.0.1 for a browser tab (or a notebook
+whose frontend cannot run widgets), and :meth:`Viewer.close` stops it.
 """
 
 from __future__ import annotations

@@ -7,6 +7,7 @@ but computes nonsense fails too.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import re
 import subprocess
@@ -37,7 +38,21 @@ def run_example(name: str, *args: str, tmp_path: Path) -> str:
 
 def test_every_example_is_tested() -> None:
     tested = {"navigate.py", "drop_and_push.py", "gym_rollout.py", "batch_sweep.py"}
+    # needs habitat-lab: run by scripts/habitat_lab_check.sh in its own environment, and by
+    # the test below where habitat-lab is installed
+    tested.add("habitat_lab_pointnav.py")
     assert {path.name for path in EXAMPLES.glob("*.py")} == tested
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("habitat") is None,
+    reason="habitat-lab is not installed (scripts/habitat_lab_check.sh runs this example)",
+)
+def test_habitat_lab_pointnav_reaches_every_goal(tmp_path: Path) -> None:
+    out = run_example("habitat_lab_pointnav.py", "--episodes", "2", tmp_path=tmp_path)
+    rows = re.findall(r"success (\d), SPL ([\d.]+)", out)
+    assert len(rows) == 2
+    assert all(success == "1" and float(spl) >= 0.9 for success, spl in rows)
 
 
 def test_navigate_walks_to_the_goal(tmp_path: Path) -> None:

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from navmesh import MultiGoalShortestPath, ShortestPath
-from navmesh.search import path_length
+from navmesh.path_query import path_length
 
 
 def l_corridor(geometry, radius=0.1):

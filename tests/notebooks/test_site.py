@@ -9,17 +9,21 @@ would serve it (and once from disk, as a student opens ``build/docs/index.html``
 network, and checks what a reader sees: every page is reachable from the index's navigation,
 equations are typeset by the bundled MathJax (no raw ``$$`` or ``\\(`` left), the notebooks'
 figures and videos are there and load, no page logs an error, search finds a class, and no
-page shows an absolute path of the build.
+page shows an absolute path of the build. Without a browser it still checks that the build
+printed no ``WARNING`` or ``ERROR`` line (Sphinx runs with ``-W``), that the search index
+describes each object once and indexes the pages' text.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
 import threading
 import time
 from collections.abc import Iterator
+from dataclasses import dataclass
 from functools import partial
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -30,6 +34,14 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 # pages Sphinx writes besides the content pages: indexes and the search page
 GENERATED = {"genindex.html", "search.html", "py-modindex.html"}
+
+
+@dataclass(frozen=True)
+class SiteBuild:
+    site: Path  # the built site's folder
+    log: str  # everything the build printed
+
+
 # Sphinx's math elements ("math notranslate nohighlight"; MathJax's own output also has
 # spans of class "math", hence the second class): each must hold MathJax's typeset output
 MATH_TYPESET = """() => [...document.querySelectorAll('.math.notranslate')].every(
@@ -60,11 +72,11 @@ def wait_for_executed_notebooks(session: pytest.Session, folder: Path) -> None:
 
 
 @pytest.fixture(scope="module")
-def site(
+def site_build(
     request: pytest.FixtureRequest,
     tmp_path_factory: pytest.TempPathFactory,
     executed_notebooks: Path,
-) -> Path:
+) -> SiteBuild:
     wait_for_executed_notebooks(request.session, executed_notebooks)
     out = tmp_path_factory.mktemp("site") / "docs"
     env = dict(os.environ, PYTHON=sys.executable)
@@ -79,7 +91,34 @@ def site(
         timeout=1800,
     )
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    return out
+    return SiteBuild(out, done.stdout + done.stderr)
+
+
+@pytest.fixture(scope="module")
+def site(site_build: SiteBuild) -> Path:
+    return site_build.site
+
+
+def test_the_build_reports_no_warning_or_error(site_build: SiteBuild) -> None:
+    # Sphinx's own warnings already fail the build (-W); this also catches what runs beside
+    # it: a notebook kernel's or the replay writer's WARNING or ERROR lines
+    flagged = [line for line in site_build.log.splitlines() if "WARNING" in line or "ERROR" in line]
+    assert flagged == []
+
+
+def test_each_object_is_described_once_and_pages_are_indexed_with_their_text(site: Path) -> None:
+    text = (site / "searchindex.js").read_text(encoding="utf-8")
+    index = json.loads(text[text.index("(") + 1 : text.rindex(")")])
+    described = [
+        f"{prefix}.{entry[4]}" for prefix, entries in index["objects"].items() for entry in entries
+    ]
+    assert len(described) == len(set(described))
+    methods = [name for name in described if name.endswith(".ManagedRigidObject.apply_impulse")]
+    assert len(methods) == 1, methods  # once, in the module that defines the class
+    # a word of a page's body (not of its titles) finds that page
+    docnames = index["docnames"]
+    pages = index["terms"]["sutherland"]  # Sutherland-Hodgman clipping, in the rendering guide
+    assert docnames.index("rendering") in (pages if isinstance(pages, list) else [pages])
 
 
 class QuietHandler(SimpleHTTPRequestHandler):

@@ -259,3 +259,39 @@ def test_habitats_rigid_constraint_sequence():
         assert cube.awake
         simulate(sim, 1.0)
         assert cube.awake
+
+
+def test_a_constraint_whose_bodies_cannot_move_is_inert_and_stepping_works():
+    """Before: pinning an object to the world and then making it KINEMATIC (or constraining
+    two STATIC objects) made every later ``step_physics`` raise an internal ``ValueError:
+    cannot reshape array of size 0``."""
+    with make_sim() as sim:
+        pinned = add(sim, "cubeSolid")
+        pinned.translation = [0.0, 2.0, 0.0]
+        settings = RigidConstraintSettings()
+        settings.object_id_a = pinned.object_id
+        settings.pivot_b = [0.0, 2.0, 0.0]  # the world point at its center
+        assert sim.create_rigid_constraint(settings) >= 0
+        pinned.motion_type = MotionType.KINEMATIC
+        first, second = add(sim, "cubeSolid"), add(sim, "cubeSolid")
+        first.translation, second.translation = [3.0, 0.0, 0.0], [5.0, 0.0, 0.0]
+        pair = RigidConstraintSettings()
+        pair.object_id_a, pair.object_id_b = first.object_id, second.object_id
+        pair.pivot_a, pair.pivot_b = [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]
+        assert sim.create_rigid_constraint(pair) >= 0
+        first.motion_type = second.motion_type = MotionType.STATIC
+        sim.step_physics(0.5)  # only inert constraints: nothing can move
+        assert sim.get_world_time() == pytest.approx(0.5, abs=0.01)
+        np.testing.assert_allclose(np.asarray(pinned.translation), [0.0, 2.0, 0.0])
+        faller = add(sim, "cubeSolid")
+        faller.translation = [-3.0, 2.0, 0.0]
+        sim.step_physics(0.5)  # a free body falls as it would without the constraints
+        h = sim.get_physics_time_step()
+        steps = round((sim.get_world_time() - 0.5) / h)
+        # semi-implicit Euler from rest: y = y0 - g h^2 n (n + 1) / 2
+        assert faller.translation.y == pytest.approx(2.0 - 9.8 * h**2 * steps * (steps + 1) / 2)
+        np.testing.assert_allclose(np.asarray(first.translation), [3.0, 0.0, 0.0])
+        pinned.motion_type = MotionType.DYNAMIC  # movable again: the pin holds again
+        pinned.translation = [0.0, 1.9, 0.0]
+        sim.step_physics(1.0)
+        np.testing.assert_allclose(np.asarray(pinned.translation), [0.0, 2.0, 0.0], atol=1e-3)

@@ -1,7 +1,10 @@
-"""The seeded soak in CI: 2000 mixed operations on the demo apartment (``benchmarks/soak.py``).
+"""The seeded soak in CI: 2000 mixed operations on the demo apartment (``benchmarks/soak.py``),
+cones and capsules pushed against walls among them.
 
 The soak itself raises on the first NaN or inconsistent count (manager, wrappers, live
-bodies); this test then checks the memory growth and the objects lost through the stage.
+bodies); this test then checks the memory growth, the objects lost through the stage and
+the objects sunk into it by their true shape (the lowest hull vertex below the stage
+surface under it), during the run and after a final rest.
 """
 
 from __future__ import annotations
@@ -55,3 +58,17 @@ def test_soak_memory_is_bounded(report):
 
 def test_soak_loses_no_dynamic_object(report):
     assert report.lost == [], report.summary()
+
+
+def test_soak_pushes_cones_and_capsules_against_walls(report):
+    assert report.counts["push_wall"] > 100
+    assert {"soak_cone", "soak_capsule"} <= set(report.final_by_kind), report.summary()
+
+
+def test_soak_sinks_no_object_into_the_stage_by_its_true_shape(report):
+    """Before: a cone pushed against the apartment's walls ended 3-4 cm in the floor, one
+    1.8 m below it (the old bounding-box check saw neither)."""
+    soak = _soak_module()
+    assert report.sunk == [], report.summary()
+    assert report.deepest <= soak.SINK_TOLERANCE
+    assert report.final_deepest < 0.01, report.summary()  # resting: on the true contact

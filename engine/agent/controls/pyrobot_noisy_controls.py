@@ -9,7 +9,7 @@ Each motion has two independent truncated Gaussians with diagonal covariance:
 * ``rotation`` ``(1,)``: noise of the heading, radians.
 
 One noisy action (``_noisy_action``), for a node with rotation ``R`` (columns: local axes in the
-parent frame), intended translation ``a`` (m) and rotation ``theta`` (degrees), multiplier ``k``:
+parent frame), intended translation ``a`` (m) and rotation ``theta`` (degrees), multiplier ``k``::
 
     n_t ~ k * N_trunc(mu_lin, sigma_lin)       (a move: n_t[0] >= -0.95 |a|)
     n_r ~ k * N_trunc(mu_rot, sigma_rot)       (a turn: n_r >= -0.95 |theta| in radians)

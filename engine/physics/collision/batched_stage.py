@@ -8,7 +8,7 @@ are the body's hull vertices lying in the prism of a nearby triangle, just below
 (method 2 of :mod:`collide`). For vertex ``v`` and triangle ``t`` (unit normal ``n_t``,
 corner ``p0_t``) the signed height is
 
-::
+.. math::
 
     h_{tv} = n_t \cdot (x_v - p_{0t}),
 

@@ -4,7 +4,7 @@ Two boxes (centers ``c``, axes the columns of ``R``, half extents ``e``) are apa
 some axis separates their projections (the separating axis theorem). For boxes 15 axes
 suffice: the 3 face normals of A, the 3 of B and the 9 cross products ``a_i x b_j`` of
 their edges (Gottschalk et al., OBBTree 1996; Ericson, *Real-Time Collision Detection*
-4.4.1). Along a unit axis ``u`` the separation is
+4.4.1). Along a unit axis ``u`` the separation is ::
 
     s(u) = |u . (c_b - c_a)| - sum_k e_a,k |u . a_k| - sum_k e_b,k |u . b_k|,
 

@@ -7,26 +7,27 @@ one point. Two such shapes touch where their segments come closest (Ericson, Rea
 Collision Detection, 5.1.9): with ``d_1, d_2`` the segments' directions, ``r = p_1 - p_2``,
 ``a = d_1 . d_1``, ``e = d_2 . d_2``, ``b = d_1 . d_2``, ``c = d_1 . r``, ``f = d_2 . r``,
 
-::
+.. math::
 
     s = \mathrm{clamp}\left(\frac{b f - c e}{a e - b^2}\right), \qquad
     t = \frac{b s + f}{e},
 
 and when ``t`` leaves ``[0, 1]`` it is clamped and ``s`` recomputed for it (``s = clamp(-c /
 a)`` at ``t = 0``, ``clamp((b - c) / a)`` at ``t = 1``). With the closest points ``c_1 = p_1 +
-s d_1`` and ``c_2 = p_2 + t d_2``, distance ``\delta = |c_2 - c_1|`` and normal ``n = (c_2 -
-c_1) / \delta`` (A to B), the contact is
+s d_1`` and ``c_2 = p_2 + t d_2``, distance :math:`\delta = |c_2 - c_1|` and normal
+:math:`n = (c_2 - c_1) / \delta` (A to B), the contact is
 
-::
+.. math::
 
     p_A = c_1 + r_1 n, \qquad p_B = c_2 - r_2 n, \qquad
     \mathrm{depth} = (p_A - p_B) \cdot n = r_1 + r_2 - \delta,
 
-kept while ``depth > -SPECULATIVE_DISTANCE``. Parallel axes (``a e - b^2 < (\sin\epsilon)^2
-a e``, ``\epsilon`` = ``CAPSULE_PARALLEL_SINE``) touch along a line: the two ends of the
-overlap of B's axis projected on A's, ``s in [lo, hi]``, each make a contact (a capsule
-lying on another rests on two points, not one). Crossing axes (``\delta = 0``) push apart
-along ``d_1 x d_2``, coincident ones along the pair's spread direction.
+kept while ``depth > -SPECULATIVE_DISTANCE``. Parallel axes
+(:math:`a e - b^2 < (\sin\epsilon)^2 a e`, :math:`\epsilon` = ``CAPSULE_PARALLEL_SINE``)
+touch along a line: the two ends of the overlap of B's axis projected on A's,
+``s in [lo, hi]``, each make a contact (a capsule lying on another rests on two points, not
+one). Crossing axes (:math:`\delta = 0`) push apart along ``d_1 x d_2``, coincident ones
+along the pair's spread direction.
 """
 
 from __future__ import annotations

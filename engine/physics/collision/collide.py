@@ -81,17 +81,20 @@ def overlapping_pairs(
 ) -> np.ndarray:
     """Pairs ``(p, 2)`` of indices into the body arrays, ``a < b``, whose AABBs overlap.
 
-    Parameters
-    ----------
-    aabb_min, aabb_max : (n, 3) world AABBs of all bodies.
-    candidates : (c,) int, collidable bodies to test.
-    active : (n,) bool, bodies that can move this step; a pair needs at least one.
-
     Pairs come sorted by ``(a, b)``, so their order does not depend on who is active. With
     ``k`` active candidates, the brute-force ``(k, c)`` test (:func:`all_pairs_overlaps`,
     the readable version) runs while ``k c <= BROAD_PHASE_BRUTE_FORCE``; above it, sort and
     sweep (:func:`sweep_and_prune_overlaps`, ``O(c log c + overlaps)``). Both return the
     same pairs (tested).
+
+    Parameters
+    ----------
+    aabb_min, aabb_max : (n, 3) float
+        World AABBs of all bodies.
+    candidates : (c,) int
+        Collidable bodies to test.
+    active : (n,) bool
+        Bodies that can move this step; a pair needs at least one.
     """
     movers = candidates[active[candidates]]
     if len(movers) * len(candidates) <= settings.BROAD_PHASE_BRUTE_FORCE:

@@ -392,7 +392,7 @@ def select_support(
 ) -> np.ndarray:
     """(r, k) bool: per row, up to ``count`` points spanning the largest supporting area.
 
-    Reference: :func:`reference_contacts.select_support` (one row).
+    Reference: :func:`reference_manifolds.select_support` (one row).
 
     Parameters
     ----------

@@ -29,7 +29,7 @@ body_spinning_friction     (n,)         spinning resistance, m (same combination
 body_collision_group       (n,)         int, the body's CollisionGroups bit
 body_collision_mask        (n,)         int, the groups it collides with (copied from its group)
 body_restitution           (n,)         coefficient of restitution (pair value = product)
-body_linear_damping        (n,)         1/s style fraction d, v *= (1 - d)^dt
+body_linear_damping        (n,)         1/s style fraction d, ``v *= (1 - d)^dt``
 body_angular_damping       (n,)         same for angular velocity
 body_awake                 (n,)         bool, sleeping bodies are skipped by the solver
 body_sleep_time            (n,)         s the body has been resting
@@ -114,7 +114,7 @@ class Bodies:
     body_collision_group: np.ndarray  #: (n,) int, the body's CollisionGroups bit
     body_collision_mask: np.ndarray  #: (n,) int, the groups it collides with
     body_restitution: np.ndarray  #: (n,) float, restitution coefficient (pair: product)
-    body_linear_damping: np.ndarray  #: (n,) float, fraction d: v *= (1 - d)^dt
+    body_linear_damping: np.ndarray  #: (n,) float, fraction d: ``v *= (1 - d)^dt``
     body_angular_damping: np.ndarray  #: (n,) float, same for w
     body_awake: np.ndarray  #: (n,) bool, False: asleep (skipped by the solver)
     body_sleep_time: np.ndarray  #: (n,) float, s the body has been resting

@@ -158,7 +158,7 @@ SUPPORT_DEPTH_BAND = 0.004
 #: 1 (cosine), a polyhedron face serves as reference face of a contact only if its outward
 #: normal is at least this aligned with fcl's contact normal (about 45 degrees).
 REFERENCE_FACE_ALIGNMENT = 0.7
-#: 1, tangent_basis builds t1 from the world X axis unless |n_x| reaches this (then Y):
+#: 1, tangent_basis builds t1 from the world X axis unless ``|n_x|`` reaches this (then Y):
 #: just below 1/sqrt(3), so the chosen axis is never nearly parallel to n.
 TANGENT_AXIS_SWITCH = 0.57
 #: m (or m^2 for areas), manifold choices (deepest point, farthest point, largest area)
@@ -263,6 +263,11 @@ RAY_SPHERE_MARGIN = 1e-3
 #: m, a hull vertex this close to the hull's center has no outward direction: growing the
 #: hull into its speculative probe divides by this instead of its distance.
 PROBE_MIN_OFFSET = 1e-12
+#: points, a collision point set larger than this gets the hull of a capped sample
+#: (hull_sampling.py): every hull pass and every contact step would pay for each vertex.
+MAX_HULL_POINTS = 4096
+#: points, about how many such a sample keeps (one per occupied cell of a grid).
+HULL_SAMPLE_POINTS = 1024
 #: m^3, a convex collision hull with no more volume than this is degenerate (refused).
 MIN_HULL_VOLUME = 1e-12
 #: 1, a point set whose smallest principal extent is at most this fraction of its largest
@@ -319,7 +324,7 @@ SWEEP_BOX_PADDING = 1e-6
 BOX_AXIS_RELATIVE = 0.95
 #: m, see ``BOX_AXIS_RELATIVE``.
 BOX_AXIS_ABSOLUTE = 0.0005
-#: 1, |a_i x b_j| below this: the two edges are parallel and their cross product is no axis.
+#: 1, ``|a_i x b_j|`` below this: the two edges are parallel and their cross product is no axis.
 BOX_PARALLEL_EDGES = 1e-6
 #: m, clipping tolerance: a point this close outside a face's rectangle still counts.
 BOX_CLIP_TOLERANCE = 1e-7

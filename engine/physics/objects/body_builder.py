@@ -6,7 +6,9 @@ Habitat's rules (docs/habitat_api.md, "Objects"):
   file loaded with the template's up/front/scale/units_to_meters);
 * collision: the collision asset (the render asset when empty). A primitive collision asset
   is an exact primitive (scaled by ``scale x collision_asset_size``); mesh assets become one
-  convex hull per mesh, or one joined hull with ``join_collision_meshes``; with
+  convex hull per mesh, or one joined hull with ``join_collision_meshes`` (beyond
+  ``MAX_HULL_POINTS`` points the hull of a capped sample, cached per point set:
+  ``hull_sampling.py``); with
   ``use_bounding_box_for_collision`` a box of the collision meshes' AABB;
 * the body frame's origin is the center of mass: the center of the render meshes' AABB unless
   the template gives ``COM``; shapes and meshes are shifted by ``-COM``;
@@ -24,6 +26,7 @@ from scipy.spatial import QhullError
 
 from ..core.settings import MAX_COORDINATE, MIN_BOX_HALF_EXTENT
 from ..core.shapes import Shape, box_shape, convex_shape, primitive_shape, unit_mass_inertia
+from .hull_sampling import cached_hull_points
 
 
 @dataclass
@@ -148,8 +151,11 @@ def _collision_shapes(template, collision_handle, render_handle, com) -> list[Sh
         lo, hi = cloud.min(0), cloud.max(0)
         return [box_shape(np.maximum(0.5 * (hi - lo), MIN_BOX_HALF_EXTENT), 0.5 * (lo + hi))]
     if template.join_collision_meshes or len(clouds) == 1:
-        return [convex_shape(np.concatenate(clouds), name)]
-    return [convex_shape(cloud, f"{name} mesh {i}") for i, cloud in enumerate(clouds)]
+        return [convex_shape(cached_hull_points(np.concatenate(clouds)), name)]
+    return [
+        convex_shape(cached_hull_points(cloud), f"{name} mesh {i}")
+        for i, cloud in enumerate(clouds)
+    ]
 
 
 def _unit_inertia(shapes: list[Shape]) -> np.ndarray:

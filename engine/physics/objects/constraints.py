@@ -33,20 +33,18 @@ Two paths, one algebra: :func:`solve_constraints_scalar` visits the constraints 
 dynamic body) as one NumPy batch. Colors are visited in order, so both are Gauss-Seidel
 across colors and give the same numbers (tested). The constraint stage runs after the
 contact solve of each step (a teaching simplification: contacts and constraints are not
-interleaved within the iterations). Bodies held by a constraint do not fall asleep.
+interleaved within the iterations). Bodies held by a constraint do not fall asleep. A
+constraint none of whose bodies is an awake DYNAMIC one (its object made KINEMATIC, two
+STATIC objects) is inert: the step leaves it out (:meth:`ConstraintStore.active_ids`).
+The settings and their checks are in :mod:`.constraint_settings`.
 """
 
 from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
-
-from engine import mn
-from engine.core.fixed_fields import unknown_attribute_error
-from engine.core.named_enum import NamedIntEnum
 
 from ..core.bodies import Bodies
 from ..core.quaternions import cross, quat_to_matrix
@@ -55,99 +53,10 @@ from ..pipeline.solve_stage import solver_velocities
 from ..solver.coloring import color_manifolds
 from ..solver.integrate import world_inverse_inertia
 from ..solver.sleeping import wake_body
+from .constraint_settings import WORLD, RigidConstraintSettings, RigidConstraintType
 from .world_view import WorldView
 
 __all__ = ["ConstraintStore", "RigidConstraintSettings", "RigidConstraintType"]
-
-#: object id that means "the world" (Habitat's -1).
-WORLD = -1
-
-
-class RigidConstraintType(NamedIntEnum):
-    """Habitat's constraint kinds."""
-
-    PointToPoint = 0
-    Fixed = 1
-
-
-_SETTINGS_FIELDS = (
-    "constraint_type",
-    "max_impulse",
-    "object_id_a",
-    "object_id_b",
-    "link_id_a",
-    "link_id_b",
-    "pivot_a",
-    "pivot_b",
-    "frame_a",
-    "frame_b",
-)
-
-
-class RigidConstraintSettings:
-    """What a constraint holds together (Habitat's fields and defaults).
-
-    ``object_id_b = -1`` attaches A to the world: ``pivot_b`` and ``frame_b`` are then
-    world-frame; otherwise each pivot and frame is in its own object's local frame.
-    """
-
-    __slots__ = tuple(f"_{name}" for name in _SETTINGS_FIELDS)
-
-    def __init__(self) -> None:
-        self.constraint_type = RigidConstraintType.PointToPoint
-        self.max_impulse = 1000.0
-        self.object_id_a = -1
-        self.object_id_b = -1
-        self.link_id_a = 0
-        self.link_id_b = 0
-        self.pivot_a = mn.Vector3()
-        self.pivot_b = mn.Vector3()
-        self.frame_a = mn.Matrix3x3()
-        self.frame_b = mn.Matrix3x3()
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if name not in _SETTINGS_FIELDS:
-            raise unknown_attribute_error("RigidConstraintSettings", name, _SETTINGS_FIELDS)
-        if name == "constraint_type":
-            value = RigidConstraintType(int(value))
-        elif name == "max_impulse":
-            value = float(value)
-            if not value > 0.0:
-                raise ValueError(f"max_impulse must be > 0, got {value!r}")
-        elif name.startswith(("object_id", "link_id")):
-            if isinstance(value, bool) or not isinstance(value, int | np.integer):
-                raise TypeError(f"{name} must be an int, got {value!r}")
-            value = int(value)
-        elif name.startswith("pivot"):
-            value = mn.to_vector3(value, name)
-        else:
-            matrix = np.asarray(value, dtype=np.float64)
-            if matrix.shape != (3, 3) or not np.all(np.isfinite(matrix)):
-                raise ValueError(f"{name} must be a finite 3x3 rotation, got {value!r}")
-            value = mn.Matrix3x3(matrix)
-        object.__setattr__(self, f"_{name}", value)
-
-    def __getattr__(self, name: str) -> Any:
-        if name in _SETTINGS_FIELDS:
-            value = object.__getattribute__(self, f"_{name}")
-            return (
-                type(value)(np.asarray(value))
-                if isinstance(value, mn.Vector3 | mn.Matrix3x3)
-                else value
-            )
-        raise unknown_attribute_error("RigidConstraintSettings", name, _SETTINGS_FIELDS)
-
-    def copy(self) -> RigidConstraintSettings:
-        clone = RigidConstraintSettings()
-        for name in _SETTINGS_FIELDS:
-            setattr(clone, name, getattr(self, name))
-        return clone
-
-    def __repr__(self) -> str:
-        return (
-            f"RigidConstraintSettings({self.constraint_type.name}, a={self.object_id_a}, "
-            f"b={self.object_id_b}, max_impulse={self.max_impulse})"
-        )
 
 
 @dataclass
@@ -274,10 +183,12 @@ class ConstraintStore:
         """Constraint stage of a step: build rows, iterate, write the dynamic velocities.
 
         Like the other stages, a function of explicit arrays and settings (no ``world``)."""
-        if not self._settings:
+        active = self.active_ids(moving)
+        if not active:  # no constraint has a body that can move: all are inert this step
             return
         velocity, inv_mass, inv_inertia = _body_state(bodies, bodies.count, moving)
-        rows = order_by_color(self.build_rows(bodies, inv_mass, inv_inertia, h), inv_mass)
+        rows = self.build_rows(bodies, inv_mass, inv_inertia, h, active)
+        rows = order_by_color(rows, inv_mass)
         rows.bias = point_bias(rows, velocity, h)
         iterations = settings.constraint_iterations
         if settings.use_vectorized:
@@ -287,11 +198,29 @@ class ConstraintStore:
         bodies.body_linear_velocity[moving] = velocity[moving, :3]
         bodies.body_angular_velocity[moving] = velocity[moving, 3:]
 
+    def active_ids(self, moving: np.ndarray) -> list[int]:
+        """Ids of the constraints with at least one body among ``moving`` (awake DYNAMIC
+        body indices). The others hold only static, kinematic or sleeping bodies: no
+        impulse can move them, so they are inert this step (a constraint pinning an object
+        made KINEMATIC, or two STATIC objects)."""
+        movable = set(np.asarray(moving).tolist())
+        return [
+            c
+            for c in self.ids()
+            if movable & {self._settings[c].object_id_a, self._settings[c].object_id_b}
+        ]
+
     def build_rows(
-        self, b, inv_mass: np.ndarray, inv_inertia: np.ndarray, h: float
+        self,
+        b,
+        inv_mass: np.ndarray,
+        inv_inertia: np.ndarray,
+        h: float,
+        ids: list[int] | None = None,
     ) -> ConstraintRows:
-        """Anchors, errors and effective masses of every constraint for this step."""
-        settings = [self._settings[c] for c in self.ids()]
+        """Anchors, errors and effective masses of the constraints ``ids`` (default: every
+        constraint) for this step."""
+        settings = [self._settings[c] for c in (self.ids() if ids is None else ids)]
         k = len(settings)
         a = np.array([s.object_id_a for s in settings], dtype=np.int64)
         bb = np.array([s.object_id_b for s in settings], dtype=np.int64)

@@ -21,6 +21,7 @@ from engine.templates.attributes import check_inertia
 from ..collision.collision_groups import assign_group
 from ..core.bodies import DYNAMIC, KINEMATIC, STATIC
 from ..solver.integrate import world_inverse_inertia
+from .mass_ratio import warn_beyond_stable_ratio
 from .object_checks import DeadObjectError, finite_result, number_argument, quiet_overflow
 from .physics_object import ManagedPhysicsObject
 
@@ -225,6 +226,7 @@ class ManagedRigidObject(ManagedPhysicsObject):
             "velocity change under the pending force",
         )
         self._set_scalar("body_mass", mass)
+        warn_beyond_stable_ratio(self._world.bodies, index, self._world.mass_ratio_warned)
 
     @property
     def intertia_diagonal(self) -> mn.Vector3:  # Habitat's spelling

@@ -27,6 +27,7 @@ from engine.templates.managers import unknown_handle_message
 from ..core.bodies import DYNAMIC, KINEMATIC, STATIC
 from ..core.motion_type import MotionType
 from .body_builder import describe_object
+from .mass_ratio import warn_beyond_stable_ratio
 from .object_properties import DeadObjectError, ManagedRigidObject
 
 
@@ -94,6 +95,8 @@ class RigidObjectManager:
         description = describe_object(template)  # raises before the world changes
         world = self._world
         index = world.add_body(description, template)
+        world.mass_ratio_warned.discard(index)  # a reused slot is checked afresh
+        warn_beyond_stable_ratio(world.bodies, index, world.mass_ratio_warned)
         root = attachment_node if attachment_node is not None else SceneNode(self._root_node)
         visual = SceneNode(root, name="visual")
         visual.translation = -description.com

@@ -32,6 +32,8 @@ class WorldView(Protocol):
     collision_objects: CollisionObjects
     #: the velocity control of every object, by object id
     velocity_controls: dict[int, Any]
+    #: bodies already warned of a mass ratio beyond what the solver holds (mass_ratio.py)
+    mass_ratio_warned: set[int]
 
     def get_physics_time_step(self) -> float:
         """The fixed step, seconds."""

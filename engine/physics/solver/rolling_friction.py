@@ -23,9 +23,9 @@ Differences from Bullet, on purpose: the limit uses the manifold's total normal 
 ``min(mu lambda_n, mu)``). One pass per step, after the contact iterations: the contact
 friction of the next step re-establishes rolling without slipping.
 
-Two paths: :func:`rolling_friction_scalar` loops over manifolds; :func:`rolling_friction_
-vectorized` solves one graph color per NumPy batch (manifolds of a color share no dynamic
-body), in the same order, so both agree (tested).
+Two paths: :func:`rolling_friction_scalar` loops over manifolds;
+:func:`rolling_friction_vectorized` solves one graph color per NumPy batch (manifolds of a
+color share no dynamic body), in the same order, so both agree (tested).
 """
 
 from __future__ import annotations
