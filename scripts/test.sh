@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The test command: installs rigidsim with its test extras into ./.venv and the notebooks'
 # environment ./.venv-notebook (the notebook extra alone; both created where missing), then runs
-# ruff, ruff format, mypy, the import contracts and the test suite on every core (pytest-xdist),
-# and prints how long it took. It installs nothing system-wide: the browser tests use a Chromium that is already
+# ruff, ruff format, mypy, the import contracts, the test suite on every core (pytest-xdist) and
+# the habitat-lab check, and prints how long it took. It installs nothing system-wide: the browser tests use a Chromium that is already
 # there, or skip with a message (.ci/run installs one for CI). Extra args go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
