@@ -81,13 +81,18 @@ class PlaceholderObject:
         return f"<{self.habitat_name} placeholder: {self.missing}>"
 
 
-def placeholder_function(habitat_name: str, missing: str, instead: str) -> Callable[..., NoReturn]:
-    """A function named after ``habitat_name`` that raises the placeholder error when called."""
+def placeholder_function(
+    habitat_name: str, missing: str, instead: str, *, module: str
+) -> Callable[..., NoReturn]:
+    """A function named after ``habitat_name`` that raises the placeholder error when called;
+    ``module`` is the module that exports it (its ``__name__``), so documentation and
+    introspection find it there."""
 
     def placeholder(*args: Any, **kwargs: Any) -> NoReturn:
         raise not_in_rigidsim(habitat_name, missing, instead)
 
     placeholder.__name__ = habitat_name.rpartition(".")[2]
     placeholder.__qualname__ = placeholder.__name__
+    placeholder.__module__ = module
     placeholder.__doc__ = f"Placeholder of ``{habitat_name}``: {missing}; raises when called."
     return placeholder

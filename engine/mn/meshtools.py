@@ -32,9 +32,15 @@ class InterleaveFlags(enum.Flag):
     PRESERVE_STRIDED_INDICES = 2
 
 
-generate_indices = placeholder_function("magnum.meshtools.generate_indices", _MISSING, _INSTEAD)
-filter_only_attributes = placeholder_function(
-    "magnum.meshtools.filter_only_attributes", _MISSING, _INSTEAD
+generate_indices = placeholder_function(
+    "magnum.meshtools.generate_indices", _MISSING, _INSTEAD, module=__name__
 )
-interleave = placeholder_function("magnum.meshtools.interleave", _MISSING, _INSTEAD)
-transform3d = placeholder_function("magnum.meshtools.transform3d", _MISSING, _INSTEAD)
+filter_only_attributes = placeholder_function(
+    "magnum.meshtools.filter_only_attributes", _MISSING, _INSTEAD, module=__name__
+)
+interleave = placeholder_function(
+    "magnum.meshtools.interleave", _MISSING, _INSTEAD, module=__name__
+)
+transform3d = placeholder_function(
+    "magnum.meshtools.transform3d", _MISSING, _INSTEAD, module=__name__
+)

@@ -16,4 +16,5 @@ absolute_field_transformations3d = placeholder_function(
     "magnum.scenetools.absolute_field_transformations3d",
     "Magnum's scene tools work on magnum.trade scene data, which rigidsim never produces",
     "engine.scene.assets.load_meshes(path) returns meshes moved by their nodes' world transforms",
+    module=__name__,
 )
