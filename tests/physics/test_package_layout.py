@@ -12,6 +12,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+from import_graph_support import strongly_connected_groups
+
 PHYSICS = Path(__file__).resolve().parents[2] / "engine" / "physics"
 #: folder -> layer (a folder may import only folders of a lower layer)
 LAYERS = {"core": 1, "collision": 2, "solver": 2, "reference": 3, "pipeline": 4, "objects": 5}
@@ -55,35 +57,6 @@ def folder_of(module: str) -> str | None:
     return parts[2] if len(parts) > 2 and parts[2] in LAYERS else None
 
 
-def strongly_connected(graph: dict[str, set[str]]) -> list[list[str]]:
-    """Groups of more than one module that reach each other (Tarjan)."""
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    groups = []
-
-    def visit(module: str) -> None:
-        index[module] = low[module] = len(index)
-        stack.append(module)
-        for target in sorted(graph[module]):
-            if target not in index:
-                visit(target)
-                low[module] = min(low[module], low[target])
-            elif target in stack:
-                low[module] = min(low[module], index[target])
-        if low[module] == index[module]:
-            group = []
-            while (member := stack.pop()) != module:
-                group.append(member)
-            if group:
-                groups.append(sorted([module, *group]))
-
-    for module in sorted(graph):
-        if module not in index:
-            visit(module)
-    return groups
-
-
 def test_every_folder_is_in_the_layering() -> None:
     folders = {p.name for p in PHYSICS.iterdir() if (p / "__init__.py").is_file()}
     assert folders == set(LAYERS)
@@ -98,13 +71,13 @@ def test_no_import_circle_inside_engine_physics_type_hints_included() -> None:
         "engine.physics.collision.collision_objects"
         in graph["engine.physics.pipeline.narrow_phase"]
     )
-    assert strongly_connected(graph) == []
+    assert strongly_connected_groups(graph) == []
 
 
 def test_a_type_hint_circle_is_found() -> None:
     graph = import_graph()
     graph["engine.physics.objects.physics_object"].add("engine.physics.world")  # as before
-    assert any("engine.physics.world" in group for group in strongly_connected(graph))
+    assert any("engine.physics.world" in group for group in strongly_connected_groups(graph))
 
 
 def test_folders_import_only_lower_layers() -> None:

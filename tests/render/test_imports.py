@@ -5,6 +5,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+from import_graph_support import strongly_connected_groups
+
 RENDER_DIR = Path(__file__).resolve().parents[2] / "render"
 
 
@@ -88,47 +90,15 @@ def imported_modules(name: str, path: Path, modules: dict[str, Path]) -> set[str
     return found
 
 
-def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
-    """Every strongly connected group of modules with more than one member (Tarjan)."""
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    cycles = []
-
-    def visit(module: str) -> None:
-        index[module] = low[module] = len(index)
-        stack.append(module)
-        for target in sorted(graph[module]):
-            if target not in index:
-                visit(target)
-                low[module] = min(low[module], low[target])
-            elif target in stack:
-                low[module] = min(low[module], index[target])
-        if low[module] == index[module]:
-            group = []
-            while True:
-                member = stack.pop()
-                group.append(member)
-                if member == module:
-                    break
-            if len(group) > 1:
-                cycles.append(sorted(group))
-
-    for module in sorted(graph):
-        if module not in index:
-            visit(module)
-    return cycles
-
-
 def test_the_import_graph_finds_a_function_level_cycle(tmp_path):
     modules = {"a": tmp_path / "a.py", "b": tmp_path / "b.py"}
     modules["a"].write_text("import b\n")
     modules["b"].write_text("def late():\n    from a import x\n")
     graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
-    assert import_cycles(graph) == [["a", "b"]]
+    assert strongly_connected_groups(graph) == [["a", "b"]]
     modules["b"].write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    import a\n")
     graph = {name: imported_modules(name, path, modules) for name, path in modules.items()}
-    assert import_cycles(graph) == []
+    assert strongly_connected_groups(graph) == []
 
 
 def test_no_import_cycles_at_run_time():
@@ -139,4 +109,4 @@ def test_no_import_cycles_at_run_time():
         "engine.physics.pipeline.reference_contacts"
         in graph["engine.physics.pipeline.collision_stage"]
     )
-    assert import_cycles(graph) == []
+    assert strongly_connected_groups(graph) == []
