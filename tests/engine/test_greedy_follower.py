@@ -13,6 +13,7 @@ import itertools
 import numpy as np
 import pytest
 import trimesh
+from follower_support import TURN_DEGREES, noisy_agent
 
 import engine as habitat_sim
 from engine import mn
@@ -21,7 +22,6 @@ from engine.nav.follower_poses import ArrayPose
 from engine.nav.follower_probe import navmesh_sliding
 from engine.registry import registry
 
-TURN_DEGREES = 30.0
 EPISODES = 12
 NOISY_EPISODES = 40
 HABITAT_SPL_BARS = {True: 0.97, False: 0.925}  # allow_sliding -> acceptable mean SPL
@@ -302,17 +302,7 @@ def test_noisy_pyrobot_actions_reach_habitats_spl_bar_in_an_open_hall():
     pathfinder = open_hall_pathfinder()
     pathfinder.seed(0)
     seed_noise(0)
-    agent = habitat_sim.Agent(habitat_sim.SceneGraph().get_root_node().create_child())
-    agent.controls.move_filter_fn = pathfinder.try_step
-    space = agent.agent_config.action_space
-    space["turn_left"].actuation.amount = space["turn_right"].actuation.amount = TURN_DEGREES
-    noisy = habitat_sim.PyRobotNoisyActuationSpec
-    agent.agent_config.action_space = {"_" + key: spec for key, spec in space.items()}
-    agent.agent_config.action_space.update(
-        move_forward=habitat_sim.ActionSpec("pyrobot_noisy_move_forward", noisy(amount=0.25)),
-        turn_left=habitat_sim.ActionSpec("pyrobot_noisy_turn_left", noisy(amount=TURN_DEGREES)),
-        turn_right=habitat_sim.ActionSpec("pyrobot_noisy_turn_right", noisy(amount=TURN_DEGREES)),
-    )
+    agent = noisy_agent(pathfinder)
     follower = habitat_sim.GreedyGeodesicFollower(
         pathfinder, agent, forward_key="move_forward", left_key="turn_left", right_key="turn_right"
     )

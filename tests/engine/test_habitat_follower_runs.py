@@ -17,30 +17,13 @@ from __future__ import annotations
 import random
 
 import numpy as np
+from follower_support import noisy_agent
 
 import engine as habitat_sim
 from engine.agent.controls.pyrobot_noisy_controls import seed_noise
 from engine.utils.settings import default_sim_settings, make_cfg
 
 HABITAT_NOISY_TRY_STEP_SPL = 0.82  # ACCEPTABLE_SPLS[("try_step", True)]
-TURN_DEGREES = 30.0
-
-
-def noisy_agent(pathfinder):
-    """Habitat's noisy agent: perfect actions renamed ``_*`` for the follower's planning,
-    PyRobot noisy actions under the plain names, ``try_step`` as the move filter."""
-    agent = habitat_sim.Agent(habitat_sim.SceneGraph().get_root_node().create_child())
-    agent.controls.move_filter_fn = pathfinder.try_step
-    space = agent.agent_config.action_space
-    space["turn_left"].actuation.amount = space["turn_right"].actuation.amount = TURN_DEGREES
-    noisy = habitat_sim.PyRobotNoisyActuationSpec
-    agent.agent_config.action_space = {"_" + key: spec for key, spec in space.items()}
-    agent.agent_config.action_space.update(
-        move_forward=habitat_sim.ActionSpec("pyrobot_noisy_move_forward", noisy(amount=0.25)),
-        turn_left=habitat_sim.ActionSpec("pyrobot_noisy_turn_left", noisy(amount=TURN_DEGREES)),
-        turn_right=habitat_sim.ActionSpec("pyrobot_noisy_turn_right", noisy(amount=TURN_DEGREES)),
-    )
-    return agent
 
 
 def habitat_episode_spl(pathfinder, agent, follower) -> float:
