@@ -99,57 +99,17 @@ class ContactBatch:
 @dataclass
 class SolverCache:
     """What the solver loops derive from a :class:`ContactBatch` once and reuse in every
-    sweep: the :class:`ColorBlocks` of each color for block Jacobi (``jacobi_colors``) and
-    for Gauss-Seidel over the slots (``slot_colors``), and the stage-priority pass's lumped
-    rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a computed None, no
-    shock pass, from one not computed yet) and their per-color sweep blocks (``sweeps``,
-    ``{"stage" | "shock": blocks}``). None: not made yet."""
+    sweep: ``rows``, the work array, the :class:`color_rows.RowMatrices` and each color's
+    :class:`color_rows.ColorRows` (``(work, matrices, colors)``), and the stage-priority
+    pass's lumped rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a
+    computed None, no shock pass, from one not computed yet) and their per-color sweep
+    blocks (``sweeps``, ``{"stage" | "shock": blocks}``). None: not made yet."""
 
-    jacobi_colors: list[ColorBlocks] | None = None
-    slot_colors: list[ColorBlocks] | None = None
+    rows: tuple | None = None
     lumped: LumpedRows | None = None
     shock: LumpedRows | None = None
     shock_ready: bool = False
     sweeps: dict[str, list[tuple]] = field(default_factory=dict)
-
-
-@dataclass
-class RowBlock:
-    """One NumPy batch of the solver loop: ``k`` manifolds of one color, ``r`` point slots.
-
-    ``normal_index = (manifolds, slots)`` slices the ``(m, S, ...)`` arrays,
-    ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
-    are views (or small copies) made once per batch, not per iteration, so the inner loop
-    only does algebra. The effective masses are folded into the Jacobians: one matmul gives
-    the ``-m_eff J V`` part of ``d_lambda = -m_eff (J V + b)``. With the block normal solve,
-    ``stacked_normal_jac (k, 2r, 12)`` is ``[-m_eff J; -B J]`` (both candidate updates in one
-    matmul) and ``touching (k, r, 1)`` the slots the block solves (None without). Shapes:
-    ``scaled_normal_jac (k, r, 12)`` (``-m_eff J``), ``normal_jac`` (``J``, for the one
-    restitution pass), ``normal_w (k, 12, r)``, ``normal_mass (k, r, 1)`` (``m_eff``),
-    ``friction (k, 1, 1)`` (``mu``), ``scaled_tangent_jac (k, 2r, 12)``, ``tangent_w (k, 12,
-    2r)``.
-    """
-
-    normal_index: tuple[slice, slice]
-    tangent_index: tuple[slice, slice]
-    scaled_normal_jac: np.ndarray
-    normal_jac: np.ndarray
-    normal_w: np.ndarray
-    normal_mass: np.ndarray
-    friction: np.ndarray
-    scaled_tangent_jac: np.ndarray
-    tangent_w: np.ndarray
-    stacked_normal_jac: np.ndarray | None = None
-    touching: np.ndarray | None = None
-
-
-@dataclass
-class ColorBlocks:
-    """One graph color: ``gather (k, 12, 1)`` indices of [v_a, w_a, v_b, w_b] into the
-    flattened ``(n * 6,)`` velocities, and its row blocks (one, or one per slot)."""
-
-    gather: np.ndarray
-    blocks: list[RowBlock]
 
 
 def velocity_gather(pair_bodies: np.ndarray) -> np.ndarray:
