@@ -100,12 +100,14 @@ class ContactBatch:
 class SolverCache:
     """What the solver loops derive from a :class:`ContactBatch` once and reuse in every
     sweep: ``rows``, the work array, the :class:`color_rows.RowMatrices` and each color's
-    :class:`color_rows.ColorRows` (``(work, matrices, colors)``), and the stage-priority
+    :class:`color_rows.ColorRows` (``(work, matrices, colors)``), every manifold's velocity
+    indices (``gathers``, :func:`batch_gathers`), and the stage-priority
     pass's lumped rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a
     computed None, no shock pass, from one not computed yet) and their per-color sweep
     blocks (``sweeps``, ``{"stage" | "shock": blocks}``). None: not made yet."""
 
     rows: tuple | None = None
+    gathers: np.ndarray | None = None
     lumped: LumpedRows | None = None
     shock: LumpedRows | None = None
     shock_ready: bool = False
@@ -116,6 +118,14 @@ def velocity_gather(pair_bodies: np.ndarray) -> np.ndarray:
     """``(k, 12, 1)`` indices of [v_a, w_a, v_b, w_b] of the pairs ``pair_bodies (k, 2)`` into
     the flattened ``(n * 6,)`` velocities: component c of body b is entry ``6 b + c``."""
     return (6 * pair_bodies[:, :, None] + np.arange(6)).reshape(-1, 12, 1)
+
+
+def batch_gathers(batch: ContactBatch) -> np.ndarray:
+    """:func:`velocity_gather` of all the batch's manifolds ``(m, 12, 1)``, made once and
+    kept on the batch (the sweeps slice it per color)."""
+    if batch.cache.gathers is None:
+        batch.cache.gathers = velocity_gather(batch.pair_bodies)
+    return batch.cache.gathers
 
 
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -231,23 +241,26 @@ def build_batch(
     point = 0.5 * (points_a + points_b)
     r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
     args = (inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a], inv_inertia[body_b])
-    normal_jac, normal_w = _rows(normals, r_a, r_b, *args)
     t1, t2 = tangent_basis(normals)
-    tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
-    r2 = (r_a.repeat(2, axis=1), r_b.repeat(2, axis=1))
-    tangent_jac, tangent_w = _rows(tangents, *r2, *args)
+    m = len(counts)
+    # the rows of n, t1 and t2 of every slot at once: (m, S * 3, ...) in that order
+    directions = np.stack([normals, t1, t2], axis=2).reshape(m, 3 * SLOTS, 3)
+    arms = (r_a.repeat(3, axis=1), r_b.repeat(3, axis=1))
+    jac, w = _rows(directions, *arms, *args)
+    jac, w = jac.reshape(m, SLOTS, 3, 12), w.reshape(m, SLOTS, 3, 12)
+    normal_jac, normal_w = jac[:, :, 0], w[:, :, 0]
+    tangent_jac = jac[:, :, 1:].reshape(m, 2 * SLOTS, 12)
+    tangent_w = w[:, :, 1:].reshape(m, 2 * SLOTS, 12)
     depth = ((points_a - points_b) * normals).sum(axis=-1)
     # n_split = touching points (gap < SPLIT_TOUCH_DISTANCE) with mass splitting, else 1
     touching = mask & (depth > -SPLIT_TOUCH_DISTANCE)
     n_touching = np.maximum(touching.sum(axis=1), 1)[:, None]
     split = n_touching if split_mass else np.ones((len(counts), 1))
-    # m_eff = 1 / (n_split J M^-1 J^T)
-    k_normal = (normal_jac * normal_w).sum(axis=-1)
-    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, TINY)), 0.0)
-    k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
-    tangent_mass = np.where(
-        mask.repeat(2, axis=1), 1.0 / (split * np.maximum(k_tangent, TINY)), 0.0
-    )
+    # m_eff = 1 / (n_split J M^-1 J^T), for the rows (n, t1, t2) of each slot
+    k_rows = (jac * w).sum(axis=-1)  # (m, S, 3)
+    split_rows = split[:, :, None]
+    mass = np.where(mask[..., None], 1.0 / (split_rows * np.maximum(k_rows, TINY)), 0.0)
+    normal_mass, tangent_mass = mass[:, :, 0], mass[:, :, 1:].reshape(m, 2 * SLOTS)
     vab = np.concatenate([bodies.velocity[body_a], bodies.velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
     return ContactBatch(

@@ -85,7 +85,7 @@ from .color_rows import (
     row_matrices,
     sync_primed,
 )
-from .contact_batch import SLOTS, ContactBatch, velocity_gather
+from .contact_batch import SLOTS, ContactBatch, batch_gathers
 from .stage_priority import stage_rows_last
 
 
@@ -110,9 +110,7 @@ def _solver_rows(batch: ContactBatch, bias: np.ndarray, settings: SolverSettings
             (slice(start, stop), used)
             for (start, stop), used in zip(batch.color_slices, batch.color_points, strict=True)
         ]
-        rows = color_rows(
-            work, matrices, velocity_gather(batch.pair_bodies), colors, settings.block_jacobi
-        )
+        rows = color_rows(work, matrices, batch_gathers(batch), colors, settings.block_jacobi)
         batch.cache.rows = (work, matrices, rows)
     return batch.cache.rows
 
