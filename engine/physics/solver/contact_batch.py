@@ -152,9 +152,11 @@ def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
-    """Jacobian rows ``(m, R, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, R, 3)``."""
-    ra_x_d, rb_x_d = cross3(r_a, direction), cross3(r_b, direction)
+def _rows(direction, arms, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
+    """Jacobian rows ``(m, R, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, R, 3)``
+    and arms ``(m, R, 2, 3)`` (``r_a``, ``r_b`` of each row)."""
+    arm_x_d = cross3(arms, direction[:, :, None])  # r_a x d and r_b x d in one call
+    ra_x_d, rb_x_d = arm_x_d[:, :, 0], arm_x_d[:, :, 1]
     jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
     # (I^-1 x)^T = x^T I^-T for the R rows of each manifold: one stacked matmul
@@ -245,8 +247,8 @@ def build_batch(
     m = len(counts)
     # the rows of n, t1 and t2 of every slot at once: (m, S * 3, ...) in that order
     directions = np.stack([normals, t1, t2], axis=2).reshape(m, 3 * SLOTS, 3)
-    arms = (r_a.repeat(3, axis=1), r_b.repeat(3, axis=1))
-    jac, w = _rows(directions, *arms, *args)
+    arms = np.stack([r_a, r_b], axis=2).repeat(3, axis=1)  # (m, 3S, 2, 3)
+    jac, w = _rows(directions, arms, *args)
     jac, w = jac.reshape(m, SLOTS, 3, 12), w.reshape(m, SLOTS, 3, 12)
     normal_jac, normal_w = jac[:, :, 0], w[:, :, 0]
     tangent_jac = jac[:, :, 1:].reshape(m, 2 * SLOTS, 12)
