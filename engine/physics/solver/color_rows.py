@@ -93,9 +93,10 @@ class ColorRows:
     ``gather (k, 12, 1)`` flat velocity indices of [v_a, w_a, v_b, w_b]; ``v``, ``new_v``,
     ``lam``, ``primed`` the row state's parts; ``x_normal``, ``x_friction``, ``x_update``
     the inputs of the matrices; ``primed_n (k, r, 1)`` and ``primed_t (k, r, 3)`` the
-    entries this block computes (``r``: 1 slot or all) and ``t1``, ``t2``, ``rho``,
-    ``pairs`` views of the latter; ``lam_n``; the matrices' rows ``normal``, ``friction``,
-    ``update``, ``normal_update``, ``block``, ``touching``.
+    entries this block computes (``r``: 1 slot or all), ``friction_out (k, 3r, 1)`` the
+    latter as ``P_t``'s output and ``t1``, ``t2``, ``rho``, ``pairs`` views of them; the
+    matrices' rows ``normal``, ``friction``, ``update``, ``normal_update``, ``block``,
+    ``touching``.
     """
 
     manifolds: slice
@@ -105,7 +106,6 @@ class ColorRows:
     new_v: np.ndarray
     lam: np.ndarray
     primed: np.ndarray
-    lam_n: np.ndarray
     x_normal: np.ndarray
     x_friction: np.ndarray
     x_update: np.ndarray
@@ -253,7 +253,6 @@ def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, rows: slice) -
         z[:, NEW_V],
         z[:, LAMBDA],
         z[:, PRIMED],
-        z[:, LAMBDA_N.start + rows.start : LAMBDA_N.start + rows.stop],
         z[:, :NORMAL_INPUT],
         z[:, :FRICTION_INPUT],
         z[:, :UPDATE_INPUT],
@@ -323,7 +322,7 @@ def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None
     np.matmul(normal, rows.x_normal, out=rows.primed_n)
     np.maximum(rows.primed_n, 0.0, out=rows.primed_n)
     np.matmul(rows.normal_update, rows.x_update, out=rows.new_v)
-    rows.lam_n[...] = rows.primed_n
+    rows.lam[...] = rows.primed  # only lambda_n' of this block's slots changed
     flat[rows.gather] = rows.new_v
 
 

@@ -130,11 +130,14 @@ def batch_gathers(batch: ContactBatch) -> np.ndarray:
 
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
-    # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
-    axis = np.zeros_like(normal)
-    axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
-    axis[..., 1] = 1.0 - axis[..., 0]
-    t1 = cross3(normal, axis)
+    # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1;
+    # written out: n x e_x = (0, n_z, -n_y), n x e_y = (-n_z, 0, n_x)
+    n_x, n_y, n_z = normal[..., 0], normal[..., 1], normal[..., 2]
+    use_x = np.abs(n_x) < TANGENT_AXIS_SWITCH
+    t1 = np.zeros_like(normal)
+    t1[..., 0] = np.where(use_x, 0.0, -n_z)
+    t1[..., 1] = np.where(use_x, n_z, 0.0)
+    t1[..., 2] = np.where(use_x, -n_y, n_x)
     t1 /= np.maximum(vector_length(t1), TINY)
     return t1, cross3(normal, t1)
 

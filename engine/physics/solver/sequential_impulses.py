@@ -90,13 +90,13 @@ from .stage_priority import stage_rows_last
 
 
 def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
-    """Apply the cached impulses: ``V += W lambda`` for all rows (duplicates summed)."""
-    lam_t = batch.impulse[:, :, 1:].reshape(len(batch.body_a), 2 * SLOTS)
-    dv = (batch.normal_w @ batch.impulse[:, :, :1])[..., 0] + (batch.tangent_w @ lam_t[..., None])[
-        ..., 0
-    ]
-    np.add.at(velocity, batch.body_a, dv[:, :6])
-    np.add.at(velocity, batch.body_b, dv[:, 6:])
+    """Apply the cached impulses: ``V += W lambda`` for all rows (a body's changes from all
+    its manifolds summed by one ``bincount`` over the flat velocity indices)."""
+    lam_t = batch.impulse[:, :, 1:].reshape(len(batch.body_a), 2 * SLOTS, 1)
+    dv = batch.normal_w @ batch.impulse[:, :, :1] + batch.tangent_w @ lam_t  # (m, 12, 1)
+    flat = velocity.reshape(-1)
+    flat += np.bincount(batch_gathers(batch).ravel(), dv.ravel(), minlength=len(flat))
+    velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
 
 
 def _solver_rows(batch: ContactBatch, bias: np.ndarray, settings: SolverSettings):
