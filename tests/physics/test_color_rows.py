@@ -123,7 +123,7 @@ def test_the_row_views_write_into_the_work_array():
     work, _, colors = _solver_rows(batch, np.zeros((3, 4, 1)), SolverSettings())
     for color in colors:
         for rows in color:
-            for view in (rows.v, rows.new_v, rows.primed_n, rows.friction_out, rows.pairs):
+            for view in (rows.v, rows.lam, rows.primed_n, rows.friction_out, rows.pairs):
                 assert np.shares_memory(view, work)
             assert np.shares_memory(rows.pairs, rows.friction_out)
 

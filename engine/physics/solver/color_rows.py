@@ -5,12 +5,12 @@ vector, its *row state* (``S = 4`` point slots; ``rho`` the radius of a slot's f
 circle, ``mu lambda_n``)::
 
     x = [V = (v_a, w_a, v_b, w_b) (12) | 1 | lambda_n (S) | (lambda_t1, lambda_t2, .) x S
-         | lambda_n' (S) | (lambda_t1', lambda_t2', rho) x S | V' (12)]
+         | lambda_n' (S) | (lambda_t1', lambda_t2', rho) x S]
 
 The accumulated impulses ``lambda`` stay in ``x`` for the whole solve; only the 12
-velocities are gathered from the bodies and ``V'`` scattered back, once per color and
-sweep. Every step of sequential impulses (Catto 2005, see :mod:`sequential_impulses`) is a
-matrix times ``x`` followed by a clamp:
+velocities are gathered from the bodies and scattered back, once per color and sweep.
+Every step of sequential impulses (Catto 2005, see :mod:`sequential_impulses`) is a matrix
+times ``x`` followed by a clamp:
 
 * normal rows, the accumulated impulse clamped ``>= 0``::
 
@@ -24,22 +24,25 @@ matrix times ``x`` followed by a clamp:
       rho       = mu lambda_n'
 
   then each slot's 2-D impulse is scaled back onto the Coulomb circle ``|lambda_t'| <= rho``;
-* the velocities once, ``V' = V + W_n (lambda_n' - lambda_n) + W_t (lambda_t' - lambda_t)
-  = P_v x``, and ``lambda = lambda'``.
+* the velocities once, ``V += W_n (lambda_n' - lambda_n) + W_t (lambda_t' - lambda_t) =
+  [-W  W] [lambda; lambda']``, and ``lambda = lambda'``.
 
 This is the order of the plain solver (a manifold's normal rows, then its friction rows
 reading the new velocities: :func:`reference_solver._normal_impulses` and
-``_friction_impulses``); only the sums run in another order. A color and sweep costs 12
+``_friction_impulses``); only the sums run in another order. A color and sweep costs 13
 NumPy calls (the separate normal and friction updates with their own gathers took 24).
+The velocity change is not folded into one more matrix (``[I 0 -W W] x``, one call
+fewer): its identity block made the matrices a third larger, and on 500 cubes the step
+spent more time reading them than the call saved.
 Without accumulated impulses (box2d-lite's toggle, ``accumulate_impulses=False``) the
 primed entries are increments: ``P_n`` and ``P_t`` have no ``I`` columns, ``rho = mu
-(lambda_n + dl_n)``, ``V' = V + W dl`` and ``lambda += dl``. The first
+(lambda_n + dl_n)``, ``V += W dl`` and ``lambda += dl``. The first
 ``block_normal_sweeps`` replace ``lambda_n'`` by the block candidates where they keep every
 impulse non-negative (:func:`block_matrix`).
 
 Gauss-Seidel over the slots (``block_jacobi=False``) gives each slot of a color its own
 :class:`ColorRows` (its rows of ``P_n`` and ``P_t``, its own gather and scatter): the other
-slots' primed entries equal their unprimed ones, so ``P_t`` and ``P_v`` see no stale change.
+slots' primed entries equal their unprimed ones, so ``P_t`` and ``[-W W]`` see no stale change.
 """
 
 from __future__ import annotations
@@ -62,17 +65,18 @@ LAMBDA_N = slice(13, 13 + S)
 PRIMED = slice(13 + 4 * S, 13 + 8 * S)
 PRIMED_N = slice(13 + 4 * S, 13 + 5 * S)
 PRIMED_T = slice(13 + 5 * S, 13 + 8 * S)
-NEW_V = slice(13 + 8 * S, 25 + 8 * S)
-WIDTH = NEW_V.stop
-#: the inputs of P_n ([V, 1, lambda_n]), P_t (up to lambda_n') and P_v (up to rho)
-NORMAL_INPUT, FRICTION_INPUT, UPDATE_INPUT = LAMBDA_N.stop, PRIMED_N.stop, PRIMED.stop
+WIDTH = PRIMED.stop
+#: the inputs of P_n ([V, 1, lambda_n]) and P_t (up to lambda_n'); [-W W] reads
+#: [lambda, lambda']
+NORMAL_INPUT, FRICTION_INPUT = LAMBDA_N.stop, PRIMED_N.stop
+CHANGES = slice(LAMBDA.start, PRIMED.stop)
 
 
 @dataclass
 class RowMatrices:
     """The matrices of all ``m`` manifolds of a step (module docstring): ``normal (m, S,
     NORMAL_INPUT)`` ``P_n``, ``friction (m, 3S, FRICTION_INPUT)`` ``P_t`` (rows t1, t2, rho
-    of each slot), ``update (m, 12, UPDATE_INPUT)`` ``P_v`` of the velocity sweeps and
+    of each slot), ``update (m, 12, 8S)`` ``[-W W]`` of the velocity sweeps and
     ``normal_update`` the one of the normal-only passes (the same array when impulses are
     accumulated); with the block normal solve ``block (m, 2S, NORMAL_INPUT)`` ``[P_B;
     P_B']`` and ``touching (m, S, 1)``."""
@@ -90,9 +94,9 @@ class ColorRows:
     """Views of one color's ``manifolds`` (all their slots, or one of them: ``slots``) into
     the work array and the matrices, made once per step so that a sweep only does algebra.
 
-    ``gather (k, 12, 1)`` flat velocity indices of [v_a, w_a, v_b, w_b]; ``v``, ``new_v``,
-    ``lam``, ``primed`` the row state's parts; ``x_normal``, ``x_friction``, ``x_update``
-    the inputs of the matrices; ``primed_n (k, r, 1)`` and ``primed_t (k, r, 3)`` the
+    ``gather (k, 12, 1)`` flat velocity indices of [v_a, w_a, v_b, w_b]; ``v``, ``lam``,
+    ``primed`` the row state's parts; ``x_normal``, ``x_friction``, ``x_changes`` the
+    inputs of the matrices; ``primed_n (k, r, 1)`` and ``primed_t (k, r, 3)`` the
     entries this block computes (``r``: 1 slot or all), ``friction_out (k, 3r, 1)`` the
     latter as ``P_t``'s output and ``t1``, ``t2``, ``rho``, ``pairs`` views of them; the
     matrices' rows ``normal``, ``friction``, ``update``, ``normal_update``, ``block``,
@@ -103,12 +107,11 @@ class ColorRows:
     slots: slice
     gather: np.ndarray
     v: np.ndarray
-    new_v: np.ndarray
     lam: np.ndarray
     primed: np.ndarray
     x_normal: np.ndarray
     x_friction: np.ndarray
-    x_update: np.ndarray
+    x_changes: np.ndarray
     primed_n: np.ndarray
     primed_t: np.ndarray
     friction_out: np.ndarray
@@ -195,14 +198,9 @@ def _w_columns(batch) -> np.ndarray:
 
 
 def _update_matrix(w: np.ndarray, accumulate: bool) -> np.ndarray:
-    """``P_v (m, 12, UPDATE_INPUT)``: ``V' = V + W (lambda' - lambda)`` (accumulated) or
-    ``V + W dl``."""
-    update = np.zeros((len(w), 12, UPDATE_INPUT))
-    update[:, :, :ONE] = np.eye(12)
-    update[:, :, PRIMED] = w
-    if accumulate:
-        update[:, :, LAMBDA] = -w
-    return update
+    """``(m, 12, 8S)``: ``[-W W]``, the velocity change ``W (lambda' - lambda)`` from
+    ``[lambda; lambda']`` (accumulated), or ``[0 W]``, ``W dl``."""
+    return np.concatenate([-w if accumulate else np.zeros_like(w), w], axis=2)
 
 
 def block_matrix(batch, bias: np.ndarray) -> np.ndarray:
@@ -250,12 +248,11 @@ def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, rows: slice) -
         rows,
         gather,
         z[:, :ONE],
-        z[:, NEW_V],
         z[:, LAMBDA],
         z[:, PRIMED],
         z[:, :NORMAL_INPUT],
         z[:, :FRICTION_INPUT],
-        z[:, :UPDATE_INPUT],
+        z[:, CHANGES],
         z[:, n0 + rows.start : n0 + rows.stop],
         primed_t,
         friction_out,
@@ -293,12 +290,12 @@ def fused_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: boo
     np.divide(rows.rho, scale, out=scale)
     np.fmin(scale, 1.0, out=scale)
     rows.pairs *= scale
-    np.matmul(rows.update, rows.x_update, out=rows.new_v)  # V' = V + W (lambda' - lambda)
+    rows.v += rows.update @ rows.x_changes  # V += W (lambda' - lambda)
     if accumulate:
         rows.lam[...] = rows.primed
     else:
         rows.lam += rows.primed
-    flat[rows.gather] = rows.new_v
+    flat[rows.gather] = rows.v
 
 
 def _block_candidates(rows: ColorRows) -> None:
@@ -313,7 +310,7 @@ def _block_candidates(rows: ColorRows) -> None:
 def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None:
     """One sweep of a color's normal rows alone with the matrix rows ``normal (k, r,
     NORMAL_INPUT)`` (the position solve's ``P_n``, or the restitution pass's): ``lambda_n'
-    = max(P x, 0)``, ``V' = V + W_n (lambda_n' - lambda_n)`` (every other primed entry must
+    = max(P x, 0)``, ``V += W_n (lambda_n' - lambda_n)`` (every other primed entry must
     equal its unprimed one: :func:`sync_primed`).
 
     Reference: :func:`reference_solver._normal_impulses` (positions), and
@@ -321,9 +318,9 @@ def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None
     rows.v[...] = flat[rows.gather]
     np.matmul(normal, rows.x_normal, out=rows.primed_n)
     np.maximum(rows.primed_n, 0.0, out=rows.primed_n)
-    np.matmul(rows.normal_update, rows.x_update, out=rows.new_v)
+    rows.v += rows.normal_update @ rows.x_changes
     rows.lam[...] = rows.primed  # only lambda_n' of this block's slots changed
-    flat[rows.gather] = rows.new_v
+    flat[rows.gather] = rows.v
 
 
 def sync_primed(work: np.ndarray) -> None:
