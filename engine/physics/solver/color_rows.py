@@ -1,11 +1,11 @@
 """The fused color update: the normal and friction rows of one graph color in one pass.
 
 Box2D v3's ``b2SolveContact`` in structure-of-arrays form. Each manifold keeps one column
-vector, its *row state* (``S = 4`` point slots; ``rho`` the radius of a slot's friction
+vector, its *row state* (``S = 4`` point slots; ``rho`` the radius of each slot's friction
 circle, ``mu lambda_n``)::
 
-    x = [V = (v_a, w_a, v_b, w_b) (12) | 1 | lambda_n (S) | (lambda_t1, lambda_t2, .) x S
-         | lambda_n' (S) | (lambda_t1', lambda_t2', rho) x S]
+    x = [V = (v_a, w_a, v_b, w_b) (12) | 1 | lambda_n, lambda_t1, lambda_t2 (S each)
+         | lambda_n', lambda_t1', lambda_t2', rho (S each)]
 
 The accumulated impulses ``lambda`` stay in ``x`` for the whole solve; only the 12
 velocities are gathered from the bodies and scattered back, once per color and sweep.
@@ -18,7 +18,7 @@ times ``x`` followed by a clamp:
       P_n = [-m_n J_n | -m_n b | I]
 
 * friction rows, which see the velocities after the normal impulses, ``V + W_n (lambda_n'
-  - lambda_n)``, and the circle's radius::
+  - lambda_n)``, and the circles' radii::
 
       lambda_t* = lambda_t - m_t J_t (V + W_n (lambda_n' - lambda_n))      = P_t x
       rho       = mu lambda_n'
@@ -31,18 +31,19 @@ This is the order of the plain solver (a manifold's normal rows, then its fricti
 reading the new velocities: :func:`reference_solver._normal_impulses` and
 ``_friction_impulses``); only the sums run in another order. A color and sweep costs 13
 NumPy calls (the separate normal and friction updates with their own gathers took 24).
-The velocity change is not folded into one more matrix (``[I 0 -W W] x``, one call
-fewer): its identity block made the matrices a third larger, and on 500 cubes the step
-spent more time reading them than the call saved.
-Without accumulated impulses (box2d-lite's toggle, ``accumulate_impulses=False``) the
-primed entries are increments: ``P_n`` and ``P_t`` have no ``I`` columns, ``rho = mu
-(lambda_n + dl_n)``, ``V += W dl`` and ``lambda += dl``. The first
-``block_normal_sweeps`` replace ``lambda_n'`` by the block candidates where they keep every
-impulse non-negative (:func:`block_matrix`).
+The quantities are kept by kind (all t1 of a manifold, then all t2, then all rho) so that
+the circle's elementwise calls run over contiguous runs of ``S`` numbers; the velocity
+change is not folded into one more matrix (``[I 0 -W W] x``, one call fewer): its identity
+block made the matrices a third larger, and on 500 cubes the step spent more time reading
+them than the call saved. Without accumulated impulses (box2d-lite's toggle,
+``accumulate_impulses=False``) the primed entries are increments: ``P_n`` and ``P_t`` have
+no ``I`` columns, ``rho = mu (lambda_n + dl_n)``, ``V += W dl`` and ``lambda += dl``. The
+first ``block_normal_sweeps`` replace ``lambda_n'`` by the block candidates where they keep
+every impulse non-negative (:func:`block_matrix`).
 
-Gauss-Seidel over the slots (``block_jacobi=False``) gives each slot of a color its own
-:class:`ColorRows` (its rows of ``P_n`` and ``P_t``, its own gather and scatter): the other
-slots' primed entries equal their unprimed ones, so ``P_t`` and ``[-W W]`` see no stale change.
+Gauss-Seidel over the slots (``block_jacobi=False``) sweeps a color once per used slot,
+each time with matrices whose rows of the other slots keep their impulses (``lambda' =
+lambda``, or a zero increment; their friction circles are not applied): :func:`one_slot`.
 """
 
 from __future__ import annotations
@@ -56,16 +57,16 @@ from ..core.settings import BLOCK_FEASIBILITY_TOLERANCE, MAX_MANIFOLD_POINTS
 #: point slots per manifold
 SLOTS = MAX_MANIFOLD_POINTS
 S = SLOTS
-#: the row state's columns (module docstring): the constant 1, the impulses lambda (normal,
-#: then (t1, t2, unused) per slot), the primed impulses (normal, then (t1, t2, rho) per
-#: slot), the new velocities
+#: the row state's columns (module docstring)
 ONE = 12
-LAMBDA = slice(13, 13 + 4 * S)
+LAMBDA = slice(13, 13 + 3 * S)
 LAMBDA_N = slice(13, 13 + S)
-PRIMED = slice(13 + 4 * S, 13 + 8 * S)
-PRIMED_N = slice(13 + 4 * S, 13 + 5 * S)
-PRIMED_T = slice(13 + 5 * S, 13 + 8 * S)
-WIDTH = PRIMED.stop
+LAMBDA_T = slice(13 + S, 13 + 3 * S)
+PRIMED = slice(13 + 3 * S, 13 + 6 * S)
+PRIMED_N = slice(13 + 3 * S, 13 + 4 * S)
+#: what P_t writes: lambda_t1', lambda_t2', rho
+FRICTION_OUT = slice(13 + 4 * S, 13 + 7 * S)
+WIDTH = FRICTION_OUT.stop
 #: the inputs of P_n ([V, 1, lambda_n]) and P_t (up to lambda_n'); [-W W] reads
 #: [lambda, lambda']
 NORMAL_INPUT, FRICTION_INPUT = LAMBDA_N.stop, PRIMED_N.stop
@@ -75,11 +76,11 @@ CHANGES = slice(LAMBDA.start, PRIMED.stop)
 @dataclass
 class RowMatrices:
     """The matrices of all ``m`` manifolds of a step (module docstring): ``normal (m, S,
-    NORMAL_INPUT)`` ``P_n``, ``friction (m, 3S, FRICTION_INPUT)`` ``P_t`` (rows t1, t2, rho
-    of each slot), ``update (m, 12, 8S)`` ``[-W W]`` of the velocity sweeps and
-    ``normal_update`` the one of the normal-only passes (the same array when impulses are
-    accumulated); with the block normal solve ``block (m, 2S, NORMAL_INPUT)`` ``[P_B;
-    P_B']`` and ``touching (m, S, 1)``."""
+    NORMAL_INPUT)`` ``P_n``, ``friction (m, 3S, FRICTION_INPUT)`` ``P_t`` (rows t1, t2, rho),
+    ``update (m, 12, 6S)`` ``[-W W]`` of the velocity sweeps and ``normal_update`` the one of
+    the normal-only passes (the same array when impulses are accumulated); with the block
+    normal solve ``block (m, 2S, NORMAL_INPUT)`` ``[P_B; P_B']`` and ``touching (m, S,
+    1)``; ``accumulate``: the primed entries are accumulated impulses (else increments)."""
 
     normal: np.ndarray
     friction: np.ndarray
@@ -87,24 +88,26 @@ class RowMatrices:
     normal_update: np.ndarray
     block: np.ndarray | None = None
     touching: np.ndarray | None = None
+    accumulate: bool = True
 
 
 @dataclass
 class ColorRows:
-    """Views of one color's ``manifolds`` (all their slots, or one of them: ``slots``) into
-    the work array and the matrices, made once per step so that a sweep only does algebra.
+    """Views of one color's ``manifolds`` into the work array and the matrices, made once
+    per step so that a sweep only does algebra; ``slot``: the one slot these rows update
+    (Gauss-Seidel over the slots; ``others`` the other slots), None: all.
 
     ``gather (k, 12, 1)`` flat velocity indices of [v_a, w_a, v_b, w_b]; ``v``, ``lam``,
     ``primed`` the row state's parts; ``x_normal``, ``x_friction``, ``x_changes`` the
-    inputs of the matrices; ``primed_n (k, r, 1)`` and ``primed_t (k, r, 3)`` the
-    entries this block computes (``r``: 1 slot or all), ``friction_out (k, 3r, 1)`` the
-    latter as ``P_t``'s output and ``t1``, ``t2``, ``rho``, ``pairs`` views of them; the
-    matrices' rows ``normal``, ``friction``, ``update``, ``normal_update``, ``block``,
-    ``touching``.
+    inputs of the matrices; ``primed_n (k, S, 1)``, ``friction_out (k, 3S, 1)`` what
+    ``P_n`` and ``P_t`` write, and ``t1``, ``t2``, ``rho (k, 1, S)``, ``pairs (k, 2, S)``
+    views of the latter; the matrices' rows ``normal``, ``friction``, ``update``,
+    ``normal_update``, ``block``, ``touching``.
     """
 
     manifolds: slice
-    slots: slice
+    slot: int | None
+    others: list[int]
     gather: np.ndarray
     v: np.ndarray
     lam: np.ndarray
@@ -113,7 +116,6 @@ class ColorRows:
     x_friction: np.ndarray
     x_changes: np.ndarray
     primed_n: np.ndarray
-    primed_t: np.ndarray
     friction_out: np.ndarray
     t1: np.ndarray
     t2: np.ndarray
@@ -132,18 +134,14 @@ def new_work(impulse: np.ndarray) -> np.ndarray:
     ``impulse (m, S, 3)`` (normal, t1, t2) as lambda and lambda'."""
     work = np.zeros((len(impulse), WIDTH, 1))
     work[:, ONE] = 1.0
-    work[:, LAMBDA_N, 0] = impulse[:, :, 0]
-    work[:, LAMBDA_N.stop : LAMBDA.stop, 0].reshape(-1, S, 3)[:, :, :2] = impulse[:, :, 1:]
+    work[:, LAMBDA, 0] = impulse.swapaxes(1, 2).reshape(len(impulse), 3 * S)
     work[:, PRIMED] = work[:, LAMBDA]
     return work
 
 
 def impulses(work: np.ndarray) -> np.ndarray:
     """The accumulated impulses ``(m, S, 3)`` (normal, t1, t2) of a work array."""
-    out = np.empty((len(work), S, 3))
-    out[:, :, 0] = work[:, LAMBDA_N, 0]
-    out[:, :, 1:] = work[:, LAMBDA_N.stop : LAMBDA.stop, 0].reshape(-1, S, 3)[:, :, :2]
-    return out
+    return work[:, LAMBDA, 0].reshape(len(work), 3, S).swapaxes(1, 2).copy()
 
 
 def normal_matrix(scaled_jac: np.ndarray, mass_bias: np.ndarray, identity: bool) -> np.ndarray:
@@ -158,49 +156,42 @@ def normal_matrix(scaled_jac: np.ndarray, mass_bias: np.ndarray, identity: bool)
     return matrix
 
 
+def by_kind(rows: np.ndarray) -> np.ndarray:
+    """The tangent rows ``(m, 2S, ...)`` of a batch, (t1, t2) per slot, reordered as all t1
+    then all t2 (the row state's order)."""
+    m = len(rows)
+    return rows.reshape(m, S, 2, -1).swapaxes(1, 2).reshape(m, 2 * S, -1)
+
+
 def row_matrices(batch, bias: np.ndarray, accumulate: bool) -> RowMatrices:
     """The :class:`RowMatrices` of a :class:`contact_batch.ContactBatch` with the velocity
     bias ``bias (m, S, 1)`` (``b``: a gap may close by ``gap / h`` this step)."""
     m = len(bias)
     scaled_normal = -batch.normal_mass[..., None] * batch.normal_jac  # -m_n J_n
-    scaled_tangent = -batch.tangent_mass[..., None] * batch.tangent_jac  # -m_t J_t
+    scaled_tangent = by_kind(-batch.tangent_mass[..., None] * batch.tangent_jac)  # -m_t J_t
     coupling = scaled_tangent @ batch.normal_w  # -m_t J_t W_n, (m, 2S, S)
-    friction = np.zeros((m, S, 3, FRICTION_INPUT))  # rows (t1, t2, rho) of each slot
-    friction[:, :, :2, :ONE] = scaled_tangent.reshape(m, S, 2, ONE)
-    friction[:, :, :2, PRIMED_N] = coupling.reshape(m, S, 2, S)
+    friction = np.zeros((m, 3 * S, FRICTION_INPUT))  # rows: t1, t2, rho of each slot
+    friction[:, : 2 * S, :ONE] = scaled_tangent
+    friction[:, : 2 * S, PRIMED_N] = coupling
     mu_eye = batch.friction[:, :, None] * np.eye(S)  # (m, S, S)
-    friction[:, :, 2, PRIMED_N] = mu_eye  # rho = mu lambda_n'
+    friction[:, 2 * S :, PRIMED_N] = mu_eye  # rho = mu lambda_n'
     if accumulate:
-        friction[:, :, :2, LAMBDA_N] = -coupling.reshape(m, S, 2, S)
-        lam_t = friction[:, :, :2, LAMBDA_N.stop : LAMBDA.stop].reshape(m, S, 2, S, 3)
-        lam_t[:, :, :2, :, :2] = np.eye(S)[:, None, :, None] * np.eye(2)[None, :, None, :]
+        friction[:, : 2 * S, LAMBDA_N] = -coupling
+        friction[:, : 2 * S, LAMBDA_T] = np.eye(2 * S)
     else:
-        friction[:, :, 2, LAMBDA_N] = mu_eye  # rho = mu (lambda_n + dl_n)
-    w = _w_columns(batch)
-    update = _update_matrix(w, accumulate)
+        friction[:, 2 * S :, LAMBDA_N] = mu_eye  # rho = mu (lambda_n + dl_n)
+    w = np.concatenate([batch.normal_w, by_kind(batch.tangent_w.swapaxes(1, 2)).swapaxes(1, 2)], 2)
+    update = np.concatenate([-w if accumulate else np.zeros_like(w), w], axis=2)
+    with_block = batch.normal_block is not None and accumulate
     return RowMatrices(
         normal_matrix(scaled_normal, batch.normal_mass[..., None] * bias, accumulate),
-        friction.reshape(m, 3 * S, FRICTION_INPUT),
+        friction,
         update,
-        update if accumulate else _update_matrix(w, True),
-        block_matrix(batch, bias) if batch.normal_block is not None and accumulate else None,
-        batch.touching[..., None] if batch.normal_block is not None else None,
+        update if accumulate else np.concatenate([-w, w], axis=2),
+        block_matrix(batch, bias) if with_block else None,
+        batch.touching[..., None] if with_block else None,
+        accumulate,
     )
-
-
-def _w_columns(batch) -> np.ndarray:
-    """``[W_n W_t] (m, 12, 4S)`` in the order of lambda (normal, then (t1, t2, 0) per slot)."""
-    m = len(batch.normal_w)
-    w = np.zeros((m, 12, 4 * S))
-    w[:, :, :S] = batch.normal_w
-    w[:, :, S:].reshape(m, 12, S, 3)[..., :2] = batch.tangent_w.reshape(m, 12, S, 2)
-    return w
-
-
-def _update_matrix(w: np.ndarray, accumulate: bool) -> np.ndarray:
-    """``(m, 12, 8S)``: ``[-W W]``, the velocity change ``W (lambda' - lambda)`` from
-    ``[lambda; lambda']`` (accumulated), or ``[0 W]``, ``W dl``."""
-    return np.concatenate([-w if accumulate else np.zeros_like(w), w], axis=2)
 
 
 def block_matrix(batch, bias: np.ndarray) -> np.ndarray:
@@ -217,6 +208,21 @@ def block_matrix(batch, bias: np.ndarray) -> np.ndarray:
     return matrix
 
 
+def one_slot(matrix: np.ndarray, slot: int, first: int, keep: bool) -> np.ndarray:
+    """``matrix (k, r, c)`` (``P_n`` or ``P_t``, whose impulse rows start at column
+    ``first``) with every impulse row but ``slot``'s replaced by a row that keeps that
+    impulse (``keep``: ``lambda' = lambda``, else a zero increment); the rows of rho stay."""
+    rows = matrix.shape[1]
+    kinds = min(rows // S, 2)  # the normal (1) or the tangent (2) rows carry impulses
+    mine = np.zeros(rows, dtype=bool)
+    mine[slot : kinds * S : S] = True
+    mine[kinds * S :] = True  # rho
+    kept = np.zeros_like(matrix)
+    if keep:
+        kept[:, : kinds * S, first : first + kinds * S] = np.eye(kinds * S)
+    return np.where(mine[:, None], matrix, kept)
+
+
 def color_rows(
     work: np.ndarray,
     matrices: RowMatrices,
@@ -226,26 +232,29 @@ def color_rows(
 ) -> list[list[ColorRows]]:
     """Each color's :class:`ColorRows`: ``colors`` holds ``(manifolds, used slots)`` per
     color, ``gathers (m, 12, 1)`` the flat velocity indices of each manifold. Block Jacobi:
-    one block of all slots per color; otherwise one per used slot, in slot order."""
+    one update of all slots per color; otherwise one per used slot, in slot order."""
     out = []
     for s, used in colors:
-        groups = [slice(0, S)] if block_jacobi else [slice(k, k + 1) for k in range(used)]
-        out.append([_rows(work[s], matrices, gathers[s], s, rows) for rows in groups])
+        slots: list[int | None] = [None] if block_jacobi else list(range(used))
+        out.append([_rows(work[s], matrices, gathers[s], s, slot) for slot in slots])
     return out
 
 
-def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, rows: slice) -> ColorRows:
-    """The :class:`ColorRows` of the manifolds ``s`` (row states ``z``), point slots ``rows``
+def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, slot: int | None) -> ColorRows:
+    """The :class:`ColorRows` of the manifolds ``s`` (row states ``z``) for all slots or one
     (the block normal solve, made only with block Jacobi, takes all slots)."""
-    n0, t0 = PRIMED_N.start, PRIMED_T.start
-    friction_out = z[:, t0 + 3 * rows.start : t0 + 3 * rows.stop]
-    primed_t = friction_out.reshape(len(z), -1, 3)  # a view
-    every_slot = rows.stop - rows.start == S
-    with_block = matrices.block is not None and every_slot
+    friction_out = z[:, FRICTION_OUT]
+    kinds = z[:, FRICTION_OUT, 0].reshape(len(z), 3, S)  # a view: t1, t2, rho
+    normal, friction = matrices.normal[s], matrices.friction[s]
+    if slot is not None:
+        normal = one_slot(normal, slot, LAMBDA_N.start, matrices.accumulate)
+        friction = one_slot(friction, slot, LAMBDA_T.start, matrices.accumulate)
+    with_block = matrices.block is not None and slot is None
     update = matrices.update[s]
     return ColorRows(
         s,
-        rows,
+        slot,
+        [] if slot is None else [k for k in range(S) if k != slot],
         gather,
         z[:, :ONE],
         z[:, LAMBDA],
@@ -253,20 +262,26 @@ def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, rows: slice) -
         z[:, :NORMAL_INPUT],
         z[:, :FRICTION_INPUT],
         z[:, CHANGES],
-        z[:, n0 + rows.start : n0 + rows.stop],
-        primed_t,
+        z[:, PRIMED_N],
         friction_out,
-        primed_t[:, :, 0:1],
-        primed_t[:, :, 1:2],
-        primed_t[:, :, 2:3],
-        primed_t[:, :, 0:2],
-        matrices.normal[s, rows],
-        matrices.friction[s, 3 * rows.start : 3 * rows.stop],
+        kinds[:, 0:1],
+        kinds[:, 1:2],
+        kinds[:, 2:3],
+        kinds[:, 0:2],
+        normal,
+        friction,
         update,
         update if matrices.normal_update is matrices.update else matrices.normal_update[s],
         matrices.block[s] if with_block else None,  # type: ignore[index]
         matrices.touching[s] if with_block else None,  # type: ignore[index]
     )
+
+
+def rows_matrix(rows: ColorRows, matrix: np.ndarray) -> np.ndarray:
+    """The rows of a normal-only matrix ``(m, S, NORMAL_INPUT)`` (positions, restitution;
+    accumulated) that ``rows`` update: its manifolds, and only its slot."""
+    mine = matrix[rows.manifolds]
+    return mine if rows.slot is None else one_slot(mine, rows.slot, LAMBDA_N.start, True)
 
 
 def fused_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: bool) -> None:
@@ -277,18 +292,18 @@ def fused_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: boo
 
     Reference: :func:`reference_solver._normal_impulses` then ``_friction_impulses``."""
     rows.v[...] = flat[rows.gather]
-    if not accumulate:  # increments: the slots this block does not update add nothing
-        rows.primed[...] = 0.0
     np.matmul(rows.normal, rows.x_normal, out=rows.primed_n)
     if block and rows.block is not None:
         _block_candidates(rows)
     np.maximum(rows.primed_n, 0.0, out=rows.primed_n)  # lambda_n' >= 0 (or dl_n >= 0)
-    np.matmul(rows.friction, rows.x_friction, out=rows.friction_out)  # (t1, t2, rho) per slot
+    np.matmul(rows.friction, rows.x_friction, out=rows.friction_out)  # t1, t2, rho
     # back onto the circle: scale = min(1, rho / |lambda_t|) for t1 and t2 of each slot;
     # fmin ignores the NaN of 0 / 0 (no friction impulse and no limit: scale 1)
     scale = np.hypot(rows.t1, rows.t2)
     np.divide(rows.rho, scale, out=scale)
     np.fmin(scale, 1.0, out=scale)
+    if rows.slot is not None:  # one slot at a time: the others keep their impulses
+        scale[:, :, rows.others] = 1.0
     rows.pairs *= scale
     rows.v += rows.update @ rows.x_changes  # V += W (lambda' - lambda)
     if accumulate:
@@ -308,10 +323,10 @@ def _block_candidates(rows: ColorRows) -> None:
 
 
 def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None:
-    """One sweep of a color's normal rows alone with the matrix rows ``normal (k, r,
-    NORMAL_INPUT)`` (the position solve's ``P_n``, or the restitution pass's): ``lambda_n'
-    = max(P x, 0)``, ``V += W_n (lambda_n' - lambda_n)`` (every other primed entry must
-    equal its unprimed one: :func:`sync_primed`).
+    """One sweep of a color's normal rows alone with the matrix rows ``normal (k, S,
+    NORMAL_INPUT)`` (the position solve's ``P_n``, or the restitution pass's;
+    :func:`rows_matrix`): ``lambda_n' = max(P x, 0)``, ``V += W_n (lambda_n' - lambda_n)``
+    (every other primed entry must equal its unprimed one: :func:`sync_primed`).
 
     Reference: :func:`reference_solver._normal_impulses` (positions), and
     ``_restitution_impulses``."""
@@ -319,7 +334,7 @@ def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None
     np.matmul(normal, rows.x_normal, out=rows.primed_n)
     np.maximum(rows.primed_n, 0.0, out=rows.primed_n)
     rows.v += rows.normal_update @ rows.x_changes
-    rows.lam[...] = rows.primed  # only lambda_n' of this block's slots changed
+    rows.lam[...] = rows.primed  # only lambda_n' changed
     flat[rows.gather] = rows.v
 
 

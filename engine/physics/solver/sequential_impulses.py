@@ -83,6 +83,7 @@ from .color_rows import (
     normal_matrix,
     normal_update,
     row_matrices,
+    rows_matrix,
     sync_primed,
 )
 from .contact_batch import SLOTS, ContactBatch, batch_gathers
@@ -163,7 +164,7 @@ def _restitution(batch, flat, colors: list[list[ColorRows]], lam_n, normal) -> N
     for color, bounces in zip(colors, bouncing.tolist(), strict=True):
         if bounces:
             for rows in color:
-                normal_update(rows, flat, matrix[rows.manifolds, rows.slots])
+                normal_update(rows, flat, rows_matrix(rows, matrix))
 
 
 def solve_positions(
@@ -190,11 +191,11 @@ def solve_positions(
     work, matrices, colors = _solver_rows(batch, np.zeros_like(bias), settings)
     work[:, LAMBDA.start : PRIMED.stop] = 0.0  # accumulated pseudo impulses
     matrix = normal_matrix(matrices.normal[:, :, :12], batch.normal_mass[..., None] * bias, True)
-    passes = [[(rows, matrix[rows.manifolds, rows.slots]) for rows in color] for color in colors]
+    passes = [[(rows, rows_matrix(rows, matrix)) for rows in color] for color in colors]
     for _ in range(iterations):
         for color in passes:
-            for rows, rows_matrix in color:
-                normal_update(rows, flat, rows_matrix)
+            for rows, slot_matrix in color:
+                normal_update(rows, flat, slot_matrix)
     stage_rows_last(batch, flat, bias, settings)
     return pseudo
 
