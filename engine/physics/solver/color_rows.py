@@ -25,21 +25,21 @@ times ``x`` followed by a clamp:
 
   then each slot's 2-D impulse is scaled back onto the Coulomb circle ``|lambda_t'| <= rho``;
 * the velocities once, ``V += W_n (lambda_n' - lambda_n) + W_t (lambda_t' - lambda_t) =
-  [-W  W] [lambda; lambda']``, and ``lambda = lambda'``.
+  W (lambda' - lambda)``, and ``lambda = lambda'``.
 
 This is the order of the plain solver (a manifold's normal rows, then its friction rows
 reading the new velocities: :func:`reference_solver._normal_impulses` and
-``_friction_impulses``); only the sums run in another order. A color and sweep costs 13
+``_friction_impulses``); only the sums run in another order. A color and sweep costs 14
 NumPy calls (the separate normal and friction updates with their own gathers took 24).
 The quantities are kept by kind (all t1 of a manifold, then all t2, then all rho) so that
 the circle's elementwise calls run over contiguous runs of ``S`` numbers; the velocity
-change is not folded into one more matrix (``[I 0 -W W] x``, one call fewer): its identity
-block made the matrices a third larger, and on 500 cubes the step spent more time reading
-them than the call saved. Without accumulated impulses (box2d-lite's toggle,
-``accumulate_impulses=False``) the primed entries are increments: ``P_n`` and ``P_t`` have
-no ``I`` columns, ``rho = mu (lambda_n + dl_n)``, ``V += W dl`` and ``lambda += dl``. The
-first ``block_normal_sweeps`` replace ``lambda_n'`` by the block candidates where they keep
-every impulse non-negative (:func:`block_matrix`).
+change is not folded into one more matrix (``[I 0 -W W] x``, two calls fewer): its
+identity and ``-W`` blocks made the matrices 40 % larger, and on 500 cubes the step spent
+more time making and reading them than the calls saved. Without accumulated impulses
+(box2d-lite's toggle, ``accumulate_impulses=False``) the primed entries are increments:
+``P_n`` and ``P_t`` have no ``I`` columns, ``rho = mu (lambda_n + dl_n)``, ``V += W dl``
+and ``lambda += dl``. The first ``block_normal_sweeps`` replace ``lambda_n'`` by the block
+candidates where they keep every impulse non-negative (:func:`block_matrix`).
 
 Gauss-Seidel over the slots (``block_jacobi=False``) sweeps a color once per used slot,
 each time with matrices whose rows of the other slots keep their impulses (``lambda' =
@@ -67,25 +67,21 @@ PRIMED_N = slice(13 + 3 * S, 13 + 4 * S)
 #: what P_t writes: lambda_t1', lambda_t2', rho
 FRICTION_OUT = slice(13 + 4 * S, 13 + 7 * S)
 WIDTH = FRICTION_OUT.stop
-#: the inputs of P_n ([V, 1, lambda_n]) and P_t (up to lambda_n'); [-W W] reads
-#: [lambda, lambda']
+#: the inputs of P_n ([V, 1, lambda_n]) and P_t (up to lambda_n')
 NORMAL_INPUT, FRICTION_INPUT = LAMBDA_N.stop, PRIMED_N.stop
-CHANGES = slice(LAMBDA.start, PRIMED.stop)
 
 
 @dataclass
 class RowMatrices:
     """The matrices of all ``m`` manifolds of a step (module docstring): ``normal (m, S,
     NORMAL_INPUT)`` ``P_n``, ``friction (m, 3S, FRICTION_INPUT)`` ``P_t`` (rows t1, t2, rho),
-    ``update (m, 12, 6S)`` ``[-W W]`` of the velocity sweeps and ``normal_update`` the one of
-    the normal-only passes (the same array when impulses are accumulated); with the block
+    ``w (m, 12, 3S)`` ``W = [W_n W_t]`` in the order of lambda; with the block
     normal solve ``block (m, 2S, NORMAL_INPUT)`` ``[P_B; P_B']`` and ``touching (m, S,
     1)``; ``accumulate``: the primed entries are accumulated impulses (else increments)."""
 
     normal: np.ndarray
     friction: np.ndarray
-    update: np.ndarray
-    normal_update: np.ndarray
+    w: np.ndarray
     block: np.ndarray | None = None
     touching: np.ndarray | None = None
     accumulate: bool = True
@@ -98,11 +94,11 @@ class ColorRows:
     (Gauss-Seidel over the slots; ``others`` the other slots), None: all.
 
     ``gather (k, 12, 1)`` flat velocity indices of [v_a, w_a, v_b, w_b]; ``v``, ``lam``,
-    ``primed`` the row state's parts; ``x_normal``, ``x_friction``, ``x_changes`` the
-    inputs of the matrices; ``primed_n (k, S, 1)``, ``friction_out (k, 3S, 1)`` what
+    ``primed`` the row state's parts; ``x_normal``, ``x_friction`` the inputs of the
+    matrices; ``primed_n (k, S, 1)``, ``friction_out (k, 3S, 1)`` what
     ``P_n`` and ``P_t`` write, and ``t1``, ``t2``, ``rho (k, 1, S)``, ``pairs (k, 2, S)``
-    views of the latter; the matrices' rows ``normal``, ``friction``, ``update``,
-    ``normal_update``, ``block``, ``touching``.
+    views of the latter; the matrices' rows ``normal``, ``friction``, ``w``, ``block``,
+    ``touching``.
     """
 
     manifolds: slice
@@ -114,7 +110,6 @@ class ColorRows:
     primed: np.ndarray
     x_normal: np.ndarray
     x_friction: np.ndarray
-    x_changes: np.ndarray
     primed_n: np.ndarray
     friction_out: np.ndarray
     t1: np.ndarray
@@ -123,8 +118,7 @@ class ColorRows:
     pairs: np.ndarray
     normal: np.ndarray
     friction: np.ndarray
-    update: np.ndarray
-    normal_update: np.ndarray
+    w: np.ndarray
     block: np.ndarray | None
     touching: np.ndarray | None
 
@@ -181,13 +175,11 @@ def row_matrices(batch, bias: np.ndarray, accumulate: bool) -> RowMatrices:
     else:
         friction[:, 2 * S :, LAMBDA_N] = mu_eye  # rho = mu (lambda_n + dl_n)
     w = np.concatenate([batch.normal_w, by_kind(batch.tangent_w.swapaxes(1, 2)).swapaxes(1, 2)], 2)
-    update = np.concatenate([-w if accumulate else np.zeros_like(w), w], axis=2)
     with_block = batch.normal_block is not None and accumulate
     return RowMatrices(
         normal_matrix(scaled_normal, batch.normal_mass[..., None] * bias, accumulate),
         friction,
-        update,
-        update if accumulate else np.concatenate([-w, w], axis=2),
+        w,
         block_matrix(batch, bias) if with_block else None,
         batch.touching[..., None] if with_block else None,
         accumulate,
@@ -250,7 +242,6 @@ def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, slot: int | No
         normal = one_slot(normal, slot, LAMBDA_N.start, matrices.accumulate)
         friction = one_slot(friction, slot, LAMBDA_T.start, matrices.accumulate)
     with_block = matrices.block is not None and slot is None
-    update = matrices.update[s]
     return ColorRows(
         s,
         slot,
@@ -261,7 +252,6 @@ def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, slot: int | No
         z[:, PRIMED],
         z[:, :NORMAL_INPUT],
         z[:, :FRICTION_INPUT],
-        z[:, CHANGES],
         z[:, PRIMED_N],
         friction_out,
         kinds[:, 0:1],
@@ -270,8 +260,7 @@ def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, slot: int | No
         kinds[:, 0:2],
         normal,
         friction,
-        update,
-        update if matrices.normal_update is matrices.update else matrices.normal_update[s],
+        matrices.w[s],
         matrices.block[s] if with_block else None,  # type: ignore[index]
         matrices.touching[s] if with_block else None,  # type: ignore[index]
     )
@@ -305,10 +294,11 @@ def fused_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: boo
     if rows.slot is not None:  # one slot at a time: the others keep their impulses
         scale[:, :, rows.others] = 1.0
     rows.pairs *= scale
-    rows.v += rows.update @ rows.x_changes  # V += W (lambda' - lambda)
     if accumulate:
+        rows.v += rows.w @ (rows.primed - rows.lam)  # V += W (lambda' - lambda)
         rows.lam[...] = rows.primed
     else:
+        rows.v += rows.w @ rows.primed  # V += W dl
         rows.lam += rows.primed
     flat[rows.gather] = rows.v
 
@@ -333,8 +323,8 @@ def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None
     rows.v[...] = flat[rows.gather]
     np.matmul(normal, rows.x_normal, out=rows.primed_n)
     np.maximum(rows.primed_n, 0.0, out=rows.primed_n)
-    rows.v += rows.normal_update @ rows.x_changes
-    rows.lam[...] = rows.primed  # only lambda_n' changed
+    rows.v += rows.w @ (rows.primed - rows.lam)  # only lambda_n' changed
+    rows.lam[...] = rows.primed
     flat[rows.gather] = rows.v
 
 

@@ -20,7 +20,7 @@ The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the i
 is kept to few calls: :mod:`color_rows` keeps each manifold's velocities, accumulated
 impulses and their new values in one column vector and writes every update of a color (the
 normal rows, the friction rows that read the velocities after them, the velocity change)
-as a matrix times that vector, followed by its clamp: 13 NumPy calls per color and sweep
+as a matrix times that vector, followed by its clamp: 14 NumPy calls per color and sweep
 (the separate normal and friction updates took 24), the matrices and each color's views
 made once per step. The solve's floor is colors x iterations x those calls, not the array
 sizes; the coloring already uses as many colors as the busiest body has contacts (the
