@@ -22,7 +22,7 @@ if [ "${1:-}" != --dependencies-ready ]; then
   [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
   requirements=$(mktemp)
   python3 scripts/requirements.py >"$requirements"
-  "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-compile \
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check \
     "habitat-lab==0.3.320260507" -r "$requirements" ./scripts/habitat_alias "pytest>=7.4" "hypothesis>=6.80"
   rm -f "$requirements"
   [ "${1:-}" != --dependencies-only ] || exit 0

@@ -6,9 +6,7 @@
 # habitat-lab check, and prints how long each part took. The dependencies of the second and
 # third environments install in the background while the first is filled and checked (each pip
 # writes only into its own environment); rigidsim's editable installs, which write build
-# metadata into this folder, run one after the other. The installs skip pip's bytecode
-# compilation of every installed module (--no-compile, about a third of their time): Python
-# compiles the modules that are imported, once. It installs nothing system-wide: the
+# metadata into this folder, run one after the other. It installs nothing system-wide: the
 # browser tests use a Chromium that is already there, or skip with a message (.ci/run installs
 # one for CI). Extra args go to pytest.
 set -euo pipefail
@@ -31,14 +29,14 @@ await() {
 python3 scripts/requirements.py notebook >"$logs/notebook.txt"
 {
   [ -x .venv-notebook/bin/python ] || python3 -m venv .venv-notebook
-  .venv-notebook/bin/python -m pip install -q --no-compile -r "$logs/notebook.txt"
+  .venv-notebook/bin/python -m pip install -q -r "$logs/notebook.txt"
 } >"$logs/notebook.log" 2>&1 &
 notebook_deps=$!
 bash scripts/habitat_lab_check.sh --dependencies-only >"$logs/habitat.log" 2>&1 &
 habitat_deps=$!
 
 [ -x .venv/bin/python ] || python3 -m venv .venv
-.venv/bin/python -m pip install -q --no-compile -e '.[dev,notebook,ray,gym,viewer,docs]'
+.venv/bin/python -m pip install -q -e '.[dev,notebook,ray,gym,viewer,docs]'
 say "the test environment ready"
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
