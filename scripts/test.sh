@@ -22,15 +22,16 @@ logs=$(mktemp -d)
 unset PYTHONDONTWRITEBYTECODE
 export PYTHONPYCACHEPREFIX="$PWD/.cache/pycache"
 
-# waits for a background install; on failure shows its log and stops
+# waits for a background job; shows its log when it failed, or always with a 4th argument
 await() {
-  local pid=$1 what=$2 log=$3
-  if ! wait "$pid"; then
-    cat "$log" >&2
-    echo "scripts/test.sh: installing $what failed (log above)" >&2
+  local pid=$1 what=$2 log=$3 show=${4:-} status=0
+  wait "$pid" || status=$?
+  if [ "$status" != 0 ] || [ -n "$show" ]; then cat "$log"; fi
+  if [ "$status" != 0 ]; then
+    echo "scripts/test.sh: $what failed (log above)" >&2
     exit 1
   fi
-  say "$what ready"
+  say "$what done"
 }
 
 python3 scripts/requirements.py notebook >"$logs/notebook.txt"
@@ -52,18 +53,14 @@ say "the test environment ready"
 say "lint, types and import contracts clean"
 
 # the notebooks execute in a kernel of this environment (docs/testing.md)
-await "$notebook_deps" "the notebooks' environment" "$logs/notebook.log"
+await "$notebook_deps" "installing the notebooks' environment" "$logs/notebook.log"
 .venv-notebook/bin/python -m pip install -q --no-deps -e .
 export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
 # habitat-lab on rigidsim (.venv-habitat-lab) beside pytest: one process, a minute
-await "$habitat_deps" "habitat-lab's environment" "$logs/habitat.log"
+await "$habitat_deps" "installing habitat-lab's environment" "$logs/habitat.log"
 bash scripts/habitat_lab_check.sh --dependencies-ready >"$logs/habitat_check.log" 2>&1 &
 habitat_check=$!
 .venv/bin/python -m pytest -q -n auto --dist loadfile "$@"
 say "pytest done"
-habitat_ok=0
-wait "$habitat_check" || habitat_ok=$?
-cat "$logs/habitat_check.log"
-[ "$habitat_ok" = 0 ] || { echo "scripts/test.sh: the habitat-lab check failed" >&2; exit 1; }
-say "habitat-lab check done"
+await "$habitat_check" "the habitat-lab check" "$logs/habitat_check.log" show
 rm -rf "$logs"
