@@ -1,6 +1,6 @@
-"""The fused color update (``solver/color_rows.py``) against the equations it folds together.
+"""The slim color update (``solver/color_rows.py``) against the rows written one at a time.
 
-One sweep of :func:`fused_update` over a color must give the impulses and velocities of the
+One sweep of :func:`velocity_update` over a color must give the impulses and velocities of the
 plain sequential-impulse steps written one manifold and one row at a time (Catto 2005): the
 normal rows with the accumulated impulse clamped ``>= 0`` and the velocities updated, then
 the friction rows reading those velocities, clamped to the Coulomb circle. The whole-step
@@ -21,7 +21,7 @@ from engine.physics.solver.contact_batch import (
     SolverBodies,
     build_batch,
 )
-from engine.physics.solver.sequential_impulses import _solver_rows
+from engine.physics.solver.sequential_impulses import _solver_rows, with_one
 
 
 def random_batch(seed: int, counts=(4, 3, 2)):
@@ -101,35 +101,38 @@ def plain_sweep(batch, velocity, bias, block_jacobi: bool):
 
 @pytest.mark.parametrize("block_jacobi", [True, False])
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_one_fused_sweep_equals_the_normal_then_friction_rows(seed, block_jacobi):
+def test_one_slim_sweep_equals_the_normal_then_friction_rows(seed, block_jacobi):
     batch, velocity = random_batch(seed)
     bias = np.random.default_rng(seed + 10).random((3, 4, 1)) * 0.1
     settings = SolverSettings(block_jacobi=block_jacobi, block_normal_sweeps=0)
     expected_lam, expected_v = plain_sweep(batch, velocity, bias[..., 0], block_jacobi)
-    work, _, colors = _solver_rows(batch, bias, settings)
-    flat = velocity.copy().reshape(-1)
+    flat = with_one(velocity)
+    state, _, colors = _solver_rows(batch, bias, settings, len(flat) - 1)
     with np.errstate(divide="ignore", invalid="ignore"):
         for color in colors:
             for rows in color:
-                color_rows.fused_update(rows, flat, True, False)
-    np.testing.assert_allclose(color_rows.impulses(work), expected_lam, rtol=1e-12, atol=1e-12)
-    np.testing.assert_allclose(flat.reshape(4, 6), expected_v, rtol=1e-12, atol=1e-12)
+                color_rows.velocity_update(rows, flat, True, False)
+    np.testing.assert_allclose(color_rows.impulses(state), expected_lam, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(flat[:-1].reshape(4, 6), expected_v, rtol=1e-12, atol=1e-12)
+    assert flat[-1] == 1.0  # the velocity columns' constant is never changed
     assert np.any(expected_lam[..., 0] == 0.0)  # some normal rows clamped
     assert np.any(np.hypot(expected_lam[..., 1], expected_lam[..., 2]) > 0)
 
 
-def test_the_row_views_write_into_the_work_array():
-    batch, _ = random_batch(0)
-    work, _, colors = _solver_rows(batch, np.zeros((3, 4, 1)), SolverSettings())
+def test_the_row_views_write_into_the_impulses_and_the_scratch():
+    batch, velocity = random_batch(0)
+    flat = with_one(velocity)
+    state, _, colors = _solver_rows(batch, np.zeros((3, 4, 1)), SolverSettings(), len(flat) - 1)
     for color in colors:
         for rows in color:
-            for view in (rows.v, rows.lam, rows.primed_n, rows.friction_out, rows.pairs):
-                assert np.shares_memory(view, work)
-            assert np.shares_memory(rows.pairs, rows.friction_out)
+            assert np.shares_memory(rows.lam_n, state) and np.shares_memory(rows.lam_t, state)
+            for scratch, column in ((rows.q, rows.q_col), (rows.t, rows.t_col)):
+                assert np.shares_memory(scratch, column)
+            assert np.shares_memory(rows.t1, rows.t) and np.shares_memory(rows.t2, rows.t)
 
 
-def test_impulses_round_trip_through_the_work_array():
+def test_impulses_round_trip_through_the_quantity_major_state():
     impulse = np.random.default_rng(4).random((5, 4, 3))
-    work = color_rows.new_work(impulse)
-    np.testing.assert_array_equal(color_rows.impulses(work), impulse)
-    assert np.all(work[:, color_rows.ONE] == 1.0)
+    state = color_rows.new_impulses(impulse)
+    assert state.shape == (3, 4, 5) and state.flags.c_contiguous
+    np.testing.assert_array_equal(color_rows.impulses(state), impulse)

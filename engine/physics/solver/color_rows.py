@@ -1,49 +1,49 @@
-"""The fused color update: the normal and friction rows of one graph color in one pass.
+"""Slim color rows: one graph color's normal and friction rows, impulses kept quantity-major.
 
-Box2D v3's ``b2SolveContact`` in structure-of-arrays form. Each manifold keeps one column
-vector, its *row state* (``S = 4`` point slots; ``rho`` the radius of each slot's friction
-circle, ``mu lambda_n``)::
+Sequential impulses (Catto 2005, see :mod:`sequential_impulses`) on the ``k`` manifolds of
+one graph color, ``u`` point slots each, written for NumPy's per-call cost:
 
-    x = [V = (v_a, w_a, v_b, w_b) (12) | 1 | lambda_n, lambda_t1, lambda_t2 (S each)
-         | lambda_n', lambda_t1', lambda_t2', rho (S each)]
+* every manifold's velocities are gathered as one column ``v = [v_a, w_a, v_b, w_b, 1]``
+  (13): the flat velocity array the solver works on ends in a constant 1, so each row's
+  bias rides in its matrix (one subtraction fewer per update);
+* the matrices are manifold-major, ``(k, rows, 13)``, one small stacked matmul each;
+* the accumulated impulses and every elementwise quantity are **quantity-major**: ``(u,
+  k)`` arrays whose manifolds are contiguous (Box2D v3's structure-of-arrays contact
+  constraints), so the clamps and the friction circle run over long contiguous runs; the
+  matmuls write into them through transposed views.
 
-The accumulated impulses ``lambda`` stay in ``x`` for the whole solve; only the 12
-velocities are gathered from the bodies and scattered back, once per color and sweep.
-Every step of sequential impulses (Catto 2005, see :mod:`sequential_impulses`) is a matrix
-times ``x`` followed by a clamp:
+One update of the normal rows, the accumulated impulse clamped ``>= 0``, in the form of
+the impulse *taken off* ``q``::
 
-* normal rows, the accumulated impulse clamped ``>= 0``::
+    q = m_n (J_n v + b),   q' = min(q, lambda_n),   lambda_n -= q',   v -= W_n q'
 
-      lambda_n' = max(lambda_n - m_n (J_n V + b), 0) = max(P_n x, 0),
-      P_n = [-m_n J_n | -m_n b | I]
+(``lambda_n - q`` is the plain solver's new impulse before its clamp ``max(., 0)``); then
+the friction rows, which read the velocities after the normal rows::
 
-* friction rows, which see the velocities after the normal impulses, ``V + W_n (lambda_n'
-  - lambda_n)``, and the circles' radii::
+    lambda_t* = lambda_t - m_t J_t v,   lambda_t' = lambda_t* min(1, mu lambda_n / |lambda_t*|)
 
-      lambda_t* = lambda_t - m_t J_t (V + W_n (lambda_n' - lambda_n))      = P_t x
-      rho       = mu lambda_n'
+per slot (the 2-D impulse scaled back onto the Coulomb circle; ``fmin`` maps the 0 / 0 of
+an unloaded slot to 1), ``v += W_t (lambda_t' - lambda_t)``. This is the plain solver's
+order (a manifold's normal rows, then its friction rows: :func:`reference_solver.
+_normal_impulses` and ``_friction_impulses``); only the sums run in another order. A color
+and sweep is 18 NumPy calls. Without accumulated impulses (box2d-lite's toggle,
+``accumulate_impulses=False``) the clamps act on the increments: ``q' = min(q, 0)``, the
+friction increment is scaled onto the circle of the new ``lambda_n``.
 
-  then each slot's 2-D impulse is scaled back onto the Coulomb circle ``|lambda_t'| <= rho``;
-* the velocities once, ``V += W_n (lambda_n' - lambda_n) + W_t (lambda_t' - lambda_t) =
-  W (lambda' - lambda)``, and ``lambda = lambda'``.
+The first ``block_normal_sweeps`` take for a manifold the block candidates ``q_B = B (J_n
+v + b)`` (:func:`contact_batch.normal_blocks`) where every slot keeps ``lambda_n - q_B >=
+0`` but for round-off (``BLOCK_FEASIBILITY_TOLERANCE``), the Jacobi ``q`` elsewhere. The
+normal-only passes (the restitution pass and the split-impulse position solve) run the
+same rows with their own matrices and impulses (:func:`normal_update`, 7 calls).
 
-This is the order of the plain solver (a manifold's normal rows, then its friction rows
-reading the new velocities: :func:`reference_solver._normal_impulses` and
-``_friction_impulses``); only the sums run in another order. A color and sweep costs 14
-NumPy calls (the separate normal and friction updates with their own gathers took 24).
-The quantities are kept by kind (all t1 of a manifold, then all t2, then all rho) so that
-the circle's elementwise calls run over contiguous runs of ``S`` numbers; the velocity
-change is not folded into one more matrix (``[I 0 -W W] x``, two calls fewer): its
-identity and ``-W`` blocks made the matrices 40 % larger, and on 500 cubes the step spent
-more time making and reading them than the calls saved. Without accumulated impulses
-(box2d-lite's toggle, ``accumulate_impulses=False``) the primed entries are increments:
-``P_n`` and ``P_t`` have no ``I`` columns, ``rho = mu (lambda_n + dl_n)``, ``V += W dl``
-and ``lambda += dl``. The first ``block_normal_sweeps`` replace ``lambda_n'`` by the block
-candidates where they keep every impulse non-negative (:func:`block_matrix`).
+Gauss-Seidel over the slots (``block_jacobi=False``) makes one :class:`ColorRows` per used
+slot of a color, each the same update on that slot's rows alone.
 
-Gauss-Seidel over the slots (``block_jacobi=False``) sweeps a color once per used slot,
-each time with matrices whose rows of the other slots keep their impulses (``lambda' =
-lambda``, or a zero increment; their friction circles are not applied): :func:`one_slot`.
+Why this layout (measured, ``docs/physics_performance.md``): the previous fused update kept
+all of a manifold's quantities in one column (14 calls a color and sweep), but every
+elementwise call then ran over runs of 4 numbers strided through that column, and its
+friction matrix was 12 x 29: per color it cost 1.3-1.6x this one at every size measured
+(2 to 250 manifolds), although this one issues 4 calls more.
 """
 
 from __future__ import annotations
@@ -55,279 +55,258 @@ import numpy as np
 from ..core.settings import BLOCK_FEASIBILITY_TOLERANCE, MAX_MANIFOLD_POINTS
 
 #: point slots per manifold
-SLOTS = MAX_MANIFOLD_POINTS
-S = SLOTS
-#: the row state's columns (module docstring)
-ONE = 12
-LAMBDA = slice(13, 13 + 3 * S)
-LAMBDA_N = slice(13, 13 + S)
-LAMBDA_T = slice(13 + S, 13 + 3 * S)
-PRIMED = slice(13 + 3 * S, 13 + 6 * S)
-PRIMED_N = slice(13 + 3 * S, 13 + 4 * S)
-#: what P_t writes: lambda_t1', lambda_t2', rho
-FRICTION_OUT = slice(13 + 4 * S, 13 + 7 * S)
-WIDTH = FRICTION_OUT.stop
-#: the inputs of P_n ([V, 1, lambda_n]) and P_t (up to lambda_n')
-NORMAL_INPUT, FRICTION_INPUT = LAMBDA_N.stop, PRIMED_N.stop
+S = MAX_MANIFOLD_POINTS
+#: a manifold's velocity column: [v_a, w_a, v_b, w_b] (12) and the constant 1
+COLUMN = 13
 
 
 @dataclass
 class RowMatrices:
-    """The matrices of all ``m`` manifolds of a step (module docstring): ``normal (m, S,
-    NORMAL_INPUT)`` ``P_n``, ``friction (m, 3S, FRICTION_INPUT)`` ``P_t`` (rows t1, t2, rho),
-    ``w (m, 12, 3S)`` ``W = [W_n W_t]`` in the order of lambda; with the block
-    normal solve ``block (m, 2S, NORMAL_INPUT)`` ``[P_B; P_B']`` and ``touching (m, S,
-    1)``; ``accumulate``: the primed entries are accumulated impulses (else increments)."""
+    """The manifold-major matrices of all ``m`` manifolds of a step: ``normal (m, S, 13)``
+    ``m_n [J_n | b]``, ``normal_w (m, 13, S)`` ``[W_n; 0]``, ``tangent (m, 2S, 13)`` ``-m_t
+    [J_t | 0]`` (all t1 rows, then all t2 rows), ``tangent_w (m, 13, 2S)``, ``friction (1,
+    m)`` mu; with the block normal solve ``block (m, S, 13)`` ``B [J_n | b]`` and
+    ``touching (S, m)`` (None: no block solve); ``accumulate``: the impulses are
+    accumulated (else increments)."""
 
     normal: np.ndarray
+    normal_w: np.ndarray
+    tangent: np.ndarray
+    tangent_w: np.ndarray
     friction: np.ndarray
-    w: np.ndarray
     block: np.ndarray | None = None
     touching: np.ndarray | None = None
     accumulate: bool = True
 
 
 @dataclass
-class ColorRows:
-    """Views of one color's ``manifolds`` into the work array and the matrices, made once
-    per step so that a sweep only does algebra; ``slot``: the one slot these rows update
-    (Gauss-Seidel over the slots; ``others`` the other slots), None: all.
+class BlockRows:
+    """A color's block normal rows: ``matrix (k, u, 13)`` ``B [J_n | b]``, ``touching (u,
+    k)`` the slots it may change, the scratch ``q (u, k)`` and its column view ``q_col (k,
+    u, 1)``."""
 
-    ``gather (k, 12, 1)`` flat velocity indices of [v_a, w_a, v_b, w_b]; ``v``, ``lam``,
-    ``primed`` the row state's parts; ``x_normal``, ``x_friction`` the inputs of the
-    matrices; ``primed_n (k, S, 1)``, ``friction_out (k, 3S, 1)`` what
-    ``P_n`` and ``P_t`` write, and ``t1``, ``t2``, ``rho (k, 1, S)``, ``pairs (k, 2, S)``
-    views of the latter; the matrices' rows ``normal``, ``friction``, ``w``, ``block``,
-    ``touching``.
+    matrix: np.ndarray
+    touching: np.ndarray
+    q: np.ndarray
+    q_col: np.ndarray
+
+
+@dataclass
+class ColorRows:
+    """One color's rows (``manifolds``, the slots ``slots``), made once per step so that a
+    sweep only does algebra.
+
+    ``gather (k, 13, 1)`` flat indices of each manifold's velocity column; the matrices'
+    rows ``normal (k, u, 13)``, ``normal_w (k, 13, u)``, ``tangent (k, 2u, 13)``,
+    ``tangent_w (k, 13, 2u)``, ``mu (1, k)``; ``lam_n (u, k)`` and ``lam_t (2, u, k)`` views
+    of the impulses; scratch ``q (u, k)``, ``t``, ``dt (2, u, k)``, ``scale (u, k)``,
+    ``t1``, ``t2 (u, k)`` views of ``t``, and the column views ``q_col (k, u, 1)``,
+    ``t_col``, ``dt_col (k, 2u, 1)`` for the matmuls; ``block`` the :class:`BlockRows`
+    (None: no block normal solve).
     """
 
     manifolds: slice
-    slot: int | None
-    others: list[int]
+    slots: slice
     gather: np.ndarray
-    v: np.ndarray
-    lam: np.ndarray
-    primed: np.ndarray
-    x_normal: np.ndarray
-    x_friction: np.ndarray
-    primed_n: np.ndarray
-    friction_out: np.ndarray
+    normal: np.ndarray
+    normal_w: np.ndarray
+    tangent: np.ndarray
+    tangent_w: np.ndarray
+    mu: np.ndarray
+    lam_n: np.ndarray
+    lam_t: np.ndarray
+    q: np.ndarray
     t1: np.ndarray
     t2: np.ndarray
-    rho: np.ndarray
-    pairs: np.ndarray
-    normal: np.ndarray
-    friction: np.ndarray
-    w: np.ndarray
-    block: np.ndarray | None
-    touching: np.ndarray | None
+    q_col: np.ndarray
+    t: np.ndarray
+    t_col: np.ndarray
+    dt: np.ndarray
+    dt_col: np.ndarray
+    scale: np.ndarray
+    block: BlockRows | None
 
 
-def new_work(impulse: np.ndarray) -> np.ndarray:
-    """The work array ``(m, WIDTH, 1)``: row states holding the constant 1 and the cached
-    ``impulse (m, S, 3)`` (normal, t1, t2) as lambda and lambda'."""
-    work = np.zeros((len(impulse), WIDTH, 1))
-    work[:, ONE] = 1.0
-    work[:, LAMBDA, 0] = impulse.swapaxes(1, 2).reshape(len(impulse), 3 * S)
-    work[:, PRIMED] = work[:, LAMBDA]
-    return work
+def new_impulses(impulse: np.ndarray) -> np.ndarray:
+    """The quantity-major impulses ``(3, S, m)`` (normal, t1, t2) of ``impulse (m, S, 3)``."""
+    return np.ascontiguousarray(impulse.transpose(2, 1, 0))
 
 
-def impulses(work: np.ndarray) -> np.ndarray:
-    """The accumulated impulses ``(m, S, 3)`` (normal, t1, t2) of a work array."""
-    return work[:, LAMBDA, 0].reshape(len(work), 3, S).swapaxes(1, 2).copy()
+def impulses(state: np.ndarray) -> np.ndarray:
+    """The impulses ``(m, S, 3)`` (normal, t1, t2) of a quantity-major ``state (3, S, m)``."""
+    return state.transpose(2, 1, 0).copy()
 
 
-def normal_matrix(scaled_jac: np.ndarray, mass_bias: np.ndarray, identity: bool) -> np.ndarray:
-    """``P_n (m, S, NORMAL_INPUT) = [-m_n J_n | -m_n b | I]`` from ``scaled_jac (m, S, 12)``
-    (``-m_n J_n``) and ``mass_bias (m, S, 1)`` (``m_n b``); without ``identity`` the ``I``
-    is 0 (the candidates are increments)."""
-    matrix = np.zeros((len(scaled_jac), S, NORMAL_INPUT))
-    matrix[:, :, :ONE] = scaled_jac
-    matrix[:, :, ONE : ONE + 1] = -mass_bias
-    if identity:
-        matrix[:, :, LAMBDA_N] = np.eye(S)
-    return matrix
+def with_constant(gathers: np.ndarray, one: int) -> np.ndarray:
+    """``(m, 13, 1)``: the velocity indices ``gathers (m, 12, 1)`` and the index ``one`` of the
+    flat array's constant 1."""
+    return np.concatenate([gathers, np.full((len(gathers), 1, 1), one)], axis=1)
 
 
 def by_kind(rows: np.ndarray) -> np.ndarray:
     """The tangent rows ``(m, 2S, ...)`` of a batch, (t1, t2) per slot, reordered as all t1
-    then all t2 (the row state's order)."""
+    then all t2."""
     m = len(rows)
     return rows.reshape(m, S, 2, -1).swapaxes(1, 2).reshape(m, 2 * S, -1)
+
+
+def normal_matrix(mass: np.ndarray, jac: np.ndarray, bias: np.ndarray) -> np.ndarray:
+    """``(m, S, 13)`` ``m [J | b]`` of ``mass (m, S)``, ``jac (m, S, 12)``, ``bias (m, S,
+    1)``: times a velocity column it gives ``m (J v + b)``."""
+    matrix = np.empty((len(jac), S, COLUMN))
+    matrix[:, :, :12] = jac
+    matrix[:, :, 12:] = bias
+    matrix *= mass[..., None]
+    return matrix
 
 
 def row_matrices(batch, bias: np.ndarray, accumulate: bool) -> RowMatrices:
     """The :class:`RowMatrices` of a :class:`contact_batch.ContactBatch` with the velocity
     bias ``bias (m, S, 1)`` (``b``: a gap may close by ``gap / h`` this step)."""
     m = len(bias)
-    scaled_normal = -batch.normal_mass[..., None] * batch.normal_jac  # -m_n J_n
-    scaled_tangent = by_kind(-batch.tangent_mass[..., None] * batch.tangent_jac)  # -m_t J_t
-    coupling = scaled_tangent @ batch.normal_w  # -m_t J_t W_n, (m, 2S, S)
-    friction = np.zeros((m, 3 * S, FRICTION_INPUT))  # rows: t1, t2, rho of each slot
-    friction[:, : 2 * S, :ONE] = scaled_tangent
-    friction[:, : 2 * S, PRIMED_N] = coupling
-    mu_eye = batch.friction[:, :, None] * np.eye(S)  # (m, S, S)
-    friction[:, 2 * S :, PRIMED_N] = mu_eye  # rho = mu lambda_n'
-    if accumulate:
-        friction[:, : 2 * S, LAMBDA_N] = -coupling
-        friction[:, : 2 * S, LAMBDA_T] = np.eye(2 * S)
-    else:
-        friction[:, 2 * S :, LAMBDA_N] = mu_eye  # rho = mu (lambda_n + dl_n)
-    w = np.concatenate([batch.normal_w, by_kind(batch.tangent_w.swapaxes(1, 2)).swapaxes(1, 2)], 2)
-    with_block = batch.normal_block is not None and accumulate
+    normal_w = np.zeros((m, COLUMN, S))
+    normal_w[:, :12] = batch.normal_w
+    tangent = np.zeros((m, 2 * S, COLUMN))
+    tangent[:, :, :12] = by_kind(-batch.tangent_mass[..., None] * batch.tangent_jac)
+    tangent_w = np.zeros((m, COLUMN, 2 * S))
+    tangent_w[:, :12] = by_kind(batch.tangent_w.swapaxes(1, 2)).swapaxes(1, 2)
+    block = touching = None
+    if batch.normal_block is not None and accumulate:
+        block = np.empty((m, S, COLUMN))
+        block[:, :, :12] = batch.normal_block @ batch.normal_jac
+        block[:, :, 12:] = batch.normal_block @ bias
+        touching = np.ascontiguousarray(batch.touching.T)
     return RowMatrices(
-        normal_matrix(scaled_normal, batch.normal_mass[..., None] * bias, accumulate),
-        friction,
-        w,
-        block_matrix(batch, bias) if with_block else None,
-        batch.touching[..., None] if with_block else None,
+        normal_matrix(batch.normal_mass, batch.normal_jac, bias),
+        normal_w,
+        tangent,
+        tangent_w,
+        np.ascontiguousarray(batch.friction.T),
+        block,
+        touching,
         accumulate,
     )
 
 
-def block_matrix(batch, bias: np.ndarray) -> np.ndarray:
-    """``[P_B; P_B'] (m, 2S, NORMAL_INPUT)`` of the block normal sweeps: the block candidates
-    ``P_B x = lambda_n - B (J V + b)`` and the feasibility test ``P_B' x = (1 + tol)
-    lambda_n - B (J V + b)`` (``>= 0``: the block keeps this impulse non-negative but for
-    round-off, tol = ``BLOCK_FEASIBILITY_TOLERANCE``); ``bias (m, S, 1)`` is ``b``."""
-    matrix = np.empty((len(bias), 2 * S, NORMAL_INPUT))
-    matrix[:, :S, :ONE] = -batch.normal_block @ batch.normal_jac  # -B J
-    matrix[:, :S, ONE : ONE + 1] = -batch.normal_block @ bias  # -B b
-    matrix[:, :S, LAMBDA_N] = np.eye(S)
-    matrix[:, S:] = matrix[:, :S]
-    matrix[:, S:, LAMBDA_N] = (1.0 + BLOCK_FEASIBILITY_TOLERANCE) * np.eye(S)
-    return matrix
-
-
-def one_slot(matrix: np.ndarray, slot: int, first: int, keep: bool) -> np.ndarray:
-    """``matrix (k, r, c)`` (``P_n`` or ``P_t``, whose impulse rows start at column
-    ``first``) with every impulse row but ``slot``'s replaced by a row that keeps that
-    impulse (``keep``: ``lambda' = lambda``, else a zero increment); the rows of rho stay."""
-    rows = matrix.shape[1]
-    kinds = min(rows // S, 2)  # the normal (1) or the tangent (2) rows carry impulses
-    mine = np.zeros(rows, dtype=bool)
-    mine[slot : kinds * S : S] = True
-    mine[kinds * S :] = True  # rho
-    kept = np.zeros_like(matrix)
-    if keep:
-        kept[:, : kinds * S, first : first + kinds * S] = np.eye(kinds * S)
-    return np.where(mine[:, None], matrix, kept)
-
-
 def color_rows(
-    work: np.ndarray,
+    state: np.ndarray,
     matrices: RowMatrices,
     gathers: np.ndarray,
     colors: list[tuple[slice, int]],
     block_jacobi: bool,
 ) -> list[list[ColorRows]]:
-    """Each color's :class:`ColorRows`: ``colors`` holds ``(manifolds, used slots)`` per
-    color, ``gathers (m, 12, 1)`` the flat velocity indices of each manifold. Block Jacobi:
-    one update of all slots per color; otherwise one per used slot, in slot order."""
+    """Each color's :class:`ColorRows` on the impulses ``state (3, S, m)``: ``colors`` holds
+    ``(manifolds, used slots)`` per color, ``gathers (m, 13, 1)`` (:func:`with_constant`).
+    Block Jacobi: one update of the used slots per color; otherwise one per used slot, in
+    slot order."""
     out = []
     for s, used in colors:
-        slots: list[int | None] = [None] if block_jacobi else list(range(used))
-        out.append([_rows(work[s], matrices, gathers[s], s, slot) for slot in slots])
+        groups = [slice(0, used)] if block_jacobi else [slice(j, j + 1) for j in range(used)]
+        out.append([_rows(state, matrices, gathers[s], s, slots) for slots in groups])
     return out
 
 
-def _rows(z: np.ndarray, matrices: RowMatrices, gather, s: slice, slot: int | None) -> ColorRows:
-    """The :class:`ColorRows` of the manifolds ``s`` (row states ``z``) for all slots or one
-    (the block normal solve, made only with block Jacobi, takes all slots)."""
-    friction_out = z[:, FRICTION_OUT]
-    kinds = z[:, FRICTION_OUT, 0].reshape(len(z), 3, S)  # a view: t1, t2, rho
-    normal, friction = matrices.normal[s], matrices.friction[s]
-    if slot is not None:
-        normal = one_slot(normal, slot, LAMBDA_N.start, matrices.accumulate)
-        friction = one_slot(friction, slot, LAMBDA_T.start, matrices.accumulate)
-    with_block = matrices.block is not None and slot is None
+def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> ColorRows:
+    """The :class:`ColorRows` of the manifolds ``s`` and the slots ``slots``."""
+    k, u = s.stop - s.start, slots.stop - slots.start
+    tangent_rows = np.r_[slots, S + slots.start : S + slots.stop]
+    q, t, dt = np.empty((u, k)), np.empty((2, u, k)), np.empty((2, u, k))
+    block = None
+    if matrices.block is not None and matrices.touching is not None:
+        q_block = np.empty((u, k))
+        block = BlockRows(
+            matrices.block[s, slots], matrices.touching[slots, s], q_block, column_view(q_block)
+        )
     return ColorRows(
         s,
-        slot,
-        [] if slot is None else [k for k in range(S) if k != slot],
+        slots,
         gather,
-        z[:, :ONE],
-        z[:, LAMBDA],
-        z[:, PRIMED],
-        z[:, :NORMAL_INPUT],
-        z[:, :FRICTION_INPUT],
-        z[:, PRIMED_N],
-        friction_out,
-        kinds[:, 0:1],
-        kinds[:, 1:2],
-        kinds[:, 2:3],
-        kinds[:, 0:2],
-        normal,
-        friction,
-        matrices.w[s],
-        matrices.block[s] if with_block else None,  # type: ignore[index]
-        matrices.touching[s] if with_block else None,  # type: ignore[index]
+        matrices.normal[s, slots],
+        matrices.normal_w[s, :, slots],
+        matrices.tangent[s][:, tangent_rows],
+        matrices.tangent_w[s][:, :, tangent_rows],
+        matrices.friction[:, s],
+        state[0, slots, s],
+        state[1:, slots, s],
+        q,
+        t[0],
+        t[1],
+        column_view(q),
+        t,
+        column_view(t),
+        dt,
+        column_view(dt),
+        np.empty((u, k)),
+        block,
     )
 
 
-def rows_matrix(rows: ColorRows, matrix: np.ndarray) -> np.ndarray:
-    """The rows of a normal-only matrix ``(m, S, NORMAL_INPUT)`` (positions, restitution;
-    accumulated) that ``rows`` update: its manifolds, and only its slot."""
-    mine = matrix[rows.manifolds]
-    return mine if rows.slot is None else one_slot(mine, rows.slot, LAMBDA_N.start, True)
+def column_view(array: np.ndarray) -> np.ndarray:
+    """``(k, r, 1)`` view of a contiguous quantity-major ``array (..., k)`` (``r`` = the
+    product of its leading axes): what a stacked matmul reads or writes per manifold."""
+    return array.reshape(-1, array.shape[-1]).T[:, :, None]
 
 
-def fused_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: bool) -> None:
-    """One sweep of a color's normal and friction rows (module docstring) on the flat body
-    velocities ``flat (6 n,)``; ``block``: take the block normal candidates where they keep
-    every impulse non-negative (needs ``rows.block``). Call inside
-    ``np.errstate(divide="ignore", invalid="ignore")`` (the circle's 0 / 0).
+def velocity_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: bool) -> None:
+    """One sweep of a color's normal and friction rows (module docstring) on the flat
+    velocities ``flat (6 n + 1,)`` (ending in the constant 1); ``block``: take the block
+    normal candidates where they keep every impulse non-negative (needs ``rows.block``).
+    Call inside ``np.errstate(divide="ignore", invalid="ignore")`` (the circle's 0 / 0).
 
     Reference: :func:`reference_solver._normal_impulses` then ``_friction_impulses``."""
-    rows.v[...] = flat[rows.gather]
-    np.matmul(rows.normal, rows.x_normal, out=rows.primed_n)
+    v = flat[rows.gather]  # (k, 13, 1)
+    q, lam_n, t, scale = rows.q, rows.lam_n, rows.t, rows.scale
+    np.matmul(rows.normal, v, out=rows.q_col)  # q = m_n (J_n v + b)
     if block and rows.block is not None:
-        _block_candidates(rows)
-    np.maximum(rows.primed_n, 0.0, out=rows.primed_n)  # lambda_n' >= 0 (or dl_n >= 0)
-    np.matmul(rows.friction, rows.x_friction, out=rows.friction_out)  # t1, t2, rho
-    # back onto the circle: scale = min(1, rho / |lambda_t|) for t1 and t2 of each slot;
-    # fmin ignores the NaN of 0 / 0 (no friction impulse and no limit: scale 1)
-    scale = np.hypot(rows.t1, rows.t2)
-    np.divide(rows.rho, scale, out=scale)
-    np.fmin(scale, 1.0, out=scale)
-    if rows.slot is not None:  # one slot at a time: the others keep their impulses
-        scale[:, :, rows.others] = 1.0
-    rows.pairs *= scale
+        _block_candidates(rows.block, q, lam_n, v)
+    np.minimum(q, lam_n if accumulate else 0.0, out=q)  # lambda_n - q >= 0 (or -q >= 0)
+    lam_n -= q
+    v -= rows.normal_w @ rows.q_col
+    np.matmul(rows.tangent, v, out=rows.t_col)  # -m_t J_t v
     if accumulate:
-        rows.v += rows.w @ (rows.primed - rows.lam)  # V += W (lambda' - lambda)
-        rows.lam[...] = rows.primed
+        t += rows.lam_t
+    # back onto the circle: scale = min(1, mu lambda_n / |lambda_t|) for t1 and t2 of each
+    # slot; fmin ignores the NaN of 0 / 0 (no friction impulse and no limit: scale 1)
+    np.hypot(rows.t1, rows.t2, out=scale)
+    np.divide(rows.mu * lam_n, scale, out=scale)
+    np.fmin(scale, 1.0, out=scale)
+    t *= scale
+    if accumulate:
+        np.subtract(t, rows.lam_t, out=rows.dt)
+        rows.lam_t[...] = t
+        v += rows.tangent_w @ rows.dt_col
     else:
-        rows.v += rows.w @ rows.primed  # V += W dl
-        rows.lam += rows.primed
-    flat[rows.gather] = rows.v
+        rows.lam_t += t
+        v += rows.tangent_w @ rows.t_col
+    flat[rows.gather] = v
 
 
-def _block_candidates(rows: ColorRows) -> None:
-    """The block sweep: ``lambda_n' = P_B x`` for the manifolds where every slot's
-    feasibility test ``P_B' x >= 0`` holds (the rows of B of the slots that do not touch are
-    zero: they keep their Jacobi candidates ``P_n x``, written before)."""
-    both = rows.block @ rows.x_normal  # (k, 2S, 1): block candidates, test
-    feasible = (both[:, S:] >= 0.0).all(axis=1, keepdims=True)  # (k, 1, 1)
-    np.copyto(rows.primed_n, both[:, :S], where=feasible & rows.touching)
+def _block_candidates(block: BlockRows, q, lam_n, v: np.ndarray) -> None:
+    """The block sweep: ``q = q_B = B (J_n v + b)`` for the manifolds where every slot keeps
+    ``(1 + tol) lambda_n - q_B >= 0`` (the rows of B of the slots that do not touch are
+    zero: they keep their Jacobi ``q``, written before); ``q``, ``lam_n (u, k)``."""
+    np.matmul(block.matrix, v, out=block.q_col)
+    feasible = (block.q <= (1.0 + BLOCK_FEASIBILITY_TOLERANCE) * lam_n).all(axis=0)
+    np.copyto(q, block.q, where=feasible & block.touching)
 
 
-def normal_update(rows: ColorRows, flat: np.ndarray, normal: np.ndarray) -> None:
-    """One sweep of a color's normal rows alone with the matrix rows ``normal (k, S,
-    NORMAL_INPUT)`` (the position solve's ``P_n``, or the restitution pass's;
-    :func:`rows_matrix`): ``lambda_n' = max(P x, 0)``, ``V += W_n (lambda_n' - lambda_n)``
-    (every other primed entry must equal its unprimed one: :func:`sync_primed`).
+def rows_matrix(rows: ColorRows, matrix: np.ndarray) -> np.ndarray:
+    """The rows of a normal-only matrix ``(m, S, 13)`` (positions, restitution) that
+    ``rows`` update: its manifolds and slots."""
+    return matrix[rows.manifolds, rows.slots]
+
+
+def normal_update(rows: ColorRows, flat: np.ndarray, matrix: np.ndarray, lam_n) -> None:
+    """One sweep of a color's normal rows alone with the matrix rows ``matrix (k, u, 13)``
+    (the position solve's ``m_n [J_n | b]``, or the restitution pass's:
+    :func:`rows_matrix`) and the accumulated impulses ``lam_n (u, k)`` (updated):
+    ``q = min(matrix v, lambda_n)``, ``lambda_n -= q``, ``v -= W_n q``.
 
     Reference: :func:`reference_solver._normal_impulses` (positions), and
     ``_restitution_impulses``."""
-    rows.v[...] = flat[rows.gather]
-    np.matmul(normal, rows.x_normal, out=rows.primed_n)
-    np.maximum(rows.primed_n, 0.0, out=rows.primed_n)
-    rows.v += rows.w @ (rows.primed - rows.lam)  # only lambda_n' changed
-    rows.lam[...] = rows.primed
-    flat[rows.gather] = rows.v
-
-
-def sync_primed(work: np.ndarray) -> None:
-    """``lambda' = lambda`` for every row (before the normal-only passes)."""
-    work[:, PRIMED] = work[:, LAMBDA]
+    v = flat[rows.gather]
+    np.matmul(matrix, v, out=rows.q_col)
+    np.minimum(rows.q, lam_n, out=rows.q)
+    lam_n -= rows.q
+    v -= rows.normal_w @ rows.q_col
+    flat[rows.gather] = v

@@ -17,15 +17,14 @@ plain version of this module (one point at a time); tests check both agree to ro
 (the sums run in a different order). Each batched function names the reference it mirrors.
 
 The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the inner loop
-is kept to few calls: :mod:`color_rows` keeps each manifold's velocities, accumulated
-impulses and their new values in one column vector and writes every update of a color (the
-normal rows, the friction rows that read the velocities after them, the velocity change)
-as a matrix times that vector, followed by its clamp: 14 NumPy calls per color and sweep
-(the separate normal and friction updates took 24), the matrices and each color's views
-made once per step. The solve's floor is colors x iterations x those calls, not the array
-sizes; the coloring already uses as many colors as the busiest body has contacts (the
-least possible: measured on the benchmark piles). The accumulated impulses are kept with
-their own sign (``lambda >= 0``), as the formulas read.
+is kept to few calls: :mod:`color_rows` gathers each manifold's velocities as one column
+(ending in a constant 1 that carries the bias), multiplies it by small manifold-major
+matrices, and keeps the accumulated impulses and every clamp quantity-major (manifolds
+contiguous): 18 NumPy calls per color and sweep, the matrices and each color's views made
+once per step. The solve's floor is colors x iterations x those calls; the coloring
+already uses as many colors as the busiest body has contacts (the least possible:
+measured on the benchmark piles). The accumulated impulses are kept with their own sign
+(``lambda >= 0``), as the formulas read.
 
 Block normal solve (``SolverSettings.block_normal_sweeps``, Box2D's block solver
 ``b2_contact_solver.cpp``, its all-points-active case): mass splitting removes only
@@ -37,8 +36,7 @@ pseudo-inverse of ``K = J M^-1 J^T`` (made once per step by :func:`contact_batch
 and takes it for a manifold only where every accumulated ``lambda + d_lambda`` stays
 ``>= 0`` (there complementarity holds: every touching point ends with ``v_n + b = 0`` and
 ``lambda >= 0``); elsewhere, and in the later sweeps, the mass-split Jacobi update, so a
-sweep is never worse than without it. The block candidates and their feasibility test come
-from one stacked matmul (:func:`color_rows.block_matrix`).
+sweep is never worse than without it (:func:`color_rows._block_candidates`).
 
 Position correction (split impulses, Catto / Bullet): a separate pseudo velocity solve
 pushes penetrations deeper than the slop apart at ``beta (depth - slop) / h`` (slop:
@@ -72,19 +70,16 @@ from ..core.settings import (
     SolverSettings,
 )
 from .color_rows import (
-    LAMBDA,
-    LAMBDA_N,
-    PRIMED,
     ColorRows,
     color_rows,
-    fused_update,
     impulses,
-    new_work,
+    new_impulses,
     normal_matrix,
     normal_update,
     row_matrices,
     rows_matrix,
-    sync_primed,
+    velocity_update,
+    with_constant,
 )
 from .contact_batch import SLOTS, ContactBatch, batch_gathers
 from .stage_priority import stage_rows_last
@@ -100,33 +95,40 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
 
 
-def _solver_rows(batch: ContactBatch, bias: np.ndarray, settings: SolverSettings):
-    """``(work, matrices, colors)`` of the batch (:mod:`color_rows`) for the velocity bias
-    ``bias (m, S, 1)``: made once and kept on the batch (the position solve reuses the
-    views)."""
+def with_one(velocity: np.ndarray) -> np.ndarray:
+    """The flat velocities ``(6 n + 1,)`` of ``velocity (n, 6)`` followed by the constant 1
+    that every manifold's velocity column ends in (:mod:`color_rows`)."""
+    return np.append(velocity.reshape(-1), 1.0)
+
+
+def _solver_rows(batch: ContactBatch, bias: np.ndarray, settings: SolverSettings, one: int):
+    """``(state, matrices, colors)`` of the batch (:mod:`color_rows`) for the velocity bias
+    ``bias (m, S, 1)``; ``one`` is the index of the flat velocities' constant 1. Made once and
+    kept on the batch (the position solve reuses the rows)."""
     if batch.cache.rows is None:
-        work = new_work(batch.impulse)
+        state = new_impulses(batch.impulse)
         matrices = row_matrices(batch, bias, settings.accumulate_impulses)
         colors = [
             (slice(start, stop), used)
             for (start, stop), used in zip(batch.color_slices, batch.color_points, strict=True)
         ]
-        rows = color_rows(work, matrices, batch_gathers(batch), colors, settings.block_jacobi)
-        batch.cache.rows = (work, matrices, rows)
+        gathers = with_constant(batch_gathers(batch), one)
+        rows = color_rows(state, matrices, gathers, colors, settings.block_jacobi)
+        batch.cache.rows = (state, matrices, rows)
     return batch.cache.rows
 
 
 def solve_velocities(
     batch: ContactBatch, velocity: np.ndarray, h: float, settings: SolverSettings
 ) -> None:
-    """Velocity iterations (one fused normal and friction update per color), then the
+    """Velocity iterations (one slim normal and friction update per color), then the
     restitution pass and the stage's last word.
 
     Reference: the loops of :func:`reference_solver.solve_reference`."""
-    flat = velocity.reshape(-1)  # (n * 6,), a view when velocity is contiguous
+    flat = with_one(velocity)  # (n * 6 + 1,)
     # speculative contacts: a gap g > 0 may close by g / h this step, b = g / h
     bias = (np.maximum(-batch.depth, 0.0) / h)[..., None]
-    work, matrices, colors = _solver_rows(batch, bias, settings)
+    state, matrices, colors = _solver_rows(batch, bias, settings, len(flat) - 1)
     accumulate = settings.accumulate_impulses
     block_sweeps = settings.block_normal_sweeps if matrices.block is not None else 0
     with np.errstate(divide="ignore", invalid="ignore"):  # the friction circle's 0 / 0
@@ -134,37 +136,32 @@ def solve_velocities(
             block = sweep < block_sweeps
             for color in colors:
                 for rows in color:
-                    fused_update(rows, flat, accumulate, block)
-    sync_primed(work)  # the normal-only passes change lambda_n' alone
-    _restitution(batch, flat, colors, work[:, LAMBDA_N], matrices.normal)
-    stage_rows_last(batch, flat, bias, settings)
-    batch.impulse[...] = impulses(work)
-    velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
+                    velocity_update(rows, flat, accumulate, block)
+    _restitution(batch, flat, colors, state[0])
+    stage_rows_last(batch, flat[:-1], bias, settings)
+    batch.impulse[...] = impulses(state)
+    velocity[...] = flat[:-1].reshape(velocity.shape)
 
 
-def _restitution(batch, flat, colors: list[list[ColorRows]], lam_n, normal) -> None:
+def _restitution(batch, flat, colors: list[list[ColorRows]], lam_n) -> None:
     """Bounce pass: target ``v_n = -e v_n0`` on the loaded, fast-approaching points;
-    ``lam_n (m, S, 1)`` the accumulated normal impulses (updated), ``normal`` ``P_n``."""
+    ``lam_n (S, m)`` the accumulated normal impulses (the rows' views are updated)."""
     fast = batch.approach_speed < -RESTITUTION_VELOCITY_THRESHOLD
-    bounce = (batch.restitution > 0) & fast & (lam_n[..., 0] > 0)
+    bounce = (batch.restitution > 0) & fast & (lam_n.T > 0)
     if not bounce.any():
         return
-    # rows where bouncing: lambda_n' = max(lambda_n - m_n (J V + e v_n0), 0); the others
-    # keep lambda_n (their rows of the matrix are only the identity)
+    # rows where bouncing: q = m_n (J V + e v_n0), lambda_n' = max(lambda_n - q, 0); the
+    # others have q = 0 and keep lambda_n
     goal = (batch.restitution * batch.approach_speed)[..., None]  # e v_n0
-    active = bounce[..., None]
-    matrix = normal_matrix(
-        np.where(active, normal[:, :, :12], 0.0),
-        np.where(active, batch.normal_mass[..., None] * goal, 0.0),
-        identity=True,
-    )
+    matrix = normal_matrix(batch.normal_mass, batch.normal_jac, goal)
+    matrix = np.where(bounce[..., None], matrix, 0.0)
     # a color without a bouncing point would apply zero impulses: it is skipped (colors
     # are never empty, so reduceat over their starts gives one answer per color)
     bouncing = np.logical_or.reduceat(bounce.any(axis=1), [a for a, _ in batch.color_slices])
     for color, bounces in zip(colors, bouncing.tolist(), strict=True):
         if bounces:
             for rows in color:
-                normal_update(rows, flat, rows_matrix(rows, matrix))
+                normal_update(rows, flat, rows_matrix(rows, matrix), rows.lam_n)
 
 
 def solve_positions(
@@ -173,10 +170,11 @@ def solve_positions(
     """Split-impulse pseudo velocities ``(n, 6)`` removing penetration beyond the slop.
 
     Reference: :func:`reference_solver.solve_positions_reference`."""
-    pseudo = np.zeros((n_bodies, 6))
+    flat = np.zeros(6 * n_bodies + 1)
+    pseudo = flat[:-1].reshape(n_bodies, 6)
     if not settings.position_correction or settings.position_iterations == 0:
         return pseudo
-    flat = pseudo.reshape(-1)
+    flat[-1] = 1.0  # the velocity columns' constant (color_rows)
     # target pseudo speed: beta (depth - slop) / h, clamped to MAX_CORRECTION_SPEED
     excess = np.maximum(batch.depth - batch.slop, 0.0)
     # bodies created overlapping (contacts deeper than DEEP_OVERLAP): more sweeps, and a
@@ -188,15 +186,18 @@ def solve_positions(
         iterations = max(iterations, settings.overlap_position_iterations)
     target = np.minimum(beta * excess / h, MAX_CORRECTION_SPEED)
     bias = -target[..., None]  # b = -target: drive v_n towards +target
-    work, matrices, colors = _solver_rows(batch, np.zeros_like(bias), settings)
-    work[:, LAMBDA.start : PRIMED.stop] = 0.0  # accumulated pseudo impulses
-    matrix = normal_matrix(matrices.normal[:, :, :12], batch.normal_mass[..., None] * bias, True)
-    passes = [[(rows, rows_matrix(rows, matrix)) for rows in color] for color in colors]
+    _, matrices, colors = _solver_rows(batch, np.zeros_like(bias), settings, len(flat) - 1)
+    matrix = normal_matrix(batch.normal_mass, batch.normal_jac, bias)
+    lam = np.zeros((SLOTS, len(bias)))  # accumulated pseudo impulses, quantity-major
+    passes = [
+        [(rows, rows_matrix(rows, matrix), lam[rows.slots, rows.manifolds]) for rows in color]
+        for color in colors
+    ]
     for _ in range(iterations):
         for color in passes:
-            for rows, slot_matrix in color:
-                normal_update(rows, flat, slot_matrix)
-    stage_rows_last(batch, flat, bias, settings)
+            for rows, slot_matrix, lam_n in color:
+                normal_update(rows, flat, slot_matrix, lam_n)
+    stage_rows_last(batch, flat[:-1], bias, settings)
     return pseudo
 
 
