@@ -63,8 +63,8 @@ COLUMN = 13
 @dataclass
 class RowMatrices:
     """The manifold-major matrices of all ``m`` manifolds of a step: ``normal (m, S, 13)``
-    ``m_n [J_n | b]``, ``normal_w (m, 13, S)`` ``[W_n; 0]``, ``tangent (m, 2S, 13)`` ``-m_t
-    [J_t | 0]`` (all t1 rows, then all t2 rows), ``tangent_w (m, 13, 2S)``, ``friction (1,
+    ``m_n [J_n | b]``, ``normal_w (m, 13, S)`` ``[W_n; 0]``, ``tangent (m, 2, S, 13)`` ``-m_t
+    [J_t | 0]`` (the t1 rows, then the t2 rows), ``tangent_w (m, 13, 2, S)``, ``friction (1,
     m)`` mu; with the block normal solve ``block (m, S, 13)`` ``B [J_n | b]`` and
     ``touching (S, m)`` (None: no block solve); ``accumulate``: the impulses are
     accumulated (else increments)."""
@@ -144,10 +144,9 @@ def with_constant(gathers: np.ndarray, one: int) -> np.ndarray:
 
 
 def by_kind(rows: np.ndarray) -> np.ndarray:
-    """The tangent rows ``(m, 2S, ...)`` of a batch, (t1, t2) per slot, reordered as all t1
-    then all t2."""
-    m = len(rows)
-    return rows.reshape(m, S, 2, -1).swapaxes(1, 2).reshape(m, 2 * S, -1)
+    """The tangent rows ``(m, 2S, c)`` of a batch, (t1, t2) per slot, as ``(m, 2, S, c)``:
+    all t1, then all t2."""
+    return rows.reshape(len(rows), S, 2, -1).swapaxes(1, 2)
 
 
 def normal_matrix(mass: np.ndarray, jac: np.ndarray, bias: np.ndarray) -> np.ndarray:
@@ -166,10 +165,10 @@ def row_matrices(batch, bias: np.ndarray, accumulate: bool) -> RowMatrices:
     m = len(bias)
     normal_w = np.zeros((m, COLUMN, S))
     normal_w[:, :12] = batch.normal_w
-    tangent = np.zeros((m, 2 * S, COLUMN))
-    tangent[:, :, :12] = by_kind(-batch.tangent_mass[..., None] * batch.tangent_jac)
-    tangent_w = np.zeros((m, COLUMN, 2 * S))
-    tangent_w[:, :12] = by_kind(batch.tangent_w.swapaxes(1, 2)).swapaxes(1, 2)
+    tangent = np.zeros((m, 2, S, COLUMN))
+    tangent[..., :12] = by_kind(-batch.tangent_mass[..., None] * batch.tangent_jac)
+    tangent_w = np.zeros((m, COLUMN, 2, S))
+    tangent_w[:, :12] = by_kind(batch.tangent_w.swapaxes(1, 2)).transpose(0, 3, 1, 2)
     block = touching = None
     if batch.normal_block is not None and accumulate:
         block = np.empty((m, S, COLUMN))
@@ -209,7 +208,6 @@ def color_rows(
 def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> ColorRows:
     """The :class:`ColorRows` of the manifolds ``s`` and the slots ``slots``."""
     k, u = s.stop - s.start, slots.stop - slots.start
-    tangent_rows = np.r_[slots, S + slots.start : S + slots.stop]
     q, t, dt = np.empty((u, k)), np.empty((2, u, k)), np.empty((2, u, k))
     block = None
     if matrices.block is not None and matrices.touching is not None:
@@ -223,8 +221,8 @@ def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> Color
         gather,
         matrices.normal[s, slots],
         matrices.normal_w[s, :, slots],
-        matrices.tangent[s][:, tangent_rows],
-        matrices.tangent_w[s][:, :, tangent_rows],
+        matrices.tangent[s, :, slots].reshape(k, 2 * u, COLUMN),  # a view when u = S
+        matrices.tangent_w[s, :, :, slots].reshape(k, COLUMN, 2 * u),
         matrices.friction[:, s],
         state[0, slots, s],
         state[1:, slots, s],

@@ -185,6 +185,10 @@ def solve_positions(
     if deep.any():
         iterations = max(iterations, settings.overlap_position_iterations)
     target = np.minimum(beta * excess / h, MAX_CORRECTION_SPEED)
+    if not target.any():
+        # nothing deeper than the slop: every row's q = m_n (J 0 + 0) = 0, the sweeps and
+        # the stage's pass would leave the pseudo velocities exactly zero
+        return pseudo
     bias = -target[..., None]  # b = -target: drive v_n towards +target
     _, matrices, colors = _solver_rows(batch, np.zeros_like(bias), settings, len(flat) - 1)
     matrix = normal_matrix(batch.normal_mass, batch.normal_jac, bias)
