@@ -111,7 +111,8 @@ def test_one_slim_sweep_equals_the_normal_then_friction_rows(seed, block_jacobi)
     with np.errstate(divide="ignore", invalid="ignore"):
         for color in colors:
             for rows in color:
-                color_rows.velocity_update(rows, flat, True, False)
+                color_rows.velocity_update(rows, flat, True, False, 0)
+    color_rows.store_tangents(colors, state, 1)
     np.testing.assert_allclose(color_rows.impulses(state), expected_lam, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(flat[:-1].reshape(4, 6), expected_v, rtol=1e-12, atol=1e-12)
     assert flat[-1] == 1.0  # the velocity columns' constant is never changed
@@ -125,10 +126,15 @@ def test_the_row_views_write_into_the_impulses_and_the_scratch():
     state, _, colors = _solver_rows(batch, np.zeros((3, 4, 1)), SolverSettings(), len(flat) - 1)
     for color in colors:
         for rows in color:
-            assert np.shares_memory(rows.lam_n, state) and np.shares_memory(rows.lam_t, state)
-            for scratch, column in ((rows.q, rows.q_col), (rows.t, rows.t_col)):
-                assert np.shares_memory(scratch, column)
-            assert np.shares_memory(rows.t1, rows.t) and np.shares_memory(rows.t2, rows.t)
+            assert np.shares_memory(rows.lam_n, state)
+            assert np.shares_memory(rows.q, rows.q_col) and np.shares_memory(rows.dt, rows.dt_col)
+            first, second = rows.tangents
+            assert not np.shares_memory(first.lam, second.lam)
+            for tangent in rows.tangents:
+                for view in (tangent.t1, tangent.t2, tangent.col):
+                    assert np.shares_memory(view, tangent.lam)
+            # the first sweep reads the cached friction impulses
+            np.testing.assert_array_equal(first.lam, state[1:, rows.slots, rows.manifolds])
 
 
 def test_impulses_round_trip_through_the_quantity_major_state():

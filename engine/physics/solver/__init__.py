@@ -9,7 +9,7 @@ What is here, in reading order (the solve stage that runs it is
 3. ``contact_batch.py``: the contact rows (Jacobians, ``W = M^-1 J^T``, effective masses);
 4. ``sequential_impulses.py``: the iterations (projected Gauss-Seidel over colors, warm
    starting, restitution, the split-impulse position solve), each color's normal and
-   friction rows one fused update of ``color_rows.py``;
+   friction rows one slim update of ``color_rows.py``;
 5. ``lumped_rows.py`` and ``stage_priority.py``: the push-only sweeps that let the stage
    have the last word;
 6. ``rolling_friction.py``: rolling and spinning resistance;

@@ -26,7 +26,8 @@ per slot (the 2-D impulse scaled back onto the Coulomb circle; ``fmin`` maps the
 an unloaded slot to 1), ``v += W_t (lambda_t' - lambda_t)``. This is the plain solver's
 order (a manifold's normal rows, then its friction rows: :func:`reference_solver.
 _normal_impulses` and ``_friction_impulses``); only the sums run in another order. A color
-and sweep is 18 NumPy calls. Without accumulated impulses (box2d-lite's toggle,
+and sweep is 17 NumPy calls (the friction impulses take turns between two arrays, so
+nothing is copied back). Without accumulated impulses (box2d-lite's toggle,
 ``accumulate_impulses=False``) the clamps act on the increments: ``q' = min(q, 0)``, the
 friction increment is scaled onto the circle of the new ``lambda_n``.
 
@@ -92,16 +93,34 @@ class BlockRows:
 
 
 @dataclass
+class TangentImpulses:
+    """A color's accumulated friction impulses ``lam (2, u, k)`` (t1, t2 of each slot, its
+    manifolds contiguous), their views ``t1``, ``t2 (u, k)`` and their column view ``col
+    (k, 2u, 1)`` (what the friction matmul writes)."""
+
+    lam: np.ndarray
+    t1: np.ndarray
+    t2: np.ndarray
+    col: np.ndarray
+
+    @classmethod
+    def of(cls, lam: np.ndarray) -> TangentImpulses:
+        """The views of a contiguous ``lam (2, u, k)``."""
+        return cls(lam, lam[0], lam[1], column_view(lam))
+
+
+@dataclass
 class ColorRows:
     """One color's rows (``manifolds``, the slots ``slots``), made once per step so that a
     sweep only does algebra.
 
     ``gather (k, 13, 1)`` flat indices of each manifold's velocity column; the matrices'
     rows ``normal (k, u, 13)``, ``normal_w (k, 13, u)``, ``tangent (k, 2u, 13)``,
-    ``tangent_w (k, 13, 2u)``, ``mu (1, k)``; ``lam_n (u, k)`` and ``lam_t (2, u, k)`` views
-    of the impulses; scratch ``q (u, k)``, ``t``, ``dt (2, u, k)``, ``scale (u, k)``,
-    ``t1``, ``t2 (u, k)`` views of ``t``, and the column views ``q_col (k, u, 1)``,
-    ``t_col``, ``dt_col (k, 2u, 1)`` for the matmuls; ``block`` the :class:`BlockRows`
+    ``tangent_w (k, 13, 2u)``, ``mu (1, k)``; ``lam_n (u, k)`` a view of the normal
+    impulses; ``tangents`` two :class:`TangentImpulses` that take turns (sweep ``i`` reads
+    ``tangents[i % 2]`` and writes its new impulses into the other: no copy back);
+    scratch ``q (u, k)``, ``dt (2, u, k)``, ``scale (u, k)`` and the column views ``q_col
+    (k, u, 1)``, ``dt_col (k, 2u, 1)`` for the matmuls; ``block`` the :class:`BlockRows`
     (None: no block normal solve).
     """
 
@@ -114,13 +133,9 @@ class ColorRows:
     tangent_w: np.ndarray
     mu: np.ndarray
     lam_n: np.ndarray
-    lam_t: np.ndarray
+    tangents: tuple[TangentImpulses, TangentImpulses]
     q: np.ndarray
-    t1: np.ndarray
-    t2: np.ndarray
     q_col: np.ndarray
-    t: np.ndarray
-    t_col: np.ndarray
     dt: np.ndarray
     dt_col: np.ndarray
     scale: np.ndarray
@@ -208,7 +223,11 @@ def color_rows(
 def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> ColorRows:
     """The :class:`ColorRows` of the manifolds ``s`` and the slots ``slots``."""
     k, u = s.stop - s.start, slots.stop - slots.start
-    q, t, dt = np.empty((u, k)), np.empty((2, u, k)), np.empty((2, u, k))
+    q, dt = np.empty((u, k)), np.empty((2, u, k))
+    tangents = (
+        TangentImpulses.of(np.array(state[1:, slots, s])),  # the cached impulses, a copy
+        TangentImpulses.of(np.empty((2, u, k))),
+    )
     block = None
     if matrices.block is not None and matrices.touching is not None:
         q_block = np.empty((u, k))
@@ -225,13 +244,9 @@ def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> Color
         matrices.tangent_w[s, :, :, slots].reshape(k, COLUMN, 2 * u),
         matrices.friction[:, s],
         state[0, slots, s],
-        state[1:, slots, s],
+        tangents,
         q,
-        t[0],
-        t[1],
         column_view(q),
-        t,
-        column_view(t),
         dt,
         column_view(dt),
         np.empty((u, k)),
@@ -245,38 +260,48 @@ def column_view(array: np.ndarray) -> np.ndarray:
     return array.reshape(-1, array.shape[-1]).T[:, :, None]
 
 
-def velocity_update(rows: ColorRows, flat: np.ndarray, accumulate: bool, block: bool) -> None:
-    """One sweep of a color's normal and friction rows (module docstring) on the flat
+def velocity_update(
+    rows: ColorRows, flat: np.ndarray, accumulate: bool, block: bool, sweep: int
+) -> None:
+    """Sweep ``sweep`` of a color's normal and friction rows (module docstring) on the flat
     velocities ``flat (6 n + 1,)`` (ending in the constant 1); ``block``: take the block
     normal candidates where they keep every impulse non-negative (needs ``rows.block``).
-    Call inside ``np.errstate(divide="ignore", invalid="ignore")`` (the circle's 0 / 0).
+    Call inside ``np.errstate(divide="ignore", invalid="ignore")`` (the circle's 0 / 0);
+    the friction impulses end in ``rows.tangents[(sweep + 1) % 2]`` (:func:`store_tangents`).
 
     Reference: :func:`reference_solver._normal_impulses` then ``_friction_impulses``."""
     v = flat[rows.gather]  # (k, 13, 1)
-    q, lam_n, t, scale = rows.q, rows.lam_n, rows.t, rows.scale
+    q, lam_n, scale = rows.q, rows.lam_n, rows.scale
+    old, new = rows.tangents[sweep % 2], rows.tangents[(sweep + 1) % 2]
     np.matmul(rows.normal, v, out=rows.q_col)  # q = m_n (J_n v + b)
     if block and rows.block is not None:
         _block_candidates(rows.block, q, lam_n, v)
     np.minimum(q, lam_n if accumulate else 0.0, out=q)  # lambda_n - q >= 0 (or -q >= 0)
     lam_n -= q
     v -= rows.normal_w @ rows.q_col
-    np.matmul(rows.tangent, v, out=rows.t_col)  # -m_t J_t v
+    np.matmul(rows.tangent, v, out=new.col)  # -m_t J_t v
     if accumulate:
-        t += rows.lam_t
+        new.lam += old.lam
     # back onto the circle: scale = min(1, mu lambda_n / |lambda_t|) for t1 and t2 of each
     # slot; fmin ignores the NaN of 0 / 0 (no friction impulse and no limit: scale 1)
-    np.hypot(rows.t1, rows.t2, out=scale)
+    np.hypot(new.t1, new.t2, out=scale)
     np.divide(rows.mu * lam_n, scale, out=scale)
     np.fmin(scale, 1.0, out=scale)
-    t *= scale
+    new.lam *= scale
     if accumulate:
-        np.subtract(t, rows.lam_t, out=rows.dt)
-        rows.lam_t[...] = t
+        np.subtract(new.lam, old.lam, out=rows.dt)
         v += rows.tangent_w @ rows.dt_col
-    else:
-        rows.lam_t += t
-        v += rows.tangent_w @ rows.t_col
+    else:  # new holds the increment
+        v += rows.tangent_w @ new.col
+        new.lam += old.lam
     flat[rows.gather] = v
+
+
+def store_tangents(colors: list[list[ColorRows]], state: np.ndarray, sweeps: int) -> None:
+    """Write the friction impulses after ``sweeps`` sweeps back into ``state (3, S, m)``."""
+    for color in colors:
+        for rows in color:
+            state[1:, rows.slots, rows.manifolds] = rows.tangents[sweeps % 2].lam
 
 
 def _block_candidates(block: BlockRows, q, lam_n, v: np.ndarray) -> None:

@@ -99,8 +99,9 @@ class ContactBatch:
 @dataclass
 class SolverCache:
     """What the solver loops derive from a :class:`ContactBatch` once and reuse in every
-    sweep: ``rows``, the work array, the :class:`color_rows.RowMatrices` and each color's
-    :class:`color_rows.ColorRows` (``(work, matrices, colors)``), every manifold's velocity
+    sweep: ``rows``, the quantity-major impulses, the :class:`color_rows.RowMatrices` and
+    each color's :class:`color_rows.ColorRows` (``(state, matrices, colors)``), every
+    manifold's velocity
     indices (``gathers``, :func:`batch_gathers`), and the stage-priority
     pass's lumped rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a
     computed None, no shock pass, from one not computed yet) and their per-color sweep

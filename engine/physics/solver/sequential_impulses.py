@@ -20,7 +20,7 @@ The loops cost NumPy call overhead (arrays hold a few hundred numbers), so the i
 is kept to few calls: :mod:`color_rows` gathers each manifold's velocities as one column
 (ending in a constant 1 that carries the bias), multiplies it by small manifold-major
 matrices, and keeps the accumulated impulses and every clamp quantity-major (manifolds
-contiguous): 18 NumPy calls per color and sweep, the matrices and each color's views made
+contiguous): 17 NumPy calls per color and sweep, the matrices and each color's views made
 once per step. The solve's floor is colors x iterations x those calls; the coloring
 already uses as many colors as the busiest body has contacts (the least possible:
 measured on the benchmark piles). The accumulated impulses are kept with their own sign
@@ -78,6 +78,7 @@ from .color_rows import (
     normal_update,
     row_matrices,
     rows_matrix,
+    store_tangents,
     velocity_update,
     with_constant,
 )
@@ -136,7 +137,8 @@ def solve_velocities(
             block = sweep < block_sweeps
             for color in colors:
                 for rows in color:
-                    velocity_update(rows, flat, accumulate, block)
+                    velocity_update(rows, flat, accumulate, block, sweep)
+    store_tangents(colors, state, settings.velocity_iterations)
     _restitution(batch, flat, colors, state[0])
     stage_rows_last(batch, flat[:-1], bias, settings)
     batch.impulse[...] = impulses(state)
