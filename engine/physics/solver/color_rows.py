@@ -43,8 +43,9 @@ slot of a color, each the same update on that slot's rows alone.
 Why this layout (measured, ``docs/physics_performance.md``): the previous fused update kept
 all of a manifold's quantities in one column (14 calls a color and sweep), but every
 elementwise call then ran over runs of 4 numbers strided through that column, and its
-friction matrix was 12 x 29: per color it cost 1.3-1.6x this one at every size measured
-(2 to 250 manifolds), although this one issues 4 calls more.
+friction matrix was 12 x 29: per color it cost 1.06-1.67x this one at every size measured
+(2 to 250 manifolds), although this one issues 3 calls more. So there is one kernel for
+every color size.
 """
 
 from __future__ import annotations
