@@ -240,13 +240,40 @@ def _stage_group(
     # ... and, in a corner, the shallowest of those facing another way (floor and wall;
     # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
     if not stage_grid(stage).corner_free:
-        _corner_contacts(contacts, seq, candidate, best, normal, height, verts)
+        below = height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None]
+        beyond = _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) & below
+        _corner_contacts(contacts, seq, candidate | beyond, best, normal, height, verts)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
         return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
     for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
         _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], height[k, 0])
     return []
+
+
+def _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) -> np.ndarray:
+    """(g, T, V) bool: vertex v lies behind triangle t's plane (``h < 0``) outside its prism,
+    but inside it once pushed out of its own shallowest triangle ``best (g, V)`` (to
+    ``STAGE_CORNER_PUSH`` in front of it), when it has passed that one (``h_best < 0``).
+
+    A vertex pressed into a wall a few mm, at the wall's foot, has left the prism of the
+    floor that ends at the wall, though it is still below the floor: the floor continues
+    into the wall's solid. Pushed back out of the wall it is over the floor again, so the
+    floor still holds it up (a corner contact); without it the vertex sank down the wall
+    (a cone's tip to the wall's underside, 5 cm below the floor, and then under the wall).
+    At a convex edge (a table top and its side) the push leaves the vertex beyond the
+    top's edge: nothing is added."""
+    best_height = np.take_along_axis(height, best[:, None, :], axis=1)[:, 0]  # (g, V)
+    g, v = np.nonzero(candidate.any(axis=1) & (best_height < 0))
+    past = np.zeros(candidate.shape, dtype=bool)
+    if len(g) == 0:
+        return past
+    # x_v pushed along its best triangle's normal to STAGE_CORNER_PUSH in front of it, (k, 3)
+    push = settings.STAGE_CORNER_PUSH - best_height[g, v]
+    pushed = verts[g, v] + push[:, None] * normal[g, best[g, v]]
+    inside = _in_prisms(table, ids[g], tris[g], pushed[:, None])[..., 0]  # (k, T)
+    past[g, :, v] = inside & (height[g, :, v] < 0)
+    return past
 
 
 def _corner_contacts(contacts, seq, candidate, best, normal, height, verts) -> None:

@@ -190,6 +190,10 @@ STAGE_BELOW_FRACTION = 0.5
 #: shallowest one (a floor and a wall at a corner) also keeps the shallowest of those it
 #: has passed (lies behind).
 STAGE_CORNER_COSINE = 0.7
+#: m, a hull vertex behind its shallowest stage triangle is also tested, pushed out of it to
+#: this far in front of it, against the prisms of the triangles it lies below: a vertex
+#: pressed a few mm into a wall keeps the floor that ends at the wall's foot.
+STAGE_CORNER_PUSH = 0.001
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9

@@ -242,9 +242,14 @@ def stage_polyhedron_contacts(
         contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
         # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
         # which the vertex has passed (h < 0)
+        # (also those it lies below at a wall's foot: see _past_the_foot)
+        below = sorted(
+            touching
+            + _past_the_foot(stage, table, triangle_ids, k, best, normals, heights, vertex, extent)
+        )
         turned = [
             i
-            for i in touching
+            for i in below
             if abs(dot(normals[i], normals[best])) < settings.STAGE_CORNER_COSINE
             and heights[i][k] < 0
         ]
@@ -259,6 +264,26 @@ def stage_polyhedron_contacts(
         depths = np.minimum(depths, -min(heights[0]))
         contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
     return contacts
+
+
+def _past_the_foot(
+    stage, table, triangle_ids, k: int, best: int, normals, heights, vertex, extent: float
+) -> list[int]:
+    """Positions of the triangles vertex ``k`` lies behind (``-STAGE_BELOW_FRACTION * extent
+    < h < 0``) outside their prisms, but inside once pushed out of its shallowest triangle
+    ``best`` to ``STAGE_CORNER_PUSH`` in front of it, when it has passed that one (a vertex
+    pressed into a wall at its foot keeps the floor ending there; mirrors
+    ``batched_stage._past_the_foot``)."""
+    if heights[best][k] >= 0:
+        return []
+    pushed = vertex + (settings.STAGE_CORNER_PUSH - heights[best][k]) * normals[best]
+    return [
+        i
+        for i, t in enumerate(triangle_ids)
+        if -settings.STAGE_BELOW_FRACTION * extent < heights[i][k] < 0
+        and not inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+        and inside_triangle_prism(table, t, stage.ray_triangles[t][0], pushed)
+    ]
 
 
 def _shallowest(positions: list[int], heights: list, k: int) -> int:
