@@ -45,6 +45,7 @@ __all__ = [
     "SensorSpec",
     "SensorSubType",
     "SensorType",
+    "VisualSensor",
     "VisualSensorSpec",
     "euler_xyz_matrix",
 ]
@@ -135,6 +136,9 @@ class Sensor:
         if not isinstance(self.spec, VisualSensorSpec):
             raise AttributeError(f"sensor {self.uuid!r} is not a visual sensor")
         return self.spec
+
+
+VisualSensor = Sensor  # Habitat's base class of image sensors; every rigidsim sensor is one
 
 
 class CameraSensor(Sensor):

@@ -1,5 +1,6 @@
-"""Habitat's ``habitat_sim.sensor`` module: the sensor specs, the sensor classes and the
-``SensorFactory`` that attaches sensors to scene nodes.
+"""Habitat's ``SensorFactory``, which attaches sensors to scene nodes (the sensor specs and
+classes are in :mod:`engine.sensors.cameras` and :mod:`engine.sensors.cubemap`; the face
+:mod:`engine.sensor` gathers them at Habitat's path ``habitat_sim.sensor``).
 
 ``SensorFactory.create_sensors(node, [spec, ...])`` creates, per spec, a leaf child of
 ``node`` carrying the sensor the spec's subtype asks for (PINHOLE / ORTHOGRAPHIC ->
@@ -18,51 +19,12 @@ import logging
 from collections.abc import Iterable
 
 from engine.scene.graph import SceneNode
-from engine.sensors.cameras import (
-    CameraSensor,
-    CameraSensorSpec,
-    SemanticSensorTarget,
-    Sensor,
-    SensorSpec,
-    SensorSubType,
-    SensorType,
-    VisualSensorSpec,
-)
-from engine.sensors.cubemap import (
-    CubeMapSensorBase,
-    CubeMapSensorBaseSpec,
-    EquirectangularSensor,
-    EquirectangularSensorSpec,
-    FisheyeSensor,
-    FisheyeSensorDoubleSphereSpec,
-    FisheyeSensorModelType,
-    FisheyeSensorSpec,
-)
+from engine.sensors.cameras import CameraSensor, Sensor, SensorSpec, SensorSubType
+from engine.sensors.cubemap import EquirectangularSensor, FisheyeSensor
 
-__all__ = [
-    "CameraSensor",
-    "CameraSensorSpec",
-    "CubeMapSensorBase",
-    "CubeMapSensorBaseSpec",
-    "EquirectangularSensor",
-    "EquirectangularSensorSpec",
-    "FisheyeSensor",
-    "FisheyeSensorDoubleSphereSpec",
-    "FisheyeSensorModelType",
-    "FisheyeSensorSpec",
-    "SemanticSensorTarget",
-    "Sensor",
-    "SensorFactory",
-    "SensorSpec",
-    "SensorSubType",
-    "SensorType",
-    "VisualSensor",
-    "VisualSensorSpec",
-]
+__all__ = ["SensorFactory"]
 
 logger = logging.getLogger(__name__)
-
-VisualSensor = Sensor  # Habitat's base class of image sensors; every rigidsim sensor is one
 
 _SENSOR_OF_SUBTYPE: dict[SensorSubType, type[Sensor]] = {
     SensorSubType.PINHOLE: CameraSensor,
