@@ -252,9 +252,10 @@ def _stage_group(
 
 
 def _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) -> np.ndarray:
-    """(g, T, V) bool: vertex v lies behind triangle t's plane (``h < 0``) outside its prism,
-    but inside it once pushed out of its own shallowest triangle ``best (g, V)`` (to
-    ``STAGE_CORNER_PUSH`` in front of it), when it has passed that one (``h_best < 0``).
+    """(g, T, V) bool: vertex v lies behind triangle t's plane, at most
+    ``STAGE_CORNER_REACH`` (``-reach < h < 0``), outside its prism, but inside it once
+    pushed out of its own shallowest triangle ``best (g, V)`` (to ``STAGE_CORNER_PUSH`` in
+    front of it), when it has passed that one (``h_best < 0``).
 
     A vertex pressed into a wall a few mm, at the wall's foot, has left the prism of the
     floor that ends at the wall, though it is still below the floor: the floor continues
@@ -262,7 +263,9 @@ def _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) -> 
     floor still holds it up (a corner contact); without it the vertex sank down the wall
     (a cone's tip to the wall's underside, 5 cm below the floor, and then under the wall).
     At a convex edge (a table top and its side) the push leaves the vertex beyond the
-    top's edge: nothing is added."""
+    top's edge: nothing is added. The reach keeps a vertex pressed into a wall behind a
+    10 cm skirting board (inside the board once pushed out of the wall) from being lifted
+    onto the board's top: lifts of up to 8.6 cm flung cones into the wall."""
     best_height = np.take_along_axis(height, best[:, None, :], axis=1)[:, 0]  # (g, V)
     g, v = np.nonzero(candidate.any(axis=1) & (best_height < 0))
     past = np.zeros(candidate.shape, dtype=bool)
@@ -272,7 +275,8 @@ def _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) -> 
     push = settings.STAGE_CORNER_PUSH - best_height[g, v]
     pushed = verts[g, v] + push[:, None] * normal[g, best[g, v]]
     inside = _in_prisms(table, ids[g], tris[g], pushed[:, None])[..., 0]  # (k, T)
-    past[g, :, v] = inside & (height[g, :, v] < 0)
+    below = height[g, :, v]  # (k, T)
+    past[g, :, v] = inside & (below < 0) & (below > -settings.STAGE_CORNER_REACH)
     return past
 
 

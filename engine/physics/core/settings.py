@@ -194,6 +194,9 @@ STAGE_CORNER_COSINE = 0.7
 #: this far in front of it, against the prisms of the triangles it lies below: a vertex
 #: pressed a few mm into a wall keeps the floor that ends at the wall's foot.
 STAGE_CORNER_PUSH = 0.001
+#: m, ... when it lies at most this far below such a triangle (a floor ending at the wall),
+#: not deeper (below a skirting board's top, behind the board: not lifted onto it).
+STAGE_CORNER_REACH = 0.02
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9

@@ -269,11 +269,11 @@ def stage_polyhedron_contacts(
 def _past_the_foot(
     stage, table, triangle_ids, k: int, best: int, normals, heights, vertex, extent: float
 ) -> list[int]:
-    """Positions of the triangles vertex ``k`` lies behind (``-STAGE_BELOW_FRACTION * extent
-    < h < 0``) outside their prisms, but inside once pushed out of its shallowest triangle
-    ``best`` to ``STAGE_CORNER_PUSH`` in front of it, when it has passed that one (a vertex
-    pressed into a wall at its foot keeps the floor ending there; mirrors
-    ``batched_stage._past_the_foot``)."""
+    """Positions of the triangles vertex ``k`` lies behind (``-STAGE_BELOW_FRACTION *
+    extent < h < 0``, ``h > -STAGE_CORNER_REACH``) outside their prisms, but inside once
+    pushed out of its shallowest triangle ``best`` to ``STAGE_CORNER_PUSH`` in front of it,
+    when it has passed that one (a vertex pressed into a wall at its foot keeps the floor
+    ending there; mirrors ``batched_stage._past_the_foot``)."""
     if heights[best][k] >= 0:
         return []
     pushed = vertex + (settings.STAGE_CORNER_PUSH - heights[best][k]) * normals[best]
@@ -281,6 +281,7 @@ def _past_the_foot(
         i
         for i, t in enumerate(triangle_ids)
         if -settings.STAGE_BELOW_FRACTION * extent < heights[i][k] < 0
+        and heights[i][k] > -settings.STAGE_CORNER_REACH
         and not inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
         and inside_triangle_prism(table, t, stage.ray_triangles[t][0], pushed)
     ]
