@@ -6,7 +6,9 @@
   walk over the pairs and their shape pairs;
 * the solver order kept while the contact graph is unchanged, and the stage rows swept as
   one batch, against recomputing the order every step and sweeping color by color: the
-  same trajectories bit for bit.
+  same trajectories bit for bit;
+* the shock levels (one breadth-first search over Python lists) against growing the
+  reached set level by level over all pairs.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from engine import mn
 from engine.physics.collision.contacts import GraphMemo
 from engine.physics.pipeline.narrow_phase import _file_jobs
 from engine.physics.pipeline.pair_table import PAIR_TABLE
+from engine.physics.pipeline.solve_stage import lower_bodies
 from engine.physics.solver import stage_priority
 from engine.physics.solver.coloring import color_manifolds
 
@@ -149,3 +152,35 @@ def test_kept_solver_order_and_single_stage_batch_change_no_bit(monkeypatch):
     assert calls["single"] > 0  # the single batch was taken
     plain = pile(memo_every_step=True, per_color_stage=True, monkeypatch=monkeypatch)
     assert lean == plain
+
+
+def level_by_level(body_a, body_b, solvable) -> np.ndarray:
+    """The definition: unmoved bodies are level 0; each round, every body not reached yet
+    that shares a pair with a reached one gets the next level; then the lower body of each
+    pair of moving bodies."""
+    level = np.where(solvable, np.inf, 0.0)
+    for next_level in range(1, len(body_a) + 1):
+        reached_a, reached_b = level[body_a] < np.inf, level[body_b] < np.inf
+        grow_b, grow_a = reached_a & ~reached_b, reached_b & ~reached_a
+        if not (grow_a.any() or grow_b.any()):
+            break
+        level[body_b[grow_b]] = next_level
+        level[body_a[grow_a]] = next_level
+    both = solvable[body_a] & solvable[body_b]
+    la, lb = level[body_a], level[body_b]
+    return np.stack([both & (la < lb), both & (lb < la)], axis=1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_shock_levels_are_the_level_by_level_growth(seed):
+    rng = np.random.default_rng(seed)
+    lower_seen = 0
+    for _ in range(200):
+        n, m = int(rng.integers(2, 30)), int(rng.integers(1, 60))
+        body_a, body_b = rng.integers(0, n, m), rng.integers(0, n, m)
+        keep = body_a != body_b
+        solvable = rng.random(n) < 0.8
+        expected = level_by_level(body_a[keep], body_b[keep], solvable)
+        np.testing.assert_array_equal(lower_bodies(body_a[keep], body_b[keep], solvable), expected)
+        lower_seen += int(expected.sum())
+    assert lower_seen > 100  # the graphs have levels to order

@@ -7,13 +7,20 @@ is covered by tests/physics/test_reference_path.py.
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 from helpers import add, make_world, register_primitive, run
 
-from engine.physics.solver.sequential_impulses import _restitution_rows
+from engine.physics.core.settings import SolverSettings
+from engine.physics.solver.color_rows import LAMBDA_N
+from engine.physics.solver.contact_batch import (
+    ColorOrder,
+    ManifoldPoints,
+    PairCoefficients,
+    SolverBodies,
+    build_batch,
+)
+from engine.physics.solver.sequential_impulses import _restitution, _solver_rows
 
 BOX_HALF = 0.1
 
@@ -146,18 +153,23 @@ def test_block_jacobi_keeps_a_perfect_stack_perfect():
 
 def test_restitution_pass_never_pulls_a_point_already_separating_faster_than_its_bounce():
     """One contact row, a 1 kg body B above a static A (normal +y, anchors at the centers):
-    B already separates at 3 m/s, its bounce target is only e |v_n0| = 0.5 * 2 = 1 m/s, and
-    the row holds 0.5 N s. The pass may take back at most those 0.5 N s (the accumulated
-    impulse stays >= 0: a contact pushes, never pulls), leaving 2.5 m/s."""
-    jac = np.zeros((1, 1, 12))
-    jac[0, 0, 1], jac[0, 0, 7] = -1.0, 1.0  # J = [-n, 0, n, 0]
-    w = np.zeros((1, 12, 1))
-    w[0, 7, 0] = 1.0  # W = M^-1 J^T: only B moves, inverse mass 1 / kg
-    block = SimpleNamespace(normal_jac=jac, normal_w=w, normal_mass=np.ones((1, 1, 1)))
-    vab = np.zeros((1, 12, 1))
-    vab[0, 7, 0] = 3.0
-    lam = np.full((1, 1, 1), 0.5)
-    goal = np.full((1, 1, 1), 0.5 * -2.0)  # e v_n0
-    _restitution_rows(block, vab, np.ones((1, 1, 1), dtype=bool), goal, lam)
-    assert lam[0, 0, 0] == 0.0
-    assert vab[0, 7, 0] == pytest.approx(2.5)
+    B approached at 2 m/s, already separates at 3 m/s, its bounce target is only e |v_n0| =
+    0.5 * 2 = 1 m/s, and the row holds 0.5 N s. The pass may take back at most those 0.5 N s
+    (the accumulated impulse stays >= 0: a contact pushes, never pulls), leaving 2.5 m/s."""
+    start = np.zeros((2, 6))
+    start[1, 1] = -2.0  # v_n0 = -2 m/s
+    impulse = np.zeros((1, 4, 3))
+    impulse[0, 0, 0] = 0.5
+    up = np.tile([0.0, 1.0, 0.0], (1, 4, 1))
+    batch = build_batch(
+        ManifoldPoints(np.zeros((1, 4, 3)), np.zeros((1, 4, 3)), up, np.array([1]), *[[0], [1]]),
+        SolverBodies(np.zeros((2, 3)), np.array([0.0, 1.0]), np.zeros((2, 3, 3)), start),
+        PairCoefficients(np.zeros(1), np.array([0.5]), impulse),
+        ColorOrder([(0, 1)]),
+    )
+    velocity = np.zeros((2, 6))
+    velocity[1, 1] = 3.0
+    work, matrices, colors = _solver_rows(batch, np.zeros((1, 4, 1)), SolverSettings())
+    _restitution(batch, velocity.reshape(-1), colors, work[:, LAMBDA_N], matrices.normal)
+    assert work[0, LAMBDA_N.start, 0] == 0.0
+    assert velocity[1, 1] == pytest.approx(2.5)

@@ -17,6 +17,7 @@ KINEMATIC bodies enter with the velocity their velocity control gives them, so t
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -273,19 +274,31 @@ def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -
     """(m, 2) bool: in each pair of moving bodies, the one fewer contacts away from the
     stage (or any body the solver does not move); neither when equal or unreached.
 
-    The levels are breadth-first distances in the contact graph: level 0 for the unmoved
-    bodies, then every unreached body touching a reached one gets the next level.
+    The levels are breadth-first distances in the contact graph from the unmoved bodies
+    (level 0; all of them are one node, ``n``): a plain breadth-first search over Python
+    lists (a few hundred edges; one NumPy call per level cost more than the whole search).
     """
-    level = np.where(solvable, np.inf, 0.0)
-    for next_level in range(1, len(body_a) + 1):
-        reached_a, reached_b = level[body_a] < np.inf, level[body_b] < np.inf
-        grow_b, grow_a = reached_a & ~reached_b, reached_b & ~reached_a
-        if not (grow_a.any() or grow_b.any()):
-            break
-        level[body_b[grow_b]] = next_level
-        level[body_a[grow_a]] = next_level
-    both_moving = solvable[body_a] & solvable[body_b]
-    la, lb = level[body_a], level[body_b]
+    n = len(solvable)
+    node_a = np.where(solvable[body_a], body_a, n)
+    node_b = np.where(solvable[body_b], body_b, n)
+    neighbours: list[list[int]] = [[] for _ in range(n + 1)]
+    for a, b in zip(node_a.tolist(), node_b.tolist(), strict=True):
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    level = [math.inf] * (n + 1)
+    level[n] = 0
+    frontier = [n]
+    while frontier:
+        reached = []
+        for node in frontier:
+            for other in neighbours[node]:
+                if level[other] == math.inf:
+                    level[other] = level[node] + 1
+                    reached.append(other)
+        frontier = reached
+    levels = np.array(level)
+    la, lb = levels[node_a], levels[node_b]
+    both_moving = (node_a < n) & (node_b < n)
     return np.stack([both_moving & (la < lb), both_moving & (lb < la)], axis=1)
 
 

@@ -11,7 +11,7 @@ batched function names the twin it mirrors. Read a twin beside its batched modul
    ``collision/manifold_merge.py``);
 4. ``reference_solver.py``: sequential impulses one point at a time (batched:
    ``solver/contact_batch.py``, ``solver/sequential_impulses.py``,
-   ``solver/stage_priority.py``).
+   ``solver/color_rows.py``, ``solver/stage_priority.py``).
 
 The runner of the reference collision stage, ``pipeline/reference_contacts.py``, sits with
 the pair table it reads; the plain vector helpers are ``core/reference_geometry.py``.

@@ -8,7 +8,8 @@ What is here, in reading order (the solve stage that runs it is
 2. ``coloring.py``: graph colors, so one NumPy batch solves manifolds of distinct bodies;
 3. ``contact_batch.py``: the contact rows (Jacobians, ``W = M^-1 J^T``, effective masses);
 4. ``sequential_impulses.py``: the iterations (projected Gauss-Seidel over colors, warm
-   starting, restitution, the split-impulse position solve);
+   starting, restitution, the split-impulse position solve), each color's normal and
+   friction rows one fused update of ``color_rows.py``;
 5. ``lumped_rows.py`` and ``stage_priority.py``: the push-only sweeps that let the stage
    have the last word;
 6. ``rolling_friction.py``: rolling and spinning resistance;

@@ -99,57 +99,19 @@ class ContactBatch:
 @dataclass
 class SolverCache:
     """What the solver loops derive from a :class:`ContactBatch` once and reuse in every
-    sweep: the :class:`ColorBlocks` of each color for block Jacobi (``jacobi_colors``) and
-    for Gauss-Seidel over the slots (``slot_colors``), and the stage-priority pass's lumped
-    rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a computed None, no
-    shock pass, from one not computed yet) and their per-color sweep blocks (``sweeps``,
-    ``{"stage" | "shock": blocks}``). None: not made yet."""
+    sweep: ``rows``, the work array, the :class:`color_rows.RowMatrices` and each color's
+    :class:`color_rows.ColorRows` (``(work, matrices, colors)``), every manifold's velocity
+    indices (``gathers``, :func:`batch_gathers`), and the stage-priority
+    pass's lumped rows (``lumped``) and shock rows (``shock``; ``shock_ready`` tells a
+    computed None, no shock pass, from one not computed yet) and their per-color sweep
+    blocks (``sweeps``, ``{"stage" | "shock": blocks}``). None: not made yet."""
 
-    jacobi_colors: list[ColorBlocks] | None = None
-    slot_colors: list[ColorBlocks] | None = None
+    rows: tuple | None = None
+    gathers: np.ndarray | None = None
     lumped: LumpedRows | None = None
     shock: LumpedRows | None = None
     shock_ready: bool = False
     sweeps: dict[str, list[tuple]] = field(default_factory=dict)
-
-
-@dataclass
-class RowBlock:
-    """One NumPy batch of the solver loop: ``k`` manifolds of one color, ``r`` point slots.
-
-    ``normal_index = (manifolds, slots)`` slices the ``(m, S, ...)`` arrays,
-    ``tangent_index`` the ``(m, 2S, ...)`` ones (rows t1, t2 of each slot). The other fields
-    are views (or small copies) made once per batch, not per iteration, so the inner loop
-    only does algebra. The effective masses are folded into the Jacobians: one matmul gives
-    the ``-m_eff J V`` part of ``d_lambda = -m_eff (J V + b)``. With the block normal solve,
-    ``stacked_normal_jac (k, 2r, 12)`` is ``[-m_eff J; -B J]`` (both candidate updates in one
-    matmul) and ``touching (k, r, 1)`` the slots the block solves (None without). Shapes:
-    ``scaled_normal_jac (k, r, 12)`` (``-m_eff J``), ``normal_jac`` (``J``, for the one
-    restitution pass), ``normal_w (k, 12, r)``, ``normal_mass (k, r, 1)`` (``m_eff``),
-    ``friction (k, 1, 1)`` (``mu``), ``scaled_tangent_jac (k, 2r, 12)``, ``tangent_w (k, 12,
-    2r)``.
-    """
-
-    normal_index: tuple[slice, slice]
-    tangent_index: tuple[slice, slice]
-    scaled_normal_jac: np.ndarray
-    normal_jac: np.ndarray
-    normal_w: np.ndarray
-    normal_mass: np.ndarray
-    friction: np.ndarray
-    scaled_tangent_jac: np.ndarray
-    tangent_w: np.ndarray
-    stacked_normal_jac: np.ndarray | None = None
-    touching: np.ndarray | None = None
-
-
-@dataclass
-class ColorBlocks:
-    """One graph color: ``gather (k, 12, 1)`` indices of [v_a, w_a, v_b, w_b] into the
-    flattened ``(n * 6,)`` velocities, and its row blocks (one, or one per slot)."""
-
-    gather: np.ndarray
-    blocks: list[RowBlock]
 
 
 def velocity_gather(pair_bodies: np.ndarray) -> np.ndarray:
@@ -158,13 +120,24 @@ def velocity_gather(pair_bodies: np.ndarray) -> np.ndarray:
     return (6 * pair_bodies[:, :, None] + np.arange(6)).reshape(-1, 12, 1)
 
 
+def batch_gathers(batch: ContactBatch) -> np.ndarray:
+    """:func:`velocity_gather` of all the batch's manifolds ``(m, 12, 1)``, made once and
+    kept on the batch (the sweeps slice it per color)."""
+    if batch.cache.gathers is None:
+        batch.cache.gathers = velocity_gather(batch.pair_bodies)
+    return batch.cache.gathers
+
+
 def tangent_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents ``(..., 3)`` orthogonal to unit normals ``(..., 3)``."""
-    # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1
-    axis = np.zeros_like(normal)
-    axis[..., 0] = np.abs(normal[..., 0]) < TANGENT_AXIS_SWITCH
-    axis[..., 1] = 1.0 - axis[..., 0]
-    t1 = cross3(normal, axis)
+    # pick the world axis least aligned with n, t1 = normalize(n x axis), t2 = n x t1;
+    # written out: n x e_x = (0, n_z, -n_y), n x e_y = (-n_z, 0, n_x)
+    n_x, n_y, n_z = normal[..., 0], normal[..., 1], normal[..., 2]
+    use_x = np.abs(n_x) < TANGENT_AXIS_SWITCH
+    t1 = np.zeros_like(normal)
+    t1[..., 0] = np.where(use_x, 0.0, -n_z)
+    t1[..., 1] = np.where(use_x, n_z, 0.0)
+    t1[..., 2] = np.where(use_x, -n_y, n_x)
     t1 /= np.maximum(vector_length(t1), TINY)
     return t1, cross3(normal, t1)
 
@@ -182,9 +155,11 @@ def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-def _rows(direction, r_a, r_b, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
-    """Jacobian rows ``(m, R, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, R, 3)``."""
-    ra_x_d, rb_x_d = cross3(r_a, direction), cross3(r_b, direction)
+def _rows(direction, arms, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b):
+    """Jacobian rows ``(m, R, 12)`` and ``W = M^-1 J^T`` rows for directions ``(m, R, 3)``
+    and arms ``(m, R, 2, 3)`` (``r_a``, ``r_b`` of each row)."""
+    arm_x_d = cross3(arms, direction[:, :, None])  # r_a x d and r_b x d in one call
+    ra_x_d, rb_x_d = arm_x_d[:, :, 0], arm_x_d[:, :, 1]
     jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
     # (I^-1 x)^T = x^T I^-T for the R rows of each manifold: one stacked matmul
@@ -271,23 +246,26 @@ def build_batch(
     point = 0.5 * (points_a + points_b)
     r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
     args = (inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a], inv_inertia[body_b])
-    normal_jac, normal_w = _rows(normals, r_a, r_b, *args)
     t1, t2 = tangent_basis(normals)
-    tangents = np.stack([t1, t2], axis=2).reshape(len(counts), 2 * SLOTS, 3)
-    r2 = (r_a.repeat(2, axis=1), r_b.repeat(2, axis=1))
-    tangent_jac, tangent_w = _rows(tangents, *r2, *args)
+    m = len(counts)
+    # the rows of n, t1 and t2 of every slot at once: (m, S * 3, ...) in that order
+    directions = np.stack([normals, t1, t2], axis=2).reshape(m, 3 * SLOTS, 3)
+    arms = np.stack([r_a, r_b], axis=2).repeat(3, axis=1)  # (m, 3S, 2, 3)
+    jac, w = _rows(directions, arms, *args)
+    jac, w = jac.reshape(m, SLOTS, 3, 12), w.reshape(m, SLOTS, 3, 12)
+    normal_jac, normal_w = jac[:, :, 0], w[:, :, 0]
+    tangent_jac = jac[:, :, 1:].reshape(m, 2 * SLOTS, 12)
+    tangent_w = w[:, :, 1:].reshape(m, 2 * SLOTS, 12)
     depth = ((points_a - points_b) * normals).sum(axis=-1)
     # n_split = touching points (gap < SPLIT_TOUCH_DISTANCE) with mass splitting, else 1
     touching = mask & (depth > -SPLIT_TOUCH_DISTANCE)
     n_touching = np.maximum(touching.sum(axis=1), 1)[:, None]
     split = n_touching if split_mass else np.ones((len(counts), 1))
-    # m_eff = 1 / (n_split J M^-1 J^T)
-    k_normal = (normal_jac * normal_w).sum(axis=-1)
-    normal_mass = np.where(mask, 1.0 / (split * np.maximum(k_normal, TINY)), 0.0)
-    k_tangent = (tangent_jac * tangent_w).sum(axis=-1)
-    tangent_mass = np.where(
-        mask.repeat(2, axis=1), 1.0 / (split * np.maximum(k_tangent, TINY)), 0.0
-    )
+    # m_eff = 1 / (n_split J M^-1 J^T), for the rows (n, t1, t2) of each slot
+    k_rows = (jac * w).sum(axis=-1)  # (m, S, 3)
+    split_rows = split[:, :, None]
+    mass = np.where(mask[..., None], 1.0 / (split_rows * np.maximum(k_rows, TINY)), 0.0)
+    normal_mass, tangent_mass = mass[:, :, 0], mass[:, :, 1:].reshape(m, 2 * SLOTS)
     vab = np.concatenate([bodies.velocity[body_a], bodies.velocity[body_b]], axis=1)
     approach = (normal_jac @ vab[:, :, None])[..., 0]
     return ContactBatch(

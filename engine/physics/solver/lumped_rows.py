@@ -22,13 +22,16 @@ __all__ = ["LumpedRows"]
 class LumpedRows:
     """Each manifold's points lumped into one normal row (see :func:`lumped_rows`):
     ``jac (m, 1, 12)``, ``w (m, 12, 1)``, ``neg_mass (m, 1, 1)`` (``-m_eff``), the points'
-    averaging ``weight (m, S)`` and ``bias (m, 1, 1)``."""
+    averaging ``weight (m, S)``, ``bias (m, 1, 1)``, and the products the sweeps use,
+    ``scaled_jac`` ``-m_eff J`` and ``mass_bias`` ``-m_eff b``."""
 
     jac: np.ndarray
     w: np.ndarray
     neg_mass: np.ndarray
     weight: np.ndarray
+    scaled_jac: np.ndarray
     bias: np.ndarray | None = None
+    mass_bias: np.ndarray | None = None
 
     @classmethod
     def of(cls, normal_jac, normal_w, active) -> LumpedRows:
@@ -45,10 +48,19 @@ class LumpedRows:
         """Rows ``jac``, ``w (m, 12)``; ``m_eff = 1 / (J W^T)`` where ``active (m,)`` and
         ``J W^T > 0``, else 0."""
         k = (jac * w).sum(axis=1)  # J W^T
-        neg_mass = np.where(active & (k > 0), -1.0 / np.maximum(k, TINY), 0.0)
-        return cls(jac[:, None, :], w[:, :, None], neg_mass[:, None, None], weight)
+        neg_mass = np.where(active & (k > 0), -1.0 / np.maximum(k, TINY), 0.0)[:, None, None]
+        jac = jac[:, None, :]
+        return cls(jac, w[:, :, None], neg_mass, weight, neg_mass * jac)
 
     def with_bias(self, bias: np.ndarray) -> LumpedRows:
         """The rows with the mean of their points' biases ``bias (m, S, 1)``."""
-        row_bias = (bias[..., 0] * self.weight).sum(axis=1)
-        return LumpedRows(self.jac, self.w, self.neg_mass, self.weight, row_bias[:, None, None])
+        row_bias = (bias[..., 0] * self.weight).sum(axis=1)[:, None, None]
+        return LumpedRows(
+            self.jac,
+            self.w,
+            self.neg_mass,
+            self.weight,
+            self.scaled_jac,
+            row_bias,
+            self.neg_mass * row_bias,
+        )

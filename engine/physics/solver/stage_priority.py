@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.settings import SolverSettings
-from .contact_batch import ContactBatch, velocity_gather
+from .contact_batch import ContactBatch, batch_gathers
 from .lumped_rows import LumpedRows
 
 
@@ -99,8 +99,8 @@ def _stage_blocks(batch: ContactBatch) -> list[tuple]:
         moves = rows.w[index, :, 0].reshape(-1, 2, 6).any(axis=2)  # (k, 2)
         moved = batch.pair_bodies[index][moves]
         if len(index) and len(np.unique(moved)) == len(moved):
-            gather = velocity_gather(batch.pair_bodies[index])
-            block = (index, gather, rows.jac[index], rows.w[index], rows.neg_mass[index])
+            gather = batch_gathers(batch)[index]
+            block = (index, gather, rows.scaled_jac[index], rows.w[index])
             batch.cache.sweeps["stage"] = [block]
         else:
             _sweep_blocks(batch, "stage", ranges, rows)
@@ -108,19 +108,20 @@ def _stage_blocks(batch: ContactBatch) -> list[tuple]:
 
 
 def _sweep_blocks(batch, key: str, ranges, rows: LumpedRows) -> list[tuple]:
-    """Per non-empty manifold range ``(start, stop)`` (one per color): ``(s, gather, J, W,
-    -m_eff)``, the slice (an index array for :func:`_stage_blocks`' single block), the flat
+    """Per non-empty manifold range ``(start, stop)`` (one per color): ``(s, gather, -m_eff
+    J, W)``, the slice (an index array for :func:`_stage_blocks`' single block), the flat
     velocity indices of its bodies and the views of its ``rows``; made once per batch and
     kept in ``batch.cache.sweeps[key]``, since the velocity and the position solve sweep
     the same rows (only their biases differ)."""
     if key not in batch.cache.sweeps:
         blocks = []
+        gathers = batch_gathers(batch)
         for start, stop in ranges:
             if start == stop:
                 continue
             s = slice(start, stop)
-            gather = velocity_gather(batch.pair_bodies[s])
-            blocks.append((s, gather, rows.jac[s], rows.w[s], rows.neg_mass[s]))
+            gather = gathers[s]
+            blocks.append((s, gather, rows.scaled_jac[s], rows.w[s]))
         batch.cache.sweeps[key] = blocks
     return batch.cache.sweeps[key]
 
@@ -129,10 +130,11 @@ def _lumped_sweeps(blocks: list[tuple], rows: LumpedRows, flat, iterations: int)
     """``iterations`` push-only sweeps of the lumped rows ``blocks`` (:func:`_sweep_blocks`)
     with the biases of ``rows``: ``d_lambda = max(-m_eff (J V + b), 0)``, ``V += W
     d_lambda`` (impulses are only added, so a bounce solved before is kept)."""
-    bias = rows.bias if rows.bias is not None else np.zeros((len(rows.jac), 1, 1))
-    work = [(gather, j, w, m, bias[s]) for s, gather, j, w, m in blocks]
+    mass_bias = rows.mass_bias if rows.mass_bias is not None else np.zeros((len(rows.jac), 1, 1))
+    work = [(gather, j, w, mass_bias[s]) for s, gather, j, w in blocks]
     for _ in range(iterations):
-        for gather, j, w, m, b in work:
+        for gather, j, w, b in work:
             vab = flat[gather]
-            step = np.maximum(m * (j @ vab + b), 0.0)  # (k, 1, 1)
-            flat[gather] = vab + w @ step
+            step = np.maximum(j @ vab + b, 0.0)  # (k, 1, 1)
+            vab += w @ step
+            flat[gather] = vab
