@@ -22,7 +22,7 @@ if [ "${1:-}" != --dependencies-ready ]; then
   [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
   requirements=$(mktemp)
   python3 scripts/requirements.py >"$requirements"
-  "$venv/bin/python" -m pip install -q --disable-pip-version-check \
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-compile \
     "habitat-lab==0.3.320260507" -r "$requirements" ./scripts/habitat_alias "pytest>=7.4" "hypothesis>=6.80"
   rm -f "$requirements"
   [ "${1:-}" != --dependencies-only ] || exit 0
@@ -32,12 +32,13 @@ echo "habitat_lab_check.sh: environment ready in $((SECONDS - start)) s"
 # rigidsim itself under habitat-lab's numpy; pytest's own summary goes to a log so that this
 # script's output ends with the habitat-lab check's line, not a second test count
 log=$(mktemp)
-if ! "$venv/bin/python" -m pytest -q -p no:cacheprovider \
+basetemp=$(mktemp -d)  # its own: scripts/test.sh runs this beside the main suite's pytest
+if ! "$venv/bin/python" -m pytest -q -p no:cacheprovider --basetemp "$basetemp" \
   tests/engine/test_habitat_alias.py tests/engine/test_habitat_names.py \
   tests/engine/test_mn.py tests/engine/test_mn_parity.py tests/render/test_raster.py >"$log" 2>&1; then
-  cat "$log"; rm -f "$log"; exit 1
+  cat "$log"; rm -rf "$log" "$basetemp"; exit 1
 fi
-rm -f "$log"
+rm -rf "$log" "$basetemp"
 echo "habitat_lab_check.sh: rigidsim's tests pass under numpy $("$venv/bin/python" -c 'import numpy; print(numpy.__version__)')"
 "$venv/bin/python" scripts/habitat_lab_check.py
 echo "habitat_lab_check.sh: done in $((SECONDS - start)) s"

@@ -6,7 +6,12 @@
 # habitat-lab check, and prints how long each part took. The dependencies of the second and
 # third environments install in the background while the first is filled and checked (each pip
 # writes only into its own environment); rigidsim's editable installs, which write build
-# metadata into this folder, run one after the other. It installs nothing system-wide: the
+# metadata into this folder, run one after the other; the habitat-lab check runs beside pytest.
+# The installs skip compiling every file they install to bytecode (pip --no-compile, about a
+# third of their time); Python compiles what is imported, once, into one folder
+# (PYTHONPYCACHEPREFIX=.cache/pycache), written even where PYTHONDONTWRITEBYTECODE is set
+# (without it, each of the suite's processes would compile its imports again). It installs
+# nothing system-wide: the
 # browser tests use a Chromium that is already there, or skip with a message (.ci/run installs
 # one for CI). Extra args go to pytest.
 set -euo pipefail
@@ -14,29 +19,32 @@ cd "$(dirname "$0")/.."
 trap 'kill $(jobs -p) 2>/dev/null || true; echo "scripts/test.sh: $((SECONDS / 60)) min $((SECONDS % 60)) s"' EXIT
 say() { echo "scripts/test.sh: $* at $((SECONDS / 60)) min $((SECONDS % 60)) s"; }
 logs=$(mktemp -d)
+unset PYTHONDONTWRITEBYTECODE
+export PYTHONPYCACHEPREFIX="$PWD/.cache/pycache"
 
-# waits for a background install; on failure shows its log and stops
+# waits for a background job; shows its log when it failed, or always with a 4th argument
 await() {
-  local pid=$1 what=$2 log=$3
-  if ! wait "$pid"; then
-    cat "$log" >&2
-    echo "scripts/test.sh: installing $what failed (log above)" >&2
+  local pid=$1 what=$2 log=$3 show=${4:-} status=0
+  wait "$pid" || status=$?
+  if [ "$status" != 0 ] || [ -n "$show" ]; then cat "$log"; fi
+  if [ "$status" != 0 ]; then
+    echo "scripts/test.sh: $what failed (log above)" >&2
     exit 1
   fi
-  say "$what ready"
+  say "$what done"
 }
 
 python3 scripts/requirements.py notebook >"$logs/notebook.txt"
 {
   [ -x .venv-notebook/bin/python ] || python3 -m venv .venv-notebook
-  .venv-notebook/bin/python -m pip install -q -r "$logs/notebook.txt"
+  .venv-notebook/bin/python -m pip install -q --no-compile -r "$logs/notebook.txt"
 } >"$logs/notebook.log" 2>&1 &
 notebook_deps=$!
 bash scripts/habitat_lab_check.sh --dependencies-only >"$logs/habitat.log" 2>&1 &
 habitat_deps=$!
 
 [ -x .venv/bin/python ] || python3 -m venv .venv
-.venv/bin/python -m pip install -q -e '.[dev,notebook,ray,gym,viewer,docs]'
+.venv/bin/python -m pip install -q --no-compile -e '.[dev,notebook,ray,gym,viewer,docs]'
 say "the test environment ready"
 .venv/bin/python -m ruff check engine render navmesh tests benchmarks examples scripts docs/conf.py
 .venv/bin/python -m ruff format --check engine render navmesh tests benchmarks examples scripts docs/conf.py
@@ -45,12 +53,14 @@ say "the test environment ready"
 say "lint, types and import contracts clean"
 
 # the notebooks execute in a kernel of this environment (docs/testing.md)
-await "$notebook_deps" "the notebooks' environment" "$logs/notebook.log"
+await "$notebook_deps" "installing the notebooks' environment" "$logs/notebook.log"
 .venv-notebook/bin/python -m pip install -q --no-deps -e .
 export RIGIDSIM_NOTEBOOK_PYTHON="$PWD/.venv-notebook/bin/python"
+# habitat-lab on rigidsim (.venv-habitat-lab) beside pytest: one process, a minute
+await "$habitat_deps" "installing habitat-lab's environment" "$logs/habitat.log"
+bash scripts/habitat_lab_check.sh --dependencies-ready >"$logs/habitat_check.log" 2>&1 &
+habitat_check=$!
 .venv/bin/python -m pytest -q -n auto --dist loadfile "$@"
 say "pytest done"
-
-await "$habitat_deps" "habitat-lab's environment" "$logs/habitat.log"
-bash scripts/habitat_lab_check.sh --dependencies-ready  # habitat-lab on rigidsim (.venv-habitat-lab)
+await "$habitat_check" "the habitat-lab check" "$logs/habitat_check.log" show
 rm -rf "$logs"
