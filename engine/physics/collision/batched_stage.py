@@ -234,8 +234,9 @@ def _stage_group(
         & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
         & _in_prisms(table, ids, tris, verts)
     )
-    # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
-    best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
+    # each vertex keeps its shallowest triangle (the surface it is really resting on), or
+    # the nearest when it is in front of every one (all speculative) ...
+    best = _resting_triangle(candidate, height)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
     # ... and, in a corner, the shallowest of those facing another way (floor and wall;
     # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
@@ -249,6 +250,20 @@ def _stage_group(
     for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
         _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], height[k, 0])
     return []
+
+
+def _resting_triangle(candidate: np.ndarray, height: np.ndarray) -> np.ndarray:
+    """(g, V) the position of each vertex's resting triangle among its ``candidate (g, T,
+    V)`` ones: the shallowest (largest ``h``) when it has passed one (``h < 0``), else the
+    nearest (smallest ``h >= 0``, all speculative); the first of equal heights.
+
+    A vertex in front of every surface near it is held by the one it will meet first: a
+    cone's tip 1.6 mm above a bed's top and 1.1 cm before the mattress's side that kept
+    the side (the farthest) went 4.5 cm into the top in the next step."""
+    passed = (candidate & (height < 0)).any(axis=1)  # (g, V)
+    # h where the vertex has passed a triangle, -h where all are speculative: the largest
+    key = np.where(passed[:, None, :], height, -height)
+    return np.where(candidate, key, -np.inf).argmax(axis=1)
 
 
 def _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) -> np.ndarray:

@@ -238,7 +238,7 @@ def stage_polyhedron_contacts(
         ]
         if not touching:
             continue
-        best = _shallowest(touching, heights, k)
+        best = _resting_triangle(touching, heights, k)
         contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
         # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
         # which the vertex has passed (h < 0)
@@ -285,6 +285,19 @@ def _past_the_foot(
         and not inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
         and inside_triangle_prism(table, t, stage.ray_triangles[t][0], pushed)
     ]
+
+
+def _resting_triangle(positions: list[int], heights: list, k: int) -> int:
+    """The position in ``positions`` of vertex ``k``'s resting triangle: the shallowest
+    when it has passed one (``h < 0``), else the nearest (all speculative: the surface it
+    meets first); the first of equal heights (mirrors ``batched_stage._resting_triangle``)."""
+    if any(heights[i][k] < 0 for i in positions):
+        return _shallowest(positions, heights, k)
+    best = positions[0]
+    for i in positions[1:]:
+        if heights[i][k] < heights[best][k]:
+            best = i
+    return best
 
 
 def _shallowest(positions: list[int], heights: list, k: int) -> int:
