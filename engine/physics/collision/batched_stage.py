@@ -229,21 +229,21 @@ def _stage_group(
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
+    below = height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None]
     candidate = (
-        (height < settings.STAGE_SPECULATIVE_DISTANCE)
-        & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
-        & _in_prisms(table, ids, tris, verts)
+        (height < settings.STAGE_SPECULATIVE_DISTANCE) & below & _in_prisms(table, ids, tris, verts)
     )
-    # each vertex keeps its shallowest triangle (the surface it is really resting on), or
-    # the nearest when it is in front of every one (all speculative) ...
+    # each vertex keeps its resting triangle (the shallowest it has passed, else the
+    # nearest) ...
     best = _resting_triangle(candidate, height)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
     # ... and, in a corner, the shallowest of those facing another way (floor and wall;
     # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
     if not stage_grid(stage).corner_free:
-        below = height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None]
-        beyond = _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) & below
-        _corner_contacts(contacts, seq, candidate | beyond, best, normal, height, verts)
+        behind = _behind_the_corner(
+            table, ids, tris, (candidate, below), best, normal, height, verts
+        )
+        _corner_contacts(contacts, seq, behind, best, normal, height, verts)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
         return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
@@ -254,55 +254,60 @@ def _stage_group(
 
 def _resting_triangle(candidate: np.ndarray, height: np.ndarray) -> np.ndarray:
     """(g, V) the position of each vertex's resting triangle among its ``candidate (g, T,
-    V)`` ones: the shallowest (largest ``h``) when it has passed one (``h < 0``), else the
-    nearest (smallest ``h >= 0``, all speculative); the first of equal heights.
+    V)`` ones: the shallowest it has passed (the largest ``h < 0``: the way out of the
+    stage's solid), else the nearest (the smallest ``h >= 0``, all speculative: the surface
+    it meets first); the first of equal heights.
 
-    A vertex in front of every surface near it is held by the one it will meet first: a
-    cone's tip 1.6 mm above a bed's top and 1.1 cm before the mattress's side that kept
-    the side (the farthest) went 4.5 cm into the top in the next step."""
+    The farthest speculative one (the rule before) let a cone's tip 1.6 mm above a bed's
+    top and 1.1 cm before the mattress's side keep the side, and it went 4.5 cm into the
+    top in the next step; a vertex 1 mm behind a skirting board's front kept the wall 1.4
+    cm ahead and the board's top 2.3 cm above it lifted the cone (its other end then sank
+    3 cm into the floor)."""
     passed = (candidate & (height < 0)).any(axis=1)  # (g, V)
     # h where the vertex has passed a triangle, -h where all are speculative: the largest
-    key = np.where(passed[:, None, :], height, -height)
+    key = np.where(passed[:, None, :], np.where(height < 0, height, -np.inf), -height)
     return np.where(candidate, key, -np.inf).argmax(axis=1)
 
 
-def _past_the_foot(table, ids, tris, candidate, best, normal, height, verts) -> np.ndarray:
-    """(g, T, V) bool: vertex v lies behind triangle t's plane, at most
-    ``STAGE_CORNER_REACH`` (``-reach < h < 0``), outside its prism, but inside it once
-    pushed out of its own shallowest triangle ``best (g, V)`` (to ``STAGE_CORNER_PUSH`` in
-    front of it), when it has passed that one (``h_best < 0``).
+def _behind_the_corner(table, ids, tris, masks, best, normal, height, verts) -> np.ndarray:
+    """(g, T, V) bool, the triangles that hold vertex v up in a corner beside its resting
+    triangle ``best (g, V)`` when it has passed that one (``h_best < 0``): it lies behind
+    triangle t (``h < 0``, not too far below it: ``masks = (candidate, below)``, both
+    ``(g, T, V)``, see :func:`_stage_group`) and, pushed out of its resting triangle to
+    ``STAGE_CORNER_PUSH`` in front of it, inside t's prism; either a candidate of t already
+    (a floor beside a wall) or at most ``STAGE_CORNER_REACH`` below it (the floor ending at
+    the wall's face, which the vertex pressed into the wall has left).
 
-    A vertex pressed into a wall a few mm, at the wall's foot, has left the prism of the
-    floor that ends at the wall, though it is still below the floor: the floor continues
-    into the wall's solid. Pushed back out of the wall it is over the floor again, so the
-    floor still holds it up (a corner contact); without it the vertex sank down the wall
-    (a cone's tip to the wall's underside, 5 cm below the floor, and then under the wall).
-    At a convex edge (a table top and its side) the push leaves the vertex beyond the
-    top's edge: nothing is added. The reach keeps a vertex pressed into a wall behind a
-    10 cm skirting board (inside the board once pushed out of the wall) from being lifted
-    onto the board's top: lifts of up to 8.6 cm flung cones into the wall."""
+    At a concave corner (a floor meeting a wall) the vertex pushed out of the wall is still
+    over the floor: the floor holds it too; without it a cone's tip sank down the wall to
+    the wall's underside, 5 cm below the floor, and then under the wall. At a convex edge
+    (a skirting board's top and front, a table's top and side) the vertex pushed out of one
+    face is beyond the other's edge: nothing is added (a vertex 1 mm behind a board's front
+    was lifted onto its top, 2.3 cm above). The reach keeps a vertex pressed into a wall
+    behind a board (inside the board once pushed out of the wall) off the board's top."""
+    candidate, below = masks
     best_height = np.take_along_axis(height, best[:, None, :], axis=1)[:, 0]  # (g, V)
     g, v = np.nonzero(candidate.any(axis=1) & (best_height < 0))
-    past = np.zeros(candidate.shape, dtype=bool)
+    behind = np.zeros(candidate.shape, dtype=bool)
     if len(g) == 0:
-        return past
+        return behind
     # x_v pushed along its best triangle's normal to STAGE_CORNER_PUSH in front of it, (k, 3)
     push = settings.STAGE_CORNER_PUSH - best_height[g, v]
     pushed = verts[g, v] + push[:, None] * normal[g, best[g, v]]
     inside = _in_prisms(table, ids[g], tris[g], pushed[:, None])[..., 0]  # (k, T)
-    below = height[g, :, v]  # (k, T)
-    past[g, :, v] = inside & (below < 0) & (below > -settings.STAGE_CORNER_REACH)
-    return past
+    h = height[g, :, v]  # (k, T)
+    reach = candidate[g, :, v] | (h > -settings.STAGE_CORNER_REACH)
+    behind[g, :, v] = inside & (h < 0) & below[g, :, v] & reach
+    return behind
 
 
-def _corner_contacts(contacts, seq, candidate, best, normal, height, verts) -> None:
-    """Second contacts of vertices in a corner: of the ``candidate (g, T, V)`` triangles
-    turned 45 to 135 degrees from the vertex's shallowest one ``best (g, V)``, the
-    shallowest it has passed (``h < 0``), ordered after the first contacts (``V + v``)."""
+def _corner_contacts(contacts, seq, behind, best, normal, height, verts) -> None:
+    """Second contacts of vertices in a corner: of the ``behind (g, T, V)`` triangles (see
+    :func:`_behind_the_corner`) turned 45 to 135 degrees from the vertex's resting one
+    ``best (g, V)``, the shallowest, ordered after the first contacts (``V + v``)."""
     best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
     alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
-    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
-    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
+    corner = behind & (np.abs(alignment) < settings.STAGE_CORNER_COSINE)
     second = np.where(corner, height, -np.inf).argmax(axis=1)
     _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, verts.shape[1])
 

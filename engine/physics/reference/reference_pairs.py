@@ -241,17 +241,13 @@ def stage_polyhedron_contacts(
         best = _resting_triangle(touching, heights, k)
         contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
         # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
-        # which the vertex has passed (h < 0)
-        # (also those it lies below at a wall's foot: see _past_the_foot)
-        below = sorted(
-            touching
-            + _past_the_foot(stage, table, triangle_ids, k, best, normals, heights, vertex, extent)
-        )
+        # which holds the vertex up beside it (see _behind_the_corner)
         turned = [
             i
-            for i in below
+            for i in _behind_the_corner(
+                stage, table, triangle_ids, (k, vertex, extent), touching, best, normals, heights
+            )
             if abs(dot(normals[i], normals[best])) < settings.STAGE_CORNER_COSINE
-            and heights[i][k] < 0
         ]
         if turned:
             second = _shallowest(turned, heights, k)
@@ -266,14 +262,16 @@ def stage_polyhedron_contacts(
     return contacts
 
 
-def _past_the_foot(
-    stage, table, triangle_ids, k: int, best: int, normals, heights, vertex, extent: float
+def _behind_the_corner(
+    stage, table, triangle_ids, vertex_of, touching: list[int], best: int, normals, heights
 ) -> list[int]:
-    """Positions of the triangles vertex ``k`` lies behind (``-STAGE_BELOW_FRACTION *
-    extent < h < 0``, ``h > -STAGE_CORNER_REACH``) outside their prisms, but inside once
-    pushed out of its shallowest triangle ``best`` to ``STAGE_CORNER_PUSH`` in front of it,
-    when it has passed that one (a vertex pressed into a wall at its foot keeps the floor
-    ending there; mirrors ``batched_stage._past_the_foot``)."""
+    """Positions of the triangles holding vertex ``k`` up in a corner beside its resting
+    triangle ``best``, when it has passed that one: it lies behind them (``-STAGE_BELOW_FRACTION
+    * extent < h < 0``) and, pushed out of ``best`` to ``STAGE_CORNER_PUSH`` in front of it,
+    inside their prisms; either ``touching`` them already or at most ``STAGE_CORNER_REACH``
+    below them (``vertex_of = (k, vertex, extent)``; mirrors
+    ``batched_stage._behind_the_corner``)."""
+    k, vertex, extent = vertex_of
     if heights[best][k] >= 0:
         return []
     pushed = vertex + (settings.STAGE_CORNER_PUSH - heights[best][k]) * normals[best]
@@ -281,18 +279,18 @@ def _past_the_foot(
         i
         for i, t in enumerate(triangle_ids)
         if -settings.STAGE_BELOW_FRACTION * extent < heights[i][k] < 0
-        and heights[i][k] > -settings.STAGE_CORNER_REACH
-        and not inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+        and (i in touching or heights[i][k] > -settings.STAGE_CORNER_REACH)
         and inside_triangle_prism(table, t, stage.ray_triangles[t][0], pushed)
     ]
 
 
 def _resting_triangle(positions: list[int], heights: list, k: int) -> int:
-    """The position in ``positions`` of vertex ``k``'s resting triangle: the shallowest
-    when it has passed one (``h < 0``), else the nearest (all speculative: the surface it
+    """The position in ``positions`` of vertex ``k``'s resting triangle: the shallowest of
+    those it has passed (``h < 0``), else the nearest (all speculative: the surface it
     meets first); the first of equal heights (mirrors ``batched_stage._resting_triangle``)."""
-    if any(heights[i][k] < 0 for i in positions):
-        return _shallowest(positions, heights, k)
+    passed = [i for i in positions if heights[i][k] < 0]
+    if passed:
+        return _shallowest(passed, heights, k)
     best = positions[0]
     for i in positions[1:]:
         if heights[i][k] < heights[best][k]:
