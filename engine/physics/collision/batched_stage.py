@@ -13,13 +13,18 @@ corner ``p0_t``) the signed height is
     h_{tv} = n_t \cdot (x_v - p_{0t}),
 
 and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
-* extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each
-vertex keeps its shallowest triangle, the contact depth is ``-h``, and in a corner also the
-shallowest of the triangles turned 45 to 135 degrees from that one
-(``|n_t . n_best| < STAGE_CORNER_COSINE``) that it has passed (``h < 0``; a speculative
-contact there would crowd the manifold): a vertex pressed into a floor beside a wall is
-pushed out of both, not only out of the (shallower) wall (the opposite face of a thin
-slab is never a second surface: it would push the vertex through the slab). The triangle's normal is
+* extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4). Each
+vertex keeps its *resting* triangle: the shallowest it has passed (the largest ``h < 0``,
+its way out of the stage's solid), else the nearest (the smallest ``h >= 0``: the surface
+it meets first); the contact depth is ``-h``. In a corner it also keeps the shallowest of
+the triangles turned 45 to 135 degrees from that one (``|n_t . n_best| <
+STAGE_CORNER_COSINE``) that it has passed and that still lies under it once it is pushed
+out of its resting triangle (to ``STAGE_CORNER_PUSH`` in front of it): a vertex pressed
+into a floor beside a wall is pushed out of both, also when it has left the floor's prism
+at the wall's foot (at most ``STAGE_CORNER_REACH`` below the floor), while a vertex at a
+convex edge (a skirting board's top and front) is pushed out of one face only (the
+opposite face of a thin slab is never a second surface: it would push the vertex through
+the slab). The triangle's normal is
 turned to the stage's *outward side*: the side the body was on when the contact began,
 remembered by the pair's manifold (its cached normals point from the stage to the body).
 Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
@@ -263,9 +268,10 @@ def _resting_triangle(candidate: np.ndarray, height: np.ndarray) -> np.ndarray:
     top in the next step; a vertex 1 mm behind a skirting board's front kept the wall 1.4
     cm ahead and the board's top 2.3 cm above it lifted the cone (its other end then sank
     3 cm into the floor)."""
-    passed = (candidate & (height < 0)).any(axis=1)  # (g, V)
+    behind = height < 0
+    passed = np.any(candidate & behind, axis=1)  # (g, V)
     # h where the vertex has passed a triangle, -h where all are speculative: the largest
-    key = np.where(passed[:, None, :], np.where(height < 0, height, -np.inf), -height)
+    key = np.where(passed[:, None, :], np.where(behind, height, -np.inf), -height)
     return np.where(candidate, key, -np.inf).argmax(axis=1)
 
 

@@ -208,9 +208,11 @@ def stage_polyhedron_contacts(
     and hull vertex v, the signed height
     ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
     it is not more than half the hull's extent below the plane, and its projection falls
-    inside the triangle. Each vertex keeps its shallowest triangle (the largest h) and, in a
-    corner, the shallowest of those turned 45 to 135 degrees from it that it has passed
-    (``h < 0``; listed after all the first contacts, as the batched path orders them).
+    inside the triangle. Each vertex keeps its resting triangle (:func:`_resting_triangle`:
+    the shallowest it has passed, else the nearest) and, in a corner, the shallowest of
+    those turned 45 to 135 degrees from it that hold it up beside it
+    (:func:`_behind_the_corner`; listed after all the first contacts, as the batched path
+    orders them).
     """
     table = triangle_table(stage)
     rotation, position = pose
