@@ -385,19 +385,19 @@ def corner_points(depth, normals, normal, count, valid):
     direction), the rows' reference normals ``(r, 3)`` (the floor's, where they have one)
     and ``own (r, k)`` (the points along it: all valid points of a row without a corner)."""
     cosine = settings.STAGE_CORNER_COSINE
-    # touching points (depth >= 0) only: a speculative wall contact keeps no floor slot
-    touching = valid & (depth >= 0.0) & (count >= 4)[:, None]
-    turned = touching & ((normals * normal[:, None]).sum(axis=2) < cosine)
+    # speculative points too: a wall the body slides along keeps its side in the cache
+    kept = valid & (count >= 4)[:, None]
+    turned = kept & ((normals * normal[:, None]).sum(axis=2) < cosine)
     corner = turned.any(axis=1)
     if not corner.any():
         return None
     rows = np.arange(len(depth))
     # the reference of a corner row: its deepest touching floor-like point's normal
-    floor = touching & (normals[:, :, 1] >= settings.FLOOR_NORMAL_Y)
+    floor = kept & (depth >= 0.0) & (normals[:, :, 1] >= settings.FLOOR_NORMAL_Y)
     on_floor = corner & floor.any(axis=1)
     normal = np.where(on_floor[:, None], normals[rows, masked_argmax(depth, floor)], normal)
     along = (normals * normal[:, None]).sum(axis=2)
-    turned = touching & (along < cosine)
+    turned = kept & (along < cosine)
     second = masked_argmax(depth, turned)
     has_second = turned[rows, second]
     reserved = np.zeros_like(valid)

@@ -239,13 +239,13 @@ def _corner_points(
     if count < 4:
         return None
     cosine = settings.STAGE_CORNER_COSINE
-    touching = [i for i in range(len(depths)) if depths[i] >= 0.0]
-    if not any(dot(normals[i], normal) < cosine for i in touching):
+    every = range(len(depths))
+    if not any(dot(normals[i], normal) < cosine for i in every):
         return None
-    floor = [i for i in touching if normals[i][1] >= settings.FLOOR_NORMAL_Y]
+    floor = [i for i in every if depths[i] >= 0.0 and normals[i][1] >= settings.FLOOR_NORMAL_Y]
     if floor:
         normal = normals[max(floor, key=lambda i: (tie_key(depths[i]), -i))]  # first deepest
-    turned = [i for i in touching if dot(normals[i], normal) < cosine]
+    turned = [i for i in every if dot(normals[i], normal) < cosine]
     if not turned:
         return [], normal
     second = max(turned, key=lambda i: (tie_key(depths[i]), -i))  # first of the deepest
