@@ -357,11 +357,13 @@ def select_with_corners(
     ``normals (r, k, 3)``: each point's unit normal; ``normal (r, 3)``: the row's reference
     normal (its deepest point's). A point is in another direction when ``n . n_ref <
     STAGE_CORNER_COSINE`` (about 45 degrees); a third direction is also that far from the
-    second. Only touching points (depth >= 0) of rows keeping at least 4 points reserve
-    slots (one per extra direction). In such a row the reference becomes the deepest
-    touching floor-like point's normal (``n_y >= FLOOR_NORMAL_Y``, the world's up: the
-    surface bearing the body's weight), when there is one; its direction's points span the
-    polygon (:func:`select_support`) and slots still free take the deepest of the rest.
+    second. Points of rows keeping at least 4 points reserve slots (one per extra
+    direction), speculative ones too (a wall the body slides along keeps a cached point, so
+    its outward side is remembered, :func:`batched_stage._outward_side`). In such a row the
+    reference becomes the deepest touching floor-like point's normal (``n_y >=
+    FLOOR_NORMAL_Y``, the world's up: the surface bearing the body's weight), if any; its
+    direction's points span the polygon (:func:`select_support`) and slots still free take
+    the deepest of the rest.
     """
     corners = corner_points(depth, normals, normal, count, valid)
     if corners is None:  # the usual case: every point pushes along the row's normal

@@ -197,7 +197,7 @@ def select_with_corners(
     floor's slots nor all but one); mirrors ``manifold_merge.select_with_corners`` for one
     row.
 
-    A touching point (depth >= 0) is in another direction when ``n . normal <
+    A point (speculative ones too) is in another direction when ``n . normal <
     STAGE_CORNER_COSINE``; only a row keeping at least 4 points with such a point is a
     corner. There ``normal`` becomes the deepest touching floor-like point's
     (``n_y >= FLOOR_NORMAL_Y``), if any; the deepest point turned from it is kept, then the
