@@ -384,3 +384,54 @@ def test_body_driven_into_a_skirting_board_corner_stays_out_of_the_floor(
     sim.close()
     assert min(lowest) > FLOOR - 0.02  # never 2 cm into the floor, while pushed into it
     assert center_x < 5.0  # and never through the board into the wall
+
+
+SOAK_CONE = (
+    "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true"
+)
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_cone_whose_tip_hits_the_wall_floor_corner_stays_above_the_floor(demo_data, vectorized):
+    """The walls soak (``benchmarks/soak.py --walls``, seed 1) lost cones through the
+    apartment's outer walls. This 25 cm cone (its state recorded 5 frames before) lands
+    spinning at 11 rad/s with its tip in the corner of the floor (y = -1.45, ending at
+    z = -3.5) and the wall, whose box reaches 5 cm below the floor. Pressed a few mm into
+    the wall, the tip had left the floor triangle's prism: nothing held it up and it sank
+    down the wall to the wall's underside, 5.5 cm below the floor, and stayed there; a push
+    toward the wall at 4 m/s then slid the cone under the wall, out of the apartment. A
+    vertex pushed back out of the wall is over the floor again: the floor still holds it."""
+    import engine as habitat_sim
+
+    cfg = habitat_sim.SimulatorConfiguration()
+    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
+    agent = habitat_sim.agent.AgentConfiguration()
+    agent.sensor_specifications = []
+    sim = habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent]))
+    templates = sim.get_object_template_manager()
+    template = templates.create_new_template("wall_cone")
+    template.render_asset_handle = template.collision_asset_handle = SOAK_CONE
+    template.scale = [0.1, 0.1, 0.1]
+    templates.register_template(template, "wall_cone")
+    world = sim.get_physics_world()
+    world.settings.use_vectorized = vectorized
+    cone = sim.get_rigid_object_manager().add_object_by_template_handle("wall_cone")
+    cone.translation = [3.0316563862895918, -1.3759921080092803, -3.395706320438366]
+    cone.rotation = mn.Quaternion(
+        mn.Vector3(-0.5664223064782975, 0.5633365249178134, -0.5330897646307982),
+        -0.2786270504872203,
+    )
+    cone.linear_velocity = [-1.9360993202619035, -1.44966208670521, -1.1490114335784234]
+    cone.angular_velocity = [4.387194955772162, -1.0286335436551384, 10.918710193601841]
+    world.step_physics(0.004666666666666489)  # the soak's accumulator: no step yet
+    lowest, centers = [], []
+    for frame in range(90):
+        if frame == 60:  # resting in the corner: struck toward the wall, as the soak did
+            cone.linear_velocity = [-1.0, 0.0, -4.0]
+        sim.step_physics(FRAME)
+        lowest.append(lowest_point(world, cone.object_id))
+        centers.append(np.asarray(cone.translation))
+    sim.close()
+    assert min(lowest) > FLOOR - 0.02  # the tip never 2 cm below the floor (was 5.5 cm)
+    assert np.array(centers)[:, 2].min() > -3.5  # the center stays in front of the wall
+    assert centers[-1][1] > FLOOR  # and in the room (it was lost under the wall)

@@ -128,9 +128,12 @@ def test_select_with_corners_keeps_the_floor_and_agrees_with_its_reference():
         np.testing.assert_array_equal(batched[k], plain)
         kept = normals[k][batched[k]]
         assert batched[k].sum() == 4
-        assert (kept[:, 1] > 0.9).sum() == 1  # the deepest floor point is kept...
+        # the floor bears the body: its supporting polygon (3 points) with its deepest
+        # point; the far deeper wall keeps its deepest point only
+        assert (kept[:, 1] > 0.9).sum() == 3
         floor_depths = np.where(normals[k][:, 1] > 0.9, depth[k], -np.inf)
-        assert batched[k][floor_depths.argmax()]  # ...and it is the deepest one
+        wall_depths = np.where(normals[k][:, 0] > 0.9, depth[k], -np.inf)
+        assert batched[k][floor_depths.argmax()] and batched[k][wall_depths.argmax()]
 
 
 @pytest.mark.parametrize("speed", [1.0, 3.0])

@@ -67,8 +67,8 @@ def test_soak_pushes_cones_and_capsules_against_walls(report):
 
 def test_soak_sinks_no_object_into_the_stage_by_its_true_shape(report):
     """The depth is the lowest hull vertex's below the stage under it (a bounding box hides
-    a cone's tip in the floor). The cones-only wall soak (``soak.py --walls``) still loses
-    cones through the floor beside walls: docs/reliability.md, "Cones against walls"."""
+    a cone's tip in the floor). The cones-only wall soak (``soak.py --walls``) and what it
+    still finds: docs/reliability.md, "Cones against walls"."""
     soak = _soak_module()
     assert report.sunk == [], report.summary()
     assert report.deepest <= soak.SINK_TOLERANCE

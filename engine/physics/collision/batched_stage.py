@@ -13,13 +13,18 @@ corner ``p0_t``) the signed height is
     h_{tv} = n_t \cdot (x_v - p_{0t}),
 
 and ``v`` touches ``t`` when ``h < STAGE_SPECULATIVE_DISTANCE``, ``h > -STAGE_BELOW_FRACTION
-* extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4); each
-vertex keeps its shallowest triangle, the contact depth is ``-h``, and in a corner also the
-shallowest of the triangles turned 45 to 135 degrees from that one
-(``|n_t . n_best| < STAGE_CORNER_COSINE``) that it has passed (``h < 0``; a speculative
-contact there would crowd the manifold): a vertex pressed into a floor beside a wall is
-pushed out of both, not only out of the (shallower) wall (the opposite face of a thin
-slab is never a second surface: it would push the vertex through the slab). The triangle's normal is
+* extent`` and its projection is inside the triangle (barycentric test, Ericson 3.4). Each
+vertex keeps its *resting* triangle: the shallowest it has passed (the largest ``h < 0``,
+its way out of the stage's solid), else the nearest (the smallest ``h >= 0``: the surface
+it meets first); the contact depth is ``-h``. In a corner it also keeps the shallowest of
+the triangles turned 45 to 135 degrees from that one (``|n_t . n_best| <
+STAGE_CORNER_COSINE``) that it has passed and that still lies under it once it is pushed
+out of its resting triangle (to ``STAGE_CORNER_PUSH`` in front of it): a vertex pressed
+into a floor beside a wall is pushed out of both, also when it has left the floor's prism
+at the wall's foot (at most ``STAGE_CORNER_REACH`` below the floor), while a vertex at a
+convex edge (a skirting board's top and front) is pushed out of one face only (the
+opposite face of a thin slab is never a second surface: it would push the vertex through
+the slab). The triangle's normal is
 turned to the stage's *outward side*: the side the body was on when the contact began,
 remembered by the pair's manifold (its cached normals point from the stage to the body).
 Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
@@ -229,18 +234,21 @@ def _stage_group(
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact
+    below = height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None]
     candidate = (
-        (height < settings.STAGE_SPECULATIVE_DISTANCE)
-        & (height > -settings.STAGE_BELOW_FRACTION * extent[:, None, None])
-        & _in_prisms(table, ids, tris, verts)
+        (height < settings.STAGE_SPECULATIVE_DISTANCE) & below & _in_prisms(table, ids, tris, verts)
     )
-    # each vertex keeps its shallowest triangle (the surface it is really resting on) ...
-    best = np.where(candidate, height, -np.inf).argmax(axis=1)  # (g, V)
+    # each vertex keeps its resting triangle (the shallowest it has passed, else the
+    # nearest) ...
+    best = _resting_triangle(candidate, height)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
     # ... and, in a corner, the shallowest of those facing another way (floor and wall;
     # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
     if not stage_grid(stage).corner_free:
-        _corner_contacts(contacts, seq, candidate, best, normal, height, verts)
+        behind = _behind_the_corner(
+            table, ids, tris, (candidate, below), best, normal, height, verts
+        )
+        _corner_contacts(contacts, seq, behind, best, normal, height, verts)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
         return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
@@ -249,14 +257,63 @@ def _stage_group(
     return []
 
 
-def _corner_contacts(contacts, seq, candidate, best, normal, height, verts) -> None:
-    """Second contacts of vertices in a corner: of the ``candidate (g, T, V)`` triangles
-    turned 45 to 135 degrees from the vertex's shallowest one ``best (g, V)``, the
-    shallowest it has passed (``h < 0``), ordered after the first contacts (``V + v``)."""
+def _resting_triangle(candidate: np.ndarray, height: np.ndarray) -> np.ndarray:
+    """(g, V) the position of each vertex's resting triangle among its ``candidate (g, T,
+    V)`` ones: the shallowest it has passed (the largest ``h < 0``: the way out of the
+    stage's solid), else the nearest (the smallest ``h >= 0``, all speculative: the surface
+    it meets first); the first of equal heights.
+
+    The farthest speculative one (the rule before) let a cone's tip 1.6 mm above a bed's
+    top and 1.1 cm before the mattress's side keep the side, and it went 4.5 cm into the
+    top in the next step; a vertex 1 mm behind a skirting board's front kept the wall 1.4
+    cm ahead and the board's top 2.3 cm above it lifted the cone (its other end then sank
+    3 cm into the floor)."""
+    behind = height < 0
+    passed = np.any(candidate & behind, axis=1)  # (g, V)
+    # h where the vertex has passed a triangle, -h where all are speculative: the largest
+    key = np.where(passed[:, None, :], np.where(behind, height, -np.inf), -height)
+    return np.where(candidate, key, -np.inf).argmax(axis=1)
+
+
+def _behind_the_corner(table, ids, tris, masks, best, normal, height, verts) -> np.ndarray:
+    """(g, T, V) bool, the triangles that hold vertex v up in a corner beside its resting
+    triangle ``best (g, V)`` when it has passed that one (``h_best < 0``): it lies behind
+    triangle t (``h < 0``, not too far below it: ``masks = (candidate, below)``, both
+    ``(g, T, V)``, see :func:`_stage_group`) and, pushed out of its resting triangle to
+    ``STAGE_CORNER_PUSH`` in front of it, inside t's prism; either a candidate of t already
+    (a floor beside a wall) or at most ``STAGE_CORNER_REACH`` below it (the floor ending at
+    the wall's face, which the vertex pressed into the wall has left).
+
+    At a concave corner (a floor meeting a wall) the vertex pushed out of the wall is still
+    over the floor: the floor holds it too; without it a cone's tip sank down the wall to
+    the wall's underside, 5 cm below the floor, and then under the wall. At a convex edge
+    (a skirting board's top and front, a table's top and side) the vertex pushed out of one
+    face is beyond the other's edge: nothing is added (a vertex 1 mm behind a board's front
+    was lifted onto its top, 2.3 cm above). The reach keeps a vertex pressed into a wall
+    behind a board (inside the board once pushed out of the wall) off the board's top."""
+    candidate, below = masks
+    best_height = np.take_along_axis(height, best[:, None, :], axis=1)[:, 0]  # (g, V)
+    g, v = np.nonzero(candidate.any(axis=1) & (best_height < 0))
+    behind = np.zeros(candidate.shape, dtype=bool)
+    if len(g) == 0:
+        return behind
+    # x_v pushed along its best triangle's normal to STAGE_CORNER_PUSH in front of it, (k, 3)
+    push = settings.STAGE_CORNER_PUSH - best_height[g, v]
+    pushed = verts[g, v] + push[:, None] * normal[g, best[g, v]]
+    inside = _in_prisms(table, ids[g], tris[g], pushed[:, None])[..., 0]  # (k, T)
+    h = height[g, :, v]  # (k, T)
+    reach = candidate[g, :, v] | (h > -settings.STAGE_CORNER_REACH)
+    behind[g, :, v] = inside & (h < 0) & below[g, :, v] & reach
+    return behind
+
+
+def _corner_contacts(contacts, seq, behind, best, normal, height, verts) -> None:
+    """Second contacts of vertices in a corner: of the ``behind (g, T, V)`` triangles (see
+    :func:`_behind_the_corner`) turned 45 to 135 degrees from the vertex's resting one
+    ``best (g, V)``, the shallowest, ordered after the first contacts (``V + v``)."""
     best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
     alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
-    turned = np.abs(alignment) < settings.STAGE_CORNER_COSINE
-    corner = candidate & turned & (height < 0)  # the vertex is inside that surface too
+    corner = behind & (np.abs(alignment) < settings.STAGE_CORNER_COSINE)
     second = np.where(corner, height, -np.inf).argmax(axis=1)
     _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, verts.shape[1])
 

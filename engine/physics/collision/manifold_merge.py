@@ -178,7 +178,11 @@ def select_fresh(
 
 
 def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
-    """Each row's points, deepest first, dropping any within ``radius (r,)`` of a kept one."""
+    """Each row's points, deepest first, dropping any within ``radius (r,)`` of a kept one
+    pushing the same way (normals less than about 45 degrees apart, ``n_i . n_j >=
+    STAGE_CORNER_COSINE``): a vertex in a corner holds a wall and a floor contact at one
+    point, two constraints, and dropping the shallower floor one let a cone's tip struck
+    into a wall sink 4 cm below the floor."""
     depth = np.where(points.valid, points.depth(), -np.inf)
     by_depth = (-tie_key(depth)).argsort(axis=1, kind="stable")
     points = points.take(by_depth, per_row(points.valid, by_depth))
@@ -187,6 +191,9 @@ def distinct_points(points: FreshPoints, radius: np.ndarray) -> FreshPoints:
     k = points.valid.shape[1]  # at most SLOTS (select_fresh keeps no more)
     # near[r, i, j]: row r's valid point j comes before i (is deeper) and lies within radius
     near = (dist_sq < (radius * radius)[:, None, None]) & points.valid[:, None, :]
+    near &= (points.normal[:, :, None] * points.normal[:, None]).sum(axis=3) >= (
+        settings.STAGE_CORNER_COSINE
+    )
     near &= EARLIER[:k, :k]
     # greedy, deepest first: point i is kept unless a kept point before it is near. Only
     # the slots i with a near point in some row need the loop (in slot order, so every
@@ -340,35 +347,59 @@ def select_with_corners(
     band: np.ndarray | None = None,
 ) -> np.ndarray:
     """:func:`select_support`, but a row whose points push along two or three directions (a
-    body in a corner of the stage: floor and walls) first keeps the deepest point of each
-    other direction, so a deep wall contact cannot take every slot and drop the floor.
+    body in a corner of the stage: floor and walls) keeps the supporting polygon of the
+    floor and the deepest point of each other direction, so a deep wall contact can take
+    neither every slot nor all but one (one floor point lets the body tip about it into
+    the floor: a cube's edge pressed into a skirting board sank 2.6 cm).
 
     Reference: :func:`reference_manifolds.select_with_corners` (one row).
 
     ``normals (r, k, 3)``: each point's unit normal; ``normal (r, 3)``: the row's reference
     normal (its deepest point's). A point is in another direction when ``n . n_ref <
     STAGE_CORNER_COSINE`` (about 45 degrees); a third direction is also that far from the
-    second. Only touching points (depth >= 0) of rows keeping at least 4 points reserve
-    slots (one per extra direction).
+    second. Points of rows keeping at least 4 points reserve slots (one per extra
+    direction), speculative ones too (a wall the body slides along keeps a cached point, so
+    its outward side is remembered, :func:`batched_stage._outward_side`). In such a row the
+    reference becomes the deepest touching floor-like point's normal (``n_y >=
+    FLOOR_NORMAL_Y``, the world's up: the surface bearing the body's weight), if any; its
+    direction's points span the polygon (:func:`select_support`) and slots still free take
+    the deepest of the rest.
     """
-    reserved = corner_points(depth, normals, normal, count, valid)
-    if reserved is None:  # the usual case: every point pushes along the row's normal
+    corners = corner_points(depth, normals, normal, count, valid)
+    if corners is None:  # the usual case: every point pushes along the row's normal
         return select_support(points, depth, normal, count, valid, preferred, band)
+    reserved, normal, own = corners
     left = count - reserved.sum(axis=1)  # slots left for the row's own supporting polygon
-    chosen = select_support(points, depth, normal, left, valid & ~reserved, preferred, band)
-    return chosen | reserved
+    chosen = select_support(points, depth, normal, left, own & ~reserved, preferred, band)
+    chosen |= reserved
+    # slots still free (the floor holds fewer points than its share): the deepest others
+    free = count - chosen.sum(axis=1)
+    rest = np.where(valid & ~chosen, depth, -np.inf)
+    rank = (-tie_key(rest)).argsort(axis=1, kind="stable")
+    take = (np.arange(depth.shape[1]) < free[:, None]) & np.isfinite(per_row(rest, rank))
+    chosen[np.arange(len(count))[:, None], rank] |= take
+    return chosen
 
 
-def corner_points(depth, normals, normal, count, valid) -> np.ndarray | None:
-    """(r, k) bool, the deepest point of each extra direction of a row (see
-    :func:`select_with_corners`), or None when no row has one."""
+def corner_points(depth, normals, normal, count, valid):
+    """The corner rows' choice (see :func:`select_with_corners`), or None when no row has
+    points in another direction: ``reserved (r, k)`` (the deepest point of each extra
+    direction), the rows' reference normals ``(r, 3)`` (the floor's, where they have one)
+    and ``own (r, k)`` (the points along it: all valid points of a row without a corner)."""
     cosine = settings.STAGE_CORNER_COSINE
-    # touching points (depth >= 0) only: a speculative wall contact keeps no floor slot
-    turned = valid & (depth >= 0.0) & (count >= 4)[:, None]
-    turned &= (normals * normal[:, None]).sum(axis=2) < cosine
-    if not turned.any():
+    # speculative points too: a wall the body slides along keeps its side in the cache
+    kept = valid & (count >= 4)[:, None]
+    turned = kept & ((normals * normal[:, None]).sum(axis=2) < cosine)
+    corner = turned.any(axis=1)
+    if not corner.any():
         return None
     rows = np.arange(len(depth))
+    # the reference of a corner row: its deepest touching floor-like point's normal
+    floor = kept & (depth >= 0.0) & (normals[:, :, 1] >= settings.FLOOR_NORMAL_Y)
+    on_floor = corner & floor.any(axis=1)
+    normal = np.where(on_floor[:, None], normals[rows, masked_argmax(depth, floor)], normal)
+    along = (normals * normal[:, None]).sum(axis=2)
+    turned = kept & (along < cosine)
     second = masked_argmax(depth, turned)
     has_second = turned[rows, second]
     reserved = np.zeros_like(valid)
@@ -378,7 +409,8 @@ def corner_points(depth, normals, normal, count, valid) -> np.ndarray | None:
     third_ok = turned & ((normals * second_normal[:, None]).sum(axis=2) < cosine)
     third = masked_argmax(depth, third_ok)
     reserved[rows, third] |= has_second & third_ok[rows, third]
-    return reserved
+    own = valid & ((along >= cosine) | ~corner[:, None])
+    return reserved, normal, own
 
 
 def select_support(

@@ -187,9 +187,20 @@ PREFERRED_SIZE_BONUS = 0.1
 #: on the triangle's other side (a thin wall), not in contact with it.
 STAGE_BELOW_FRACTION = 0.5
 #: 1 (cosine), a hull vertex touching stage triangles turned 45 to 135 degrees from its
-#: shallowest one (a floor and a wall at a corner) also keeps the shallowest of those it
-#: has passed (lies behind).
+#: resting one (a floor and a wall at a corner) also keeps the shallowest of those it
+#: has passed (lies behind); a manifold point this far turned from another is a second
+#: direction (never merged with it, and the manifold keeps the deepest point of each).
 STAGE_CORNER_COSINE = 0.7
+#: m, a hull vertex behind its resting stage triangle is pushed out of it to this far in
+#: front of it, and a triangle turned from that one holds it up in a corner only while the
+#: pushed vertex is still inside its prism: a floor meeting a wall (a vertex pressed a few
+#: mm into the wall keeps the floor that ends at the wall's foot), not a convex edge (a
+#: skirting board's top and front).
+STAGE_CORNER_PUSH = 0.001
+#: m, ... a triangle whose prism holds only the pushed vertex (the floor ending at the wall)
+#: holds it when it lies at most this far below it, not deeper (below a skirting board's
+#: top, behind the board: not lifted onto it).
+STAGE_CORNER_REACH = 0.02
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9

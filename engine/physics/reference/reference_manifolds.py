@@ -145,13 +145,16 @@ def _support_of_fresh(
 
 
 def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
-    """Deepest first, drop any point within ``radius`` of a kept one (B's world anchors)."""
+    """Deepest first, drop any point within ``radius`` of a kept one (B's world anchors)
+    pushing the same way (``n . n_kept >= STAGE_CORNER_COSINE``: a vertex in a corner keeps
+    its wall and its floor contact)."""
     # stable sort, deepest first: equal depths (to TIE_QUANTUM) keep their order
     by_depth = sorted(fresh, key=lambda c: -tie_key(c.depth))
     kept: list[Contact] = []
     for contact in by_depth:
         if all(
             dot(contact.point_b - k.point_b, contact.point_b - k.point_b) >= radius * radius
+            or dot(contact.normal, k.normal) < settings.STAGE_CORNER_COSINE
             for k in kept
         ):
             kept.append(contact)
@@ -189,44 +192,67 @@ def select_with_corners(
     preferred: list | None = None,
     band: float = settings.SUPPORT_DEPTH_BAND,
 ) -> list[bool]:
-    """:func:`select_support` after keeping the deepest point of each other direction (a
-    corner of the stage: a deep wall contact must not take the floor's slots); mirrors
-    ``manifold_merge.select_with_corners`` for one row.
+    """:func:`select_support` of the floor's points after keeping the deepest point of each
+    other direction (a corner of the stage: a deep wall contact must take neither the
+    floor's slots nor all but one); mirrors ``manifold_merge.select_with_corners`` for one
+    row.
 
-    A touching point (depth >= 0) is in another direction when ``n . normal <
-    STAGE_CORNER_COSINE``; the deepest such point is kept, then the deepest point turned
-    that far from both. Only a row keeping at least 4 points reserves slots."""
-    reserved = _corner_points(depths, normals, normal, count)
-    if not reserved:
+    A point (speculative ones too) is in another direction when ``n . normal <
+    STAGE_CORNER_COSINE``; only a row keeping at least 4 points with such a point is a
+    corner. There ``normal`` becomes the deepest touching floor-like point's
+    (``n_y >= FLOOR_NORMAL_Y``), if any; the deepest point turned from it is kept, then the
+    deepest turned that far from both; the points along ``normal`` span the polygon, and
+    slots still free take the deepest of the rest."""
+    corner = _corner_points(depths, normals, normal, count)
+    if corner is None:
         return select_support(points, depths, normal, count, preferred, band)
-    rest = [i for i in range(len(points)) if i not in reserved]
-    chosen_rest = select_support(
-        [points[i] for i in rest],
-        [depths[i] for i in rest],
-        normal,
-        count - len(reserved),
-        None if preferred is None else [preferred[i] for i in rest],
-        band,
-    )
+    reserved, normal = corner
+    cosine = settings.STAGE_CORNER_COSINE
+    own = [i for i in range(len(points)) if i not in reserved and dot(normals[i], normal) >= cosine]
     chosen = [i in reserved for i in range(len(points))]
-    for i, keep in zip(rest, chosen_rest, strict=True):
-        chosen[i] = keep
+    if own:
+        chosen_own = select_support(
+            [points[i] for i in own],
+            [depths[i] for i in own],
+            normal,
+            count - len(reserved),
+            None if preferred is None else [preferred[i] for i in own],
+            band,
+        )
+        for i, keep in zip(own, chosen_own, strict=True):
+            chosen[i] = keep
+    # slots still free (the floor holds fewer points than its share): the deepest others
+    rest = sorted(
+        (i for i in range(len(points)) if not chosen[i]), key=lambda i: -tie_key(depths[i])
+    )
+    for i in rest[: max(count - sum(chosen), 0)]:
+        chosen[i] = True
     return chosen
 
 
-def _corner_points(depths: list, normals: list, normal: np.ndarray, count: int) -> list[int]:
-    """Indices of the deepest point of each extra direction (at most two)."""
+def _corner_points(
+    depths: list, normals: list, normal: np.ndarray, count: int
+) -> tuple[list[int], np.ndarray] | None:
+    """The indices of the deepest point of each extra direction (at most two) and the
+    row's reference normal (the deepest touching floor-like point's, if any), or None when
+    the row is no corner."""
     if count < 4:
-        return []
+        return None
     cosine = settings.STAGE_CORNER_COSINE
-    turned = [i for i, n in enumerate(normals) if depths[i] >= 0.0 and dot(n, normal) < cosine]
+    every = range(len(depths))
+    if not any(dot(normals[i], normal) < cosine for i in every):
+        return None
+    floor = [i for i in every if depths[i] >= 0.0 and normals[i][1] >= settings.FLOOR_NORMAL_Y]
+    if floor:
+        normal = normals[max(floor, key=lambda i: (tie_key(depths[i]), -i))]  # first deepest
+    turned = [i for i in every if dot(normals[i], normal) < cosine]
     if not turned:
-        return []
+        return [], normal
     second = max(turned, key=lambda i: (tie_key(depths[i]), -i))  # first of the deepest
     third = [i for i in turned if dot(normals[i], normals[second]) < cosine]
     if not third:
-        return [second]
-    return [second, max(third, key=lambda i: (tie_key(depths[i]), -i))]
+        return [second], normal
+    return [second, max(third, key=lambda i: (tie_key(depths[i]), -i))], normal
 
 
 def select_support(

@@ -208,9 +208,11 @@ def stage_polyhedron_contacts(
     and hull vertex v, the signed height
     ``h = n_t . (x_v - p0_t)``; v is in contact with t when ``h < STAGE_SPECULATIVE_DISTANCE``,
     it is not more than half the hull's extent below the plane, and its projection falls
-    inside the triangle. Each vertex keeps its shallowest triangle (the largest h) and, in a
-    corner, the shallowest of those turned 45 to 135 degrees from it that it has passed
-    (``h < 0``; listed after all the first contacts, as the batched path orders them).
+    inside the triangle. Each vertex keeps its resting triangle (:func:`_resting_triangle`:
+    the shallowest it has passed, else the nearest) and, in a corner, the shallowest of
+    those turned 45 to 135 degrees from it that hold it up beside it
+    (:func:`_behind_the_corner`; listed after all the first contacts, as the batched path
+    orders them).
     """
     table = triangle_table(stage)
     rotation, position = pose
@@ -238,15 +240,16 @@ def stage_polyhedron_contacts(
         ]
         if not touching:
             continue
-        best = _shallowest(touching, heights, k)
+        best = _resting_triangle(touching, heights, k)
         contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
         # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
-        # which the vertex has passed (h < 0)
+        # which holds the vertex up beside it (see _behind_the_corner)
         turned = [
             i
-            for i in touching
+            for i in _behind_the_corner(
+                stage, table, triangle_ids, (k, vertex, extent), touching, best, normals, heights
+            )
             if abs(dot(normals[i], normals[best])) < settings.STAGE_CORNER_COSINE
-            and heights[i][k] < 0
         ]
         if turned:
             second = _shallowest(turned, heights, k)
@@ -259,6 +262,42 @@ def stage_polyhedron_contacts(
         depths = np.minimum(depths, -min(heights[0]))
         contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
     return contacts
+
+
+def _behind_the_corner(
+    stage, table, triangle_ids, vertex_of, touching: list[int], best: int, normals, heights
+) -> list[int]:
+    """Positions of the triangles holding vertex ``k`` up in a corner beside its resting
+    triangle ``best``, when it has passed that one: it lies behind them (``-STAGE_BELOW_FRACTION
+    * extent < h < 0``) and, pushed out of ``best`` to ``STAGE_CORNER_PUSH`` in front of it,
+    inside their prisms; either ``touching`` them already or at most ``STAGE_CORNER_REACH``
+    below them (``vertex_of = (k, vertex, extent)``; mirrors
+    ``batched_stage._behind_the_corner``)."""
+    k, vertex, extent = vertex_of
+    if heights[best][k] >= 0:
+        return []
+    pushed = vertex + (settings.STAGE_CORNER_PUSH - heights[best][k]) * normals[best]
+    return [
+        i
+        for i, t in enumerate(triangle_ids)
+        if -settings.STAGE_BELOW_FRACTION * extent < heights[i][k] < 0
+        and (i in touching or heights[i][k] > -settings.STAGE_CORNER_REACH)
+        and inside_triangle_prism(table, t, stage.ray_triangles[t][0], pushed)
+    ]
+
+
+def _resting_triangle(positions: list[int], heights: list, k: int) -> int:
+    """The position in ``positions`` of vertex ``k``'s resting triangle: the shallowest of
+    those it has passed (``h < 0``), else the nearest (all speculative: the surface it
+    meets first); the first of equal heights (mirrors ``batched_stage._resting_triangle``)."""
+    passed = [i for i in positions if heights[i][k] < 0]
+    if passed:
+        return _shallowest(passed, heights, k)
+    best = positions[0]
+    for i in positions[1:]:
+        if heights[i][k] < heights[best][k]:
+            best = i
+    return best
 
 
 def _shallowest(positions: list[int], heights: list, k: int) -> int:

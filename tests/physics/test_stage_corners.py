@@ -1,0 +1,92 @@
+"""Hull vertices in a corner of the stage (a floor meeting a wall): which surfaces hold them.
+
+A box beside a wall (x = 0.5, facing -X) on a floor (y = 0), on the batched and the
+reference path alike: a vertex in front of both surfaces is held by the nearer one; a
+vertex pressed into both keeps both contacts through the manifold merge, and the
+manifold's four slots keep the floor's supporting polygon beside the wall's deepest point.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import add, floor_mesh, make_world, register_primitive
+
+from engine.attributes import StageAttributes
+from engine.physics.core.quaternions import quat_to_matrix
+from engine.scene.assets import MeshData
+
+WALL_X = 0.5
+HALF = 0.1  # the box's half side, m
+
+
+def corner_world(vectorized: bool, gap_floor: float, gap_wall: float):
+    """A world with the floor, the wall and a 0.2 m box whose bottom is ``gap_floor`` above
+    the floor and whose side is ``gap_wall`` before the wall (negative: inside)."""
+    wall = MeshData(
+        vertices=np.array(
+            [[WALL_X, -1, -2], [WALL_X, 2, -2], [WALL_X, 2, 2], [WALL_X, -1, 2]], dtype=float
+        ),
+        faces=np.array([[0, 1, 2], [0, 2, 3]]),  # normal -X, towards the box
+    )
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    world.set_stage([floor_mesh(), wall], StageAttributes())
+    position = [WALL_X - HALF - gap_wall, HALF + gap_floor, 0.0]
+    box = add(world, templates, register_primitive(templates, half=(HALF,) * 3), position)
+    return world, box
+
+
+def narrow_phase_contacts(world, vectorized: bool):
+    """This step's stage contacts of body 1 on the chosen path: ``(point_b, normal)``."""
+    from engine.physics.pipeline.collision_stage import update_world_aabbs
+    from engine.physics.pipeline.narrow_phase import narrow_phase
+    from engine.physics.pipeline.reference_contacts import pair_contacts
+
+    b, objects = world.bodies, world.collision_objects
+    rotation = quat_to_matrix(b.body_rotation[: b.count])
+    update_world_aabbs(b, rotation)
+    objects.move(b, np.arange(1, b.count), rotation[1:])
+    if vectorized:
+        _, _, point_b, normal = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
+        return point_b, normal
+    contacts = pair_contacts(b, objects, world.manifolds, 0, 1, rotation)
+    return np.array([c.point_b for c in contacts]), np.array([c.normal for c in contacts])
+
+
+def test_a_vertex_in_front_of_a_floor_and_a_wall_is_held_by_the_nearer():
+    """The box's bottom 1.6 mm above the floor and its side 1.1 cm before the wall (both
+    within the 2 cm speculative reach): its two bottom vertices by the wall face both
+    surfaces, and the floor, which they meet first, holds them (they kept the farther
+    wall: a cone's tip 1.6 mm above a bed's top and 1.1 cm before the mattress's side went
+    4.5 cm into the top in the next step). The same contacts on both paths."""
+    world, _ = corner_world(True, 0.0016, 0.011)
+    batched = narrow_phase_contacts(world, True)
+    plain = narrow_phase_contacts(world, False)
+    for mine, theirs in zip(batched, plain, strict=True):
+        np.testing.assert_allclose(mine, theirs, atol=1e-12)
+    point_b, normal = batched
+    up, back = np.isclose(normal[:, 1], 1.0), np.isclose(normal[:, 0], -1.0)
+    assert np.count_nonzero(up) == 4  # the four bottom vertices on the floor
+    assert np.count_nonzero(back) == 2  # only the top two by the wall on the wall
+    assert (point_b[back, 1] > 0.1).all()
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_a_vertex_pressed_into_floor_and_wall_keeps_both_in_the_manifold(vectorized):
+    """The box 1 cm into the floor and 3 cm into the wall: the two bottom vertices inside
+    the wall have a floor and a (deeper) wall contact at one point. The merge dropped the
+    floor one as a duplicate of the deeper point, and the four slots then kept three wall
+    points and one floor point, so the body could tip about it into the floor (a cone's
+    tip struck into a wall sank 4 cm). Now the manifold keeps the floor's supporting
+    polygon, a vertex inside the wall among it, and the wall's deepest point."""
+    world, box = corner_world(vectorized, -0.01, -0.03)
+    world.step_physics(0.008)
+    store = world.manifolds
+    row = store.row((0, box.object_id))
+    count = int(store.count[row])
+    normals = store.normal_local[row, :count]  # the stage's frame is the world's
+    stage_points = store.local_a[row, :count]
+    up, back = normals[:, 1] > 0.99, normals[:, 0] < -0.99
+    assert count == 4 and np.count_nonzero(up) == 3 and np.count_nonzero(back) == 1
+    assert (stage_points[up, 0] > WALL_X).any()  # a floor point under a vertex in the wall
