@@ -24,10 +24,10 @@ the friction rows, which read the velocities after the normal rows::
 
 per slot (the 2-D impulse scaled back onto the Coulomb circle; ``fmin`` maps the 0 / 0 of
 an unloaded slot to 1), ``v += W_t (lambda_t' - lambda_t)``. This is the plain solver's
-order (a manifold's normal rows, then its friction rows: :func:`reference_solver.
-_normal_impulses` and ``_friction_impulses``); only the sums run in another order. A color
-and sweep is 17 NumPy calls (the friction impulses take turns between two arrays, so
-nothing is copied back). Without accumulated impulses (box2d-lite's toggle,
+order (a manifold's normal rows, then its friction rows, as
+``reference_solver._normal_impulses`` and ``_friction_impulses`` do); only the sums run in
+another order. A color and sweep is 17 NumPy calls (the friction impulses take turns
+between two arrays, so nothing is copied back). Without accumulated impulses (box2d-lite's toggle,
 ``accumulate_impulses=False``) the clamps act on the increments: ``q' = min(q, 0)``, the
 friction increment is scaled onto the circle of the new ``lambda_n``.
 
@@ -270,7 +270,7 @@ def velocity_update(
     Call inside ``np.errstate(divide="ignore", invalid="ignore")`` (the circle's 0 / 0);
     the friction impulses end in ``rows.tangents[(sweep + 1) % 2]`` (:func:`store_tangents`).
 
-    Reference: :func:`reference_solver._normal_impulses` then ``_friction_impulses``."""
+    Reference: ``reference_solver._normal_impulses`` then ``_friction_impulses``."""
     v = flat[rows.gather]  # (k, 13, 1)
     q, lam_n, scale = rows.q, rows.lam_n, rows.scale
     old, new = rows.tangents[sweep % 2], rows.tangents[(sweep + 1) % 2]
@@ -326,7 +326,7 @@ def normal_update(rows: ColorRows, flat: np.ndarray, matrix: np.ndarray, lam_n) 
     :func:`rows_matrix`) and the accumulated impulses ``lam_n (u, k)`` (updated):
     ``q = min(matrix v, lambda_n)``, ``lambda_n -= q``, ``v -= W_n q``.
 
-    Reference: :func:`reference_solver._normal_impulses` (positions), and
+    Reference: ``reference_solver._normal_impulses`` (positions), and
     ``_restitution_impulses``."""
     v = flat[rows.gather]
     np.matmul(matrix, v, out=rows.q_col)
