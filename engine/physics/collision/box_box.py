@@ -35,6 +35,13 @@ overlaps are tested to push piles apart without driving the lowest bodies into t
   crossings only strictly inside both edges.
 * **Edge axis**: one point, the closest points of the two supporting edges (Ericson 5.1.9).
 
+Every contact has a *feature number* naming the features it comes from (Box2D v3's
+contact ids), the same at the same features in the next step: a face contact's candidate
+index ``k`` (0-23) plus ``FACE_CANDIDATES`` times the face code ``6 axis + 2 j + f`` (the
+reference face's axis, the incident face's axis ``j`` and side ``f``); an edge contact
+``EDGE_FEATURE + axis``. The feature-keyed manifolds (:mod:`keyed_manifolds`) match
+last step's warm start by it.
+
 Contacts come back flat (pair index, candidate index, ``point_a``, ``point_b``, ``normal``,
 ``depth = (point_a - point_b) . normal``) in pair order, then candidate order: the order
 of the per-pair reference :func:`reference_box_box.box_box_contacts_reference`, which this
@@ -55,6 +62,10 @@ CORNER_SIGNS = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]])
 NEXT, AFTER = np.array([1, 2, 0]), np.array([2, 0, 1])
 #: the next corner of a quad, k+1 (mod 4).
 FOLLOWING = np.array([1, 2, 3, 0])
+#: clipping candidates per face pair, and the feature number of the first edge contact
+#: (after every face code's candidates: 36 face codes)
+FACE_CANDIDATES = 24
+EDGE_FEATURE = 36 * FACE_CANDIDATES
 
 
 def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
@@ -123,15 +134,15 @@ def box_box_contacts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     parts, deep = box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b)
     if len(parts) < 2:
         empty = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), *[np.zeros((0, 3))] * 3
-        return *(parts[0] if parts else empty), deep
-    pair, local, point_a, point_b, normal = (np.concatenate(p) for p in zip(*parts, strict=True))
+        return *(parts[0][:5] if parts else empty), deep
+    pair, local, point_a, point_b, normal, _ = (np.concatenate(p) for p in zip(*parts, strict=True))
     order = np.lexsort((local, pair))  # by pair, then by candidate
     return pair[order], local[order], point_a[order], point_b[order], normal[order], deep
 
 
 def box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     """:func:`box_box_contacts` before its merge: ``parts``, a list of at most two
-    ``(pair, local, point_a, point_b, normal)`` tuples (the face pairs' contacts, the edge
+    ``(pair, local, point_a, point_b, normal, feature)`` tuples (the face pairs' contacts, the edge
     pairs'), each in (pair, candidate) order, no pair in both, and ``deep (g,)``. A caller
     that sorts all its contacts by (pair, candidate) anyway (the narrow phase's
     :class:`~pair_rules.ContactBatch`) takes the parts as they are and saves the merge
@@ -178,7 +189,8 @@ def _face_contacts(pairs, axis, normal, frames):
     # incident face: the face of I most anti-parallel to n_ref, outward normal m
     alignment = _apply(axes_i, n_ref)  # b_k . n_ref
     j = tie_key(np.abs(alignment)).argmax(axis=1)
-    m = -np.where(alignment[g, j] >= 0.0, 1.0, -1.0)[:, None] * axes_i[g, j]
+    facing = alignment[g, j] >= 0.0  # the incident face is on I's -b_j side
+    m = -np.where(facing, 1.0, -1.0)[:, None] * axes_i[g, j]
     incident_center = center_i + half_i[g, j][:, None] * m
     j1, j2 = (j + 1) % 3, (j + 2) % 3
     side_1 = axes_i[g, j1] * half_i[g, j1][:, None]
@@ -214,7 +226,9 @@ def _face_contacts(pairs, axis, normal, frames):
     p_inc = p_ref + t * n_ref[k_g]
     point_a = np.where(pick[k_g], p_ref, p_inc)
     point_b = np.where(pick[k_g], p_inc, p_ref)
-    return pairs[k_g], k_c, point_a, point_b, normal[k_g]
+    face_code = 6 * axis + 2 * j + facing  # reference face, incident face and its side
+    feature = k_c + FACE_CANDIDATES * face_code[k_g]
+    return pairs[k_g], k_c, point_a, point_b, normal[k_g], feature
 
 
 def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -310,4 +324,5 @@ def _edge_contacts(pairs, axis, normal, frames):
     point_b = mid_b + t[:, None] * dir_b
     keep = ((point_a - point_b) * normal).sum(axis=1) > -settings.SPECULATIVE_DISTANCE
     k = np.flatnonzero(keep)
-    return pairs[k], np.zeros(len(k), dtype=np.int64), point_a[k], point_b[k], normal[k]
+    local = np.zeros(len(k), dtype=np.int64)
+    return pairs[k], local, point_a[k], point_b[k], normal[k], EDGE_FEATURE + axis[k]

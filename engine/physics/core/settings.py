@@ -72,6 +72,12 @@ class SolverSettings:
         by at most ``SLEEP_MAX_PENETRATION`` (Bullet's persistent manifold idea: its points
         stay attached to the bodies, the solver recomputes their depths from the current
         poses). Off: every pair is queried every step.
+    feature_manifolds : bool
+        Rebuild every manifold from this step's contacts, warm-started from last step's
+        points with the same feature keys (True, Box2D v3's and Jolt's way:
+        :mod:`keyed_manifolds`), instead of merging the fresh points into persistent
+        manifolds (False, Bullet's ``btPersistentManifold``: :mod:`manifold_merge`). Pairs
+        with a capsule always merge (their contacts build up over steps).
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
@@ -93,6 +99,7 @@ class SolverSettings:
     overlap_position_iterations: int = 6
     stage_iterations: int = 1
     contact_cache: bool = True
+    feature_manifolds: bool = True
     use_vectorized: bool = True
 
     @property

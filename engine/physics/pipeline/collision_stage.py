@@ -78,11 +78,19 @@ def collision_stage(
     #         (fcl objects move only for the pairs that ask fcl: box pairs are analytic, and
     #         the few box pairs left to fcl move their own objects in the narrow phase)
     timer.run("fcl update", move_fcl_users, bodies, objects, touching, rotation)
+    keyed = settings.feature_manifolds
     if settings.use_vectorized:
-        update_manifolds(bodies, objects, store, touching, rotation, timer)
+        update_manifolds(bodies, objects, store, touching, rotation, timer, keyed)
     else:
         timer.run(
-            "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
+            "narrow phase",
+            update_manifolds_reference,
+            bodies,
+            objects,
+            store,
+            touching,
+            rotation,
+            keyed,
         )
     if touching:
         queried = np.array(store.rows_of(touching, -1), dtype=np.int64)
@@ -258,8 +266,11 @@ def update_manifolds(
     pairs: list[tuple[int, int]],
     rotation: np.ndarray,
     timer: StageTimer | None = None,
+    feature_manifolds: bool = True,
 ) -> None:
-    """Batched: narrow phase for ``pairs``, then refresh/merge/reduce their manifolds.
+    """Batched: narrow phase for ``pairs``, then their manifolds rebuilt from the fresh
+    points by feature keys (``feature_manifolds`` and a keyable row) or refreshed, merged
+    and reduced.
 
     Must agree with :func:`reference_contacts.update_manifolds_reference` (tested). A pair
     gets a manifold row when it first has contact points; pairs with a sphere keep a single
@@ -268,7 +279,7 @@ def update_manifolds(
     if not pairs:  # a resting scene: the contact cache kept every manifold
         return
     timer = timer or StageTimer()
-    pair_position, point_a, point_b, normal = timer.run(
+    pair_position, point_a, point_b, normal, key = timer.run(
         "narrow phase", narrow_phase, bodies, objects, store, pairs, rotation
     )
     timer.run(
@@ -282,6 +293,8 @@ def update_manifolds(
         point_a,
         point_b,
         normal,
+        key,
+        feature_manifolds,
     )
 
 
@@ -294,8 +307,12 @@ def _merge_into_store(
     point_a: np.ndarray,
     point_b: np.ndarray,
     normal: np.ndarray,
+    key: np.ndarray,
+    feature_manifolds: bool,
 ) -> None:
-    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.merge_fresh`."""
+    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.replace_fresh`
+    for the keyed rows (with ``feature_manifolds``) and one :meth:`ManifoldStore.merge_fresh`
+    for the others."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     row_of_pair = np.array(store.rows_of(pairs, -1), dtype=np.int64)  # -1: no manifold yet
     for k in ((row_of_pair < 0) & has_points).nonzero()[0].tolist():  # first touch
@@ -304,8 +321,18 @@ def _merge_into_store(
     # (an empty manifold without fresh points stays empty: skipping it changes nothing)
     updated = (row_of_pair >= 0) & (has_points | (store.count[row_of_pair] > 0))  # -1: masked
     row_position = np.cumsum(updated) - 1  # pair position -> row position (updated pairs)
-    fresh = FreshPoints(int(updated.sum()), row_position[pair_position], point_a, point_b, normal)
-    store.merge_fresh(row_of_pair[updated], rotation, bodies.body_position, fresh)
+    fresh = FreshPoints(
+        int(updated.sum()), row_position[pair_position], point_a, point_b, normal, key
+    )
+    rows, position = row_of_pair[updated], bodies.body_position
+    keyed = store.keyable[rows] if feature_manifolds else np.zeros(len(rows), dtype=bool)
+    if keyed.all():  # a scene of boxes and hulls: no merge
+        store.replace_fresh(rows, rotation, position, fresh)
+    elif not keyed.any():
+        store.merge_fresh(rows, rotation, position, fresh)
+    else:
+        store.replace_fresh(rows[keyed], rotation, position, fresh.rows(keyed))
+        store.merge_fresh(rows[~keyed], rotation, position, fresh.rows(~keyed))
 
 
 def drop_stale_manifolds(
