@@ -1,10 +1,11 @@
-"""Feature-keyed manifolds (:mod:`keyed_manifolds`): each step's fresh contacts are the
-manifold, warm-started from last step's point with the same feature key.
+"""Fresh manifolds (:mod:`keyed_manifolds`): each step's contacts are the manifold, cut to
+four with last step's feature keys winning near-ties, warm-started from the cached point
+at the same anchor in B's frame.
 
 * the batched rows against the plain twin :func:`reference_manifolds.keyed_manifold` on
   random histories (points, keys, impulses, reduction to four);
-* the warm start is by key only: a point at the same features keeps its impulses however
-  far it moved, a point at new features starts from zero;
+* the warm start follows B's anchor (Jolt's): a fresh point near a cached one in B's
+  frame takes its impulses, whatever its key; the keys decide near-ties of the support;
 * the keys name features: a box resting on a turned box keeps the same keys step after
   step; a cube sliding on the floor carries its full normal load over (m g h a step);
 * the switch: ``feature_manifolds = False`` merges (no keys stored) and both stand a stack.
@@ -47,22 +48,49 @@ def contacts_of(fresh: FreshPoints, n: int) -> list[Contact]:
     ]
 
 
-def test_points_with_a_cached_key_take_its_impulses_wherever_they_are():
+def test_fresh_points_take_the_impulses_of_the_cached_point_at_their_anchor_in_b():
     store, rotation, position = store_with_row()
-    store.replace_fresh(
-        np.array([0]), rotation, position, fresh_of([[0, 0, 0]] * 2, [0, 0], [7, 9])
-    )
+    fresh = fresh_of([[0.0, 0, 0], [0.1, 0, 0]], [0.001, 0.001], [7, 9])
+    store.replace_fresh(np.array([0]), rotation, position, fresh)
     store.impulse[0, :2] = [[1.0, 0.1, 0.2], [2.0, 0.3, 0.4]]
-    # key 9 moved 10 cm (far beyond any match distance), key 7 is gone, key 8 is new
-    fresh = fresh_of([[0.1, 0, 0], [0.0, 0, 0.05]], [0.001, 0.002], [9, 8])
+    # a point 5 mm from the second cached anchor takes its impulses (whatever its key); a
+    # point 5 cm from both starts from zero; the first cached point is not kept
+    fresh = fresh_of([[0.105, 0, 0], [0.0, 0, 0.05]], [0.001, 0.002], [8, 9])
     store.replace_fresh(np.array([0]), rotation, position, fresh)
     assert store.count[0] == 2
-    np.testing.assert_array_equal(store.point_key[0, :2], [9, 8])
+    np.testing.assert_array_equal(store.point_key[0, :2], [8, 9])
     np.testing.assert_array_equal(store.impulse[0, :2], [[2.0, 0.3, 0.4], [0.0, 0.0, 0.0]])
-    np.testing.assert_array_equal(store.local_b[0, 0], [0.1, 0.0, 0.0])
+    np.testing.assert_array_equal(store.local_b[0, 0], [0.105, 0.0, 0.0])
     # no fresh points: the manifold is empty (nothing is kept from last step)
     store.replace_fresh(np.array([0]), rotation, position, fresh_of(np.zeros((0, 3)), [], []))
     assert store.count[0] == 0
+
+
+def test_points_at_last_steps_features_win_near_ties_of_the_support():
+    # a 20 cm square's corners (keys 1-4) and a point 5 % beyond corner 3 on the diagonal
+    # (key 5), all equally deep: without history the far point spans more; with corners
+    # 1-4 cached, their keys win (10 % size bonus), and the manifold keeps its four points
+    corners = [[-0.1, 0, -0.1], [0.1, 0, -0.1], [0.1, 0, 0.1], [-0.1, 0, 0.1]]
+    points = corners + [[0.105, 0, 0.105]]
+    for history, expected in ((False, {1, 2, 4, 5}), (True, {1, 2, 3, 4})):
+        store, rotation, position = store_with_row()
+        if history:
+            store.replace_fresh(
+                np.array([0]), rotation, position, fresh_of(corners, [0.001] * 4, [1, 2, 3, 4])
+            )
+        fresh = fresh_of(points, [0.001] * 5, [1, 2, 3, 4, 5])
+        store.replace_fresh(np.array([0]), rotation, position, fresh)
+        assert set(store.point_key[0, : store.count[0]].tolist()) == expected
+        twin = keyed_manifold(
+            [ManifoldPoint(np.zeros(3), np.zeros(3), UP, np.zeros(3), k) for k in (1, 2, 3, 4)]
+            if history
+            else [],
+            contacts_of(fresh, 5),
+            IDENTITY,
+            IDENTITY,
+            4,
+        )
+        assert {p.key for p in twin} == expected
 
 
 def test_a_rolling_point_keeps_the_cached_impulse_whatever_its_key():

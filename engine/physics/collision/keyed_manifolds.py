@@ -1,22 +1,26 @@
-"""Feature-keyed manifolds: each step's fresh contacts *are* the manifold, warm-started by key.
+"""Fresh manifolds: each step's contacts *are* the manifold, chosen by feature keys.
 
-Box2D v3 (``b2UpdateContact``: ``b2ManifoldPoint.id`` matched against the old manifold's
-ids) and Jolt (``ContactConstraintManager``: a fresh manifold per body pair and step, last
-step's impulses carried over to the matching points) rebuild every manifold from the
-narrow phase each step. Every contact names the features it comes from by a *key*, unique
+Box2D v3 (``b2UpdateContact``) and Jolt (``ContactConstraintManager``) rebuild every
+manifold from the narrow phase each step and carry last step's impulses over to the
+matching points. Every contact names the features it comes from by a *key*, unique
 inside its body pair (:data:`pair_rules.RULE_SHIFT`: a box corner on a face, a clipping
-candidate of two faces, a hull vertex on the stage ...), so last step's point at the same
-features is found by comparing keys, not positions. For the rows updated this step:
+candidate of two faces, a hull vertex on the stage ...). For the rows updated this step:
 
-1. warm start: a fresh point whose key equals a cached point's takes that point's
-   impulses ``(normal, tangent1, tangent2)``; keys are unique in a row, so this is one
-   comparison of every fresh key with the row's (at most four) cached keys. A rolling
-   point (``max_points == 1``, a sphere) always takes the cached point's impulses;
-2. a row with more fresh points than it keeps: the supporting polygon
-   (:func:`manifold_merge.select_with_corners`), points whose key matched a cached one
+1. a row with more fresh points than it keeps: the supporting polygon
+   (:func:`manifold_merge.select_with_corners`), points whose key a cached point has
    winning near-ties (hysteresis: a face resting on many coplanar candidates keeps the
-   same four from step to step);
-3. the fresh points replace the row's points (anchors in the body frames, as stored).
+   same four from step to step; keys are unique in a row, so this is one comparison of
+   every fresh key with the row's at most four cached keys);
+2. the fresh points replace the row's points (anchors in the body frames, as stored);
+3. warm start as Jolt's: each fresh point, in slot order, takes the impulses ``(normal,
+   tangent1, tangent2)`` of the nearest unused cached point closer than the row's feature
+   length in B's frame (:func:`manifold_merge.inherit_impulses`: B's anchor names B's
+   feature, a box corner, which keeps its load while it slides); a rolling point
+   (``max_points == 1``, a sphere) always takes the cached point's. Matching the impulses
+   by key instead (Box2D v3's ids) was measured worse: a pair's keys change when the
+   reference face passes from one box to the other or the pair goes from the clipping to
+   the deep-overlap rule, and the impacts of the falling columns then lost their warm
+   start (``docs/physics_performance.md``).
 
 Against the merge (:mod:`manifold_merge`, kept for pairs with a capsule, whose contacts
 are one or two closest points a step and build a manifold up over steps): no refresh of
@@ -35,6 +39,7 @@ from .manifold_merge import (
     FreshPoints,
     LocalPoints,
     RowFrames,
+    inherit_impulses,
     masked_argmax,
     per_row,
     select_with_corners,
@@ -59,30 +64,28 @@ def keyed_points(
     (their ``count`` first slots valid), ``cached_key (r, S)`` their keys; ``max_points``
     and ``feature (r,)``: each row's point capacity and feature length (m).
     """
-    r, width = fresh.valid.shape
-    # 1. warm start by key: same[r, j, i] = fresh j has cached i's key
-    same = (key[:, :, None] == cached_key[:, None, :]) & cached.valid[:, None, :]
-    matched = same.any(axis=2)
-    data = np.zeros((r, width, 4, 3))  # point_a, point_b, normal (world), impulse
-    data[:, :, :3] = fresh.data
-    data[:, :, 3] = np.where(matched[..., None], per_row(cached.impulse, same.argmax(axis=2)), 0.0)
-    valid = fresh.valid
-    # 2. too many points: the supporting polygon, cached keys winning near-ties
+    data, valid = fresh.data, fresh.valid  # point_a, point_b, normal (world)
+    # 1. too many points: the supporting polygon, the features of last step winning ties
     too_many = valid.sum(axis=1) > max_points
     if too_many.any():
-        data, valid, key = _support(data, valid, key, matched, too_many, max_points, feature)
-    # a rolling point keeps the impulses of the cached one, whatever its key
-    rolling = max_points == 1
-    if rolling.any():
-        data[rolling, 0, 3] = np.where(cached.valid[rolling, :1], cached.impulse[rolling, 0], 0.0)
-    # 3. world points -> body-frame anchors R^T (p - x) and A's normal R_a^T n, one einsum
+        # known[r, j]: fresh j has the key of a valid cached point
+        same = (key[:, :, None] == cached_key[:, None, :]) & cached.valid[:, None, :]
+        data, valid, key = _support(
+            data, valid, key, same.any(axis=2), too_many, max_points, feature
+        )
+    # 2. world points -> body-frame anchors R^T (p - x) and A's normal R_a^T n, one einsum
+    r, width = valid.shape
     offset = np.zeros((r, 1, 3, 3))
     offset[:, 0, :2] = frames.position
-    data[:, :, :3] = np.einsum("rfji,rsfj->rsfi", frames.rotation, data[:, :, :3] - offset)
-    return LocalPoints(data, valid), key
+    local = np.zeros((r, width, 4, 3))  # local_a, local_b, normal_local, impulse (0)
+    local[:, :, :3] = np.einsum("rfji,rsfj->rsfi", frames.rotation, data - offset)
+    points = LocalPoints(local, valid)
+    # 3. warm start: the nearest unused cached point in B's frame (and rolling points)
+    inherit_impulses(points, cached, max_points, feature)
+    return points, key
 
 
-def _support(data, valid, key, matched, too_many, max_points, feature):
+def _support(data, valid, key, known, too_many, max_points, feature):
     """``data, valid, key`` of every row cut to ``SLOTS`` slots: the rows ``too_many``
     keep their supporting polygon's points (in slot order), the others their first points."""
     over = too_many.nonzero()[0]  # only these rows choose (each row on its own)
@@ -97,7 +100,7 @@ def _support(data, valid, key, matched, too_many, max_points, feature):
         normal[np.arange(len(over)), deepest],
         max_points[over],
         valid[over],
-        matched[over],
+        known[over],
         support_band(feature[over]),
     )
     order = (~chosen).argsort(axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order

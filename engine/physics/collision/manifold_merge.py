@@ -75,9 +75,12 @@ class FreshPoints:
         return FreshPoints.of(per_row(self.data, index), valid)
 
     def rows(self, mask: np.ndarray) -> FreshPoints:
-        """The rows flagged by ``mask (r,)``, with their keys."""
-        out = FreshPoints.of(self.data[mask], self.valid[mask])
-        out.key = self.key[mask]
+        """The rows flagged by ``mask (r,)``, with their keys, padded to their own longest
+        row (the merge reads a width above ``SLOTS`` as a row with too many points)."""
+        valid = self.valid[mask]
+        width = max(int(valid.sum(axis=1).max(initial=0)), 1)
+        out = FreshPoints.of(self.data[mask, :width], valid[:, :width])
+        out.key = self.key[mask, :width]
         return out
 
     @staticmethod

@@ -128,7 +128,8 @@ class ContactBatch:
         if result is not None and len(result[0]):
             k = len(result[0])
             local = np.arange(k)
-            self.add(np.full(k, seq), local, *result, feature=local + first_feature)
+            point_a, point_b, normal = result
+            self.add(np.full(k, seq), local, point_a, point_b, normal, local + first_feature)
 
     def sorted(self, pair_of_seq: np.ndarray, first_seq: np.ndarray | None = None):
         """Flat ``(pair_position, point_a, point_b, normal, key)`` in sequence order;

@@ -13,7 +13,8 @@ Sub-stages, in order:
    ``AABB_MARGIN`` (the stage also by ``STAGE_SPECULATIVE_DISTANCE``), then the overlapping
    pairs ``(p, 2)`` with at least one moving body and at least one dynamic body;
 2. box pre-test (:func:`separated_box_pairs`): pairs with no manifold whose body-frame boxes
-   (oriented, exact) are disjoint skip the narrow phase;
+   (oriented, exact) are disjoint skip the narrow phase; pairs of two one-box bodies skip
+   the test (their analytic contacts run the same separating-axis test anyway);
 3. contact cache (:func:`changed_pairs`, ``settings.contact_cache``): a pair with a
    manifold whose relative pose moved less than ``CONTACT_CACHE_DISTANCE`` since its last
    narrow-phase query, and whose points overlap by at most ``SLEEP_MAX_PENETRATION``,
@@ -30,7 +31,7 @@ Sub-stages, in order:
 
 from __future__ import annotations
 
-from itertools import compress
+from itertools import compress, filterfalse
 
 import numpy as np
 
@@ -69,7 +70,15 @@ def collision_stage(
     # ---- 1. broad phase: AABB pairs with a moving, dynamic member -------------------------
     pairs, active = timer.run("broad phase", broad_phase, bodies, rotation)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
-    touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
+    touching = timer.run(
+        "broad phase",
+        touching_candidates,
+        bodies,
+        store,
+        pairs,
+        rotation,
+        objects.single_box,
+    )
     # ---- 3. contact cache: pairs that barely moved relative to each other keep their
     #         manifold as it is (no narrow phase, no manifold update) -----------------------
     if settings.contact_cache:
@@ -182,18 +191,30 @@ def update_world_aabbs(bodies: Bodies, rotation: np.ndarray | None = None) -> No
 
 
 def touching_candidates(
-    bodies: Bodies, store: ManifoldStore, pairs: np.ndarray, rotation: np.ndarray
+    bodies: Bodies,
+    store: ManifoldStore,
+    pairs: np.ndarray,
+    rotation: np.ndarray,
+    single_box: np.ndarray | None = None,
 ) -> list[tuple[int, int]]:
     """The pairs ``[(a, c), ...]`` for the narrow phase: ``pairs`` minus those without a
     manifold whose body-frame boxes are disjoint (:func:`separated_box_pairs`).
 
     The box test costs a fixed ~40 NumPy calls, so it runs only when at least
-    ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped.
+    ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped. ``single_box (n,)``: the bodies of
+    one box shape (``CollisionObjects.single_box``); a pair of two is not tested: its
+    analytic contacts (:mod:`box_box`) run the exact separating-axis test anyway, and a
+    pair this test finds apart (boxes grown by ``AABB_MARGIN``: more than 10 mm apart on
+    some axis) has no contact there either (``SPECULATIVE_DISTANCE``, 4 mm), so the
+    manifolds are the same, without the test's calls.
     """
     first = pairs[:, 0].tolist()
     pair_list = list(zip(first, pairs[:, 1].tolist(), strict=True))  # (a, c), built in C
     known = np.array(store.rows_of(pair_list, -1), dtype=np.int64)  # -1: no manifold
-    check = np.flatnonzero((known < 0) & (pairs[:, 0] != STAGE_ID))
+    testable = (known < 0) & (pairs[:, 0] != STAGE_ID)
+    if single_box is not None:
+        testable &= ~(single_box[pairs[:, 0]] & single_box[pairs[:, 1]])
+    check = np.flatnonzero(testable)
     if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
     keep = np.ones(len(pair_list), dtype=bool)
@@ -340,14 +361,13 @@ def drop_stale_manifolds(
 ) -> None:
     """Delete the manifolds of pairs that left the broad phase while one of them moved
     (or died); a sleeping pair keeps its manifold for when it wakes."""
-    b, n = bodies, bodies.count
-    rows = store.rows()
-    a, c = store.bodies[rows, 0], store.bodies[rows, 1]
-    # a pair (a, c) as the single integer a n + c; the broad phase's pairs are sorted by
-    # (a, c), so their codes are ascending and a binary search finds each manifold's pair
-    listed_codes, codes = pairs[:, 0] * n + pairs[:, 1], a * n + c
-    found = np.minimum(np.searchsorted(listed_codes, codes), max(len(listed_codes) - 1, 0))
-    listed = listed_codes[found] == codes if len(listed_codes) else np.zeros(len(rows), bool)
-    moved = active[a] | active[c] | ~b.body_alive[a] | ~b.body_alive[c]
-    for key in store.bodies[rows[~listed & moved]].tolist():
-        del store[tuple(key)]
+    # the manifolds whose pair is not among the broad phase's (a set of (a, c) tuples,
+    # built and searched in C: a hash lookup per manifold, no NumPy call per step)
+    listed = set(zip(pairs[:, 0].tolist(), pairs[:, 1].tolist(), strict=True))
+    unlisted = list(filterfalse(listed.__contains__, store))  # in insertion order
+    if not unlisted:
+        return
+    ends = np.array(unlisted, dtype=np.int64)  # (k, 2)
+    moved = active[ends].any(axis=1) | ~bodies.body_alive[ends].all(axis=1)
+    for k in np.flatnonzero(moved).tolist():
+        del store[unlisted[k]]

@@ -109,18 +109,19 @@ def keyed_manifold(
     max_points: int,
     feature: float = settings.CONTACT_MATCH_DISTANCE,
 ) -> list[ManifoldPoint]:
-    """One feature-keyed manifold's step (Box2D v3's ``b2UpdateContact``): the fresh
-    contacts (``Contact.feature`` holding each one's key) become the manifold.
+    """One fresh manifold's step (Box2D v3's ``b2UpdateContact``, Jolt's warm start): the
+    fresh contacts (``Contact.feature`` holding each one's key) become the manifold.
 
     Mirrors :func:`keyed_manifolds.keyed_points` for one row:
 
-    1. a fresh point takes the impulses of the cached point with its key;
-    2. more than ``max_points``: the supporting polygon (:func:`select_with_corners`),
-       points with a cached key winning near-ties;
-    3. a rolling point (``max_points == 1``) takes the cached point's impulses.
+    1. more than ``max_points``: the supporting polygon (:func:`select_with_corners`),
+       points with a cached point's key winning near-ties;
+    2. each fresh point, in order, takes the impulses of the nearest unused cached point
+       closer than ``feature`` in B's frame; a rolling point (``max_points == 1``) the
+       cached point's (:func:`_inherit_impulses`, the merge's rule).
     """
-    by_key = {point.key: point for point in cached}
-    matched = [contact.feature in by_key for contact in fresh]
+    cached_keys = {point.key for point in cached}
+    matched = [contact.feature in cached_keys for contact in fresh]
     chosen = list(range(len(fresh)))
     if len(fresh) > max_points:
         depths = [c.depth for c in fresh]
@@ -139,11 +140,9 @@ def keyed_manifold(
     points = []
     for i in chosen:
         c = fresh[i]
-        impulse = by_key[c.feature].impulse.copy() if matched[i] else np.zeros(3)
         local = (unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb), unrotate(ra, c.normal))
-        points.append(ManifoldPoint(*local, impulse, c.feature))
-    if max_points == 1 and points:  # a rolling point keeps the cached one's impulses
-        points[0].impulse = cached[0].impulse.copy() if cached else np.zeros(3)
+        points.append(ManifoldPoint(*local, np.zeros(3), c.feature))
+    _inherit_impulses(points, cached, max_points, feature)
     return points
 
 

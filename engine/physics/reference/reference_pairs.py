@@ -40,7 +40,8 @@ def as_contacts(result) -> list[Contact]:
     """``(point_a, point_b, normal)`` arrays ``(k, 3)`` (or None) as a list of contacts."""
     if result is None:
         return []
-    return [Contact(*point, k) for k, point in enumerate(zip(*result, strict=True))]
+    point_a, point_b, normal = result
+    return [Contact(point_a[k], point_b[k], normal[k], k) for k in range(len(point_a))]
 
 
 # ------------------------------------------------------------------------------------------
