@@ -20,11 +20,12 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
-Feature-keyed rows: a row whose pair's contacts are a whole manifold every step (every
-pair without a capsule: boxes, hulls, spheres, the stage; ``keyable (R,)``) skips steps
-1-3 when ``SolverSettings.feature_manifolds`` is on: its points are this step's fresh
-points, warm-started from the cached point with the same feature key (``point_key (R,
-S)``), :mod:`keyed_manifolds` (Box2D v3's and Jolt's manifolds).
+Fresh rows: a row whose pair's contacts are a whole manifold every step (every pair
+without a capsule: boxes, hulls, spheres, the stage; ``keyable (R,)``) skips steps 1-3
+when ``SolverSettings.feature_manifolds`` is on: its points are this step's fresh points,
+cut to four with the points at last step's feature keys (``point_key (R, S)``) winning
+near-ties, warm-started from the nearest cached point in B's frame
+(:mod:`keyed_manifolds`, Box2D v3's and Jolt's manifolds).
 
 Small bodies: every row has a *feature length* ``f`` (:func:`feature_length`), a quarter of
 the thinnest body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE``. The match, drift
@@ -337,7 +338,8 @@ class ManifoldStore(MutableMapping):
         self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray, fresh: FreshPoints
     ) -> None:
         """The manifolds ``rows`` become their fresh points (``fresh``, padded per row, with
-        their keys), warm-started by key (:func:`keyed_manifolds.keyed_points`).
+        their keys), cut to four by keys and warm-started from the cached points
+        (:func:`keyed_manifolds.keyed_points`).
 
         Reference: :func:`reference_manifolds.keyed_manifold`, one row at a time (tested)."""
         if len(rows) == 0:

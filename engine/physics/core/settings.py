@@ -73,11 +73,12 @@ class SolverSettings:
         stay attached to the bodies, the solver recomputes their depths from the current
         poses). Off: every pair is queried every step.
     feature_manifolds : bool
-        Rebuild every manifold from this step's contacts, warm-started from last step's
-        points with the same feature keys (True, Box2D v3's and Jolt's way:
-        :mod:`keyed_manifolds`), instead of merging the fresh points into persistent
-        manifolds (False, Bullet's ``btPersistentManifold``: :mod:`manifold_merge`). Pairs
-        with a capsule always merge (their contacts build up over steps).
+        Rebuild every manifold from this step's contacts, cut to four with last step's
+        feature keys winning near-ties and warm-started from the nearest cached points
+        (True, Box2D v3's and Jolt's way: :mod:`keyed_manifolds`), instead of merging the
+        fresh points into persistent manifolds (False, Bullet's ``btPersistentManifold``:
+        :mod:`manifold_merge`). Pairs with a capsule always merge (their contacts build up
+        over steps).
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
