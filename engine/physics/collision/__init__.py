@@ -15,7 +15,7 @@ What is here, in reading order (the collision stage that runs them is
 3. manifolds: ``contacts.py`` (``ManifoldStore``: up to four points per body pair, kept
    across steps), ``keyed_manifolds.py`` (fresh manifolds: a step's points cut to four by
    feature keys, warm-started from the cached points), ``manifold_merge.py`` (the merge of
-   fresh points into persistent manifolds: capsule pairs, or with the switch off),
+   fresh points into persistent manifolds: stage and capsule pairs, or the switch off),
    ``manifold_rows.py`` (a new row for a pair that first touches).
 
 May import: ``core``. Never ``solver`` (the two are independent), ``reference``,

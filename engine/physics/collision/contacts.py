@@ -20,8 +20,8 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
-Fresh rows: a row whose pair's contacts are a whole manifold every step (every pair
-without a capsule: boxes, hulls, spheres, the stage; ``keyable (R,)``) skips steps 1-3
+Fresh rows: a row whose pair's contacts are a whole manifold every step (every pair of
+two bodies without a capsule: boxes, hulls, spheres; ``keyable (R,)``) skips steps 1-3
 when ``SolverSettings.feature_manifolds`` is on: its points are this step's fresh points,
 cut to four with the points at last step's feature keys (``point_key (R, S)``) winning
 near-ties, warm-started from the nearest cached point in B's frame

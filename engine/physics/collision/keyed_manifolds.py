@@ -22,8 +22,8 @@ candidate of two faces, a hull vertex on the stage ...). For the rows updated th
    the deep-overlap rule, and the impacts of the falling columns then lost their warm
    start (``docs/physics_performance.md``).
 
-Against the merge (:mod:`manifold_merge`, kept for pairs with a capsule, whose contacts
-are one or two closest points a step and build a manifold up over steps): no refresh of
+Against the merge (:mod:`manifold_merge`, kept for the stage's pairs and pairs with a
+capsule, :mod:`manifold_rows`): no refresh of
 cached points, no drop of near points, no distance matching with greedy loops, no
 reduction of cached and fresh points together.
 

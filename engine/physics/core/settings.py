@@ -77,8 +77,8 @@ class SolverSettings:
         feature keys winning near-ties and warm-started from the nearest cached points
         (True, Box2D v3's and Jolt's way: :mod:`keyed_manifolds`), instead of merging the
         fresh points into persistent manifolds (False, Bullet's ``btPersistentManifold``:
-        :mod:`manifold_merge`). Pairs with a capsule always merge (their contacts build up
-        over steps).
+        :mod:`manifold_merge`). Pairs with the stage or a capsule always merge (see
+        :mod:`manifold_rows`).
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
