@@ -146,6 +146,7 @@ def test_batched_rows_match_the_plain_twin_on_a_random_history():
 def test_the_step_keeps_keys_of_a_resting_turned_box_and_carries_its_load(monkeypatch):
     monkeypatch.setattr(settings, "TIME_TO_SLEEP", float("inf"))  # stepped to the end
     world, templates = make_world()
+    world.settings.feature_manifolds = True
     world.settings.contact_cache = False  # ask the narrow phase every step
     handle = register_primitive(templates, "cubeSolid", (0.1, 0.1, 0.1))
     lower = add(world, templates, handle, [0.0, 0.1, 0.0])
