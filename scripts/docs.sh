@@ -7,6 +7,7 @@
 #   bash scripts/docs.sh --fast           # the notebooks' fast mode (about 4 min)
 #   bash scripts/docs.sh --executed DIR   # reuse notebooks already executed in DIR
 #   bash scripts/docs.sh --out DIR        # another output folder
+#   bash scripts/docs.sh --jobs 1         # Sphinx in one process (default: one per core)
 #
 # It installs what it needs into ./.venv (created where missing) every time, so it works
 # after scripts/test.sh or scripts/tutorial.sh made the venv with other extras. With PYTHON

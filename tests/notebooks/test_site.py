@@ -83,7 +83,10 @@ def site_build(
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
     done = subprocess.run(
         ["bash", "scripts/docs.sh", "--fast", "--executed", str(executed_notebooks)]
-        + ["--out", str(out)],
+        # one Sphinx process: the suite's other workers keep the cores busy, and Sphinx's
+        # parallel build spends about a fifth more CPU (pickling its environment between
+        # processes) for no gain in time then
+        + ["--out", str(out), "--jobs", "1"],
         cwd=ROOT,
         env=env,
         capture_output=True,
