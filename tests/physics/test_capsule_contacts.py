@@ -195,7 +195,7 @@ def test_batched_capsule_contacts_match_the_reference_twin():
     )
     for job, context in pairs:
         reference = capsule_pair(job, context)
-        _, point_a, point_b, normal = batched([job], context)
+        _, point_a, point_b, normal, _ = batched([job], context)
         assert len(reference) == len(point_a)
         for contact, pa, pb, n in zip(reference, point_a, point_b, normal, strict=True):
             np.testing.assert_allclose(contact.point_a, pa, atol=1e-12)

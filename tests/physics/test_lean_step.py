@@ -90,7 +90,7 @@ def test_job_filing_matches_one_walk_over_the_pairs():
     )
     pairs = [(0, 1), (0, 5), (1, 2), (1, 5), (2, 3), (0, 6), (3, 4), (5, 6), (4, 5), (0, 2)]
     jobs = {rule.name: [] for rule in PAIR_TABLE.rules}
-    pair_of_seq = _file_jobs(objects, pairs, jobs)
+    pair_of_seq, first_seq = _file_jobs(objects, pairs, jobs)
     # the plain walk: pairs in order, A's shapes, then B's
     expected = {rule.name: [] for rule in PAIR_TABLE.rules}
     expected_pairs = []
@@ -101,6 +101,8 @@ def test_job_filing_matches_one_walk_over_the_pairs():
                 expected[PAIR_TABLE.rule_for(shape_a.kind, shape_c.kind).name].append(job)
                 expected_pairs.append(position)
     assert pair_of_seq.tolist() == expected_pairs
+    # each pair's first job (the contact keys count shape pairs from it)
+    assert first_seq.tolist() == [expected_pairs.index(k) for k in range(len(pairs))]
     assert {k: [tuple(j)[:8] for j in v] for k, v in jobs.items()} == expected
 
 

@@ -77,7 +77,7 @@ def candidate_pairs(world):
 def test_batched_narrow_phase_matches_the_per_pair_reference(seconds):
     world = tumbling_world(seconds)
     pairs, rotation = candidate_pairs(world)
-    position, point_a, point_b, normal = narrow_phase(
+    position, point_a, point_b, normal, _ = narrow_phase(
         world.bodies, world.collision_objects, world.manifolds, pairs, rotation
     )
     n_points = 0
@@ -366,7 +366,7 @@ def test_an_edge_job_on_the_stage_takes_fcls_points_with_its_first_triangles_nor
     assert pairs == [(0, body.object_id)]
     lowest = (rotation[1] @ np.array([1.0, 1.0, 1.0]) * 0.1)[1] + corner_down
     assert lowest == pytest.approx(0.025, abs=1e-9)  # the corner really points down
-    position, point_a, point_b, normal = narrow_phase(
+    position, point_a, point_b, normal, _ = narrow_phase(
         world.bodies, world.collision_objects, world.manifolds, pairs, rotation
     )
     reference = pair_contacts(

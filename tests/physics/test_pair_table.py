@@ -105,7 +105,7 @@ def test_batched_round_contacts_match_the_per_pair_reference(seconds):
     world = round_world()
     run(world, seconds)
     pairs, rotation = candidate_pairs(world)
-    position, point_a, point_b, normal = narrow_phase(
+    position, point_a, point_b, normal, _ = narrow_phase(
         world.bodies, world.collision_objects, world.manifolds, pairs, rotation
     )
     rules_seen = set()

@@ -133,7 +133,7 @@ def test_vertex_in_a_floor_wall_corner_gets_both_surfaces_on_both_paths():
     rotation = quat_to_matrix(b.body_rotation[: b.count])
     update_world_aabbs(b, rotation)
     objects.move(b, np.arange(1, b.count), rotation[1:])
-    _, point_a, point_b, normal = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
+    _, point_a, point_b, normal, _ = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
     reference = pair_contacts(b, objects, world.manifolds, 0, 1, rotation)
     assert len(reference) == len(normal)
     for contact, a, p, n in zip(reference, point_a, point_b, normal, strict=True):

@@ -13,7 +13,10 @@ What is here, in reading order (the collision stage that runs them is
    axes and clipping), ``batched_pairs.py``, ``batched_stage.py`` (hulls on the stage mesh),
    ``capsule_contacts.py`` (capsules and spheres, batched and per pair);
 3. manifolds: ``contacts.py`` (``ManifoldStore``: up to four points per body pair, kept
-   across steps), ``manifold_merge.py`` (fresh points into the manifolds),
+   across steps), ``keyed_manifolds.py`` (fresh manifolds, ``feature_manifolds=True``: a
+   step's points cut to four by feature keys, warm-started from the cached points),
+   ``manifold_merge.py`` (the merge of fresh points into persistent manifolds: the
+   default, and always for stage and capsule pairs),
    ``manifold_rows.py`` (a new row for a pair that first touches).
 
 May import: ``core``. Never ``solver`` (the two are independent), ``reference``,

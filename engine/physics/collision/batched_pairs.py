@@ -39,7 +39,14 @@ from .contact_helpers import (
     to_world,
 )
 from .contacts import tie_key
-from .pair_rules import ContactBatch, JobColumns, PairContext, PairJob, job_columns
+from .pair_rules import (
+    FCL_FEATURE,
+    ContactBatch,
+    JobColumns,
+    PairContext,
+    PairJob,
+    job_columns,
+)
 
 
 def box_pair_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
@@ -83,8 +90,8 @@ def _analytic_boxes(column: JobColumns, analytic, a, c, context, out: ContactBat
     # the face and the edge contacts as two chunks: the batch sorts by (job, candidate)
     parts, deep = box_box_parts(*frames)
     seq = np.array(column.seq, dtype=np.int64)[analytic]
-    for pair, local, point_a, point_b, normal in parts:
-        out.add(seq[pair], local, point_a, point_b, normal)
+    for pair, local, point_a, point_b, normal, feature in parts:
+        out.add(seq[pair], local, point_a, point_b, normal, feature)
     return deep
 
 
@@ -182,7 +189,7 @@ def _polyhedron_group(jobs, rotation, position, contacts: ContactBatch, bodies) 
             contacts.add(seq[g], local, verts[g, v], on_face, contact_normal)
     for k in np.flatnonzero(~found).tolist():  # no face faces the other body: fcl's points
         mid, normals, depths, _ = contact_arrays(jobs[k].records)
-        contacts.add_one(seq[k], midpoint_contacts(mid, normals, depths))
+        contacts.add_one(seq[k], midpoint_contacts(mid, normals, depths), FCL_FEATURE)
 
 
 def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):

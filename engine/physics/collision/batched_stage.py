@@ -62,7 +62,7 @@ from .contact_helpers import (
     to_world,
     triangle_table,
 )
-from .pair_rules import ContactBatch, PairContext, PairJob
+from .pair_rules import FCL_FEATURE, ContactBatch, PairContext, PairJob
 from .stage_grid import stage_grid
 
 #: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)``, their
@@ -124,7 +124,7 @@ def _add_fcl_points(
     mid, _, depths, _ = contact_arrays(records)
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
     depths = np.minimum(depths, -heights.min())
-    out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths))
+    out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths), FCL_FEATURE)
 
 
 def nearby_triangles(jobs: list[PairJob], context: PairContext) -> tuple[np.ndarray, np.ndarray]:

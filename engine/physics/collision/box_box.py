@@ -35,6 +35,13 @@ overlaps are tested to push piles apart without driving the lowest bodies into t
   crossings only strictly inside both edges.
 * **Edge axis**: one point, the closest points of the two supporting edges (Ericson 5.1.9).
 
+Every contact has a *feature number* naming the features it comes from (Box2D v3's
+contact ids), the same at the same features in the next step: a face contact's candidate
+index ``k`` (0-23) plus ``FACE_CANDIDATES`` times the face code ``6 axis + 2 j + f`` (the
+reference face's axis, the incident face's axis ``j`` and side ``f``); an edge contact
+``EDGE_FEATURE + axis``. The feature-keyed manifolds (:mod:`keyed_manifolds`) match
+last step's warm start by it.
+
 Contacts come back flat (pair index, candidate index, ``point_a``, ``point_b``, ``normal``,
 ``depth = (point_a - point_b) . normal``) in pair order, then candidate order: the order
 of the per-pair reference :func:`reference_box_box.box_box_contacts_reference`, which this
@@ -55,6 +62,14 @@ CORNER_SIGNS = np.array([[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]])
 NEXT, AFTER = np.array([1, 2, 0]), np.array([2, 0, 1])
 #: the next corner of a quad, k+1 (mod 4).
 FOLLOWING = np.array([1, 2, 3, 0])
+#: the other two axes of axis k: k + 1 and k + 2 (mod 3)
+OTHER_AXES = np.array([[1, 2], [2, 0], [0, 1]])
+#: a 2D vector times this is its left perpendicular: (x, y) -> (-y, x)
+PERPENDICULAR = np.array([[0.0, 1.0], [-1.0, 0.0]])
+#: clipping candidates per face pair, and the feature number of the first edge contact
+#: (after every face code's candidates: 36 face codes)
+FACE_CANDIDATES = 24
+EDGE_FEATURE = 36 * FACE_CANDIDATES
 
 
 def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
@@ -123,15 +138,15 @@ def box_box_contacts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     parts, deep = box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b)
     if len(parts) < 2:
         empty = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), *[np.zeros((0, 3))] * 3
-        return *(parts[0] if parts else empty), deep
-    pair, local, point_a, point_b, normal = (np.concatenate(p) for p in zip(*parts, strict=True))
+        return *(parts[0][:5] if parts else empty), deep
+    pair, local, point_a, point_b, normal, _ = (np.concatenate(p) for p in zip(*parts, strict=True))
     order = np.lexsort((local, pair))  # by pair, then by candidate
     return pair[order], local[order], point_a[order], point_b[order], normal[order], deep
 
 
 def box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     """:func:`box_box_contacts` before its merge: ``parts``, a list of at most two
-    ``(pair, local, point_a, point_b, normal)`` tuples (the face pairs' contacts, the edge
+    ``(pair, local, point_a, point_b, normal, feature)`` tuples (the face pairs' contacts, the edge
     pairs'), each in (pair, candidate) order, no pair in both, and ``deep (g,)``. A caller
     that sorts all its contacts by (pair, candidate) anyway (the narrow phase's
     :class:`~pair_rules.ContactBatch`) takes the parts as they are and saves the merge
@@ -172,49 +187,39 @@ def _face_contacts(pairs, axis, normal, frames):
     n_ref = np.where(pick, normal, -normal)  # out of the reference face, towards I
     i = axis % 3
     face_center = center_r + half_r[g, i][:, None] * n_ref
-    k1, k2 = (i + 1) % 3, (i + 2) % 3
-    tangent_u, tangent_v = axes_r[g, k1], axes_r[g, k2]
-    extent = np.stack([half_r[g, k1], half_r[g, k2]], axis=1)  # (g, 2) rectangle half sizes
+    # the reference rectangle: its axes U, V (rows of tangents) and half sizes
+    g_column = g[:, None]
+    in_face = OTHER_AXES[i]  # (g, 2): i + 1, i + 2 (mod 3)
+    tangents, extent = axes_r[g_column, in_face], half_r[g_column, in_face]  # (g, 2, 3), (g, 2)
     # incident face: the face of I most anti-parallel to n_ref, outward normal m
     alignment = _apply(axes_i, n_ref)  # b_k . n_ref
     j = tie_key(np.abs(alignment)).argmax(axis=1)
-    m = -np.where(alignment[g, j] >= 0.0, 1.0, -1.0)[:, None] * axes_i[g, j]
-    incident_center = center_i + half_i[g, j][:, None] * m
-    j1, j2 = (j + 1) % 3, (j + 2) % 3
-    side_1 = axes_i[g, j1] * half_i[g, j1][:, None]
-    side_2 = axes_i[g, j2] * half_i[g, j2][:, None]
-    # incident corners f + s1 A1 + s2 A2 in CORNER_SIGNS order, (g, 4, 3)
-    corners = (
-        incident_center[:, None]
-        + CORNER_SIGNS[None, :, 0, None] * side_1[:, None]
-        + CORNER_SIGNS[None, :, 1, None] * side_2[:, None]
-    )
-    relative = corners - face_center[:, None]
-    quad = np.stack(
-        [
-            _apply(relative, tangent_u),
-            _apply(relative, tangent_v),
-        ],
-        axis=2,
-    )  # (g, 4, 2) the incident quad in the reference face's 2D frame
+    facing = alignment[g, j] >= 0.0  # the incident face is on I's -b_j side
+    m = -np.where(facing, 1.0, -1.0)[:, None] * axes_i[g, j]
+    offset = center_i + half_i[g, j][:, None] * m - face_center  # f - o, incident face center
+    # its corners f + s1 A1 + s2 A2 in CORNER_SIGNS order, relative to o, (g, 4, 3), with
+    # the half sides A1, A2 (rows of sides) along axes j + 1, j + 2 of I
+    across = OTHER_AXES[j]
+    sides = axes_i[g_column, across] * half_i[g_column, across][..., None]
+    corners = offset[:, None] + CORNER_SIGNS @ sides
+    quad = corners @ tangents.transpose(0, 2, 1)  # (g, 4, 2) in the reference face's 2D frame
     uv, valid = clip_candidates(quad, extent)
     # the incident face plane m . x = m . f seen from p_ref = o + u U + v V along n_ref:
     # p_inc = p_ref + t n_ref with t = (m . (f - o) - u m . U - v m . V) / (m . n_ref);
     # the point lies -t behind the reference face (its depth)
     along = (m * n_ref).sum(axis=1)  # m . n_ref, at most -1/sqrt(3)
-    base = (m * (incident_center - face_center)).sum(axis=1)
-    slope_u, slope_v = (m * tangent_u).sum(axis=1), (m * tangent_v).sum(axis=1)
-    t = (base[:, None] - uv[..., 0] * slope_u[:, None] - uv[..., 1] * slope_v[:, None]) / along[
-        :, None
-    ]
+    base = (m * offset).sum(axis=1)
+    slope = _apply(tangents, m)  # (g, 2): m . U, m . V
+    t = (base[:, None] - (uv @ slope[:, :, None])[..., 0]) / along[:, None]
     valid &= -t > -settings.SPECULATIVE_DISTANCE
     k_g, k_c = np.nonzero(valid)
-    u, v, t = uv[k_g, k_c, 0, None], uv[k_g, k_c, 1, None], t[k_g, k_c, None]
-    p_ref = face_center[k_g] + u * tangent_u[k_g] + v * tangent_v[k_g]
-    p_inc = p_ref + t * n_ref[k_g]
+    p_ref = face_center[k_g] + (uv[k_g, k_c, None] @ tangents[k_g])[:, 0]  # o + u U + v V
+    p_inc = p_ref + t[k_g, k_c, None] * n_ref[k_g]
     point_a = np.where(pick[k_g], p_ref, p_inc)
     point_b = np.where(pick[k_g], p_inc, p_ref)
-    return pairs[k_g], k_c, point_a, point_b, normal[k_g]
+    face_code = 6 * axis + 2 * j + facing  # reference face, incident face and its side
+    feature = k_c + FACE_CANDIDATES * face_code[k_g]
+    return pairs[k_g], k_c, point_a, point_b, normal[k_g], feature
 
 
 def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -228,7 +233,7 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     grown = extent[:, None] + settings.SPECULATIVE_DISTANCE
     quad_inside = (np.abs(quad) <= grown).all(axis=2)
     # 4-7: the rectangle's corners inside the quad: on the inner side of its 4 edges
-    rect = CORNER_SIGNS[None] * extent[:, None]  # (g, 4, 2)
+    rect = CORNER_SIGNS * extent[:, None]  # (g, 4, 2)
     following = quad[:, FOLLOWING]  # q_{k+1}
     edge = following - quad  # q_{k+1} - q_k, (g, 4, 2)
     # twice the quad's signed area: its orientation (+1 counter-clockwise)
@@ -237,10 +242,12 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     )
     orientation = np.where(area >= 0.0, 1.0, -1.0)
     to_corner = rect[:, :, None] - quad[:, None]  # r_c - q_k, (g, 4 corners, 4 edges, 2)
-    # 2D cross product e_k x (r_c - q_k), (g, 4, 4)
-    cross = edge[:, None, :, 0] * to_corner[..., 1] - edge[:, None, :, 1] * to_corner[..., 0]
+    # 2D cross product e_k x (r_c - q_k) = (r_c - q_k) . perp(e_k), times the orientation
+    # (the same products and sum as e_x r_y - e_y r_x), (g, 4, 4)
+    inward = (edge @ PERPENDICULAR) * orientation[:, None, None]
+    cross = (to_corner * inward[:, None]).sum(axis=3)
     edge_length = np.sqrt((edge * edge).sum(axis=2))
-    rect_inside = (cross * orientation[:, None, None] >= -tol * edge_length[:, None]).all(axis=2)
+    rect_inside = (cross >= -tol * edge_length[:, None]).all(axis=2)
     # a rectangle corner on a kept quad corner is that corner already (an aligned stack)
     on_corner = (to_corner * to_corner).sum(axis=3) < settings.BOX_DUPLICATE_DISTANCE**2
     rect_inside &= ~(on_corner & quad_inside[:, None, :]).any(axis=2)
@@ -310,4 +317,5 @@ def _edge_contacts(pairs, axis, normal, frames):
     point_b = mid_b + t[:, None] * dir_b
     keep = ((point_a - point_b) * normal).sum(axis=1) > -settings.SPECULATIVE_DISTANCE
     k = np.flatnonzero(keep)
-    return pairs[k], np.zeros(len(k), dtype=np.int64), point_a[k], point_b[k], normal[k]
+    local = np.zeros(len(k), dtype=np.int64)
+    return pairs[k], local, point_a[k], point_b[k], normal[k], EDGE_FEATURE + axis[k]

@@ -138,13 +138,13 @@ def capsule_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
     sine = float(np.sqrt(dot(crossing, crossing)))
     apart = crossing / sine if sine > settings.TINY else spread_direction(job.body_a, job.body_b)
     contacts = []
-    for s, t in _closest_parameter_pairs(p1, d1, p2, d2):
+    for k, (s, t) in enumerate(_closest_parameter_pairs(p1, d1, p2, d2)):
         c1, c2 = p1 + s * d1, p2 + t * d2
         delta = c2 - c1
         distance = float(np.sqrt(dot(delta, delta)))
         n = apart if distance <= settings.SPHERE_CENTER_ON_SURFACE else delta / distance
         if distance < r1 + r2 + settings.SPECULATIVE_DISTANCE:
-            contacts.append(Contact(c1 + r1 * n, c2 - r2 * n, n))
+            contacts.append(Contact(c1 + r1 * n, c2 - r2 * n, n, k))
     return contacts
 
 

@@ -114,15 +114,16 @@ def all_pairs_overlaps(
 ) -> np.ndarray:
     """:func:`overlapping_pairs` by brute force: the ``k`` active candidates against all
     ``c`` candidates, one ``(k, c)`` comparison per axis and bound (``O(k c)``)."""
-    movers = candidates[active[candidates]]
+    moving = active[candidates]
+    movers = candidates[moving]
+    # overlap iff lo_m <= hi_c and lo_c <= hi_m on all three axes: the six tests as one
+    # comparison [lo_m; -hi_m] <= [hi_c; -lo_c] of (6, k) with (6, c) bounds, then all six
+    # (the long axes last and contiguous: 2-3x faster than a loop of (k, c) tests per axis
+    # and bound, and than reducing a (k, c, 6) array over its short last axis)
     lo, hi = aabb_min[candidates], aabb_max[candidates]
-    lo_m, hi_m = aabb_min[movers], aabb_max[movers]
-    # overlap iff lo_m <= hi_c and lo_c <= hi_m on all three axes (one (k, c) test per axis:
-    # faster than reducing a (k, c, 3) array over its short last axis)
-    overlap = np.ones((len(movers), len(candidates)), dtype=bool)
-    for axis in range(3):
-        overlap &= lo_m[:, None, axis] <= hi[None, :, axis]
-        overlap &= lo[None, :, axis] <= hi_m[:, None, axis]
+    limits = np.ascontiguousarray(np.concatenate([hi, -lo], axis=1).T)  # (6, c)
+    bounds = np.ascontiguousarray(np.concatenate([lo, -hi], axis=1)[moving].T)  # (6, k)
+    overlap = (bounds[:, :, None] <= limits[:, None]).all(axis=0)  # (k, c)
     im, ic = np.nonzero(overlap)
     a, b = movers[im], candidates[ic]
     # each pair once: two movers meet twice, keep the one seen from the lower index

@@ -20,6 +20,13 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
+Fresh rows: a row whose pair's contacts are a whole manifold every step (every pair of
+two bodies without a capsule: boxes, hulls, spheres; ``keyable (R,)``) skips steps 1-3
+when ``SolverSettings.feature_manifolds`` is on: its points are this step's fresh points,
+cut to four with the points at last step's feature keys (``point_key (R, S)``) winning
+near-ties, warm-started from the nearest cached point in B's frame
+(:mod:`keyed_manifolds`, Box2D v3's and Jolt's manifolds).
+
 Small bodies: every row has a *feature length* ``f`` (:func:`feature_length`), a quarter of
 the thinnest body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE``. The match, drift
 and support-band distances above are capped at ``f``, so the corners of a 1 cm cube stay
@@ -44,6 +51,7 @@ from itertools import repeat
 import numpy as np
 
 from ..core import settings
+from .keyed_manifolds import keyed_points
 from .manifold_merge import (
     POINT_FIELDS,
     SLOTS,
@@ -110,7 +118,9 @@ class ManifoldStore(MutableMapping):
 
     Arrays (``R`` rows of capacity, grown by doubling; freed rows are reused lowest first):
     ``bodies (R, 2)``, ``count (R,)`` points in use, ``max_points (R,)`` (1 for pairs with
-    a sphere: a rolling point must not persist), ``points (R, S, 4, 3)`` each slot's
+    a sphere: a rolling point must not persist), ``keyable (R,)`` (the row may be rebuilt
+    from fresh points by feature keys), ``point_key (R, S)`` each slot's feature key (0:
+    none; every real key names a rule of order > 0), ``points (R, S, 4, 3)`` each slot's
     ``local_a, local_b, normal_local, impulse`` (:data:`manifold_merge.POINT_FIELDS`), with
     the views ``local_a, local_b, normal_local, impulse (R, S, 3)``: one array so that the
     merge reads and writes all four with one NumPy call. Iteration follows insertion order,
@@ -127,6 +137,8 @@ class ManifoldStore(MutableMapping):
         self.bodies = np.zeros((0, 2), dtype=np.int64)
         self.count = np.zeros(0, dtype=np.int64)
         self.max_points = np.zeros(0, dtype=np.int64)
+        self.keyable = np.zeros(0, dtype=bool)
+        self.point_key = np.zeros((0, SLOTS), dtype=np.int64)
         self.feature = np.zeros(0)
         self.points = np.zeros((0, SLOTS, len(POINT_FIELDS), 3))
         self.query_rotation = np.zeros((0, 3, 3))
@@ -141,6 +153,8 @@ class ManifoldStore(MutableMapping):
             "bodies",
             "count",
             "max_points",
+            "keyable",
+            "point_key",
             "feature",
             "points",
             "query_rotation",
@@ -192,9 +206,11 @@ class ManifoldStore(MutableMapping):
         key: tuple[int, int],
         max_points: int,
         feature: float = settings.CONTACT_MATCH_DISTANCE,
+        keyable: bool = False,
     ) -> int:
         """Row of a new, empty manifold for body pair ``key`` (``feature``: its feature
-        length in m, see the module docstring)."""
+        length in m; ``keyable``: its contacts are a whole manifold every step, see the
+        module docstring)."""
         if not self._free:
             self._grow(2 * len(self.count))
         row = self._free.pop(0)
@@ -202,6 +218,7 @@ class ManifoldStore(MutableMapping):
         self.bodies[row] = key
         self.max_points[row] = max_points
         self.feature[row] = feature
+        self.keyable[row] = keyable
         return row
 
     def row(self, key: tuple[int, int], default: int | None = None) -> int | None:
@@ -272,6 +289,7 @@ class ManifoldStore(MutableMapping):
     def _clear_rows(self, rows: np.ndarray) -> None:
         self.count[rows] = 0
         self.points[rows] = 0.0
+        self.point_key[rows] = 0
 
     def world_points(self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray):
         """World anchors of A and B and world normals ``(r, S, 3)`` of ``rows``.
@@ -310,10 +328,38 @@ class ManifoldStore(MutableMapping):
         width = min(SLOTS, merged.valid.shape[1])
         if width < SLOTS:  # else every slot is written below
             self._clear_rows(rows)
+        self.point_key[rows] = 0  # merged points have no feature keys
         valid = merged.valid[:, :width, None, None]
         self.count[rows] = merged.valid.sum(axis=1)
         # all four fields of every slot in one write; empty slots stay 0
         self.points[rows, :width] = np.where(valid, merged.data[:, :width], 0.0)
+
+    def replace_fresh(
+        self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray, fresh: FreshPoints
+    ) -> None:
+        """The manifolds ``rows`` become their fresh points (``fresh``, padded per row, with
+        their keys), cut to four by keys and warm-started from the cached points
+        (:func:`keyed_manifolds.keyed_points`).
+
+        Reference: :func:`reference_manifolds.keyed_manifold`, one row at a time (tested)."""
+        if len(rows) == 0:
+            return
+        frames = RowFrames.of_pairs(self.bodies[rows], rotation, position)
+        points, key = keyed_points(
+            fresh,
+            fresh.key,
+            frames,
+            self._points(rows),
+            self.point_key[rows],
+            self.max_points[rows],
+            self.feature[rows],
+        )
+        width = points.valid.shape[1]  # at most SLOTS
+        if width < SLOTS:  # else every slot is written below
+            self._clear_rows(rows)
+        self.count[rows] = points.valid.sum(axis=1)
+        self.points[rows, :width] = np.where(points.valid[..., None, None], points.data, 0.0)
+        self.point_key[rows, :width] = np.where(points.valid, key, 0)
 
     @staticmethod
     def _refreshed(cached: LocalPoints, frames: RowFrames, feature) -> LocalPoints:

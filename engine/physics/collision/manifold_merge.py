@@ -36,7 +36,8 @@ class FreshPoints:
     for all three; the names are views of it), ``valid (r, F)``.
 
     Built from flat arrays ``row_position (q,)`` (index into the rows being updated, sorted
-    ascending) and ``point_a, point_b, normal (q, 3)``.
+    ascending) and ``point_a, point_b, normal (q, 3)``; ``key (q,)``, the points' feature
+    keys (:mod:`keyed_manifolds`), padded the same way into ``key (r, F)`` (0 if None).
     """
 
     point_a = property(lambda self: self.data[:, :, 0])
@@ -50,6 +51,7 @@ class FreshPoints:
         point_a: np.ndarray,
         point_b: np.ndarray,
         normal: np.ndarray,
+        key: np.ndarray | None = None,
     ) -> None:
         counts = np.bincount(row_position, minlength=n_rows)
         width = max(int(counts.max(initial=0)), 1)
@@ -61,13 +63,25 @@ class FreshPoints:
         self.data = np.zeros((n_rows, width, 3, 3))
         for field, value in enumerate((point_a, point_b, normal)):
             self.data[row_position, slot, field] = value
+        self.key = np.zeros((n_rows, width), dtype=np.int64)
+        if key is not None:
+            self.key[row_position, slot] = key
 
     def depth(self) -> np.ndarray:
         return ((self.point_a - self.point_b) * self.normal).sum(axis=2)
 
     def take(self, index: np.ndarray, valid: np.ndarray) -> FreshPoints:
-        """Points ``index (r, k)`` of every row, flagged ``valid (r, k)``."""
+        """Points ``index (r, k)`` of every row, flagged ``valid (r, k)`` (keys dropped)."""
         return FreshPoints.of(per_row(self.data, index), valid)
+
+    def rows(self, mask: np.ndarray) -> FreshPoints:
+        """The rows flagged by ``mask (r,)``, with their keys, padded to their own longest
+        row (the merge reads a width above ``SLOTS`` as a row with too many points)."""
+        valid = self.valid[mask]
+        width = max(int(valid.sum(axis=1).max(initial=0)), 1)
+        out = FreshPoints.of(self.data[mask, :width], valid[:, :width])
+        out.key = self.key[mask, :width]
+        return out
 
     @staticmethod
     def of(data: np.ndarray, valid: np.ndarray) -> FreshPoints:

@@ -28,7 +28,28 @@ import numpy as np
 from ..core.reference_geometry import Contact
 from ..core.shapes import Shape, ShapeKind
 
-_EMPTY = (np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
+_EMPTY = (
+    np.zeros(0, dtype=np.int64),
+    np.zeros((0, 3)),
+    np.zeros((0, 3)),
+    np.zeros((0, 3)),
+    np.zeros(0, dtype=np.int64),
+)
+
+#: a contact's *key* names the features it comes from, unique inside its body pair (the
+#: warm start of a feature-keyed manifold matches points by it, Box2D v3's contact ids):
+#: ``shape_pair << SHAPE_PAIR_SHIFT | rule.order << RULE_SHIFT | feature`` with the shape
+#: pair's index inside the body pair, the order of the rule that made it and the rule's
+#: own feature number (a box corner, a hull vertex, a clipping candidate ...).
+RULE_SHIFT, SHAPE_PAIR_SHIFT = 16, 24
+#: the feature number of the i-th contact taken from fcl's records: ``FCL_FEATURE + i``
+#: (apart from every vertex number of a hull)
+FCL_FEATURE = 1 << 15
+
+
+def contact_key(shape_pair: int, rule_order: int, feature: int) -> int:
+    """The key of a contact (see :data:`RULE_SHIFT`), plain integers (reference path)."""
+    return (shape_pair << SHAPE_PAIR_SHIFT) | (rule_order << RULE_SHIFT) | feature
 
 
 class PairJob(NamedTuple):
@@ -85,31 +106,46 @@ class PairContext:
 
 
 class ContactBatch:
-    """Collects contact chunks tagged with (job sequence number, order inside the job)."""
+    """Collects contact chunks tagged with (job sequence number, order inside the job) and
+    each contact's feature number; ``rule_order`` is the order of the rule adding them
+    (the narrow phase sets it before it calls a rule)."""
 
     def __init__(self) -> None:
         self.chunks: list[tuple] = []
+        self.rule_order = 0
 
-    def add(self, seq, local, point_a, point_b, normal) -> None:
-        """Contacts of jobs ``seq (k,)``, ``local (k,)`` their order inside each job."""
+    def add(self, seq, local, point_a, point_b, normal, feature=None) -> None:
+        """Contacts of jobs ``seq (k,)``, ``local (k,)`` their order inside each job,
+        ``feature (k,)`` their feature numbers (default: ``local``)."""
         if len(seq):
-            self.chunks.append((seq, local, point_a, point_b, normal))
+            feature = local if feature is None else feature
+            rule = self.rule_order << RULE_SHIFT
+            self.chunks.append((seq, local, point_a, point_b, normal, feature + rule))
 
-    def add_one(self, seq: int, result) -> None:
-        """``result = (point_a, point_b, normal)`` arrays ``(k, 3)`` of job ``seq`` (or None)."""
+    def add_one(self, seq: int, result, first_feature: int = 0) -> None:
+        """``result = (point_a, point_b, normal)`` arrays ``(k, 3)`` of job ``seq`` (or None),
+        feature numbers ``first_feature + i``."""
         if result is not None and len(result[0]):
             k = len(result[0])
-            self.add(np.full(k, seq), np.arange(k), *result)
+            local = np.arange(k)
+            point_a, point_b, normal = result
+            self.add(np.full(k, seq), local, point_a, point_b, normal, local + first_feature)
 
-    def sorted(self, pair_of_seq: np.ndarray):
-        """Flat ``(pair_position, point_a, point_b, normal)`` in sequence order."""
+    def sorted(self, pair_of_seq: np.ndarray, first_seq: np.ndarray | None = None):
+        """Flat ``(pair_position, point_a, point_b, normal, key)`` in sequence order;
+        ``first_seq (p,)``: the first sequence number of every body pair (None: one shape
+        pair each), for the keys' shape pair index (:data:`SHAPE_PAIR_SHIFT`)."""
         if not self.chunks:
             return _EMPTY
-        seq, local, point_a, point_b, normal = (
+        seq, local, point_a, point_b, normal, key = (
             np.concatenate(part) for part in zip(*self.chunks, strict=True)
         )
         order = np.lexsort((local, seq))  # by shape pair, then by order inside the pair
-        return pair_of_seq[seq[order]], point_a[order], point_b[order], normal[order]
+        seq, key = seq[order], key[order]
+        pair = pair_of_seq[seq]
+        if first_seq is not None:
+            key += (seq - first_seq[pair]) << SHAPE_PAIR_SHIFT
+        return pair, point_a[order], point_b[order], normal[order], key
 
 
 BatchedRule = Callable[[list[PairJob], PairContext, ContactBatch], list[PairJob]]

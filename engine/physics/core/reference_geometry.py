@@ -43,11 +43,14 @@ class Contact:
     """One contact point: world anchors on A and B, unit normal from A to B.
 
     ``depth = (point_a - point_b) . normal`` is positive when the bodies overlap.
+    ``feature``: the number of the features it comes from (a rule's feature number, made
+    the pair's contact key by ``reference_contacts.pair_contacts``).
     """
 
     point_a: np.ndarray
     point_b: np.ndarray
     normal: np.ndarray
+    feature: int = 0
 
     @property
     def depth(self) -> float:

@@ -13,16 +13,19 @@ Sub-stages, in order:
    ``AABB_MARGIN`` (the stage also by ``STAGE_SPECULATIVE_DISTANCE``), then the overlapping
    pairs ``(p, 2)`` with at least one moving body and at least one dynamic body;
 2. box pre-test (:func:`separated_box_pairs`): pairs with no manifold whose body-frame boxes
-   (oriented, exact) are disjoint skip the narrow phase;
+   (oriented, exact) are disjoint skip the narrow phase; pairs of two one-box bodies skip
+   the test (their analytic contacts run the same separating-axis test anyway);
 3. contact cache (:func:`changed_pairs`, ``settings.contact_cache``): a pair with a
    manifold whose relative pose moved less than ``CONTACT_CACHE_DISTANCE`` since its last
    narrow-phase query, and whose points overlap by at most ``SLEEP_MAX_PENETRATION``,
    keeps its manifold unchanged (its points stay attached to the bodies,
    the solver measures their depths from the current poses): a resting pile costs no
    narrow phase. The same pairs are skipped on both paths;
-4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, merged
-   into each pair's persistent manifold. ``settings.use_vectorized`` chooses the batched
-   path (:func:`narrow_phase.narrow_phase` + :meth:`ManifoldStore.merge_fresh`) or the per-pair
+4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, with
+   their feature keys, become each pair's manifold (``settings.feature_manifolds``,
+   :meth:`ManifoldStore.replace_fresh`) or are merged into it (stage and capsule pairs,
+   or the switch off: :meth:`ManifoldStore.merge_fresh`). ``settings.use_vectorized``
+   chooses the batched path (:func:`narrow_phase.narrow_phase` + the store) or the per-pair
    reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
 5. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while
    one of their bodies moved lose their manifold; a sleeping pair keeps it for waking.
@@ -30,7 +33,7 @@ Sub-stages, in order:
 
 from __future__ import annotations
 
-from itertools import compress
+from itertools import compress, filterfalse
 
 import numpy as np
 
@@ -69,7 +72,15 @@ def collision_stage(
     # ---- 1. broad phase: AABB pairs with a moving, dynamic member -------------------------
     pairs, active = timer.run("broad phase", broad_phase, bodies, rotation)
     # ---- 2. box pre-test: skip pairs without a manifold whose oriented boxes are apart ----
-    touching = timer.run("broad phase", touching_candidates, bodies, store, pairs, rotation)
+    touching = timer.run(
+        "broad phase",
+        touching_candidates,
+        bodies,
+        store,
+        pairs,
+        rotation,
+        objects.single_box,
+    )
     # ---- 3. contact cache: pairs that barely moved relative to each other keep their
     #         manifold as it is (no narrow phase, no manifold update) -----------------------
     if settings.contact_cache:
@@ -78,11 +89,19 @@ def collision_stage(
     #         (fcl objects move only for the pairs that ask fcl: box pairs are analytic, and
     #         the few box pairs left to fcl move their own objects in the narrow phase)
     timer.run("fcl update", move_fcl_users, bodies, objects, touching, rotation)
+    keyed = settings.feature_manifolds
     if settings.use_vectorized:
-        update_manifolds(bodies, objects, store, touching, rotation, timer)
+        update_manifolds(bodies, objects, store, touching, rotation, timer, keyed)
     else:
         timer.run(
-            "narrow phase", update_manifolds_reference, bodies, objects, store, touching, rotation
+            "narrow phase",
+            update_manifolds_reference,
+            bodies,
+            objects,
+            store,
+            touching,
+            rotation,
+            keyed,
         )
     if touching:
         queried = np.array(store.rows_of(touching, -1), dtype=np.int64)
@@ -174,18 +193,30 @@ def update_world_aabbs(bodies: Bodies, rotation: np.ndarray | None = None) -> No
 
 
 def touching_candidates(
-    bodies: Bodies, store: ManifoldStore, pairs: np.ndarray, rotation: np.ndarray
+    bodies: Bodies,
+    store: ManifoldStore,
+    pairs: np.ndarray,
+    rotation: np.ndarray,
+    single_box: np.ndarray | None = None,
 ) -> list[tuple[int, int]]:
     """The pairs ``[(a, c), ...]`` for the narrow phase: ``pairs`` minus those without a
     manifold whose body-frame boxes are disjoint (:func:`separated_box_pairs`).
 
     The box test costs a fixed ~40 NumPy calls, so it runs only when at least
-    ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped.
+    ``MIN_PAIRS_FOR_BOX_TEST`` pairs could be skipped. ``single_box (n,)``: the bodies of
+    one box shape (``CollisionObjects.single_box``); a pair of two is not tested: its
+    analytic contacts (:mod:`box_box`) run the exact separating-axis test anyway, and a
+    pair this test finds apart (boxes grown by ``AABB_MARGIN``: more than 10 mm apart on
+    some axis) has no contact there either (``SPECULATIVE_DISTANCE``, 4 mm), so the
+    manifolds are the same, without the test's calls.
     """
     first = pairs[:, 0].tolist()
     pair_list = list(zip(first, pairs[:, 1].tolist(), strict=True))  # (a, c), built in C
     known = np.array(store.rows_of(pair_list, -1), dtype=np.int64)  # -1: no manifold
-    check = np.flatnonzero((known < 0) & (pairs[:, 0] != STAGE_ID))
+    testable = (known < 0) & (pairs[:, 0] != STAGE_ID)
+    if single_box is not None:
+        testable &= ~(single_box[pairs[:, 0]] & single_box[pairs[:, 1]])
+    check = np.flatnonzero(testable)
     if len(check) < MIN_PAIRS_FOR_BOX_TEST:
         return pair_list
     keep = np.ones(len(pair_list), dtype=bool)
@@ -258,8 +289,11 @@ def update_manifolds(
     pairs: list[tuple[int, int]],
     rotation: np.ndarray,
     timer: StageTimer | None = None,
+    feature_manifolds: bool = True,
 ) -> None:
-    """Batched: narrow phase for ``pairs``, then refresh/merge/reduce their manifolds.
+    """Batched: narrow phase for ``pairs``, then their manifolds rebuilt from the fresh
+    points by feature keys (``feature_manifolds`` and a keyable row) or refreshed, merged
+    and reduced.
 
     Must agree with :func:`reference_contacts.update_manifolds_reference` (tested). A pair
     gets a manifold row when it first has contact points; pairs with a sphere keep a single
@@ -268,7 +302,7 @@ def update_manifolds(
     if not pairs:  # a resting scene: the contact cache kept every manifold
         return
     timer = timer or StageTimer()
-    pair_position, point_a, point_b, normal = timer.run(
+    pair_position, point_a, point_b, normal, key = timer.run(
         "narrow phase", narrow_phase, bodies, objects, store, pairs, rotation
     )
     timer.run(
@@ -282,6 +316,8 @@ def update_manifolds(
         point_a,
         point_b,
         normal,
+        key,
+        feature_manifolds,
     )
 
 
@@ -294,8 +330,12 @@ def _merge_into_store(
     point_a: np.ndarray,
     point_b: np.ndarray,
     normal: np.ndarray,
+    key: np.ndarray,
+    feature_manifolds: bool,
 ) -> None:
-    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.merge_fresh`."""
+    """Rows for the pairs that have points, then one batched :meth:`ManifoldStore.replace_fresh`
+    for the keyed rows (with ``feature_manifolds``) and one :meth:`ManifoldStore.merge_fresh`
+    for the others."""
     has_points = np.bincount(pair_position, minlength=len(pairs)) > 0
     row_of_pair = np.array(store.rows_of(pairs, -1), dtype=np.int64)  # -1: no manifold yet
     for k in ((row_of_pair < 0) & has_points).nonzero()[0].tolist():  # first touch
@@ -304,8 +344,18 @@ def _merge_into_store(
     # (an empty manifold without fresh points stays empty: skipping it changes nothing)
     updated = (row_of_pair >= 0) & (has_points | (store.count[row_of_pair] > 0))  # -1: masked
     row_position = np.cumsum(updated) - 1  # pair position -> row position (updated pairs)
-    fresh = FreshPoints(int(updated.sum()), row_position[pair_position], point_a, point_b, normal)
-    store.merge_fresh(row_of_pair[updated], rotation, bodies.body_position, fresh)
+    fresh = FreshPoints(
+        int(updated.sum()), row_position[pair_position], point_a, point_b, normal, key
+    )
+    rows, position = row_of_pair[updated], bodies.body_position
+    keyed = store.keyable[rows] if feature_manifolds else np.zeros(len(rows), dtype=bool)
+    if keyed.all():  # a scene of boxes and hulls: no merge
+        store.replace_fresh(rows, rotation, position, fresh)
+    elif not keyed.any():
+        store.merge_fresh(rows, rotation, position, fresh)
+    else:
+        store.replace_fresh(rows[keyed], rotation, position, fresh.rows(keyed))
+        store.merge_fresh(rows[~keyed], rotation, position, fresh.rows(~keyed))
 
 
 def drop_stale_manifolds(
@@ -313,14 +363,13 @@ def drop_stale_manifolds(
 ) -> None:
     """Delete the manifolds of pairs that left the broad phase while one of them moved
     (or died); a sleeping pair keeps its manifold for when it wakes."""
-    b, n = bodies, bodies.count
-    rows = store.rows()
-    a, c = store.bodies[rows, 0], store.bodies[rows, 1]
-    # a pair (a, c) as the single integer a n + c; the broad phase's pairs are sorted by
-    # (a, c), so their codes are ascending and a binary search finds each manifold's pair
-    listed_codes, codes = pairs[:, 0] * n + pairs[:, 1], a * n + c
-    found = np.minimum(np.searchsorted(listed_codes, codes), max(len(listed_codes) - 1, 0))
-    listed = listed_codes[found] == codes if len(listed_codes) else np.zeros(len(rows), bool)
-    moved = active[a] | active[c] | ~b.body_alive[a] | ~b.body_alive[c]
-    for key in store.bodies[rows[~listed & moved]].tolist():
-        del store[tuple(key)]
+    # the manifolds whose pair is not among the broad phase's (a set of (a, c) tuples,
+    # built and searched in C: a hash lookup per manifold, no NumPy call per step)
+    listed = set(zip(pairs[:, 0].tolist(), pairs[:, 1].tolist(), strict=True))
+    unlisted = list(filterfalse(listed.__contains__, store))  # in insertion order
+    if not unlisted:
+        return
+    ends = np.array(unlisted, dtype=np.int64)  # (k, 2)
+    moved = active[ends].any(axis=1) | ~bodies.body_alive[ends].all(axis=1)
+    for k in np.flatnonzero(moved).tolist():
+        del store[unlisted[k]]

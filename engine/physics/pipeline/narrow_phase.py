@@ -7,8 +7,9 @@ function gets all of its jobs together (a box batch, a hull batch grouped by arr
 ...), in table order, and the jobs a rule declines go to its fallback rule (later in the
 table). The only per-pair work is this loop and, for the rules that use it, the fcl query.
 
-The result is flat: ``pair_position (q,)`` (index into the pair list, ascending) and world
-``point_a, point_b, normal (q, 3)``, normals from A to B, in the order the per-pair
+The result is flat: ``pair_position (q,)`` (index into the pair list, ascending), world
+``point_a, point_b, normal (q, 3)``, normals from A to B, and ``key (q,)``, each contact's
+feature key inside its body pair (:data:`pair_rules.RULE_SHIFT`), in the order the per-pair
 reference path (:func:`reference_contacts.pair_contacts`) produces them: shape pairs in body
 order; within a pair, the order of its rule.
 """
@@ -49,21 +50,23 @@ def narrow_phase(
     """
     jobs: dict[str, list[PairJob]] = {rule.name: [] for rule in PAIR_TABLE.rules}
     pair_of_seq = np.zeros(0, dtype=np.int64)  # the body pair of every job, by sequence number
+    first_seq = None  # the first job of every body pair (None: one job each)
     if pairs:
-        pair_of_seq = _file_jobs(objects, pairs, jobs)
-    context, out = PairContext(bodies, objects, store, rotation), ContactBatch()
+        pair_of_seq, first_seq = _file_jobs(objects, pairs, jobs)
     context, out = PairContext(bodies, objects, store, rotation), ContactBatch()
     for rule in PAIR_TABLE.rules:  # in order: a fallback rule runs after the rules feeding it
         if jobs[rule.name]:
+            out.rule_order = rule.order  # the contacts' keys name their rule
             declined = rule.batched(jobs[rule.name], context, out)
             if declined:
                 jobs[rule.fallback or ""] += declined  # the table checked the fallback exists
-    return out.sorted(pair_of_seq)
+    return out.sorted(pair_of_seq, first_seq)
 
 
 def _file_jobs(objects: CollisionObjects, pairs: list, jobs: dict[str, list[PairJob]]):
     """Turn every shape pair of the body ``pairs`` into a :class:`PairJob` filed under its
-    rule's name in ``jobs``; returns ``pair_of_seq``, the body pair of each job.
+    rule's name in ``jobs``; returns ``pair_of_seq``, the body pair of each job, and
+    ``first_seq``, the first job of each body pair (None when every pair is one job).
 
     Sequence numbers run over the pairs in order and, within a pair, over A's shapes then
     B's. The pairs are grouped by their bodies' kinds in NumPy (``CollisionObjects.kind_code``:
@@ -112,7 +115,8 @@ def _file_jobs(objects: CollisionObjects, pairs: list, jobs: dict[str, list[Pair
                     seq += 1
     for rule in filled:
         jobs[rule].sort(key=_first)
-    return np.repeat(np.arange(len(pairs), dtype=np.int64), per_pair)
+    pair_of_seq = np.repeat(np.arange(len(pairs), dtype=np.int64), per_pair)
+    return pair_of_seq, (None if len(pair_of_seq) == len(pairs) else first_seq)
 
 
 def _rule_name(kind_a: str, kind_b: str) -> str:

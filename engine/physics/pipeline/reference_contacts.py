@@ -16,10 +16,15 @@ import numpy as np
 
 from ..collision.contacts import SLOTS, ManifoldStore
 from ..collision.manifold_rows import add_manifold_row
-from ..collision.pair_rules import PairContext, PairJob, PairRule
+from ..collision.pair_rules import PairContext, PairJob, PairRule, contact_key
 from ..core.bodies import Bodies
 from ..core.reference_geometry import Contact
-from ..reference.reference_manifolds import ManifoldPoint, select_support, update_manifold
+from ..reference.reference_manifolds import (
+    ManifoldPoint,
+    keyed_manifold,
+    select_support,
+    update_manifold,
+)
 from .pair_table import PAIR_TABLE
 
 
@@ -33,7 +38,8 @@ def pair_contacts(
     in body order, each by the reference function of its rule in :data:`PAIR_TABLE` (a
     declined job goes to the rule's fallback). ``rotation (n, 3, 3)``: all bodies;
     ``store``: the manifolds before this step's update, whose normals keep a stage contact
-    on the side it began on."""
+    on the side it began on. Each contact's ``feature`` is turned into its key inside the
+    body pair (:func:`pair_rules.contact_key`: shape pair, rule, feature number)."""
     context = PairContext(bodies, objects, store, rotation)
     contacts: list[Contact] = []
     seq = 0  # the shape pair's number inside this body pair
@@ -47,6 +53,8 @@ def pair_contacts(
             while rule is not None:
                 found = rule.reference(job, context)
                 if found is not None:
+                    for contact in found:
+                        contact.feature = contact_key(job.seq, rule.order, contact.feature)
                     contacts += found
                     break
                 rule = PAIR_TABLE.fallback_of(rule)
@@ -62,9 +70,11 @@ def update_manifolds_reference(
     store: ManifoldStore,
     pairs: list[tuple[int, int]],
     rotation: np.ndarray,
+    feature_manifolds: bool = True,
 ) -> None:
     """Reference for ``collision_stage.update_manifolds``: per pair, its contacts, then
-    its manifold refreshed, merged and reduced (:func:`update_manifold`)."""
+    its manifold rebuilt from them by feature keys (:func:`keyed_manifold`, a keyable row
+    with ``feature_manifolds``) or refreshed, merged and reduced (:func:`update_manifold`)."""
     for key in pairs:
         contacts = pair_contacts(bodies, objects, store, key[0], key[1], rotation)
         row = store.row(key)
@@ -80,10 +90,12 @@ def update_manifolds_reference(
                 store.local_b[row, s].copy(),
                 store.normal_local[row, s].copy(),
                 store.impulse[row, s].copy(),
+                int(store.point_key[row, s]),
             )
             for s in range(store.count[row])
         ]
-        points = update_manifold(
+        keyed = feature_manifolds and bool(store.keyable[row])
+        points = (keyed_manifold if keyed else update_manifold)(
             cached,
             contacts,
             frame_a,
@@ -94,12 +106,14 @@ def update_manifolds_reference(
         store.count[row] = len(points)
         for array in (store.local_a, store.local_b, store.normal_local, store.impulse):
             array[row] = 0.0
+        store.point_key[row] = 0
         for slot, point in enumerate(points):
             store.local_a[row, slot], store.local_b[row, slot] = point.local_a, point.local_b
             store.normal_local[row, slot], store.impulse[row, slot] = (
                 point.normal_local,
                 point.impulse,
             )
+            store.point_key[row, slot] = point.key if keyed else 0
 
 
 __all__ = [

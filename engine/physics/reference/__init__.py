@@ -8,7 +8,7 @@ batched function names the twin it mirrors. Read a twin beside its batched modul
    ``collision/batched_pairs.py``, ``collision/batched_stage.py``);
 2. ``reference_box_box.py``: one box pair (batched: ``collision/box_box.py``);
 3. ``reference_manifolds.py``: one manifold's update (batched:
-   ``collision/manifold_merge.py``);
+   ``collision/keyed_manifolds.py`` and ``collision/manifold_merge.py``);
 4. ``reference_solver.py``: sequential impulses one point at a time (batched:
    ``solver/contact_batch.py``, ``solver/sequential_impulses.py``,
    ``solver/color_rows.py``, ``solver/stage_priority.py``).

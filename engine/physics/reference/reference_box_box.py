@@ -21,6 +21,9 @@ from ..core.reference_geometry import Contact, cross3, dot
 
 #: the reference rectangle's corners in units of its half extents, counter-clockwise.
 CORNER_SIGNS = ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0))
+#: clipping candidates per face pair and the first edge feature (``box_box``'s numbers)
+FACE_CANDIDATES = 24
+EDGE_FEATURE = 36 * FACE_CANDIDATES
 
 
 def tie(value: float) -> float:
@@ -108,7 +111,9 @@ def face_contacts_reference(box_a, box_b, axis: int, normal: np.ndarray) -> list
     # the incident face: most anti-parallel to n_ref, outward normal m
     alignment = [dot(axes_i[k], n_ref) for k in range(3)]
     j = _first_best([abs(value) for value in alignment], 0, 3)
-    m = axes_i[j] * -(1.0 if alignment[j] >= 0.0 else -1.0)
+    facing = alignment[j] >= 0.0  # the incident face is on I's -b_j side
+    m = axes_i[j] * -(1.0 if facing else -1.0)
+    face_code = 6 * axis + 2 * j + int(facing)  # the contacts' feature numbers (box_box)
     incident_center = center_i + m * half_i[j]
     j1, j2 = (j + 1) % 3, (j + 2) % 3
     side_1, side_2 = axes_i[j1] * half_i[j1], axes_i[j2] * half_i[j2]
@@ -121,7 +126,7 @@ def face_contacts_reference(box_a, box_b, axis: int, normal: np.ndarray) -> list
     base = dot(m, incident_center - face_center)
     slope_u, slope_v = dot(m, tangent_u), dot(m, tangent_v)
     contacts: list[Contact] = []
-    for u, v in clip_candidates_reference(quad, extent):
+    for k, (u, v) in enumerate(clip_candidates_reference(quad, extent)):
         if u is None:
             continue
         # t solves m . (p_ref + t n_ref - f) = 0 for p_ref = o + u U + v V on the reference
@@ -131,7 +136,8 @@ def face_contacts_reference(box_a, box_b, axis: int, normal: np.ndarray) -> list
             p_ref = face_center + u * tangent_u + v * tangent_v
             p_inc = p_ref + t * n_ref
             pair = (p_ref, p_inc) if ref_is_a else (p_inc, p_ref)
-            contacts.append(Contact(pair[0], pair[1], normal))
+            feature = k + FACE_CANDIDATES * face_code
+            contacts.append(Contact(pair[0], pair[1], normal, feature))
     return contacts
 
 
@@ -204,5 +210,5 @@ def edge_contact_reference(box_a, box_b, axis: int, normal: np.ndarray) -> list[
     s = min(max((b * f - c) / (1.0 - b * b), -half_a[i]), half_a[i])
     t = min(max(f + s * b, -half_b[j]), half_b[j])
     s = min(max(t * b - c, -half_a[i]), half_a[i])
-    contact = Contact(mid_a + s * dir_a, mid_b + t * dir_b, normal)
+    contact = Contact(mid_a + s * dir_a, mid_b + t * dir_b, normal, EDGE_FEATURE + axis)
     return [contact] if contact.depth > -settings.SPECULATIVE_DISTANCE else []

@@ -6,7 +6,9 @@ reduction of :mod:`manifold_merge`), box2d-lite's ``Arbiter::Update`` size: a pe
 this step's contacts (:func:`update_manifold`) and cut to the supporting polygon
 (:func:`select_support`). ``SolverSettings.use_vectorized = False`` routes the world
 through it (via :func:`reference_contacts.update_manifolds_reference`); tests prove both
-paths keep the same manifolds.
+paths keep the same manifolds. :func:`keyed_manifold` is the plain version of the
+feature-keyed rows (:mod:`keyed_manifolds`): the fresh points are the manifold, their
+impulses from the cached point with the same key.
 """
 
 from __future__ import annotations
@@ -22,13 +24,15 @@ from ..core.reference_geometry import Contact, cross3, dot, rotate, unrotate
 
 @dataclass
 class ManifoldPoint:
-    """A persistent point: anchors in the body frames, normal in A's frame, and the solver's
-    accumulated impulse ``[normal, tangent1, tangent2]`` in N s."""
+    """A persistent point: anchors in the body frames, normal in A's frame, the solver's
+    accumulated impulse ``[normal, tangent1, tangent2]`` in N s and its feature key (0:
+    none, a merged point)."""
 
     local_a: np.ndarray
     local_b: np.ndarray
     normal_local: np.ndarray
     impulse: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    key: int = 0
 
     def world(self, frame_a, frame_b) -> Contact:
         (ra, xa), (rb, xb) = frame_a, frame_b
@@ -95,6 +99,51 @@ def update_manifold(
         )
         merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
     return merged
+
+
+def keyed_manifold(
+    cached: list[ManifoldPoint],
+    fresh: list[Contact],
+    frame_a,
+    frame_b,
+    max_points: int,
+    feature: float = settings.CONTACT_MATCH_DISTANCE,
+) -> list[ManifoldPoint]:
+    """One fresh manifold's step (Box2D v3's ``b2UpdateContact``, Jolt's warm start): the
+    fresh contacts (``Contact.feature`` holding each one's key) become the manifold.
+
+    Mirrors :func:`keyed_manifolds.keyed_points` for one row:
+
+    1. more than ``max_points``: the supporting polygon (:func:`select_with_corners`),
+       points with a cached point's key winning near-ties;
+    2. each fresh point, in order, takes the impulses of the nearest unused cached point
+       closer than ``feature`` in B's frame; a rolling point (``max_points == 1``) the
+       cached point's (:func:`_inherit_impulses`, the merge's rule).
+    """
+    cached_keys = {point.key for point in cached}
+    matched = [contact.feature in cached_keys for contact in fresh]
+    chosen = list(range(len(fresh)))
+    if len(fresh) > max_points:
+        depths = [c.depth for c in fresh]
+        deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
+        keep = select_with_corners(
+            [c.point_b for c in fresh],
+            depths,
+            [c.normal for c in fresh],
+            fresh[deepest].normal,
+            max_points,
+            matched,
+            min(settings.SUPPORT_DEPTH_BAND, feature),
+        )
+        chosen = [i for i in chosen if keep[i]]
+    (ra, xa), (rb, xb) = frame_a, frame_b
+    points = []
+    for i in chosen:
+        c = fresh[i]
+        local = (unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb), unrotate(ra, c.normal))
+        points.append(ManifoldPoint(*local, np.zeros(3), c.feature))
+    _inherit_impulses(points, cached, max_points, feature)
+    return points
 
 
 def still_touching(

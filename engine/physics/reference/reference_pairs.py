@@ -29,7 +29,7 @@ from ..collision.contact_helpers import (
     triangle_table,
 )
 from ..collision.contacts import ManifoldStore, tie_key
-from ..collision.pair_rules import PairContext, PairJob
+from ..collision.pair_rules import FCL_FEATURE, PairContext, PairJob
 from ..collision.stage_grid import candidate_triangles_reference
 from ..core import settings
 from ..core.reference_geometry import Contact, dot, rotate, unrotate
@@ -40,7 +40,8 @@ def as_contacts(result) -> list[Contact]:
     """``(point_a, point_b, normal)`` arrays ``(k, 3)`` (or None) as a list of contacts."""
     if result is None:
         return []
-    return [Contact(*point) for point in zip(*result, strict=True)]
+    point_a, point_b, normal = result
+    return [Contact(point_a[k], point_b[k], normal[k], k) for k in range(len(point_a))]
 
 
 # ------------------------------------------------------------------------------------------
@@ -241,7 +242,7 @@ def stage_polyhedron_contacts(
         if not touching:
             continue
         best = _resting_triangle(touching, heights, k)
-        contacts.append(_vertex_contact(vertex, normals[best], heights[best][k]))
+        contacts.append(_vertex_contact(vertex, normals[best], heights[best][k], k))
         # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
         # which holds the vertex up beside it (see _behind_the_corner)
         turned = [
@@ -253,7 +254,8 @@ def stage_polyhedron_contacts(
         ]
         if turned:
             second = _shallowest(turned, heights, k)
-            corner_contacts.append(_vertex_contact(vertex, normals[second], heights[second][k]))
+            corner = _vertex_contact(vertex, normals[second], heights[second][k], len(vertices) + k)
+            corner_contacts.append(corner)
     contacts += corner_contacts  # the batched path orders them after every first contact
     if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
@@ -310,10 +312,11 @@ def _shallowest(positions: list[int], heights: list, k: int) -> int:
     return best
 
 
-def _vertex_contact(vertex: np.ndarray, normal: np.ndarray, height: float) -> Contact:
+def _vertex_contact(vertex: np.ndarray, normal: np.ndarray, height: float, feature: int) -> Contact:
     """Vertex ``vertex`` at ``height`` above a plane of outward ``normal``: depth ``-height``,
-    A's point on the plane."""
-    return Contact(vertex - normal * height, vertex, normal)
+    A's point on the plane; ``feature``: its feature number (the vertex's, ``V + v`` for
+    a corner's second contact)."""
+    return Contact(vertex - normal * height, vertex, normal, feature)
 
 
 def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.ndarray) -> bool:
@@ -348,19 +351,21 @@ def polyhedron_contacts(
     deepest = deepest_record(found)  # the first of near-equal depths
     n = np.asarray(deepest.normal, dtype=np.float64) if spread is None else spread
     contacts: list[Contact] = []
-    for reference, pose_ref, incident, pose_inc, sign in (
-        (shape_a, pose_a, shape_b, pose_b, 1.0),
-        (shape_b, pose_b, shape_a, pose_a, -1.0),
+    # feature numbers: B's vertices against A's face, then A's after them
+    for first, (reference, pose_ref, incident, pose_inc, sign) in zip(
+        (0, len(shape_b.hull_vertices)),
+        ((shape_a, pose_a, shape_b, pose_b, 1.0), (shape_b, pose_b, shape_a, pose_a, -1.0)),
+        strict=True,
     ):
         rotation_inc, position_inc = pose_inc
         vertices = [rotate(rotation_inc, v) + position_inc for v in incident.hull_vertices]
-        for vertex, on_face, face_normal in _reference_face_contacts(
+        for v, vertex, on_face, face_normal in _reference_face_contacts(
             reference, pose_ref, vertices, sign * n
         ):
             if sign > 0:
-                contacts.append(Contact(on_face, vertex, face_normal))
+                contacts.append(Contact(on_face, vertex, face_normal, first + v))
             else:
-                contacts.append(Contact(vertex, on_face, -face_normal))
+                contacts.append(Contact(vertex, on_face, -face_normal, first + v))
     if not contacts:  # no face faces the other body: fcl's points
         mid, normals, depths, _ = contact_arrays(found)
         contacts = midpoint_contact_list(mid, list(normals), depths)
@@ -368,7 +373,8 @@ def polyhedron_contacts(
 
 
 def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarray) -> list:
-    """``[(vertex, point on the face, face normal)]`` of ``vertices`` inside ``reference``."""
+    """``[(index, vertex, point on the face, face normal)]`` of ``vertices`` inside
+    ``reference``."""
     rotation, position = pose
     face_normals = [rotate(rotation, plane) for plane in reference.plane_normals]
     alignment = [dot(normal, towards) for normal in face_normals]
@@ -380,7 +386,7 @@ def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarra
     # the face plane n . x = c_f + n . x_ref in the world
     plane_offset = reference.plane_offsets[face] + dot(normal, position)
     contacts = []
-    for vertex in vertices:
+    for index, vertex in enumerate(vertices):
         local = unrotate(rotation, vertex - position)
         inside = all(
             dot(local, plane) - offset <= tolerance
@@ -388,14 +394,15 @@ def _reference_face_contacts(reference, pose, vertices: list, towards: np.ndarra
         )
         depth = plane_offset - dot(vertex, normal)
         if inside and depth > -tolerance:
-            contacts.append((vertex, vertex + depth * normal, normal))
+            contacts.append((index, vertex, vertex + depth * normal, normal))
     return contacts
 
 
 def midpoint_contact_list(mid, normals, depths) -> list[Contact]:
-    """fcl midpoints -> contacts: A's point half a depth along +n, B's half a depth back."""
+    """fcl midpoints -> contacts: A's point half a depth along +n, B's half a depth back
+    (feature numbers ``FCL_FEATURE + i``)."""
     contacts = []
-    for point, normal, depth in zip(mid, normals, depths, strict=True):
+    for i, (point, normal, depth) in enumerate(zip(mid, normals, depths, strict=True)):
         half = 0.5 * depth * normal
-        contacts.append(Contact(point + half, point - half, normal))
+        contacts.append(Contact(point + half, point - half, normal, FCL_FEATURE + i))
     return contacts

@@ -1,0 +1,111 @@
+"""Fresh manifolds: each step's contacts *are* the manifold, chosen by feature keys.
+
+Box2D v3 (``b2UpdateContact``) and Jolt (``ContactConstraintManager``) rebuild every
+manifold from the narrow phase each step and carry last step's impulses over to the
+matching points. Every contact names the features it comes from by a *key*, unique
+inside its body pair (:data:`pair_rules.RULE_SHIFT`: a box corner on a face, a clipping
+candidate of two faces, a hull vertex on the stage ...). For the rows updated this step:
+
+1. a row with more fresh points than it keeps: the supporting polygon
+   (:func:`manifold_merge.select_with_corners`), points whose key a cached point has
+   winning near-ties (hysteresis: a face resting on many coplanar candidates keeps the
+   same four from step to step; keys are unique in a row, so this is one comparison of
+   every fresh key with the row's at most four cached keys);
+2. the fresh points replace the row's points (anchors in the body frames, as stored);
+3. warm start as Jolt's: each fresh point, in slot order, takes the impulses ``(normal,
+   tangent1, tangent2)`` of the nearest unused cached point closer than the row's feature
+   length in B's frame (:func:`manifold_merge.inherit_impulses`: B's anchor names B's
+   feature, a box corner, which keeps its load while it slides); a rolling point
+   (``max_points == 1``, a sphere) always takes the cached point's. Matching the impulses
+   by key instead (Box2D v3's ids) was measured worse: a pair's keys change when the
+   reference face passes from one box to the other or the pair goes from the clipping to
+   the deep-overlap rule, and the impacts of the falling columns then lost their warm
+   start (``docs/physics_performance.md``).
+
+Against the merge (:mod:`manifold_merge`, kept for the stage's pairs and pairs with a
+capsule, :mod:`manifold_rows`): no refresh of
+cached points, no drop of near points, no distance matching with greedy loops, no
+reduction of cached and fresh points together.
+
+Reference: :func:`reference_manifolds.keyed_manifold` (one row, plain loops; tested).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .manifold_merge import (
+    SLOTS,
+    FreshPoints,
+    LocalPoints,
+    RowFrames,
+    inherit_impulses,
+    masked_argmax,
+    per_row,
+    select_with_corners,
+    support_band,
+)
+
+
+def keyed_points(
+    fresh: FreshPoints,
+    key: np.ndarray,
+    frames: RowFrames,
+    cached: LocalPoints,
+    cached_key: np.ndarray,
+    max_points: np.ndarray,
+    feature: np.ndarray,
+) -> tuple[LocalPoints, np.ndarray]:
+    """The new points of ``r`` rows and their keys ``(r, k)``, ``k <= SLOTS`` (module
+    docstring).
+
+    ``fresh``: this step's points of each row, padded (first slots valid), ``key (r, F)``
+    their keys; ``frames``: the rows' body frames; ``cached``: the rows' stored points
+    (their ``count`` first slots valid), ``cached_key (r, S)`` their keys; ``max_points``
+    and ``feature (r,)``: each row's point capacity and feature length (m).
+    """
+    data, valid = fresh.data, fresh.valid  # point_a, point_b, normal (world)
+    # 1. too many points: the supporting polygon, the features of last step winning ties
+    too_many = valid.sum(axis=1) > max_points
+    if too_many.any():
+        # known[r, j]: fresh j has the key of a valid cached point
+        same = (key[:, :, None] == cached_key[:, None, :]) & cached.valid[:, None, :]
+        data, valid, key = _support(
+            data, valid, key, same.any(axis=2), too_many, max_points, feature
+        )
+    # 2. world points -> body-frame anchors R^T (p - x) and A's normal R_a^T n, one einsum
+    r, width = valid.shape
+    offset = np.zeros((r, 1, 3, 3))
+    offset[:, 0, :2] = frames.position
+    local = np.zeros((r, width, 4, 3))  # local_a, local_b, normal_local, impulse (0)
+    local[:, :, :3] = np.einsum("rfji,rsfj->rsfi", frames.rotation, data - offset)
+    points = LocalPoints(local, valid)
+    # 3. warm start: the nearest unused cached point in B's frame (and rolling points)
+    inherit_impulses(points, cached, max_points, feature)
+    return points, key
+
+
+def _support(data, valid, key, known, too_many, max_points, feature):
+    """``data, valid, key`` of every row cut to ``SLOTS`` slots: the rows ``too_many``
+    keep their supporting polygon's points (in slot order), the others their first points."""
+    over = too_many.nonzero()[0]  # only these rows choose (each row on its own)
+    rows = data[over]
+    point_a, point_b, normal = rows[:, :, 0], rows[:, :, 1], rows[:, :, 2]
+    depth = ((point_a - point_b) * normal).sum(axis=2)
+    deepest = masked_argmax(depth, valid[over])
+    chosen = select_with_corners(
+        point_b,
+        depth,
+        normal,
+        normal[np.arange(len(over)), deepest],
+        max_points[over],
+        valid[over],
+        known[over],
+        support_band(feature[over]),
+    )
+    order = (~chosen).argsort(axis=1, kind="stable")[:, :SLOTS]  # chosen first, in order
+    over_key = per_row(key[over], order)
+    # the other rows hold at most SLOTS points, already in their first slots
+    data, valid, key = data[:, :SLOTS].copy(), valid[:, :SLOTS].copy(), key[:, :SLOTS].copy()
+    data[over], valid[over], key[over] = per_row(rows, order), per_row(chosen, order), over_key
+    return data, valid, key
