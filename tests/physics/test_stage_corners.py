@@ -48,7 +48,7 @@ def narrow_phase_contacts(world, vectorized: bool):
     update_world_aabbs(b, rotation)
     objects.move(b, np.arange(1, b.count), rotation[1:])
     if vectorized:
-        _, _, point_b, normal = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
+        _, _, point_b, normal, _ = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
         return point_b, normal
     contacts = pair_contacts(b, objects, world.manifolds, 0, 1, rotation)
     return np.array([c.point_b for c in contacts]), np.array([c.normal for c in contacts])
