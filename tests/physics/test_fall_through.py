@@ -359,13 +359,7 @@ def test_body_driven_into_a_skirting_board_corner_stays_out_of_the_floor(
     up: 5 cm into the floor. Now a wall-like face takes the side of the body's center, a
     cached normal turns only its own plane (1 mm) and a vertex in a corner keeps a floor
     contact beside its wall contact."""
-    import engine as habitat_sim
-
-    cfg = habitat_sim.SimulatorConfiguration()
-    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
-    agent = habitat_sim.agent.AgentConfiguration()
-    agent.sensor_specifications = []
-    sim = habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent]))
+    sim = apartment_sim(demo_data)
     templates = sim.get_object_template_manager()
     templates.load_configs(str(demo_data / "objects/example_objects/"))
     world = sim.get_physics_world()
@@ -386,6 +380,17 @@ def test_body_driven_into_a_skirting_board_corner_stays_out_of_the_floor(
     assert center_x < 5.0  # and never through the board into the wall
 
 
+def apartment_sim(demo_data):
+    """A simulator on the demo apartment with no sensors."""
+    import engine as habitat_sim
+
+    cfg = habitat_sim.SimulatorConfiguration()
+    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
+    agent = habitat_sim.agent.AgentConfiguration()
+    agent.sensor_specifications = []
+    return habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent]))
+
+
 SOAK_CONE = (
     "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true"
 )
@@ -401,13 +406,7 @@ def test_cone_whose_tip_hits_the_wall_floor_corner_stays_above_the_floor(demo_da
     down the wall to the wall's underside, 5.5 cm below the floor, and stayed there; a push
     toward the wall at 4 m/s then slid the cone under the wall, out of the apartment. A
     vertex pushed back out of the wall is over the floor again: the floor still holds it."""
-    import engine as habitat_sim
-
-    cfg = habitat_sim.SimulatorConfiguration()
-    cfg.scene_id = str(demo_data / "scene_datasets/demo/apartment.glb")
-    agent = habitat_sim.agent.AgentConfiguration()
-    agent.sensor_specifications = []
-    sim = habitat_sim.Simulator(habitat_sim.Configuration(cfg, [agent]))
+    sim = apartment_sim(demo_data)
     templates = sim.get_object_template_manager()
     template = templates.create_new_template("wall_cone")
     template.render_asset_handle = template.collision_asset_handle = SOAK_CONE

@@ -124,17 +124,8 @@ def keyed_manifold(
     matched = [contact.feature in cached_keys for contact in fresh]
     chosen = list(range(len(fresh)))
     if len(fresh) > max_points:
-        depths = [c.depth for c in fresh]
-        deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
-        keep = select_with_corners(
-            [c.point_b for c in fresh],
-            depths,
-            [c.normal for c in fresh],
-            fresh[deepest].normal,
-            max_points,
-            matched,
-            min(settings.SUPPORT_DEPTH_BAND, feature),
-        )
+        band = min(settings.SUPPORT_DEPTH_BAND, feature)
+        keep = _select_fresh(fresh, max_points, matched, band)
         chosen = [i for i in chosen if keep[i]]
     (ra, xa), (rb, xb) = frame_a, frame_b
     points = []
@@ -179,9 +170,16 @@ def _support_of_fresh(
     for contact in fresh:
         local_b = unrotate(rb, contact.point_b - xb)
         preferred.append(any(dot(local_b - p.local_b, local_b - p.local_b) < limit for p in cached))
+    chosen = _select_fresh(fresh, max_points, preferred, band)
+    return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
+
+
+def _select_fresh(fresh: list[Contact], max_points: int, preferred: list[bool], band: float):
+    """Which of the fresh points a manifold keeps (:func:`select_with_corners` around the
+    deepest point's normal, the first of equal depths); near-ties go to ``preferred``."""
     depths = [c.depth for c in fresh]
-    deepest = int(np.argmax(tie_key(np.array(depths))))  # the first of equal depths
-    chosen = select_with_corners(
+    deepest = int(np.argmax(tie_key(np.array(depths))))
+    return select_with_corners(
         [c.point_b for c in fresh],
         depths,
         [c.normal for c in fresh],
@@ -190,7 +188,6 @@ def _support_of_fresh(
         preferred,
         band,
     )
-    return [c for c, keep in zip(fresh, chosen, strict=True) if keep]
 
 
 def _distinct(fresh: list[Contact], radius: float) -> list[Contact]:
