@@ -1,5 +1,6 @@
 """The renderer's static layer, render threads and render worker process change no pixel:
-every observation equals a full single-threaded in-process render, across the whole tutorial
+every observation equals a full single-threaded in-process render, across the tutorial's
+sections (all but the two navmesh drives, which render as the robot section does)
 and across scene changes; a worker that dies is replaced by in-process renders."""
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from engine.physics.objects.rigid_object_manager import MotionType
 from engine.sensors.render_scheduler import RenderScheduler
 from engine.sensors.scene_render import SceneRenderer
 from engine.tutorial.cli import run_tutorial
+from engine.tutorial.runner import SECTION_NAMES
 from engine.tutorial.scene_setup import make_configuration, place_agent
 from render.settings import RenderSettings
 
@@ -67,20 +69,32 @@ def checked(monkeypatch):
     return CheckedRenderer
 
 
-def test_every_tutorial_section_renders_the_same_with_the_static_layer_and_the_worker(
+#: the tutorial's sections but the two navmesh drives: their robot cameras move, as in
+#: ``embodied_agent``, so they render the same way (full renders, a third of them checked)
+#: and would add a third of the run's time
+CHECKED_SECTIONS = SECTION_NAMES[: SECTION_NAMES.index("embodied_agent") + 1]
+
+
+def test_the_tutorial_sections_render_the_same_with_the_static_layer_and_the_worker(
     checked, tmp_path
 ):
     results = run_tutorial(
-        str(tmp_path), make_video=False, fast=True, progress=False, keep_observations=True
+        str(tmp_path),
+        make_video=False,
+        fast=True,
+        progress=False,
+        keep_observations=True,
+        sections=CHECKED_SECTIONS,
     )
-    assert sum(r.frames for r in results) > 1900
+    assert [r.name for r in results] == CHECKED_SECTIONS
+    assert sum(r.frames for r in results) > 1200  # 1239 frames
     # the onlooker's six sections reuse their layers; the robot's cameras mostly move
-    assert checked.modes["layer"] > 1000
-    assert checked.modes["full"] > 1000
+    assert checked.modes["layer"] > 1500
+    assert checked.modes["full"] > 850
     assert checked.modes["new layer"] >= 6
-    assert checked.modes["checked"] > 900
-    assert checked.places["worker"] > 1900  # the 3rd-person camera
-    assert checked.places["here"] > 1900
+    assert checked.modes["checked"] > 850
+    assert checked.places["worker"] > 1200  # the 3rd-person camera
+    assert checked.places["here"] > 1200
 
 
 def test_a_dead_worker_is_replaced_by_renders_in_this_process(checked):
