@@ -325,14 +325,7 @@ class ManifoldStore(MutableMapping):
         used = inherit_impulses(local, every, max_points, feature)
         merged = combine(local, cached, used)
         merged = reduce_points(merged, frames, max_points, feature)
-        width = min(SLOTS, merged.valid.shape[1])
-        if width < SLOTS:  # else every slot is written below
-            self._clear_rows(rows)
-        self.point_key[rows] = 0  # merged points have no feature keys
-        valid = merged.valid[:, :width, None, None]
-        self.count[rows] = merged.valid.sum(axis=1)
-        # all four fields of every slot in one write; empty slots stay 0
-        self.points[rows, :width] = np.where(valid, merged.data[:, :width], 0.0)
+        self._write_rows(rows, merged)  # merged points have no feature keys
 
     def replace_fresh(
         self, rows: np.ndarray, rotation: np.ndarray, position: np.ndarray, fresh: FreshPoints
@@ -354,12 +347,22 @@ class ManifoldStore(MutableMapping):
             self.max_points[rows],
             self.feature[rows],
         )
-        width = points.valid.shape[1]  # at most SLOTS
+        self._write_rows(rows, points, key)
+
+    def _write_rows(self, rows: np.ndarray, points: LocalPoints, key=None) -> None:
+        """Store ``points`` (at most ``SLOTS`` valid a row, in their first slots) as the
+        manifolds ``rows``, with their feature keys ``key (r, k)`` (None: no keys, 0)."""
+        width = min(SLOTS, points.valid.shape[1])
         if width < SLOTS:  # else every slot is written below
             self._clear_rows(rows)
+        valid = points.valid[:, :width, None, None]
         self.count[rows] = points.valid.sum(axis=1)
-        self.points[rows, :width] = np.where(points.valid[..., None, None], points.data, 0.0)
-        self.point_key[rows, :width] = np.where(points.valid, key, 0)
+        # all four fields of every slot in one write; empty slots stay 0
+        self.points[rows, :width] = np.where(valid, points.data[:, :width], 0.0)
+        if key is None:
+            self.point_key[rows] = 0
+        else:
+            self.point_key[rows, :width] = np.where(valid[:, :, 0, 0], key[:, :width], 0)
 
     @staticmethod
     def _refreshed(cached: LocalPoints, frames: RowFrames, feature) -> LocalPoints:
