@@ -224,7 +224,7 @@ def write_api_pages(src: Path) -> None:
         (api / f"{package}.md").write_text("\n".join(lines), encoding="utf-8")
 
 
-# warnings are errors (every one reported before the build fails), on all cores
+# warnings are errors (every one reported before the build fails); Sphinx's processes: --jobs
 SPHINX_STRICT = ["-W", "--keep-going"]
 
 
