@@ -34,14 +34,13 @@ from ..core.settings import (
 )
 from ..solver.coloring import color_manifolds
 from ..solver.contact_batch import (
-    SLOTS,
     ColorOrder,
     ManifoldPoints,
     PairCoefficients,
     SolverBodies,
     build_batch,
 )
-from ..solver.integrate import world_inverse_inertia
+from ..solver.integrate import body_velocities, world_inverse_inertia
 from ..solver.rolling_friction import (
     ContactLoads,
     apply_rolling_friction,
@@ -134,11 +133,13 @@ def gather_solver_input(
     solvable = np.zeros(n, dtype=bool)
     solvable[moving] = True
     rows = store.rows_with_points()
-    rows = rows[solvable[store.bodies[rows, 0]] | solvable[store.bodies[rows, 1]]]
+    pairs = store.bodies[rows]  # (m, 2) body indices
+    touches = solvable[pairs].any(axis=1)  # a body of the pair is moving
+    rows, pairs = rows[touches], pairs[touches]
     if len(rows) == 0:
         return None
     order, color_slices, priority_starts, lower = solver_order(
-        store, store.bodies[rows, 0], store.bodies[rows, 1], solvable
+        store, pairs[:, 0], pairs[:, 1], solvable
     )
     rows = rows[order]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
@@ -226,16 +227,13 @@ def _solve_batched(
     body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
     counts = store.count[rows]
     rotation = live_rotations(b)
-    points_a, points_b, normals = world_points(store, rows, rotation, b.body_position[:n])
-    empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
-    normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
+    position = b.body_position[:n]
+    points_a, points_b, normals = world_points(store, rows, rotation, position, body_a, body_b)
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(
         ManifoldPoints(points_a, points_b, normals, counts, body_a, body_b),
-        SolverBodies(
-            b.body_position[:n], problem.inv_mass, problem.inv_inertia, problem.approach_velocity
-        ),
+        SolverBodies(position, problem.inv_mass, problem.inv_inertia, problem.approach_velocity),
         PairCoefficients(friction, restitution, store.impulse[rows], problem.slop),
         ColorOrder(problem.color_slices, problem.priority_starts, problem.lower),
         split_mass=settings.block_jacobi,
@@ -258,12 +256,11 @@ def _solve_batched(
     return pseudo, batch.depth, loads
 
 
-def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position):
+def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position, a, b):
     """World anchors of A and B and world normals ``(m, S, 3)`` of the store's ``rows``
     (``ManifoldStore.world_points``) as stacked matmuls ``p = local R^T + x``, several
     times faster than its einsum on a thousand rows; ``rotation (n, 3, 3)``, ``position
-    (n, 3)``."""
-    a, b = store.bodies[rows, 0], store.bodies[rows, 1]
+    (n, 3)``, the rows' bodies ``a, b (m,)``."""
     turn_a, turn_b = rotation[a].swapaxes(1, 2), rotation[b].swapaxes(1, 2)
     point_a = store.local_a[rows] @ turn_a + position[a][:, None]
     point_b = store.local_b[rows] @ turn_b + position[b][:, None]
@@ -305,10 +302,11 @@ def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -
 def solver_velocities(b: Bodies, n: int) -> np.ndarray:
     """``(n, 6)`` [v, w]: dynamic bodies their velocity, kinematic their controlled one."""
     velocity = np.zeros((n, 6))
-    dynamic = b.body_motion_type[:n] == DYNAMIC
-    kinematic = b.body_motion_type[:n] == KINEMATIC
-    velocity[dynamic, :3] = b.body_linear_velocity[:n][dynamic]
-    velocity[dynamic, 3:] = b.body_angular_velocity[:n][dynamic]
-    velocity[kinematic, :3] = b.body_solver_velocity[:n][kinematic]
-    velocity[kinematic, 3:] = b.body_solver_angular_velocity[:n][kinematic]
+    motion = b.body_motion_type[:n]
+    dynamic = motion == DYNAMIC
+    velocity[dynamic] = body_velocities(b)[dynamic]
+    kinematic = motion == KINEMATIC
+    if kinematic.any():  # (most scenes have none)
+        velocity[kinematic, :3] = b.body_solver_velocity[:n][kinematic]
+        velocity[kinematic, 3:] = b.body_solver_angular_velocity[:n][kinematic]
     return velocity

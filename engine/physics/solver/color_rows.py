@@ -258,7 +258,8 @@ def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> Color
 def column_view(array: np.ndarray) -> np.ndarray:
     """``(k, r, 1)`` view of a contiguous quantity-major ``array (..., k)`` (``r`` = the
     product of its leading axes): what a stacked matmul reads or writes per manifold."""
-    return array.reshape(-1, array.shape[-1]).T[:, :, None]
+    rows = array if array.ndim == 2 else array.reshape(-1, array.shape[-1])  # (r, k)
+    return rows.T[:, :, None]
 
 
 def velocity_update(
