@@ -75,7 +75,8 @@ class SolverInput:
     solve leaves (``PENETRATION_SLOP``, capped at the feature length for small bodies);
     ``inv_mass (n,)`` 1/kg, ``inv_inertia (n, 3, 3)`` world frame, 1/(kg m^2) (zero for
     bodies that do not move); ``velocity (n, 6)`` [v, w] that the solver updates;
-    ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures.
+    ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures;
+    ``pairs (m, 2)`` the bodies of each row, ``store.bodies[rows]``.
     """
 
     rows: np.ndarray
@@ -87,6 +88,7 @@ class SolverInput:
     inv_inertia: np.ndarray
     velocity: np.ndarray
     approach_velocity: np.ndarray
+    pairs: np.ndarray
 
 
 def solve_stage(
@@ -103,7 +105,7 @@ def solve_stage(
         return SolveResult(None, np.zeros(0, dtype=np.int64))
     # rolling and spinning resistance (rolling_friction.py) only if some body of the
     # solved pairs has it: then the solve also returns the manifolds' normal loads
-    rolling = needs_rolling_friction(bodies, store.bodies[problem.rows])
+    rolling = needs_rolling_friction(bodies, problem.pairs)
     if settings.use_vectorized:
         pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings, rolling)
     else:
@@ -121,7 +123,7 @@ def solve_stage(
     bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
     bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
     deep = depth.max(axis=1) > SLEEP_MAX_PENETRATION
-    overlapping = store.bodies[problem.rows[deep]].ravel()
+    overlapping = problem.pairs[deep].ravel()
     return SolveResult(pseudo, overlapping)
 
 
@@ -138,19 +140,16 @@ def gather_solver_input(
     rows, pairs = rows[touches], pairs[touches]
     if len(rows) == 0:
         return None
-    order, color_slices, priority_starts, lower = solver_order(
-        store, pairs[:, 0], pairs[:, 1], solvable
-    )
-    rows = rows[order]
+    order, color_slices, priority_starts, lower = solver_order(store, pairs, solvable)
+    rows, pairs = rows[order], pairs[order]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
     velocity = solver_velocities(b, n)
     # restitution uses the approach speed at the start of the step (before this step's
     # gravity): the impact happened during the previous step, not after one more h g
-    approach_velocity = velocity.copy()
     dynamic = b.body_motion_type[:n] == DYNAMIC
-    approach_velocity[dynamic] = start_velocity[dynamic]
+    approach_velocity = np.where(dynamic[:, None], start_velocity, velocity)
     slop = np.minimum(PENETRATION_SLOP, store.feature[rows])
     return SolverInput(
         rows,
@@ -162,14 +161,15 @@ def gather_solver_input(
         inv_inertia,
         velocity,
         approach_velocity,
+        pairs,
     )
 
 
 def solver_order(
-    store: ManifoldStore, body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray
+    store: ManifoldStore, pairs: np.ndarray, solvable: np.ndarray
 ) -> tuple[np.ndarray, list[tuple[int, int]], list[int], np.ndarray]:
-    """``(order, color_slices, priority_starts, lower)`` of the manifolds of ``body_a,
-    body_b (m,)``: :func:`color_manifolds` and :func:`color_order`, then
+    """``(order, color_slices, priority_starts, lower)`` of the manifolds of the bodies
+    ``pairs (m, 2)``: :func:`color_manifolds` and :func:`color_order`, then
     :func:`lower_bodies` of the pairs in that order.
 
     All four are functions of the contact graph only (the pairs and which of their bodies
@@ -177,13 +177,13 @@ def solver_order(
     rest, a tower): then the last step's answer is reused, exactly the same arrays, instead
     of the pure-Python greedy coloring and the level search (the memo lives on ``store``).
     """
-    key = b"".join(
-        array.tobytes() for array in (body_a, body_b, solvable[body_a], solvable[body_b])
-    )
+    pair_solvable = solvable[pairs]  # (m, 2)
+    key = pairs.tobytes() + pair_solvable.tobytes()
     memo = store.solver_order
     if memo.value is None or memo.key != key:
+        body_a, body_b = pairs[:, 0], pairs[:, 1]
         order, color_slices, priority_starts = color_order(
-            color_manifolds(body_a, body_b, solvable), ~(solvable[body_a] & solvable[body_b])
+            color_manifolds(body_a, body_b, solvable), ~pair_solvable.all(axis=1)
         )
         lower = lower_bodies(body_a[order], body_b[order], solvable)
         memo.key, memo.value = key, (order, color_slices, priority_starts, lower)
@@ -224,7 +224,7 @@ def _solve_batched(
     velocities ``(n, 6)``, the contact depths ``(m, S)`` (0 in empty slots) and the
     manifolds' normal loads (rolling friction's input; None unless ``with_loads``)."""
     b, n, rows = bodies, bodies.count, problem.rows
-    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
+    body_a, body_b = problem.pairs[:, 0], problem.pairs[:, 1]
     counts = store.count[rows]
     rotation = live_rotations(b)
     position = b.body_position[:n]

@@ -246,7 +246,8 @@ def build_batch(
     counts, body_a, body_b = contacts.counts, contacts.body_a, contacts.body_b
     position, inv_mass, inv_inertia = bodies.position, bodies.inv_mass, bodies.inv_inertia
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
-    normals = np.where(mask[..., None], normals, [0.0, 1.0, 0.0])  # a harmless unit when empty
+    slot_used = mask[..., None]  # (m, S, 1)
+    normals = np.where(slot_used, normals, [0.0, 1.0, 0.0])  # a harmless unit when empty
     point = 0.5 * (points_a + points_b)
     pair_bodies = np.stack([body_a, body_b], axis=1)  # (m, 2)
     # r_a = p - x_a and r_b = p - x_b of every slot: (m, S, 2, 3)
@@ -270,10 +271,10 @@ def build_batch(
     # m_eff = 1 / (n_split J M^-1 J^T), for the rows (n, t1, t2) of each slot
     k_rows = (jac * w).sum(axis=-1)  # (m, S, 3)
     split_rows = split[:, :, None]
-    mass = np.where(mask[..., None], 1.0 / (split_rows * np.maximum(k_rows, TINY)), 0.0)
+    mass = np.where(slot_used, 1.0 / (split_rows * np.maximum(k_rows, TINY)), 0.0)
     normal_mass, tangent_mass = mass[:, :, 0], mass[:, :, 1:].reshape(m, 2 * SLOTS)
-    vab = np.concatenate([bodies.velocity[body_a], bodies.velocity[body_b]], axis=1)
-    approach = (normal_jac @ vab[:, :, None])[..., 0]
+    vab = bodies.velocity[pair_bodies].reshape(m, 12, 1)  # [v_a, w_a, v_b, w_b] of each pair
+    approach = (normal_jac @ vab)[..., 0]
     starts = [start for start, _ in order.color_slices]  # colors are never empty
     return ContactBatch(
         body_a,
@@ -289,7 +290,7 @@ def build_batch(
         pairs.restitution[:, None],
         np.where(mask, depth, 0.0),
         approach,
-        np.where(mask[..., None], pairs.impulse, 0.0),
+        np.where(slot_used, pairs.impulse, 0.0),
         order.color_slices,
         np.maximum.reduceat(counts, starts).tolist(),  # the most points in each color
         pair_bodies,

@@ -99,11 +99,12 @@ def wake_touched(bodies, manifolds) -> bool:
     body was woken.
     """
     n = bodies.count
-    a, b = _touching_pairs(manifolds)
+    pairs = manifolds.bodies[manifolds.rows_with_points()]  # (m, 2) touching bodies
     dynamic = bodies.body_motion_type[:n] == DYNAMIC
     sleeping = dynamic & ~bodies.body_awake[:n]
-    if not (sleeping[a].any() or sleeping[b].any()):
+    if not sleeping[pairs].any():
         return False
+    a, b = pairs[:, 0], pairs[:, 1]
     # a sleeper wakes when its partner is an awake dynamic body or a moving kinematic one
     disturbing = (dynamic & bodies.body_awake[:n]) | moving_kinematic_mask(bodies, n)
     woken = np.concatenate([a[sleeping[a] & disturbing[b]], b[sleeping[b] & disturbing[a]]])
