@@ -52,9 +52,9 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
         time[b[dynamic[b] & pushing[a]]] = 0.0
     if not (awake & (time >= settings.TIME_TO_SLEEP)).any() and not (dynamic ^ awake).any():
         return  # no body rested long enough and none sleeps: the islands change nothing
-    a, b = _touching_pairs(manifolds)
-    joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
-    labels = _island_labels(n, np.stack([a[joined], b[joined]], axis=1))
+    pairs = manifolds.bodies[manifolds.rows_with_points()]  # (m, 2) touching bodies
+    joined = dynamic[pairs].all(axis=1)  # dynamic-dynamic contacts join islands
+    labels = _island_labels(n, pairs[joined])
     island_rest = np.full(n, np.inf)
     np.minimum.at(island_rest, labels[dynamic], time[dynamic])
     asleep = dynamic & (island_rest[labels] >= settings.TIME_TO_SLEEP)
@@ -102,12 +102,13 @@ def wake_touched(bodies, manifolds) -> bool:
     pairs = manifolds.bodies[manifolds.rows_with_points()]  # (m, 2) touching bodies
     dynamic = bodies.body_motion_type[:n] == DYNAMIC
     sleeping = dynamic & ~bodies.body_awake[:n]
-    if not sleeping[pairs].any():
+    sleeper = sleeping[pairs]  # (m, 2)
+    if not sleeper.any():
         return False
-    a, b = pairs[:, 0], pairs[:, 1]
     # a sleeper wakes when its partner is an awake dynamic body or a moving kinematic one
     disturbing = (dynamic & bodies.body_awake[:n]) | moving_kinematic_mask(bodies, n)
-    woken = np.concatenate([a[sleeping[a] & disturbing[b]], b[sleeping[b] & disturbing[a]]])
+    partner_disturbs = disturbing[pairs][:, ::-1]  # (m, 2): the other body of each pair
+    woken = pairs[sleeper & partner_disturbs]
     bodies.body_awake[woken] = True
     bodies.body_sleep_time[woken] = 0.0
     return len(woken) > 0
