@@ -121,7 +121,9 @@ def test_a_vertex_beside_a_thin_slab_below_its_top_is_not_pushed_into_its_side(v
     counted as 9 cm behind it and were pushed into the slab (a cone sliding off a bed's
     base this way ended wedged under it, 10 cm below the floor, in the walls soak). The
     center is above that low face, so its front decides: no contact on the side, the
-    vertices over the slab rest on its top; the same on both paths."""
+    vertices over the slab rest on its top (before: 6 contacts, the two vertices in the air
+    each held by the side and, as in a corner, by the top); the same on both paths. The
+    box then tips off the edge onto the floor."""
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized
     world.set_stage([floor_mesh(), slab_mesh()], StageAttributes())
