@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from helpers import add, floor_mesh, make_world, register_primitive
 
+from engine import mn
 from engine.attributes import StageAttributes
 from engine.physics.core.quaternions import quat_to_matrix
 from engine.scene.assets import MeshData
@@ -175,3 +176,36 @@ def test_center_decides_agrees_with_its_reference():
     assert center_decides(np.array([False]), np.array([-0.1]), np.array([0.01]), np.array([-0.19]))[
         0
     ]
+
+
+def board_and_wall() -> list[MeshData]:
+    """A 10 cm wall box (z in [2.5, 2.6]) with a 15 mm, 10 cm high skirting board in front
+    of it (z in [2.485, 2.5]): the board's back and the wall's face share the plane z = 2.5,
+    facing each other; both boxes wound outward."""
+    meshes = []
+    for lo, hi in (([-2.0, 0.0, 2.5], [2.0, 2.0, 2.6]), ([-2.0, 0.0, 2.485], [2.0, 0.1, 2.5])):
+        box = slab_mesh()
+        unit = (box.vertices - [0.0, SLAB_LOW, -0.4]) / [0.6, SLAB_HIGH - SLAB_LOW, 0.8]
+        meshes.append(MeshData(vertices=lo + unit * (np.array(hi) - lo), faces=box.faces))
+    return meshes
+
+
+@pytest.mark.parametrize("vectorized", [True, False])
+def test_a_vertex_inside_a_skirting_board_is_not_pushed_into_the_wall(vectorized):
+    """A 0.2 m box turned 45 degrees about x, its center 4 mm before the board's back
+    (z = 2.5) and 5 cm above the board's top, one edge inside the board nearer its back
+    than its front. The center is
+    above the board's back and near its plane, but that face is backed by the wall's face
+    (its front is inside the wall): it keeps the side of the body's center and pushes
+    nothing into the wall (a rule taking its front lost two cones through the wall in the
+    walls soak); the same contacts on both paths."""
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    world.set_stage([floor_mesh(), *board_and_wall()], StageAttributes())
+    box = add(world, templates, register_primitive(templates, half=(HALF,) * 3), [0, 0.15, 2.496])
+    box.rotation = mn.Quaternion.rotation(mn.Deg(45.0), mn.Vector3.x_axis())
+    point_b, normal = narrow_phase_contacts(world, vectorized)
+    batched = narrow_phase_contacts(world, not vectorized)
+    for mine, theirs in zip((point_b, normal), batched, strict=True):
+        np.testing.assert_allclose(mine, theirs, atol=1e-12)
+    assert len(normal) > 0 and (normal[:, 2] < 0.5).all()  # none toward the wall

@@ -244,6 +244,7 @@ def _stage_group(
     height = np.einsum("gti,gvi->gtv", normal, verts) - dot(normal, tris[:, :, 0])[..., None]
     # the body's center level with each triangle (between its lowest and highest corner)
     level = (table["y_low"][ids] <= x[:, None, 1]) & (x[:, None, 1] <= table["y_high"][ids])
+    level |= table["backed"][ids]  # a board's back against a wall: its front is the wall
     side = _outward_side(normal, tris[:, :, 0], height, x, cached, level)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)

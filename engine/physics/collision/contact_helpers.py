@@ -140,7 +140,9 @@ def triangle_table(mesh_shape) -> dict:
 
     ``normal (t, 3)`` unit face normals (winding order), ``e0, e1 (t, 3)`` edges from vertex
     0, the Gram entries ``d00, d01, d11, denom (t,)`` of the barycentric solve, and the
-    heights ``y_low, y_high (t,)`` of each triangle's lowest and highest corner.
+    heights ``y_low, y_high (t,)`` of each triangle's lowest and highest corner, and
+    ``backed (t,)``: another triangle lies in the same plane facing the other way
+    (:func:`backed_triangles`).
     """
     table = getattr(mesh_shape, "_triangle_table", None)
     if table is None:
@@ -160,9 +162,23 @@ def triangle_table(mesh_shape) -> dict:
             "denom": d00 * d11 - d01 * d01,
             "y_low": tris[:, :, 1].min(axis=1),
             "y_high": tris[:, :, 1].max(axis=1),
+            "backed": backed_triangles(normal, tris[:, 0]),
         }
         mesh_shape._triangle_table = table
     return table
+
+
+def backed_triangles(normal: np.ndarray, corner: np.ndarray) -> np.ndarray:
+    """(t,) bool: a triangle whose plane holds another triangle facing the other way (unit
+    normals ``normal (t, 3)``, a corner of each ``corner (t, 3)``; planes compared to 1e-3
+    in the normal and 0.1 mm in the offset): the back of a skirting board against the
+    wall's face. Its front is not free space, so its side is the body's center's even
+    where the center is above it (:func:`center_decides`)."""
+    offset = (normal * corner).sum(axis=1)
+    key = np.round(np.column_stack([normal * 1e3, offset * 1e4])).astype(np.int64)
+    flipped = np.round(np.column_stack([-normal * 1e3, -offset * 1e4])).astype(np.int64)
+    planes = {tuple(row) for row in key.tolist()}
+    return np.array([tuple(row) in planes for row in flipped.tolist()], dtype=bool)
 
 
 def segment_in_body(shape: Shape) -> tuple[np.ndarray, np.ndarray, float]:
@@ -179,7 +195,8 @@ def center_decides(
 ) -> np.ndarray:
     """Whether the body's center says on which side of a wall-like stage triangle the body
     is (rule 4 of :func:`new_contact_side`): the center is ``level`` with the triangle
-    (between its lowest and highest corner), or the plane passes clear of it, farther than
+    (between its lowest and highest corner, or the triangle is backed by an opposite one,
+    :func:`backed_triangles`), or the plane passes clear of it, farther than
     ``STAGE_CENTER_SIDE_FRACTION`` of the body's extent along the normal (``max_height -
     min_height``, the largest and least ``n . (x - p_0)`` over its points).
 
@@ -187,6 +204,8 @@ def center_decides(
     slab (a bed's base) with its center just past the slab's side, above its top, had the
     rim vertices dipping beyond the side, in the air, taken as 2-11 cm behind it and
     pushed into the slab; it ended wedged under the slab, its tip 10 cm below the floor.
+    A skirting board's back against a wall keeps the center's side (its front is inside
+    the wall): cones pressed into the board with their centers above it went through.
 
     Reference: :func:`reference_pairs.center_decides_reference`.
     """

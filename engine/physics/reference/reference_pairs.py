@@ -244,6 +244,7 @@ def stage_polyhedron_contacts(
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
         height = [dot(normal, v) - dot(normal, corner) for v in vertices]
         level = bool(table["y_low"][t] <= position[1] <= table["y_high"][t])
+        level = level or bool(table["backed"][t])  # a board's back against a wall
         side = outward_side(normal, corner, height, position, cached, level)
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
