@@ -232,10 +232,11 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     tol = settings.BOX_CLIP_TOLERANCE
     g = len(quad)
     # 0-3: the quad's corners inside the rectangle grown by SPECULATIVE_DISTANCE
-    grown = extent[:, None] + settings.SPECULATIVE_DISTANCE
+    extent_row = extent[:, None]  # (g, 1, 2)
+    grown = extent_row + settings.SPECULATIVE_DISTANCE
     quad_inside = (np.abs(quad) <= grown).all(axis=2)
     # 4-7: the rectangle's corners inside the quad: on the inner side of its 4 edges
-    rect = CORNER_SIGNS * extent[:, None]  # (g, 4, 2)
+    rect = CORNER_SIGNS * extent_row  # (g, 4, 2)
     following = quad[:, FOLLOWING]  # q_{k+1}
     edge = following - quad  # q_{k+1} - q_k, (g, 4, 2)
     # twice the quad's signed area: its orientation (+1 counter-clockwise)
@@ -315,9 +316,10 @@ def _edge_contacts(pairs, axis, normal, frames):
     r = mid_a - mid_b
     b, c, f = np.vecdot(dir_a, dir_b), np.vecdot(dir_a, r), np.vecdot(dir_b, r)
     length_a, length_b = half_a[g, i], half_b[g, j]
-    s = np.clip((b * f - c) / (1.0 - b * b), -length_a, length_a)
+    low_a = -length_a
+    s = np.clip((b * f - c) / (1.0 - b * b), low_a, length_a)
     t = np.clip(f + s * b, -length_b, length_b)
-    s = np.clip(t * b - c, -length_a, length_a)
+    s = np.clip(t * b - c, low_a, length_a)
     point_a = mid_a + s[:, None] * dir_a
     point_b = mid_b + t[:, None] * dir_b
     keep = np.vecdot(point_a - point_b, normal) > -settings.SPECULATIVE_DISTANCE

@@ -125,8 +125,9 @@ def all_pairs_overlaps(
     overlap = (bounds[:, :, None] <= limits[:, None]).all(axis=0)  # (k, c)
     im, ic = np.nonzero(overlap)
     a, b = movers[im], candidates[ic]
-    # each pair once: two movers meet twice, keep the one seen from the lower index
-    keep = (a != b) & (~active[b] | (a < b))
+    # each pair once: two movers meet twice, keep the one seen from the lower index (a
+    # mover also meets itself: b = a is active and not above a, so it is dropped too)
+    keep = ~active[b] | (a < b)
     return _sorted_pairs(a[keep], b[keep])
 
 
