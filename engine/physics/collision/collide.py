@@ -151,9 +151,10 @@ def sweep_and_prune_overlaps(
     i = np.repeat(np.arange(len(order)), count)
     # j runs over first_i .. stop_i - 1 for every i: a flat arange minus each run's start
     j = np.arange(len(i)) - np.repeat(np.cumsum(count) - count, count) + np.repeat(first, count)
-    overlap = np.ones(len(i), dtype=bool)
-    for k in range(3):
-        overlap &= (lo[i, k] <= hi[j, k]) & (lo[j, k] <= hi[i, k])
+    # overlap on all three axes: the (e, 3) tests at once, then their three columns (the
+    # columns written out: .all over a length-3 axis pays per row)
+    each = (lo[i] <= hi[j]) & (lo[j] <= hi[i])
+    overlap = each[:, 0] & each[:, 1] & each[:, 2]
     a, b = candidates[order[i[overlap]]], candidates[order[j[overlap]]]
     keep = active[a] | active[b]
     return _sorted_pairs(a[keep], b[keep])
