@@ -214,5 +214,5 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
         "gvi,gi->gv", verts, normal
     )
     g, v = np.nonzero(inside & (depth > -tolerance) & facing[:, None])
-    on_face = verts[g, v] + depth[g, v][:, None] * normal[g]  # x + d n_f
+    on_face = verts[g, v] + depth[g, v, None] * normal[g]  # x + d n_f
     return g, v, on_face, verts, normal

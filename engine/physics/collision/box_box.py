@@ -155,8 +155,8 @@ def box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     rows = np.arange(len(separation))
     axis = choose_axis(separation)
     # n = u sign(u . (c_b - c_a)): from A to B (+u when the centers coincide along u)
-    sign = np.where(distance[rows, axis] >= 0.0, 1.0, -1.0)
-    normal = axes[rows, axis] * sign[:, None]
+    sign = np.where(distance[rows, axis, None] >= 0.0, 1.0, -1.0)  # (g, 1)
+    normal = axes[rows, axis] * sign
     deepest = separation.max(axis=1)  # the pair's separation (negative: overlap depth)
     deep = deepest < -settings.BOX_DEEP_OVERLAP
     close = (deepest <= settings.SPECULATIVE_DISTANCE) & ~deep
@@ -187,7 +187,7 @@ def _face_contacts(pairs, axis, normal, frames):
     axes_i = np.where(pick_matrix, rot_b, rot_a).mT
     n_ref = np.where(pick, normal, -normal)  # out of the reference face, towards I
     i = axis % 3
-    face_center = center_r + half_r[g, i][:, None] * n_ref
+    face_center = center_r + half_r[g, i, None] * n_ref
     # the reference rectangle: its axes U, V (rows of tangents) and half sizes
     g_column = g[:, None]
     in_face = OTHER_AXES[i]  # (g, 2): i + 1, i + 2 (mod 3)
@@ -197,11 +197,11 @@ def _face_contacts(pairs, axis, normal, frames):
     j = tie_key(np.abs(alignment)).argmax(axis=1)
     facing = alignment[g, j] >= 0.0  # the incident face is on I's -b_j side
     m = np.where(facing, -1.0, 1.0)[:, None] * axes_i[g, j]
-    offset = center_i + half_i[g, j][:, None] * m - face_center  # f - o, incident face center
+    offset = center_i + half_i[g, j, None] * m - face_center  # f - o, incident face center
     # its corners f + s1 A1 + s2 A2 in CORNER_SIGNS order, relative to o, (g, 4, 3), with
     # the half sides A1, A2 (rows of sides) along axes j + 1, j + 2 of I
     across = OTHER_AXES[j]
-    sides = axes_i[g_column, across] * half_i[g_column, across][..., None]
+    sides = axes_i[g_column, across] * half_i[g_column, across, None]
     corners = offset[:, None] + CORNER_SIGNS @ sides
     quad = corners @ tangents.mT  # (g, 4, 2) in the reference face's 2D frame
     uv, valid = clip_candidates(quad, extent)
