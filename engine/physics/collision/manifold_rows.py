@@ -10,7 +10,8 @@ hull rules, a hull's vertices on the stage's triangles, a rolling sphere's singl
 capsule's contacts come from fcl, one or two points a step, and build up by the merge.
 (The stage's rows merged too until the corner slot choice of the stage's contacts landed:
 fresh stage manifolds then let the CI soak's cone and cube pushed against walls sink 2.8
-and 5.1 cm; on the corner rules the soak passes with every row fresh,
+and 5.1 cm; on the corner rules the soak passes with every row fresh, the stage's rows
+holding their untaken cached points, :mod:`keyed_manifolds`, step 4;
 ``docs/physics_performance.md``.)
 """
 

@@ -75,13 +75,15 @@ class SolverSettings:
     feature_manifolds : bool
         Rebuild every pair's manifold (the stage's included) from this step's contacts, cut
         to four with last step's feature keys winning near-ties and the stage's corner slot
-        choice, warm-started from the nearest cached points (True, Box2D v3's and Jolt's
-        way: :mod:`keyed_manifolds`), instead of merging the fresh points into persistent
-        manifolds (False, the default, Bullet's ``btPersistentManifold``:
+        choice, warm-started from the nearest cached points, a stage row with fewer than
+        three fresh points keeping its untaken cached points still touching (True, Box2D
+        v3's and Jolt's way: :mod:`keyed_manifolds`), instead of merging the fresh points
+        into persistent manifolds (False, the default, Bullet's ``btPersistentManifold``:
         :mod:`manifold_merge`). Pairs with a capsule always merge (:mod:`manifold_rows`).
-        Off by default: measured, it cuts 5-7 % of a step's NumPy operations, passes the
-        CI soak, but the benchmark column's transient cube-cube overlap and sleeping gates
-        read worse on their one drop (``docs/physics_performance.md``).
+        Off by default: measured, it cut 16 % of column-10's NumPy operations (0.77x its
+        CPU time) and over eight drops of the 100-cube column was as good as the merge, but
+        the benchmark's one-drop gates (transient cube-cube overlap, sleeping at 3 s, the
+        500-cube floor overlap) read worse (``docs/physics_performance.md``).
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time
