@@ -275,7 +275,9 @@ class Matrix4(_MatrixN):
 
 def quaternion_to_matrix(xyzw: np.ndarray) -> np.ndarray:
     """3x3 rotation matrix of a unit ``[x, y, z, w]`` quaternion (see the module docstring)."""
-    x, y, z, w = xyzw
+    # as Python floats: the same double arithmetic as NumPy scalars, without a NumPy
+    # operation per term (scene nodes build their matrices through here on every step)
+    x, y, z, w = np.asarray(xyzw, dtype=np.float64).tolist()
     return np.array(
         [
             [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],

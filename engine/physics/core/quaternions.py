@@ -95,8 +95,9 @@ def rotation_quat(rotation_vector: np.ndarray) -> np.ndarray:
     angle = np.sqrt(np.sum(rotation_vector * rotation_vector, axis=-1, keepdims=True))
     # sin(theta/2) / theta -> 1/2 as theta -> 0 (the axis is irrelevant at zero angle)
     turned = angle > SMALL_ROTATION_ANGLE
-    scale = np.where(turned, np.sin(angle / 2) / np.where(turned, angle, 1.0), 0.5)
-    return np.concatenate([rotation_vector * scale, np.cos(angle / 2)], axis=-1)
+    half = angle / 2
+    scale = np.where(turned, np.sin(half) / np.where(turned, angle, 1.0), 0.5)
+    return np.concatenate([rotation_vector * scale, np.cos(half)], axis=-1)
 
 
 def rotation_vector(q_now: np.ndarray, q_before: np.ndarray) -> np.ndarray:
@@ -117,7 +118,9 @@ def live_rotations(bodies) -> np.ndarray:
     live bodies, identity for freed slots (whose quaternion is the identity anyway), so a
     world that once held many objects pays only for those alive."""
     n = bodies.count
-    rotation = np.tile(np.eye(3), (n, 1, 1))
     live = np.flatnonzero(bodies.body_alive[:n])
+    if len(live) == n:  # no freed slot (the usual world): every body's matrix
+        return quat_to_matrix(bodies.body_rotation[live])
+    rotation = np.tile(np.eye(3), (n, 1, 1))
     rotation[live] = quat_to_matrix(bodies.body_rotation[live])
     return rotation

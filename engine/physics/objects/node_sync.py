@@ -90,10 +90,11 @@ class NodeSync:
         under_root = []  # (index, node, parent) of nodes whose parent is a root at the origin
         skip = (~b.body_alive[:n] | (b.body_motion_type[:n] == STATIC)).tolist()
         identity_root: dict[int, bool] = {}  # id(parent) -> a root at the origin
+        same_world: dict[tuple[int, int], tuple] = {}  # parent matrices compared this pass
         for index, node in list(self.nodes.items()):
             if skip[index]:
                 continue
-            if not moved[index] and self._node_unchanged(index, parent_cache):
+            if not moved[index] and self._node_unchanged(index, parent_cache, same_world):
                 continue
             parent = node._parent  # (the ``parent`` property's field: one lookup per node)
             if (
@@ -199,9 +200,14 @@ class NodeSync:
             and np.all(written[3:] == b.body_rotation[index])
         )
 
-    def _node_unchanged(self, index: int, parent_cache: dict | None) -> bool:
+    def _node_unchanged(
+        self, index: int, parent_cache: dict | None, same_world: dict | None = None
+    ) -> bool:
         """True when body ``index``'s node, its parent and the parent's pose are as they were
-        at the node's last write (checked by identity: setters replace the stored objects)."""
+        at the node's last write (checked by identity: setters replace the stored objects).
+        ``same_world`` (with ``parent_cache``) keeps each comparison of a recorded parent
+        matrix with the parent's current one for the pass: the nodes under one parent
+        mostly recorded the same matrix, so it is compared once."""
         last, node = self._node_stamp.get(index), self.nodes[index]
         if last is None or node.parent is not last.parent:
             return False
@@ -214,9 +220,16 @@ class NodeSync:
             return False
         if node.parent is None:
             return last.parent_world is None
-        return last.parent_world is not None and np.array_equal(
-            last.parent_world, self._parent_matrices(node.parent, parent_cache)[0]
-        )
+        if last.parent_world is None:
+            return False
+        world = self._parent_matrices(node.parent, parent_cache)[0]
+        if same_world is None or parent_cache is None:
+            return bool(np.array_equal(last.parent_world, world))
+        key = (id(last.parent_world), id(world))
+        if key not in same_world:  # (the entry keeps both arrays alive: ids stay unique)
+            same = bool(np.array_equal(last.parent_world, world))
+            same_world[key] = (last.parent_world, world, same)
+        return same_world[key][2]
 
     @staticmethod
     def _parent_matrices(parent, cache: dict | None):

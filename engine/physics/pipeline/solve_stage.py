@@ -34,14 +34,13 @@ from ..core.settings import (
 )
 from ..solver.coloring import color_manifolds
 from ..solver.contact_batch import (
-    SLOTS,
     ColorOrder,
     ManifoldPoints,
     PairCoefficients,
     SolverBodies,
     build_batch,
 )
-from ..solver.integrate import world_inverse_inertia
+from ..solver.integrate import body_velocities, world_inverse_inertia
 from ..solver.rolling_friction import (
     ContactLoads,
     apply_rolling_friction,
@@ -76,7 +75,8 @@ class SolverInput:
     solve leaves (``PENETRATION_SLOP``, capped at the feature length for small bodies);
     ``inv_mass (n,)`` 1/kg, ``inv_inertia (n, 3, 3)`` world frame, 1/(kg m^2) (zero for
     bodies that do not move); ``velocity (n, 6)`` [v, w] that the solver updates;
-    ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures.
+    ``approach_velocity (n, 6)`` the start-of-step velocities restitution measures;
+    ``pairs (m, 2)`` the bodies of each row, ``store.bodies[rows]``.
     """
 
     rows: np.ndarray
@@ -88,6 +88,7 @@ class SolverInput:
     inv_inertia: np.ndarray
     velocity: np.ndarray
     approach_velocity: np.ndarray
+    pairs: np.ndarray
 
 
 def solve_stage(
@@ -104,7 +105,7 @@ def solve_stage(
         return SolveResult(None, np.zeros(0, dtype=np.int64))
     # rolling and spinning resistance (rolling_friction.py) only if some body of the
     # solved pairs has it: then the solve also returns the manifolds' normal loads
-    rolling = needs_rolling_friction(bodies, store.bodies[problem.rows])
+    rolling = needs_rolling_friction(bodies, problem.pairs)
     if settings.use_vectorized:
         pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings, rolling)
     else:
@@ -122,7 +123,7 @@ def solve_stage(
     bodies.body_linear_velocity[moving] = problem.velocity[moving, :3]
     bodies.body_angular_velocity[moving] = problem.velocity[moving, 3:]
     deep = depth.max(axis=1) > SLEEP_MAX_PENETRATION
-    overlapping = store.bodies[problem.rows[deep]].ravel()
+    overlapping = problem.pairs[deep].ravel()
     return SolveResult(pseudo, overlapping)
 
 
@@ -134,22 +135,21 @@ def gather_solver_input(
     solvable = np.zeros(n, dtype=bool)
     solvable[moving] = True
     rows = store.rows_with_points()
-    rows = rows[solvable[store.bodies[rows, 0]] | solvable[store.bodies[rows, 1]]]
+    pairs = store.bodies[rows]  # (m, 2) body indices
+    touches = solvable[pairs].any(axis=1)  # a body of the pair is moving
+    rows, pairs = rows[touches], pairs[touches]
     if len(rows) == 0:
         return None
-    order, color_slices, priority_starts, lower = solver_order(
-        store, store.bodies[rows, 0], store.bodies[rows, 1], solvable
-    )
-    rows = rows[order]
+    order, color_slices, priority_starts, lower = solver_order(store, pairs, solvable)
+    rows, pairs = rows[order], pairs[order]
     inv_mass = np.where(solvable, 1.0 / np.maximum(b.body_mass[:n], TINY), 0.0)
     inv_inertia = np.zeros((n, 3, 3))
     inv_inertia[moving] = world_inverse_inertia(b.body_rotation[moving], b.body_inertia[moving])
     velocity = solver_velocities(b, n)
     # restitution uses the approach speed at the start of the step (before this step's
     # gravity): the impact happened during the previous step, not after one more h g
-    approach_velocity = velocity.copy()
     dynamic = b.body_motion_type[:n] == DYNAMIC
-    approach_velocity[dynamic] = start_velocity[dynamic]
+    approach_velocity = np.where(dynamic[:, None], start_velocity, velocity)
     slop = np.minimum(PENETRATION_SLOP, store.feature[rows])
     return SolverInput(
         rows,
@@ -161,14 +161,15 @@ def gather_solver_input(
         inv_inertia,
         velocity,
         approach_velocity,
+        pairs,
     )
 
 
 def solver_order(
-    store: ManifoldStore, body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray
+    store: ManifoldStore, pairs: np.ndarray, solvable: np.ndarray
 ) -> tuple[np.ndarray, list[tuple[int, int]], list[int], np.ndarray]:
-    """``(order, color_slices, priority_starts, lower)`` of the manifolds of ``body_a,
-    body_b (m,)``: :func:`color_manifolds` and :func:`color_order`, then
+    """``(order, color_slices, priority_starts, lower)`` of the manifolds of the bodies
+    ``pairs (m, 2)``: :func:`color_manifolds` and :func:`color_order`, then
     :func:`lower_bodies` of the pairs in that order.
 
     All four are functions of the contact graph only (the pairs and which of their bodies
@@ -176,13 +177,13 @@ def solver_order(
     rest, a tower): then the last step's answer is reused, exactly the same arrays, instead
     of the pure-Python greedy coloring and the level search (the memo lives on ``store``).
     """
-    key = b"".join(
-        array.tobytes() for array in (body_a, body_b, solvable[body_a], solvable[body_b])
-    )
+    pair_solvable = solvable[pairs]  # (m, 2)
+    key = pairs.tobytes() + pair_solvable.tobytes()
     memo = store.solver_order
     if memo.value is None or memo.key != key:
+        body_a, body_b = pairs[:, 0], pairs[:, 1]
         order, color_slices, priority_starts = color_order(
-            color_manifolds(body_a, body_b, solvable), ~(solvable[body_a] & solvable[body_b])
+            color_manifolds(body_a, body_b, solvable), ~pair_solvable.all(axis=1)
         )
         lower = lower_bodies(body_a[order], body_b[order], solvable)
         memo.key, memo.value = key, (order, color_slices, priority_starts, lower)
@@ -223,19 +224,16 @@ def _solve_batched(
     velocities ``(n, 6)``, the contact depths ``(m, S)`` (0 in empty slots) and the
     manifolds' normal loads (rolling friction's input; None unless ``with_loads``)."""
     b, n, rows = bodies, bodies.count, problem.rows
-    body_a, body_b = store.bodies[rows, 0], store.bodies[rows, 1]
+    body_a, body_b = problem.pairs[:, 0], problem.pairs[:, 1]
     counts = store.count[rows]
     rotation = live_rotations(b)
-    points_a, points_b, normals = world_points(store, rows, rotation, b.body_position[:n])
-    empty = (np.arange(SLOTS) >= counts[:, None])[..., None]
-    normals = np.where(empty, [0.0, 1.0, 0.0], normals)  # a harmless unit normal when empty
+    position = b.body_position[:n]
+    points_a, points_b, normals = world_points(store, rows, rotation, position, body_a, body_b)
     friction = b.body_friction[body_a] * b.body_friction[body_b]  # pair value = product
     restitution = b.body_restitution[body_a] * b.body_restitution[body_b]
     batch = build_batch(
         ManifoldPoints(points_a, points_b, normals, counts, body_a, body_b),
-        SolverBodies(
-            b.body_position[:n], problem.inv_mass, problem.inv_inertia, problem.approach_velocity
-        ),
+        SolverBodies(position, problem.inv_mass, problem.inv_inertia, problem.approach_velocity),
         PairCoefficients(friction, restitution, store.impulse[rows], problem.slop),
         ColorOrder(problem.color_slices, problem.priority_starts, problem.lower),
         split_mass=settings.block_jacobi,
@@ -258,12 +256,11 @@ def _solve_batched(
     return pseudo, batch.depth, loads
 
 
-def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position):
+def world_points(store: ManifoldStore, rows: np.ndarray, rotation, position, a, b):
     """World anchors of A and B and world normals ``(m, S, 3)`` of the store's ``rows``
     (``ManifoldStore.world_points``) as stacked matmuls ``p = local R^T + x``, several
     times faster than its einsum on a thousand rows; ``rotation (n, 3, 3)``, ``position
-    (n, 3)``."""
-    a, b = store.bodies[rows, 0], store.bodies[rows, 1]
+    (n, 3)``, the rows' bodies ``a, b (m,)``."""
     turn_a, turn_b = rotation[a].swapaxes(1, 2), rotation[b].swapaxes(1, 2)
     point_a = store.local_a[rows] @ turn_a + position[a][:, None]
     point_b = store.local_b[rows] @ turn_b + position[b][:, None]
@@ -305,10 +302,11 @@ def lower_bodies(body_a: np.ndarray, body_b: np.ndarray, solvable: np.ndarray) -
 def solver_velocities(b: Bodies, n: int) -> np.ndarray:
     """``(n, 6)`` [v, w]: dynamic bodies their velocity, kinematic their controlled one."""
     velocity = np.zeros((n, 6))
-    dynamic = b.body_motion_type[:n] == DYNAMIC
-    kinematic = b.body_motion_type[:n] == KINEMATIC
-    velocity[dynamic, :3] = b.body_linear_velocity[:n][dynamic]
-    velocity[dynamic, 3:] = b.body_angular_velocity[:n][dynamic]
-    velocity[kinematic, :3] = b.body_solver_velocity[:n][kinematic]
-    velocity[kinematic, 3:] = b.body_solver_angular_velocity[:n][kinematic]
+    motion = b.body_motion_type[:n]
+    dynamic = motion == DYNAMIC
+    velocity[dynamic] = body_velocities(b)[dynamic]
+    kinematic = motion == KINEMATIC
+    if kinematic.any():  # (most scenes have none)
+        velocity[kinematic, :3] = b.body_solver_velocity[:n][kinematic]
+        velocity[kinematic, 3:] = b.body_solver_angular_velocity[:n][kinematic]
     return velocity

@@ -107,7 +107,8 @@ class TangentImpulses:
     @classmethod
     def of(cls, lam: np.ndarray) -> TangentImpulses:
         """The views of a contiguous ``lam (2, u, k)``."""
-        return cls(lam, lam[0], lam[1], column_view(lam))
+        t1, t2 = lam  # its two (u, k) halves
+        return cls(lam, t1, t2, column_view(lam))
 
 
 @dataclass
@@ -224,14 +225,16 @@ def color_rows(
 def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> ColorRows:
     """The :class:`ColorRows` of the manifolds ``s`` and the slots ``slots``."""
     k, u = s.stop - s.start, slots.stop - slots.start
-    q, dt = np.empty((u, k)), np.empty((2, u, k))
+    # the scratch in two allocations: q, the circle's scale and the block candidates (u,
+    # k) each; the friction increments and the second friction impulses (2, u, k) each
+    q, scale, q_block = np.empty((3, u, k))
+    dt, lam_t = np.empty((2, 2, u, k))
     tangents = (
         TangentImpulses.of(np.array(state[1:, slots, s])),  # the cached impulses, a copy
-        TangentImpulses.of(np.empty((2, u, k))),
+        TangentImpulses.of(lam_t),
     )
     block = None
     if matrices.block is not None and matrices.touching is not None:
-        q_block = np.empty((u, k))
         block = BlockRows(
             matrices.block[s, slots], matrices.touching[slots, s], q_block, column_view(q_block)
         )
@@ -250,7 +253,7 @@ def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> Color
         column_view(q),
         dt,
         column_view(dt),
-        np.empty((u, k)),
+        scale,
         block,
     )
 
@@ -258,7 +261,8 @@ def _rows(state, matrices: RowMatrices, gather, s: slice, slots: slice) -> Color
 def column_view(array: np.ndarray) -> np.ndarray:
     """``(k, r, 1)`` view of a contiguous quantity-major ``array (..., k)`` (``r`` = the
     product of its leading axes): what a stacked matmul reads or writes per manifold."""
-    return array.reshape(-1, array.shape[-1]).T[:, :, None]
+    rows = array if array.ndim == 2 else array.reshape(-1, array.shape[-1])  # (r, k)
+    return rows.T[:, :, None]
 
 
 def velocity_update(

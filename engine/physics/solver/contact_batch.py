@@ -161,13 +161,14 @@ def _rows(direction, arms, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b)
     and arms ``(m, R, 2, 3)`` (``r_a``, ``r_b`` of each row)."""
     arm_x_d = cross3(arms, direction[:, :, None])  # r_a x d and r_b x d in one call
     ra_x_d, rb_x_d = arm_x_d[:, :, 0], arm_x_d[:, :, 1]
-    jac = np.concatenate([-direction, -ra_x_d, direction, rb_x_d], axis=-1)
+    minus_d, minus_ra_x_d = -direction, -ra_x_d
+    jac = np.concatenate([minus_d, minus_ra_x_d, direction, rb_x_d], axis=-1)
     # W = [-d / m_a, -I_a^-1 (r_a x d), d / m_b, I_b^-1 (r_b x d)]
     # (I^-1 x)^T = x^T I^-T for the R rows of each manifold: one stacked matmul
     w = np.concatenate(
         [
-            -direction * inv_mass_a[:, None, None],
-            -ra_x_d @ inv_inertia_a.swapaxes(1, 2),
+            minus_d * inv_mass_a[:, None, None],
+            minus_ra_x_d @ inv_inertia_a.swapaxes(1, 2),
             direction * inv_mass_b[:, None, None],
             rb_x_d @ inv_inertia_b.swapaxes(1, 2),
         ],
@@ -179,8 +180,9 @@ def _rows(direction, arms, inv_mass_a, inv_mass_b, inv_inertia_a, inv_inertia_b)
 @dataclass
 class ManifoldPoints:
     """Padded contact points of ``m`` manifolds, ``S = 4`` slots each: world anchors
-    ``points_a, points_b (m, S, 3)``, unit ``normals (m, S, 3)`` from A to B, used slots
-    ``counts (m,)`` and the bodies ``body_a, body_b (m,)`` of each pair."""
+    ``points_a, points_b (m, S, 3)``, unit ``normals (m, S, 3)`` from A to B (anything in
+    the empty slots: :func:`build_batch` puts a unit normal there), used slots ``counts
+    (m,)`` and the bodies ``body_a, body_b (m,)`` of each pair."""
 
     points_a: np.ndarray
     points_b: np.ndarray
@@ -244,14 +246,18 @@ def build_batch(
     counts, body_a, body_b = contacts.counts, contacts.body_a, contacts.body_b
     position, inv_mass, inv_inertia = bodies.position, bodies.inv_mass, bodies.inv_inertia
     mask = np.arange(SLOTS)[None, :] < counts[:, None]
+    slot_used = mask[..., None]  # (m, S, 1)
+    normals = np.where(slot_used, normals, [0.0, 1.0, 0.0])  # a harmless unit when empty
     point = 0.5 * (points_a + points_b)
-    r_a, r_b = point - position[body_a][:, None], point - position[body_b][:, None]
+    pair_bodies = np.stack([body_a, body_b], axis=1)  # (m, 2)
+    # r_a = p - x_a and r_b = p - x_b of every slot: (m, S, 2, 3)
+    r_ab = point[:, :, None] - position[pair_bodies][:, None]
     args = (inv_mass[body_a], inv_mass[body_b], inv_inertia[body_a], inv_inertia[body_b])
     t1, t2 = tangent_basis(normals)
     m = len(counts)
     # the rows of n, t1 and t2 of every slot at once: (m, S * 3, ...) in that order
     directions = np.stack([normals, t1, t2], axis=2).reshape(m, 3 * SLOTS, 3)
-    arms = np.stack([r_a, r_b], axis=2).repeat(3, axis=1)  # (m, 3S, 2, 3)
+    arms = r_ab.repeat(3, axis=1)  # (m, 3S, 2, 3)
     jac, w = _rows(directions, arms, *args)
     jac, w = jac.reshape(m, SLOTS, 3, 12), w.reshape(m, SLOTS, 3, 12)
     normal_jac, normal_w = jac[:, :, 0], w[:, :, 0]
@@ -265,10 +271,11 @@ def build_batch(
     # m_eff = 1 / (n_split J M^-1 J^T), for the rows (n, t1, t2) of each slot
     k_rows = (jac * w).sum(axis=-1)  # (m, S, 3)
     split_rows = split[:, :, None]
-    mass = np.where(mask[..., None], 1.0 / (split_rows * np.maximum(k_rows, TINY)), 0.0)
+    mass = np.where(slot_used, 1.0 / (split_rows * np.maximum(k_rows, TINY)), 0.0)
     normal_mass, tangent_mass = mass[:, :, 0], mass[:, :, 1:].reshape(m, 2 * SLOTS)
-    vab = np.concatenate([bodies.velocity[body_a], bodies.velocity[body_b]], axis=1)
-    approach = (normal_jac @ vab[:, :, None])[..., 0]
+    vab = bodies.velocity[pair_bodies].reshape(m, 12, 1)  # [v_a, w_a, v_b, w_b] of each pair
+    approach = (normal_jac @ vab)[..., 0]
+    starts = [start for start, _ in order.color_slices]  # colors are never empty
     return ContactBatch(
         body_a,
         body_b,
@@ -283,10 +290,10 @@ def build_batch(
         pairs.restitution[:, None],
         np.where(mask, depth, 0.0),
         approach,
-        np.where(mask[..., None], pairs.impulse, 0.0),
+        np.where(slot_used, pairs.impulse, 0.0),
         order.color_slices,
-        [int(counts[a:b].max()) for a, b in order.color_slices],
-        np.stack([body_a, body_b], axis=1),
+        np.maximum.reduceat(counts, starts).tolist(),  # the most points in each color
+        pair_bodies,
         split,
         [stop for _, stop in order.color_slices]
         if order.priority_starts is None

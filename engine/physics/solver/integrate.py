@@ -54,8 +54,8 @@ def integrate_stage(
     from .sweep import sweep_fast_bodies
 
     clamp_speeds(bodies, moving, settings.MAX_LINEAR_SPEED, settings.MAX_ANGULAR_SPEED)
-    old_position = bodies.body_position[moving].copy()
-    old_rotation = bodies.body_rotation[moving].copy()
+    old_position = bodies.body_position[moving]  # (an index array's read is a copy)
+    old_rotation = bodies.body_rotation[moving]
     extra_linear = None if pseudo_velocity is None else pseudo_velocity[moving, :3]
     # the split-impulse turn obeys the angular speed limit too: with a tiny inertia (a 1 kg
     # cube given 1e-300 kg m^2) its I^-1 lambda would overflow the rotation to NaN
@@ -70,8 +70,12 @@ def integrate_stage(
 
 def world_inverse_inertia(rotation: np.ndarray, inertia: np.ndarray) -> np.ndarray:
     """``(k, 3, 3)`` world inverse inertia ``R diag(1/I) R^T`` from quaternions ``(k, 4)``."""
-    r = quat_to_matrix(rotation)
-    inv_diag = 1.0 / np.maximum(inertia, settings.TINY)
+    return _inverse_inertia(quat_to_matrix(rotation), 1.0 / np.maximum(inertia, settings.TINY))
+
+
+def _inverse_inertia(r: np.ndarray, inv_diag: np.ndarray) -> np.ndarray:
+    """``(k, 3, 3)`` ``R diag(1/I) R^T`` of rotation matrices ``r (k, 3, 3)`` and the
+    inverse principal inertias ``inv_diag (k, 3)``."""
     # I_w^-1[i, j] = sum_k R[i, k] / I_k R[j, k]
     return (r * inv_diag[:, None, :]) @ r.swapaxes(1, 2)
 
@@ -81,15 +85,18 @@ def integrate_velocities(bodies, index: np.ndarray, gravity: np.ndarray, h: floa
     if len(index) == 0:
         return
     mass = bodies.body_mass[index][:, None]
-    # v += h (g + F / m)
-    bodies.body_linear_velocity[index] += h * (gravity + bodies.body_force[index] / mass)
-    # w += h I_w^-1 tau
-    bodies.body_angular_velocity[index] += h * _angular_acceleration(bodies, index)
-    # v *= (1 - d)^h, w *= (1 - d)^h
     lin = (1.0 - bodies.body_linear_damping[index]) ** h
     ang = (1.0 - bodies.body_angular_damping[index]) ** h
-    bodies.body_linear_velocity[index] *= lin[:, None]
-    bodies.body_angular_velocity[index] *= ang[:, None]
+    # v += h (g + F / m), then v *= (1 - d)^h: read and written back once
+    v = bodies.body_linear_velocity[index]
+    v += h * (gravity + bodies.body_force[index] / mass)
+    v *= lin[:, None]
+    bodies.body_linear_velocity[index] = v
+    # w += h I_w^-1 tau, then w *= (1 - d)^h
+    w = bodies.body_angular_velocity[index]
+    w += h * _angular_acceleration(bodies, index)
+    w *= ang[:, None]
+    bodies.body_angular_velocity[index] = w
 
 
 def _angular_acceleration(bodies, index: np.ndarray) -> np.ndarray:
@@ -145,11 +152,12 @@ def integrate_positions(
     # L = R I R^T w  (world angular momentum, held constant over the step)
     momentum = np.einsum("kij,kj->ki", r, inertia * np.einsum("kji,kj->ki", r, w))
     energy_old = 0.5 * np.add.reduce(momentum * w, axis=1)
+    inv_diag = 1.0 / np.maximum(inertia, settings.TINY)  # 1 / I, for I_w^-1 at two poses
     q_half = _normalize(quat_multiply(rotation_quat(0.5 * h * w), q))
-    w_mid = np.einsum("kij,kj->ki", world_inverse_inertia(q_half, inertia), momentum)
+    w_mid = np.einsum("kij,kj->ki", _inverse_inertia(quat_to_matrix(q_half), inv_diag), momentum)
     turn = w_mid if angular_extra is None else w_mid + angular_extra
     q_new = _normalize(quat_multiply(rotation_quat(h * turn), q))
-    w_new = np.einsum("kij,kj->ki", world_inverse_inertia(q_new, inertia), momentum)
+    w_new = np.einsum("kij,kj->ki", _inverse_inertia(quat_to_matrix(q_new), inv_diag), momentum)
     energy_new = 0.5 * np.add.reduce(momentum * w_new, axis=1)
     # never gain energy: w *= sqrt(E_old / E_new) when E_new > E_old
     scale = np.sqrt(

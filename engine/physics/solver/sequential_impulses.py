@@ -91,9 +91,8 @@ def warm_start(batch: ContactBatch, velocity: np.ndarray) -> None:
     its manifolds summed by one ``bincount`` over the flat velocity indices)."""
     lam_t = batch.impulse[:, :, 1:].reshape(len(batch.body_a), 2 * SLOTS, 1)
     dv = batch.normal_w @ batch.impulse[:, :, :1] + batch.tangent_w @ lam_t  # (m, 12, 1)
-    flat = velocity.reshape(-1)
-    flat += np.bincount(batch_gathers(batch).ravel(), dv.ravel(), minlength=len(flat))
-    velocity[...] = flat.reshape(velocity.shape)  # no-op unless reshape had to copy
+    change = np.bincount(batch_gathers(batch).ravel(), dv.ravel(), minlength=velocity.size)
+    velocity += change.reshape(velocity.shape)
 
 
 def with_one(velocity: np.ndarray) -> np.ndarray:

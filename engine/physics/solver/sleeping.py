@@ -31,16 +31,17 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
     n = bodies.count
     dynamic = bodies.body_alive[:n] & (bodies.body_motion_type[:n] == DYNAMIC)
     awake = dynamic & bodies.body_awake[:n]
+    if not awake.any():
+        return  # nothing moves: every dynamic body sleeps and stays asleep
     speed_sq = np.sum(bodies.body_linear_velocity[:n] ** 2, axis=1)
     spin_sq = np.sum(bodies.body_angular_velocity[:n] ** 2, axis=1)
     slow = (speed_sq < settings.SLEEP_LINEAR_VELOCITY**2) & (
         spin_sq < settings.SLEEP_ANGULAR_VELOCITY**2
     )
-    if not awake.any():
-        return  # nothing moves: every dynamic body sleeps and stays asleep
     time = bodies.body_sleep_time[:n]
-    time[awake & slow] += h
-    time[awake & ~slow] = 0.0
+    resting = awake & slow
+    time[resting] += h
+    time[awake ^ resting] = 0.0  # the awake bodies that are not slow
     if overlapping is not None:
         time[overlapping] = 0.0
     # a dynamic body touching a moving kinematic one is being pushed: it is not resting
@@ -49,11 +50,11 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
         a, b = _touching_pairs(manifolds)
         time[a[dynamic[a] & pushing[b]]] = 0.0
         time[b[dynamic[b] & pushing[a]]] = 0.0
-    if not (awake & (time >= settings.TIME_TO_SLEEP)).any() and awake.sum() == dynamic.sum():
+    if not (awake & (time >= settings.TIME_TO_SLEEP)).any() and not (dynamic ^ awake).any():
         return  # no body rested long enough and none sleeps: the islands change nothing
-    a, b = _touching_pairs(manifolds)
-    joined = dynamic[a] & dynamic[b]  # dynamic-dynamic contacts join islands
-    labels = _island_labels(n, np.stack([a[joined], b[joined]], axis=1))
+    pairs = manifolds.bodies[manifolds.rows_with_points()]  # (m, 2) touching bodies
+    joined = dynamic[pairs].all(axis=1)  # dynamic-dynamic contacts join islands
+    labels = _island_labels(n, pairs[joined])
     island_rest = np.full(n, np.inf)
     np.minimum.at(island_rest, labels[dynamic], time[dynamic])
     asleep = dynamic & (island_rest[labels] >= settings.TIME_TO_SLEEP)
@@ -67,10 +68,13 @@ def update_sleep(bodies, manifolds, h: float, overlapping: np.ndarray | None = N
 
 def moving_kinematic_mask(bodies, n: int) -> np.ndarray:
     """(n,) bool: KINEMATIC bodies with a non-zero velocity-control velocity."""
+    kinematic = bodies.body_motion_type[:n] == KINEMATIC
+    if not kinematic.any():
+        return kinematic  # no kinematic body (most scenes): none moves
     moving = (bodies.body_solver_velocity[:n] != 0).any(1) | (
         bodies.body_solver_angular_velocity[:n] != 0
     ).any(1)
-    return (bodies.body_motion_type[:n] == KINEMATIC) & moving
+    return kinematic & moving
 
 
 def _touching_pairs(manifolds) -> tuple[np.ndarray, np.ndarray]:
@@ -95,14 +99,16 @@ def wake_touched(bodies, manifolds) -> bool:
     body was woken.
     """
     n = bodies.count
-    a, b = _touching_pairs(manifolds)
+    pairs = manifolds.bodies[manifolds.rows_with_points()]  # (m, 2) touching bodies
     dynamic = bodies.body_motion_type[:n] == DYNAMIC
     sleeping = dynamic & ~bodies.body_awake[:n]
-    if not (sleeping[a].any() or sleeping[b].any()):
+    sleeper = sleeping[pairs]  # (m, 2)
+    if not sleeper.any():
         return False
     # a sleeper wakes when its partner is an awake dynamic body or a moving kinematic one
     disturbing = (dynamic & bodies.body_awake[:n]) | moving_kinematic_mask(bodies, n)
-    woken = np.concatenate([a[sleeping[a] & disturbing[b]], b[sleeping[b] & disturbing[a]]])
+    partner_disturbs = disturbing[pairs][:, ::-1]  # (m, 2): the other body of each pair
+    woken = pairs[sleeper & partner_disturbs]
     bodies.body_awake[woken] = True
     bodies.body_sleep_time[woken] = 0.0
     return len(woken) > 0
