@@ -80,7 +80,7 @@ class SolverSettings:
         v3's and Jolt's way: :mod:`keyed_manifolds`), instead of merging the fresh points
         into persistent manifolds (False, the default, Bullet's ``btPersistentManifold``:
         :mod:`manifold_merge`). Pairs with a capsule always merge (:mod:`manifold_rows`).
-        Off by default: measured, it cut 16 % of column-10's NumPy operations (0.77x its
+        Off by default: measured, it cut 16 % of column-10's NumPy operations (0.93x its
         CPU time) and over eight drops of the 100-cube column was as good as the merge, but
         the benchmark's one-drop gates (transient cube-cube overlap, sleeping at 3 s, the
         500-cube floor overlap) read worse (``docs/physics_performance.md``).
