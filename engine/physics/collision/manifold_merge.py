@@ -299,11 +299,8 @@ def still_touching(cached: LocalPoints, frames: RowFrames, feature) -> np.ndarra
     gap = point_a - point_b
     depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
     drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
-    return (
-        cached.valid
-        & (depth > -settings.CONTACT_BREAKING_DISTANCE)
-        & (drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2)
-    )
+    drift_limit = np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2
+    return cached.valid & (depth > -settings.CONTACT_BREAKING_DISTANCE) & (drift_sq < drift_limit)
 
 
 def support_band(feature: np.ndarray) -> np.ndarray:
