@@ -26,10 +26,11 @@ IDENTITY = (np.eye(3), np.zeros(3))
 UP = np.array([0.0, 1.0, 0.0])
 
 
-def store_with_row(max_points: int = 4):
+def store_with_row(max_points: int = 4, pair=(1, 2)):
+    """A store of one keyable row for ``pair`` (body 0 is the stage: a holding row)."""
     store = ManifoldStore()
-    store.add((0, 1), max_points, keyable=True)
-    rotation, position = np.tile(np.eye(3), (2, 1, 1)), np.zeros((2, 3))
+    store.add(pair, max_points, keyable=True)
+    rotation, position = np.tile(np.eye(3), (3, 1, 1)), np.zeros((3, 3))
     return store, rotation, position
 
 
@@ -113,13 +114,16 @@ def test_nine_keyed_coplanar_points_keep_the_four_corners():
 
 
 def test_batched_rows_match_the_plain_twin_on_a_random_history():
+    # a stage row (holding: fewer than three fresh points keep their untaken cached
+    # points still touching) and a row of two bodies, a box row and a rolling one
     rng = np.random.default_rng(3)
-    for max_points in (4, 1):
-        store, rotation, position = store_with_row(max_points)
+    held = 0
+    for max_points, pair in ((4, (0, 1)), (1, (0, 1)), (4, (1, 2))):
+        store, rotation, position = store_with_row(max_points, pair)
         turn = mn.Quaternion.rotation(mn.Rad(0.3), mn.Vector3(0.3, 1.0, -0.2).normalized())
-        rotation[1] = np.array(turn.to_matrix())
-        position[1] = [0.02, 0.1, -0.03]
-        frame_a, frame_b = IDENTITY, (rotation[1], position[1])
+        rotation[pair[1]] = np.array(turn.to_matrix())
+        position[pair[1]] = [0.02, 0.1, -0.03]
+        frame_a, frame_b = IDENTITY, (rotation[pair[1]], position[pair[1]])
         cached: list[ManifoldPoint] = []
         for step in range(40):
             n = int(rng.integers(0, 9))
@@ -127,9 +131,14 @@ def test_batched_rows_match_the_plain_twin_on_a_random_history():
             keys = rng.choice(np.arange(1, 13), size=n, replace=False)  # unique in the row
             fresh = fresh_of(points, rng.uniform(-0.003, 0.004, size=n), keys)
             store.replace_fresh(np.array([0]), rotation, position, fresh)
-            cached = keyed_manifold(cached, contacts_of(fresh, n), frame_a, frame_b, max_points)
+            hold = pair[0] == 0
+            cached = keyed_manifold(
+                cached, contacts_of(fresh, n), frame_a, frame_b, max_points, hold=hold
+            )
             count = int(store.count[0])
             assert count == len(cached), step
+            held += count > n  # cached points kept beside the fresh ones
+            assert hold or count <= n
             # the inherited impulses (warm start), then the solver's, tagged per step and slot
             inherited = np.array([p.impulse for p in cached]).reshape(count, 3)
             np.testing.assert_array_equal(store.impulse[0, :count], inherited)
@@ -141,6 +150,7 @@ def test_batched_rows_match_the_plain_twin_on_a_random_history():
             for name in ("local_a", "local_b", "normal_local"):
                 twin = np.array([getattr(p, name) for p in cached]).reshape(count, 3)
                 np.testing.assert_allclose(getattr(store, name)[0, :count], twin, atol=1e-12)
+    assert held > 5  # the holding rule ran
 
 
 def test_the_step_keeps_keys_of_a_resting_turned_box_and_carries_its_load(monkeypatch):
@@ -173,5 +183,8 @@ def test_the_switch_merges_without_keys_and_both_stand_a_stack():
         run(world, 3.0)
         rows = world.manifolds.rows_with_points()
         assert (world.manifolds.point_key[rows] != 0).any() == keyed
+        # the floor's row is fresh too (keyed), or merged (no keys)
+        floor = rows[world.manifolds.bodies[rows, 0] == 0]
+        assert len(floor) == 1 and (world.manifolds.point_key[floor] != 0).any() == keyed
         top = np.asarray(boxes[-1].translation)
         assert abs(top[0]) < 1e-3 and abs(top[2]) < 1e-3 and abs(top[1] - 0.9) < 0.01

@@ -143,6 +143,15 @@ def test_stage_contacts_give_the_same_contacts_and_trajectory():
     assert_paths_agree(stage_scene, 2.0)
 
 
+def test_fresh_keyed_manifolds_of_every_pair_give_the_same_contacts_and_trajectory():
+    # feature_manifolds: the stage's rows (a box landing on a corner, one sliding down a
+    # slope) and the hulls' rows (cylinders on their side: tied vertices) are fresh too
+    assert_paths_agree(stage_scene, 2.0, feature_manifolds=True)
+    assert_paths_agree(
+        lambda: pile_scene(6, ("cubeSolid", CYLINDER), seed=3), 2.0, feature_manifolds=True
+    )
+
+
 def test_switches_route_both_paths_the_same_way():
     # every teaching switch off at once: both paths must still agree
     assert_paths_agree(

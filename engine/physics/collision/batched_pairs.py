@@ -74,21 +74,18 @@ def _analytic_boxes(column: JobColumns, analytic, a, c, context, out: ContactBat
     ``a``, ``c``); returns ``deep (g,)`` bool, the pairs overlapping deeper than
     ``BOX_DEEP_OVERLAP``."""
     bodies, objects, rotation = context.bodies, context.objects, context.rotation
-    a, c = a[analytic], c[analytic]
-    frames = []
-    single = bool((objects.single_box[a] & objects.single_box[c]).all())
-    for shapes, body in ((column.shape_a, a), (column.shape_b, c)):
-        r, x = rotation[body], bodies.body_position[body]
-        if single:  # each body's only box, kept by CollisionObjects
-            offset, half = objects.box_offset[body], objects.box_half[body]
-        else:
-            boxes = [shapes[k] for k in analytic.tolist()]
-            offset = np.array([box.body_from_shape for box in boxes])  # (g, 4, 4)
-            half = np.array([box.geometry.side for box in boxes], dtype=np.float64) / 2.0
-        center, world = box_shape_frames(r, x, offset)
-        frames += [center, world, half]
+    g = len(analytic)
+    body = np.concatenate([a[analytic], c[analytic]])  # A's bodies, then B's, (2 g,)
+    if objects.single_box[body].all():  # each body's only box, kept by CollisionObjects
+        offset, half = objects.box_offset[body], objects.box_half[body]
+    else:
+        jobs = analytic.tolist()
+        boxes = [column.shape_a[k] for k in jobs] + [column.shape_b[k] for k in jobs]
+        offset = np.array([box.body_from_shape for box in boxes])  # (2 g, 4, 4)
+        half = np.array([box.geometry.side for box in boxes], dtype=np.float64) / 2.0
+    center, world = box_shape_frames(rotation[body], bodies.body_position[body], offset)
     # the face and the edge contacts as two chunks: the batch sorts by (job, candidate)
-    parts, deep = box_box_parts(*frames)
+    parts, deep = box_box_parts(center[:g], world[:g], half[:g], center[g:], world[g:], half[g:])
     seq = np.array(column.seq, dtype=np.int64)[analytic]
     for pair, local, point_a, point_b, normal, feature in parts:
         out.add(seq[pair], local, point_a, point_b, normal, feature)
@@ -202,7 +199,7 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     planes = np.stack([s.plane_normals for s in ref_shapes])  # (g, F, 3) body frame
     offsets = np.stack([s.plane_offsets for s in ref_shapes])  # (g, F)
     face_normals = np.einsum("gij,gfj->gfi", rotation, planes)  # outward, world frame
-    alignment = (face_normals * towards[:, None]).sum(axis=2)
+    alignment = np.vecdot(face_normals, towards[:, None])  # n_f . towards
     face = tie_key(alignment).argmax(axis=1)  # the first of (nearly) equally aligned faces
     jobs = np.arange(len(face))
     # else no face of this body faces the other
@@ -213,9 +210,9 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     local = np.einsum("gji,gvj->gvi", rotation, verts - position[:, None])
     inside = (np.einsum("gvj,gfj->gvf", local, planes) - offsets[:, None] <= tolerance).all(axis=2)
     # depth below the reference face plane n_f . x = c_f + n_f . x_ref
-    depth = (offsets[jobs, face] + (normal * position).sum(axis=1))[:, None] - np.einsum(
+    depth = (offsets[jobs, face] + np.vecdot(normal, position))[:, None] - np.einsum(
         "gvi,gi->gv", verts, normal
     )
     g, v = np.nonzero(inside & (depth > -tolerance) & facing[:, None])
-    on_face = verts[g, v] + depth[g, v][:, None] * normal[g]  # x + d n_f
+    on_face = verts[g, v] + depth[g, v, None] * normal[g]  # x + d n_f
     return g, v, on_face, verts, normal

@@ -90,13 +90,13 @@ def separating_axes(center_a, rot_a, half_a, center_b, rot_b, half_b):
 
     Reference: :func:`reference_box_box.separating_axes_reference`.
     """
-    axes_a, axes_b = rot_a.transpose(0, 2, 1), rot_b.transpose(0, 2, 1)  # rows: box axes
+    axes_a, axes_b = rot_a.mT, rot_b.mT  # rows: box axes
     # a_i x b_j for every i, j, (g, 9, 3), then normalized where the edges are not parallel
     # (a x b)_k = a_{k+1} b_{k+2} - a_{k+2} b_{k+1}, written out (np.cross is slow on small arrays)
     a_1, a_2 = axes_a[:, :, None, NEXT], axes_a[:, :, None, AFTER]
     b_1, b_2 = axes_b[:, None, :, NEXT], axes_b[:, None, :, AFTER]
     edges = (a_1 * b_2 - a_2 * b_1).reshape(-1, 9, 3)
-    length = np.sqrt((edges * edges).sum(axis=2))
+    length = np.sqrt(np.vecdot(edges, edges))
     is_axis = length > settings.BOX_PARALLEL_EDGES
     edges = edges / np.where(is_axis, length, 1.0)[..., None]
     axes = np.concatenate([axes_a, axes_b, edges], axis=1)
@@ -155,8 +155,8 @@ def box_box_parts(center_a, rot_a, half_a, center_b, rot_b, half_b):
     rows = np.arange(len(separation))
     axis = choose_axis(separation)
     # n = u sign(u . (c_b - c_a)): from A to B (+u when the centers coincide along u)
-    sign = np.where(distance[rows, axis] >= 0.0, 1.0, -1.0)
-    normal = axes[rows, axis] * sign[:, None]
+    sign = np.where(distance[rows, axis, None] >= 0.0, 1.0, -1.0)  # (g, 1)
+    normal = axes[rows, axis] * sign
     deepest = separation.max(axis=1)  # the pair's separation (negative: overlap depth)
     deep = deepest < -settings.BOX_DEEP_OVERLAP
     close = (deepest <= settings.SPECULATIVE_DISTANCE) & ~deep
@@ -182,11 +182,12 @@ def _face_contacts(pairs, axis, normal, frames):
     # reference box R and incident box I
     center_r, center_i = np.where(pick, center_a, center_b), np.where(pick, center_b, center_a)
     half_r, half_i = np.where(pick, half_a, half_b), np.where(pick, half_b, half_a)
-    axes_r = np.where(pick[..., None], rot_a, rot_b).transpose(0, 2, 1)  # rows: box axes
-    axes_i = np.where(pick[..., None], rot_b, rot_a).transpose(0, 2, 1)
+    pick_matrix = pick[..., None]
+    axes_r = np.where(pick_matrix, rot_a, rot_b).mT  # rows: box axes
+    axes_i = np.where(pick_matrix, rot_b, rot_a).mT
     n_ref = np.where(pick, normal, -normal)  # out of the reference face, towards I
     i = axis % 3
-    face_center = center_r + half_r[g, i][:, None] * n_ref
+    face_center = center_r + half_r[g, i, None] * n_ref
     # the reference rectangle: its axes U, V (rows of tangents) and half sizes
     g_column = g[:, None]
     in_face = OTHER_AXES[i]  # (g, 2): i + 1, i + 2 (mod 3)
@@ -195,28 +196,29 @@ def _face_contacts(pairs, axis, normal, frames):
     alignment = _apply(axes_i, n_ref)  # b_k . n_ref
     j = tie_key(np.abs(alignment)).argmax(axis=1)
     facing = alignment[g, j] >= 0.0  # the incident face is on I's -b_j side
-    m = -np.where(facing, 1.0, -1.0)[:, None] * axes_i[g, j]
-    offset = center_i + half_i[g, j][:, None] * m - face_center  # f - o, incident face center
+    m = np.where(facing, -1.0, 1.0)[:, None] * axes_i[g, j]
+    offset = center_i + half_i[g, j, None] * m - face_center  # f - o, incident face center
     # its corners f + s1 A1 + s2 A2 in CORNER_SIGNS order, relative to o, (g, 4, 3), with
     # the half sides A1, A2 (rows of sides) along axes j + 1, j + 2 of I
     across = OTHER_AXES[j]
-    sides = axes_i[g_column, across] * half_i[g_column, across][..., None]
+    sides = axes_i[g_column, across] * half_i[g_column, across, None]
     corners = offset[:, None] + CORNER_SIGNS @ sides
-    quad = corners @ tangents.transpose(0, 2, 1)  # (g, 4, 2) in the reference face's 2D frame
+    quad = corners @ tangents.mT  # (g, 4, 2) in the reference face's 2D frame
     uv, valid = clip_candidates(quad, extent)
     # the incident face plane m . x = m . f seen from p_ref = o + u U + v V along n_ref:
     # p_inc = p_ref + t n_ref with t = (m . (f - o) - u m . U - v m . V) / (m . n_ref);
     # the point lies -t behind the reference face (its depth)
-    along = (m * n_ref).sum(axis=1)  # m . n_ref, at most -1/sqrt(3)
-    base = (m * offset).sum(axis=1)
+    along = np.vecdot(m, n_ref)  # m . n_ref, at most -1/sqrt(3)
+    base = np.vecdot(m, offset)
     slope = _apply(tangents, m)  # (g, 2): m . U, m . V
     t = (base[:, None] - (uv @ slope[:, :, None])[..., 0]) / along[:, None]
-    valid &= -t > -settings.SPECULATIVE_DISTANCE
+    valid &= t < settings.SPECULATIVE_DISTANCE  # -t > -SPECULATIVE_DISTANCE
     k_g, k_c = np.nonzero(valid)
     p_ref = face_center[k_g] + (uv[k_g, k_c, None] @ tangents[k_g])[:, 0]  # o + u U + v V
     p_inc = p_ref + t[k_g, k_c, None] * n_ref[k_g]
-    point_a = np.where(pick[k_g], p_ref, p_inc)
-    point_b = np.where(pick[k_g], p_inc, p_ref)
+    ref_is_a_k = pick[k_g]
+    point_a = np.where(ref_is_a_k, p_ref, p_inc)
+    point_b = np.where(ref_is_a_k, p_inc, p_ref)
     face_code = 6 * axis + 2 * j + facing  # reference face, incident face and its side
     feature = k_c + FACE_CANDIDATES * face_code[k_g]
     return pairs[k_g], k_c, point_a, point_b, normal[k_g], feature
@@ -230,26 +232,25 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     tol = settings.BOX_CLIP_TOLERANCE
     g = len(quad)
     # 0-3: the quad's corners inside the rectangle grown by SPECULATIVE_DISTANCE
-    grown = extent[:, None] + settings.SPECULATIVE_DISTANCE
+    extent_row = extent[:, None]  # (g, 1, 2)
+    grown = extent_row + settings.SPECULATIVE_DISTANCE
     quad_inside = (np.abs(quad) <= grown).all(axis=2)
     # 4-7: the rectangle's corners inside the quad: on the inner side of its 4 edges
-    rect = CORNER_SIGNS * extent[:, None]  # (g, 4, 2)
+    rect = CORNER_SIGNS * extent_row  # (g, 4, 2)
     following = quad[:, FOLLOWING]  # q_{k+1}
     edge = following - quad  # q_{k+1} - q_k, (g, 4, 2)
     # twice the quad's signed area: its orientation (+1 counter-clockwise)
-    area = (quad[..., 0] * following[..., 1]).sum(axis=1) - (quad[..., 1] * following[..., 0]).sum(
-        axis=1
-    )
+    area = np.vecdot(quad[..., 0], following[..., 1]) - np.vecdot(quad[..., 1], following[..., 0])
     orientation = np.where(area >= 0.0, 1.0, -1.0)
     to_corner = rect[:, :, None] - quad[:, None]  # r_c - q_k, (g, 4 corners, 4 edges, 2)
     # 2D cross product e_k x (r_c - q_k) = (r_c - q_k) . perp(e_k), times the orientation
     # (the same products and sum as e_x r_y - e_y r_x), (g, 4, 4)
     inward = (edge @ PERPENDICULAR) * orientation[:, None, None]
-    cross = (to_corner * inward[:, None]).sum(axis=3)
-    edge_length = np.sqrt((edge * edge).sum(axis=2))
+    cross = np.vecdot(to_corner, inward[:, None])
+    edge_length = np.sqrt(np.vecdot(edge, edge))
     rect_inside = (cross >= -tol * edge_length[:, None]).all(axis=2)
     # a rectangle corner on a kept quad corner is that corner already (an aligned stack)
-    on_corner = (to_corner * to_corner).sum(axis=3) < settings.BOX_DUPLICATE_DISTANCE**2
+    on_corner = np.vecdot(to_corner, to_corner) < settings.BOX_DUPLICATE_DISTANCE**2
     rect_inside &= ~(on_corner & quad_inside[:, None, :]).any(axis=2)
     # 8-23: edge k of the quad crossing side s of the rectangle (u = +-e_u, v = +-e_v)
     crossing, crossing_valid = _edge_crossings(quad, edge, edge_length, extent)
@@ -258,32 +259,39 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     return uv, valid
 
 
+#: rectangle side s (u = +e_u, u = -e_u, v = +e_v, v = -e_v) fixes coordinate SIDE_FIXED[s]
+#: at SIDE_SIGN[s] times its extent; SIDE_FREE[s] is the other coordinate
+SIDE_FIXED, SIDE_FREE = np.array([0, 0, 1, 1]), np.array([1, 1, 0, 0])
+SIDE_SIGN = np.array([1.0, -1.0, 1.0, -1.0])
+#: the sides fixing u (s = 0, 1) and those fixing v (s = 2, 3)
+FIXES_U, FIXES_V = SIDE_FIXED == 0, SIDE_FIXED == 1
+
+
 def _edge_crossings(quad, edge, edge_length, extent):
     """Points ``(g, 4, 4, 2)`` where quad edge k crosses rectangle side s (u = +e_u, u = -e_u,
     v = +e_v, v = -e_v) strictly inside both (``(g, 4, 4)`` bool): a crossing at a corner
     of either is that corner, counted once by the corner tests."""
     tol = settings.BOX_CLIP_TOLERANCE
-    # side s fixes coordinate `fixed` at `level`; the other coordinate must be within extent
-    fixed = np.array([0, 0, 1, 1])
-    level = np.array([1.0, -1.0, 1.0, -1.0])[None] * extent[:, fixed]  # (g, 4)
-    start = quad[:, :, fixed]  # q_k's fixed coordinate, (g, 4 edges, 4 sides)
-    run = edge[:, :, fixed]
+    # side s fixes coordinate SIDE_FIXED[s] at `level`; the other must be within extent
+    level = SIDE_SIGN * extent[:, SIDE_FIXED]  # (g, 4)
+    start = quad[:, :, SIDE_FIXED]  # q_k's fixed coordinate, (g, 4 edges, 4 sides)
+    run = edge[:, :, SIDE_FIXED]
     parallel = run == 0.0
     # q_k + s e_k reaches the side at s = (level - q_k) / e_k
     s = (level[:, None] - start) / np.where(parallel, 1.0, run)
-    point = quad[:, :, None] + s[..., None] * edge[:, :, None]
-    free = 1 - fixed
-    free_value = point[:, :, np.arange(4), free]  # the other coordinate, (g, 4, 4)
+    free_value = quad[:, :, SIDE_FREE] + s * edge[:, :, SIDE_FREE]  # the other coordinate
     margin = tol / np.maximum(edge_length, settings.TINY)[..., None]  # tol as a fraction of e_k
     valid = (
         ~parallel
         & (s > margin)
         & (s < 1.0 - margin)
-        & (np.abs(free_value) < extent[:, free][:, None] - tol)
+        & (np.abs(free_value) < extent[:, None, SIDE_FREE] - tol)
     )
-    # the fixed coordinate exactly on the side
-    point[..., 0] = np.where(fixed == 0, level[:, None], point[..., 0])
-    point[..., 1] = np.where(fixed == 1, level[:, None], point[..., 1])
+    # the point (u, v): the fixed coordinate exactly on the side, the free one where it crosses
+    on_side = level[:, None]
+    point = np.stack(
+        [np.where(FIXES_U, on_side, free_value), np.where(FIXES_V, on_side, free_value)], axis=3
+    )
     return point, valid
 
 
@@ -293,8 +301,8 @@ def _edge_contacts(pairs, axis, normal, frames):
     Reference: :func:`reference_box_box.edge_contact_reference`."""
     center_a, rot_a, half_a, center_b, rot_b, half_b = (f[pairs] for f in frames)
     g = np.arange(len(pairs))
-    i, j = (axis - 6) // 3, (axis - 6) % 3
-    axes_a, axes_b = rot_a.transpose(0, 2, 1), rot_b.transpose(0, 2, 1)
+    i, j = np.divmod(axis - 6, 3)  # edge axis 6 + 3 i + j is a_i x b_j
+    axes_a, axes_b = rot_a.mT, rot_b.mT
     # A's edge: its corner furthest along n, with the coordinate along a_i set to 0
     weight_a = half_a * np.where(_apply(axes_a, normal) >= 0.0, 1.0, -1.0)
     weight_a[g, i] = 0.0
@@ -306,16 +314,15 @@ def _edge_contacts(pairs, axis, normal, frames):
     dir_a, dir_b = axes_a[g, i], axes_b[g, j]
     # closest points of the lines mid_a + s d_a, mid_b + t d_b (unit d), clamped to the edges
     r = mid_a - mid_b
-    b = (dir_a * dir_b).sum(axis=1)
-    c = (dir_a * r).sum(axis=1)
-    f = (dir_b * r).sum(axis=1)
+    b, c, f = np.vecdot(dir_a, dir_b), np.vecdot(dir_a, r), np.vecdot(dir_b, r)
     length_a, length_b = half_a[g, i], half_b[g, j]
-    s = np.clip((b * f - c) / (1.0 - b * b), -length_a, length_a)
+    low_a = -length_a
+    s = np.clip((b * f - c) / (1.0 - b * b), low_a, length_a)
     t = np.clip(f + s * b, -length_b, length_b)
-    s = np.clip(t * b - c, -length_a, length_a)
+    s = np.clip(t * b - c, low_a, length_a)
     point_a = mid_a + s[:, None] * dir_a
     point_b = mid_b + t[:, None] * dir_b
-    keep = ((point_a - point_b) * normal).sum(axis=1) > -settings.SPECULATIVE_DISTANCE
+    keep = np.vecdot(point_a - point_b, normal) > -settings.SPECULATIVE_DISTANCE
     k = np.flatnonzero(keep)
     local = np.zeros(len(k), dtype=np.int64)
     return pairs[k], local, point_a[k], point_b[k], normal[k], EDGE_FEATURE + axis[k]

@@ -20,12 +20,13 @@ of them with one batch of NumPy operations (Bullet's ``btPersistentManifold`` id
 3. reduce to four: the deepest point, the point farthest from it, then the points that
    maximize the contact polygon's area (largest support area = most stable resting).
 
-Fresh rows: a row whose pair's contacts are a whole manifold every step (every pair of
-two bodies without a capsule: boxes, hulls, spheres; ``keyable (R,)``) skips steps 1-3
-when ``SolverSettings.feature_manifolds`` is on: its points are this step's fresh points,
-cut to four with the points at last step's feature keys (``point_key (R, S)``) winning
-near-ties, warm-started from the nearest cached point in B's frame
-(:mod:`keyed_manifolds`, Box2D v3's and Jolt's manifolds).
+Fresh rows: a row whose pair's contacts are a whole manifold every step (every pair
+without a capsule, the stage's included: boxes, hulls, spheres; ``keyable (R,)``) skips
+steps 1-3 when ``SolverSettings.feature_manifolds`` is on: its points are this step's fresh
+points, cut to four with the points at last step's feature keys (``point_key (R, S)``)
+winning near-ties, warm-started from the nearest cached point in B's frame; the stage's
+rows with fewer than three fresh points keep their untaken cached points still touching
+(step 1's test and step 2's rule: :mod:`keyed_manifolds`, Box2D v3's and Jolt's manifolds).
 
 Small bodies: every row has a *feature length* ``f`` (:func:`feature_length`), a quarter of
 the thinnest body's smallest dimension, at most ``CONTACT_MATCH_DISTANCE``. The match, drift
@@ -51,6 +52,7 @@ from itertools import repeat
 import numpy as np
 
 from ..core import settings
+from ..core.bodies import STAGE_ID
 from .keyed_manifolds import keyed_points
 from .manifold_merge import (
     POINT_FIELDS,
@@ -66,6 +68,7 @@ from .manifold_merge import (
     reduce_points,
     select_fresh,
     select_support,
+    still_touching,
     tie_key,
     to_local,
 )
@@ -318,7 +321,8 @@ class ManifoldStore(MutableMapping):
         frames = RowFrames.of_pairs(self.bodies[rows], rotation, position)
         feature, max_points = self.feature[rows], self.max_points[rows]
         every = self._points(rows)  # all cached points: their impulses for warm starting
-        cached = self._refreshed(every, frames, feature)  # the ones still touching
+        # the ones still touching (slots unmoved: a slot is the same point as in every)
+        cached = LocalPoints(every.data, still_touching(every, frames, feature))
         points = select_fresh(fresh, cached, frames, max_points, feature)
         points = distinct_points(points, feature)
         local = to_local(points, frames)
@@ -346,6 +350,7 @@ class ManifoldStore(MutableMapping):
             self.point_key[rows],
             self.max_points[rows],
             self.feature[rows],
+            self.bodies[rows, 0] == STAGE_ID,  # the stage's rows hold untaken cached points
         )
         self._write_rows(rows, points, key)
 
@@ -363,16 +368,3 @@ class ManifoldStore(MutableMapping):
             self.point_key[rows] = 0
         else:
             self.point_key[rows, :width] = np.where(valid[:, :, 0, 0], key[:, :width], 0)
-
-    @staticmethod
-    def _refreshed(cached: LocalPoints, frames: RowFrames, feature) -> LocalPoints:
-        """The ``cached`` points still in contact (see step 1), flagged (slots unmoved, so a
-        slot of the result is the same point as in ``cached``)."""
-        point_a, point_b, normal = cached.world(frames)
-        gap = point_a - point_b
-        depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
-        drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
-        keep = (depth > -settings.CONTACT_BREAKING_DISTANCE) & (
-            drift_sq < np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2
-        )
-        return LocalPoints(cached.data, cached.valid & keep)

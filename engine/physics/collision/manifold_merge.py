@@ -291,6 +291,18 @@ def combine(fresh: LocalPoints, cached: LocalPoints, used: np.ndarray) -> LocalP
     return LocalPoints(data, valid).where(valid)
 
 
+def still_touching(cached: LocalPoints, frames: RowFrames, feature) -> np.ndarray:
+    """(r, k) bool: the valid ``cached`` points whose bodies separated less than
+    ``CONTACT_BREAKING_DISTANCE`` along the normal and whose anchors drifted apart less
+    than ``CONTACT_DRIFT_DISTANCE`` (capped at ``feature (r,)``) tangentially."""
+    point_a, point_b, normal = cached.world(frames)
+    gap = point_a - point_b
+    depth = (gap * normal).sum(axis=2)  # d = (p_a - p_b) . n
+    drift_sq = (gap * gap).sum(axis=2) - depth**2  # |tangential part of the gap|^2
+    drift_limit = np.minimum(settings.CONTACT_DRIFT_DISTANCE, feature)[:, None] ** 2
+    return cached.valid & (depth > -settings.CONTACT_BREAKING_DISTANCE) & (drift_sq < drift_limit)
+
+
 def support_band(feature: np.ndarray) -> np.ndarray:
     """(r,) m, the support depth band of each row: ``SUPPORT_DEPTH_BAND`` capped at ``f``."""
     return np.minimum(settings.SUPPORT_DEPTH_BAND, feature)

@@ -37,6 +37,9 @@ import numpy as np
 
 from ..core.settings import STAGE_CORNER_COSINE, STAGE_GRID_CELL, STAGE_GRID_MAX_CELLS, TINY
 
+#: the grid's two axes, x and z, as columns of a point
+XZ = [0, 2]
+
 
 @dataclass
 class StageGrid:
@@ -82,10 +85,9 @@ class StageGrid:
     def _cell_range(lo, hi, origin, cell, shape):
         """First and last cell ``(i_x, i_z)`` covered by boxes ``lo, hi (b, 3)``, each
         ``(b, 2)`` int, clipped to the grid (a box beyond it gets an empty range)."""
-        first = np.floor((lo[:, [0, 2]] - origin) / cell).astype(np.int64)
-        last = np.floor((hi[:, [0, 2]] - origin) / cell).astype(np.int64)
-        limit = np.array(shape) - 1
-        return np.maximum(first, 0), np.minimum(last, limit)
+        # both corners at once: floor((corner - origin) / cell) along x and z, (2, b, 2)
+        first, last = np.floor((np.stack((lo, hi))[:, :, XZ] - origin) / cell).astype(np.int64)
+        return np.maximum(first, 0), np.minimum(last, (shape[0] - 1, shape[1] - 1))
 
     def candidates(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Triangles whose AABB overlaps box ``k`` of ``lo, hi (b, 3)``, as flat pairs
@@ -142,7 +144,7 @@ def _cells_of_boxes(first: np.ndarray, last: np.ndarray, n_z: int):
     """``(box (e,), cell (e,))``: every cell ``i_x n_z + i_z`` in the ranges ``first ..
     last (b, 2)`` of each box (empty where ``last < first``)."""
     span = np.maximum(last - first + 1, 0)  # (b, 2) cells along x and z
-    box, offset = _expand(span[:, 0] * span[:, 1])
+    box, offset = _expand(span.prod(axis=1))  # cells along x times cells along z
     step_x, step_z = np.divmod(offset, np.maximum(span[box, 1], 1))
     cell = (first[box, 0] + step_x) * n_z + first[box, 1] + step_z
     return box, cell

@@ -73,14 +73,17 @@ class SolverSettings:
         stay attached to the bodies, the solver recomputes their depths from the current
         poses). Off: every pair is queried every step.
     feature_manifolds : bool
-        Rebuild the manifolds of pairs of two bodies from this step's contacts, cut to four
-        with last step's feature keys winning near-ties and warm-started from the nearest
-        cached points (True, Box2D v3's and Jolt's way: :mod:`keyed_manifolds`), instead of
-        merging the fresh points into persistent manifolds (False, the default, Bullet's
-        ``btPersistentManifold``: :mod:`manifold_merge`). Pairs with the stage or a capsule
-        always merge (see :mod:`manifold_rows`). Off by default: measured, it cut 7-12 % of
-        a step's NumPy operations but plane-column-500's deepest floor overlap reached
-        24.1 mm (the 2 cm gate; ``docs/physics_performance.md``).
+        Rebuild every pair's manifold (the stage's included) from this step's contacts, cut
+        to four with last step's feature keys winning near-ties and the stage's corner slot
+        choice, warm-started from the nearest cached points, a stage row with fewer than
+        three fresh points keeping its untaken cached points still touching (True, Box2D
+        v3's and Jolt's way: :mod:`keyed_manifolds`), instead of merging the fresh points
+        into persistent manifolds (False, the default, Bullet's ``btPersistentManifold``:
+        :mod:`manifold_merge`). Pairs with a capsule always merge (:mod:`manifold_rows`).
+        Off by default: measured, it cut 16 % of column-10's NumPy operations (0.93x its
+        CPU time) and over eight drops of the 100-cube column was as good as the merge, but
+        the benchmark's one-drop gates (transient cube-cube overlap, sleeping at 3 s, the
+        500-cube floor overlap) read worse (``docs/physics_performance.md``).
     use_vectorized : bool
         Route the collision and solve stages through the batched NumPy code (True) or the
         plain reference path (False): contacts and manifolds one body pair at a time

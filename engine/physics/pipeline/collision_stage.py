@@ -23,8 +23,8 @@ Sub-stages, in order:
    narrow phase. The same pairs are skipped on both paths;
 4. narrow phase and manifold update: contact points ``(q, 3)`` of the touching pairs, with
    their feature keys, become each pair's manifold (``settings.feature_manifolds``,
-   :meth:`ManifoldStore.replace_fresh`) or are merged into it (stage and capsule pairs,
-   or the switch off: :meth:`ManifoldStore.merge_fresh`). ``settings.use_vectorized``
+   :meth:`ManifoldStore.replace_fresh`) or are merged into it (capsule pairs, or
+   the switch off: :meth:`ManifoldStore.merge_fresh`). ``settings.use_vectorized``
    chooses the batched path (:func:`narrow_phase.narrow_phase` + the store) or the per-pair
    reference path (:mod:`reference_contacts`); tests prove both give the same manifolds;
 5. stale manifolds (:func:`drop_stale_manifolds`): pairs that left the broad phase while

@@ -17,7 +17,7 @@ import numpy as np
 from ..collision.contacts import SLOTS, ManifoldStore
 from ..collision.manifold_rows import add_manifold_row
 from ..collision.pair_rules import PairContext, PairJob, PairRule, contact_key
-from ..core.bodies import Bodies
+from ..core.bodies import STAGE_ID, Bodies
 from ..core.reference_geometry import Contact
 from ..reference.reference_manifolds import (
     ManifoldPoint,
@@ -95,14 +95,12 @@ def update_manifolds_reference(
             for s in range(store.count[row])
         ]
         keyed = feature_manifolds and bool(store.keyable[row])
-        points = (keyed_manifold if keyed else update_manifold)(
-            cached,
-            contacts,
-            frame_a,
-            frame_b,
-            int(store.max_points[row]),
-            float(store.feature[row]),
-        )
+        capacity, feature = int(store.max_points[row]), float(store.feature[row])
+        if keyed:  # the stage's rows hold their untaken cached points still touching
+            hold = key[0] == STAGE_ID
+            points = keyed_manifold(cached, contacts, frame_a, frame_b, capacity, feature, hold)
+        else:
+            points = update_manifold(cached, contacts, frame_a, frame_b, capacity, feature)
         store.count[row] = len(points)
         for array in (store.local_a, store.local_b, store.normal_local, store.impulse):
             array[row] = 0.0

@@ -87,17 +87,7 @@ def update_manifold(
     else:
         unused = zip(cached, touching, used, strict=True)
         merged = [p for p, is_touching, is_used in unused if is_touching and not is_used] + points
-    if len(merged) > max_points:
-        world = [p.world(frame_a, frame_b) for p in merged]
-        chosen = select_with_corners(
-            [c.point_b for c in world],
-            [c.depth for c in world],
-            [c.normal for c in world],
-            world[0].normal,
-            max_points,
-            band=band,
-        )
-        merged = [p for p, keep in zip(merged, chosen, strict=True) if keep]
+    merged = _reduce(merged, frame_a, frame_b, max_points, feature)
     return merged
 
 
@@ -108,6 +98,7 @@ def keyed_manifold(
     frame_b,
     max_points: int,
     feature: float = settings.CONTACT_MATCH_DISTANCE,
+    hold: bool = False,
 ) -> list[ManifoldPoint]:
     """One fresh manifold's step (Box2D v3's ``b2UpdateContact``, Jolt's warm start): the
     fresh contacts (``Contact.feature`` holding each one's key) become the manifold.
@@ -118,7 +109,10 @@ def keyed_manifold(
        points with a cached point's key winning near-ties;
     2. each fresh point, in order, takes the impulses of the nearest unused cached point
        closer than ``feature`` in B's frame; a rolling point (``max_points == 1``) the
-       cached point's (:func:`_inherit_impulses`, the merge's rule).
+       cached point's (:func:`_inherit_impulses`, the merge's rule);
+    3. ``hold`` (a stage row) and fewer than three fresh points: the cached points no fresh
+       point took that are still touching join them, first (:func:`still_touching`), cut to
+       ``max_points`` as the merge does (:func:`_reduce`).
     """
     cached_keys = {point.key for point in cached}
     matched = [contact.feature in cached_keys for contact in fresh]
@@ -133,8 +127,32 @@ def keyed_manifold(
         c = fresh[i]
         local = (unrotate(ra, c.point_a - xa), unrotate(rb, c.point_b - xb), unrotate(ra, c.normal))
         points.append(ManifoldPoint(*local, np.zeros(3), c.feature))
-    _inherit_impulses(points, cached, max_points, feature)
-    return points
+    used = _inherit_impulses(points, cached, max_points, feature)
+    if not hold or len(points) >= 3:
+        return points
+    held = [
+        p
+        for p, is_used in zip(cached, used, strict=True)
+        if not is_used and still_touching(p, frame_a, frame_b, feature)
+    ]
+    return _reduce(held + points, frame_a, frame_b, max_points, feature)
+
+
+def _reduce(merged: list[ManifoldPoint], frame_a, frame_b, max_points: int, feature: float):
+    """``merged`` cut to ``max_points``: the corner slot choice around the first point's
+    normal (:func:`select_with_corners`)."""
+    if len(merged) <= max_points:
+        return merged
+    world = [p.world(frame_a, frame_b) for p in merged]
+    chosen = select_with_corners(
+        [c.point_b for c in world],
+        [c.depth for c in world],
+        [c.normal for c in world],
+        world[0].normal,
+        max_points,
+        band=min(settings.SUPPORT_DEPTH_BAND, feature),
+    )
+    return [p for p, keep in zip(merged, chosen, strict=True) if keep]
 
 
 def still_touching(
