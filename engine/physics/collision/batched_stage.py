@@ -30,7 +30,10 @@ remembered by the pair's manifold (its cached normals point from the stage to th
 Only a new contact falls back to :func:`contact_helpers.new_contact_side`: the back when
 the whole hull is behind the plane (a body behind a one-sided wall), up on a floor-like
 triangle when the body's center is on or above its plane (a stage may wind its floor
-either way), else the triangle's front (its winding normal): a body spawned or teleported
+either way), the side of the body's center on a wall-like triangle level with it or
+whose plane passes clear of it (:func:`contact_helpers.center_decides`; a thin slab's
+side cutting the body near its middle says nothing of where the body is), else the
+triangle's front (its winding normal): a body spawned or teleported
 with its center below a floor is pushed up, never down through it, and a thin plate
 pushed past the surface's plane is still pushed back out.
 
@@ -55,6 +58,7 @@ from ..core import settings
 from .collide import dot
 from .contact_helpers import (
     body_poses,
+    center_decides,
     contact_arrays,
     fcl_raw_contacts,
     midpoint_contacts,
@@ -181,14 +185,20 @@ def _cached_normals(store, bodies: list) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 def _outward_side(
-    normal: np.ndarray, corner: np.ndarray, height: np.ndarray, center: np.ndarray, cached
+    normal: np.ndarray,
+    corner: np.ndarray,
+    height: np.ndarray,
+    center: np.ndarray,
+    cached,
+    level: np.ndarray,
 ) -> np.ndarray:
     """(g, T) +-1 turning each touched triangle's normal to the stage's outward side.
 
     The cached normal most (anti-)parallel to the triangle's decides when it is within 60
     degrees of it and its point lies on the triangle's plane (``corner (g, T, 3)``: a
     vertex of each triangle); otherwise (a new contact) :func:`new_contact_side` from the
-    vertices' heights ``height (g, T, V)`` and the body's center ``center (g, 3)``.
+    vertices' heights ``height (g, T, V)``, the body's center ``center (g, 3)`` and whether
+    that center is ``level (g, T)`` with each triangle.
     """
     cached_normal, cached_point, valid = cached
     # distance of cached point k from triangle t's plane, |n_t . (p_k - p0_t)|, (g, T, S)
@@ -203,7 +213,9 @@ def _outward_side(
     ]
     # a new contact: the body's heights decide (floor-like triangles push up)
     center_height = np.einsum("gti,gi->gt", normal, center) - dot(normal, corner)
-    new = new_contact_side(normal[..., 1], center_height, height.max(axis=2))
+    highest = height.max(axis=2)
+    decides = center_decides(level, center_height, highest, height.min(axis=2))
+    new = new_contact_side(normal[..., 1], center_height, highest, decides)
     return np.where(np.abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT, np.sign(strongest), new)
 
 
@@ -230,7 +242,10 @@ def _stage_group(
     normal = table["normal"][ids]
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = np.einsum("gti,gvi->gtv", normal, verts) - dot(normal, tris[:, :, 0])[..., None]
-    side = _outward_side(normal, tris[:, :, 0], height, x, cached)  # (g, T)
+    # the body's center level with each triangle (between its lowest and highest corner)
+    level = (table["y_low"][ids] <= x[:, None, 1]) & (x[:, None, 1] <= table["y_high"][ids])
+    level |= table["backed"][ids]  # a board's back against a wall: its front is the wall
+    side = _outward_side(normal, tris[:, :, 0], height, x, cached, level)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)
     # a vertex far below a thin triangle is on the other side of it, not in contact

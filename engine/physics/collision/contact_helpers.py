@@ -139,7 +139,10 @@ def triangle_table(mesh_shape) -> dict:
     """Constants of all triangles of a static mesh, computed once and kept on the shape.
 
     ``normal (t, 3)`` unit face normals (winding order), ``e0, e1 (t, 3)`` edges from vertex
-    0, and the Gram entries ``d00, d01, d11, denom (t,)`` of the barycentric solve.
+    0, the Gram entries ``d00, d01, d11, denom (t,)`` of the barycentric solve, and the
+    heights ``y_low, y_high (t,)`` of each triangle's lowest and highest corner, and
+    ``backed (t,)``: another triangle lies in the same plane facing the other way
+    (:func:`backed_triangles`).
     """
     table = getattr(mesh_shape, "_triangle_table", None)
     if table is None:
@@ -157,9 +160,25 @@ def triangle_table(mesh_shape) -> dict:
             "d01": d01,
             "d11": d11,
             "denom": d00 * d11 - d01 * d01,
+            "y_low": tris[:, :, 1].min(axis=1),
+            "y_high": tris[:, :, 1].max(axis=1),
+            "backed": backed_triangles(normal, tris[:, 0]),
         }
         mesh_shape._triangle_table = table
     return table
+
+
+def backed_triangles(normal: np.ndarray, corner: np.ndarray) -> np.ndarray:
+    """(t,) bool: a triangle whose plane holds another triangle facing the other way (unit
+    normals ``normal (t, 3)``, a corner of each ``corner (t, 3)``; planes compared to 1e-3
+    in the normal and 0.1 mm in the offset): the back of a skirting board against the
+    wall's face. Its front is not free space, so its side is the body's center's even
+    where the center is above it (:func:`center_decides`)."""
+    offset = (normal * corner).sum(axis=1)
+    key = np.round(np.column_stack([normal * 1e3, offset * 1e4])).astype(np.int64)
+    flipped = np.round(np.column_stack([-normal * 1e3, -offset * 1e4])).astype(np.int64)
+    planes = {tuple(row) for row in key.tolist()}
+    return np.array([tuple(row) in planes for row in flipped.tolist()], dtype=bool)
 
 
 def segment_in_body(shape: Shape) -> tuple[np.ndarray, np.ndarray, float]:
@@ -171,14 +190,41 @@ def segment_in_body(shape: Shape) -> tuple[np.ndarray, np.ndarray, float]:
     return center - half, center + half, float(shape.geometry.radius)
 
 
+def center_decides(
+    level: np.ndarray, center_height: np.ndarray, max_height: np.ndarray, min_height: np.ndarray
+) -> np.ndarray:
+    """Whether the body's center says on which side of a wall-like stage triangle the body
+    is (rule 4 of :func:`new_contact_side`): the center is ``level`` with the triangle
+    (between its lowest and highest corner, or the triangle is backed by an opposite one,
+    :func:`backed_triangles`), or the plane passes clear of it, farther than
+    ``STAGE_CENTER_SIDE_FRACTION`` of the body's extent along the normal (``max_height -
+    min_height``, the largest and least ``n . (x - p_0)`` over its points).
+
+    A low face cutting the body near its middle says nothing: a cone sliding off a 3 cm
+    slab (a bed's base) with its center just past the slab's side, above its top, had the
+    rim vertices dipping beyond the side, in the air, taken as 2-11 cm behind it and
+    pushed into the slab; it ended wedged under the slab, its tip 10 cm below the floor.
+    A skirting board's back against a wall keeps the center's side (its front is inside
+    the wall): cones pressed into the board with their centers above it went through.
+
+    Reference: :func:`reference_pairs.center_decides_reference`.
+    """
+    extent = max_height - min_height
+    return level | (np.abs(center_height) > settings.STAGE_CENTER_SIDE_FRACTION * extent)
+
+
 def new_contact_side(
-    normal_y: np.ndarray, center_height: np.ndarray, max_height: np.ndarray
+    normal_y: np.ndarray,
+    center_height: np.ndarray,
+    max_height: np.ndarray,
+    center_decides: np.ndarray | bool = True,
 ) -> np.ndarray:
     """+1 or -1 (same shape as the inputs) turning a stage triangle's winding normal ``n``
     to its outward side for a body without a cached contact on it.
 
     ``normal_y``: ``n_y``; ``center_height``: ``n . (c - p_0)`` of the body's center ``c``;
-    ``max_height``: the largest ``n . (x - p_0)`` over the body's points. The rule, in order:
+    ``max_height``: the largest ``n . (x - p_0)`` over the body's points; ``center_decides``:
+    the body's center says where the body is (:func:`center_decides`). The rule, in order:
 
     1. the whole body behind the plane (``max_height <= 0``): the back (a body behind a
        one-sided wall stays there);
@@ -188,15 +234,17 @@ def new_contact_side(
     3. a floor-like triangle with the center below its plane: the front (a body teleported
        with its center below a floor is pushed up through the floor's front; one pressed
        into a ceiling from below stays below);
-    4. a wall-like triangle: the side holding the body's center (its front when the center
-       is on the plane): a body poking through the back of a thin wall or skirting board
-       is pulled back to where most of it is, not pushed on through the next wall.
+    4. a wall-like triangle where the center decides: the side holding the body's center
+       (its front when the center is on the plane): a body poking through the back of a
+       thin wall or skirting board is pulled back to where most of it is, not pushed on
+       through the next wall;
+    5. any other wall-like triangle: the front.
 
     Reference: :func:`reference_pairs.new_contact_side_reference`.
     """
     floor_like = np.abs(normal_y) >= settings.FLOOR_NORMAL_Y
     up = np.where(normal_y > 0, 1.0, -1.0)  # the sign turning n to point up
     floor_side = np.where(center_height * normal_y >= 0, up, 1.0)
-    wall_side = np.where(center_height >= 0, 1.0, -1.0)
+    wall_side = np.where(center_decides, np.where(center_height >= 0, 1.0, -1.0), 1.0)
     side = np.where(floor_like, floor_side, wall_side)
     return np.where(max_height <= 0, -1.0, side)

@@ -188,6 +188,11 @@ OUTWARD_SIDE_PLANE_DISTANCE = 0.001
 #: (or ceiling): a new contact with a body whose center is above its plane pushes up,
 #: whichever way the stage winds it (contact_helpers.new_contact_side).
 FLOOR_NORMAL_Y = 0.5
+#: 1, a new contact with a wall-like stage triangle takes the side of the body's center
+#: when the center is level with the triangle or the plane passes clear of it: farther
+#: from it than this fraction of the body's extent along the normal; otherwise (a low face
+#: cutting the body near its middle, a thin slab's side) the triangle's front.
+STAGE_CENTER_SIDE_FRACTION = 0.25
 #: m, a pair whose bodies moved relative to each other by less than this (at any point of
 #: B's bounding sphere) since its last narrow-phase query keeps its manifold unchanged.
 CONTACT_CACHE_DISTANCE = 0.0005

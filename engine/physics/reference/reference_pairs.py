@@ -154,6 +154,7 @@ def outward_side(
     heights: list[float],
     center: np.ndarray,
     cached: list[tuple[np.ndarray, np.ndarray]],
+    level: bool = True,
 ) -> float:
     """+1 or -1 turning a triangle's normal to the stage's outward side.
 
@@ -161,8 +162,9 @@ def outward_side(
     (``|n . c| > 0.5``) and its point lies on the triangle's plane (within
     ``OUTWARD_SIDE_PLANE_DISTANCE`` of the plane through ``corner``): the body stays on the
     side where the contact began. A new contact, or one cached on another surface, follows
-    :func:`new_contact_side_reference` with the hull vertices' ``heights`` and the body's
-    ``center``.
+    :func:`new_contact_side_reference` with the hull vertices' ``heights``, the body's
+    ``center`` and whether it is ``level`` with the triangle (between its lowest and highest
+    corner), see :func:`center_decides_reference`.
     """
     alignments = [
         dot(normal, c)
@@ -175,18 +177,34 @@ def outward_side(
         if abs(strongest) > settings.OUTWARD_SIDE_ALIGNMENT:
             return float(np.sign(strongest))
     center_height = dot(normal, center) - dot(normal, corner)
-    return new_contact_side_reference(float(normal[1]), center_height, max(heights))
+    decides = center_decides_reference(level, center_height, max(heights), min(heights))
+    return new_contact_side_reference(float(normal[1]), center_height, max(heights), decides)
 
 
-def new_contact_side_reference(normal_y: float, center_height: float, max_height: float) -> float:
+def center_decides_reference(
+    level: bool, center_height: float, max_height: float, min_height: float
+) -> bool:
+    """Plain twin of :func:`contact_helpers.center_decides`: the center is level with the
+    triangle, or its plane passes clear of the center (farther than
+    ``STAGE_CENTER_SIDE_FRACTION`` of the body's extent along the normal)."""
+    extent = max_height - min_height
+    return level or abs(center_height) > settings.STAGE_CENTER_SIDE_FRACTION * extent
+
+
+def new_contact_side_reference(
+    normal_y: float, center_height: float, max_height: float, decides: bool = True
+) -> float:
     """Plain twin of :func:`contact_helpers.new_contact_side` (one triangle): the back when
     the whole body is behind the plane; on a floor-like triangle up when the body's center
-    is on or above its plane, else the front; on a wall-like one the center's side."""
+    is on or above its plane, else the front; on a wall-like one the center's side where
+    it ``decides`` (:func:`center_decides_reference`), else the front."""
     if max_height <= 0:
         return -1.0  # wholly behind: a body behind a one-sided wall stays there
     if abs(normal_y) >= settings.FLOOR_NORMAL_Y:  # a floor or a ceiling
         if center_height * normal_y >= 0:  # the center on the up side of the plane
             return 1.0 if normal_y > 0 else -1.0  # up, whichever way the floor is wound
+        return 1.0
+    if not decides:  # a low face cutting the body near its middle: its front
         return 1.0
     return 1.0 if center_height >= 0 else -1.0  # a wall: where most of the body is
 
@@ -225,7 +243,9 @@ def stage_polyhedron_contacts(
     for t in triangle_ids:
         normal, corner = table["normal"][t], stage.ray_triangles[t][0]
         height = [dot(normal, v) - dot(normal, corner) for v in vertices]
-        side = outward_side(normal, corner, height, position, cached)
+        level = bool(table["y_low"][t] <= position[1] <= table["y_high"][t])
+        level = level or bool(table["backed"][t])  # a board's back against a wall
+        side = outward_side(normal, corner, height, position, cached, level)
         normal, height = normal * side, [value * side for value in height]
         normals.append(normal)
         heights.append(height)  # (T, V) signed heights, m
