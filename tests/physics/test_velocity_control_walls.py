@@ -5,8 +5,10 @@ velocities once, before the Bullet step; the step's contact solve then acts on t
 body driven into a wall stops at the wall's surface whatever the commanded speed. Here a
 0.2 m cube on a floor is commanded at 1 m/s (world frame, or its local frame turned 90
 degrees about +Y, and with a spin about +Y) into a wall at ``x = 0.5`` for two seconds, on
-the batched and the reference path: no hull vertex may go more than 2 cm into the wall or
-the floor, and the velocity into the wall the step leaves is nearly zero.
+the batched and the reference path: the wall holds it (the velocity into the wall the steps
+leave is small, the cube stays put, no vertex 4 cm in), checked against a mutation that
+sets the commanded velocity after the solve (1 m/s left, 5.1 cm in). The 2 cm bound of the
+soak is an xfail: the stage manifold's slot choice lets a corner 2.4 to 3.4 cm in.
 """
 
 from __future__ import annotations
@@ -69,6 +71,7 @@ def drive(vectorized: bool, local: bool, spin: bool) -> dict[str, float]:
     world, cube = driven_cube(vectorized, local, spin)
     index = cube.object_id
     into_wall, into_floor, reached, held_at = 0.0, 0.0, False, 0.0
+    pressing = []  # the velocity into the wall each call leaves, over the last second
     steps = int(SECONDS * 60)
     for step in range(steps):
         world.step_physics(1.0 / 60.0)
@@ -78,8 +81,16 @@ def drive(vectorized: bool, local: bool, spin: bool) -> dict[str, float]:
         reached |= right > WALL_X - 0.01
         if step == steps // 2:
             held_at = float(world.bodies.body_position[index][0])
+        if step >= steps // 2:
+            pressing.append(float(world.bodies.body_linear_velocity[index][0]))
     travel = float(world.bodies.body_position[index][0]) - held_at
-    return {"wall": into_wall, "floor": into_floor, "travel": travel, "reached": reached}
+    return {
+        "wall": into_wall,
+        "floor": into_floor,
+        "travel": travel,
+        "reached": reached,
+        "pressing": float(np.mean(pressing)),
+    }
 
 
 PATHS = pytest.mark.parametrize("vectorized", [True, False], ids=["batched", "reference"])
@@ -93,13 +104,16 @@ DRIVES = pytest.mark.parametrize(
 @PATHS
 @DRIVES
 def test_a_cube_driven_into_a_wall_is_held_by_it(vectorized, local, spin):
-    """The control's 1 m/s, set again before every call, never carries the cube through:
-    over the last second its center moves less than 2 cm (a control that won over the
-    contacts would carry it 1 m further), and no vertex goes 5 cm into the wall."""
+    """The control's 1 m/s, set again before every call, never wins over the wall: over the
+    last second the velocity into the wall the steps leave averages under 0.2 m/s (under
+    0.09 measured; a control applied after the solve leaves 1 m/s), the center moves less
+    than 2 cm, and no vertex goes 4 cm into the wall (3.4 cm measured; 5.1 cm when the
+    control overrides the solve)."""
     result = drive(vectorized, local, spin)
     assert result["reached"], "the cube never reached the wall"
+    assert result["pressing"] < 0.2 * SPEED, result
     assert abs(result["travel"]) < TOLERANCE, result
-    assert result["wall"] < 0.05, result
+    assert result["wall"] < 0.04, result
     assert result["floor"] < TOLERANCE, result
 
 
