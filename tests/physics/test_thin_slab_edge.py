@@ -12,10 +12,11 @@ solid and just past the 2 cm speculative reach, while the cube's edge crosses th
 front-bottom edge by 0.3 cm (the true overlap, separating axis test). The vertex lies in
 the prism of a *top*-face triangle 6.3 cm behind its plane, inside the accepted window
 (``STAGE_BELOW_FRACTION`` times the cube's extent), so it becomes a resting contact of the
-top face: normal along -Y, depth 6.3 cm, more than the slab is thick. That spurious vertex
-contact also keeps the edge-crossing fallback (fcl's points) from running, so the real
-edge contact is never made; the solve gives it no impulse (the vertex already moves along
--Y), and the cube flies on into the slab at 4.4 m/s. The true overlap passes 15 cm within
+top face: the stage pushing the cube up (+Y), 6.3 cm deep, more than the slab is thick.
+The spin moves that vertex up at 4.8 m/s, so the solve gives it no impulse, while the
+position correction lifts the cube toward the slab; and the spurious vertex contact keeps
+the edge-crossing fallback (fcl's points) from running, so the real edge contact is never
+made. The cube flies on into the slab at 4.4 m/s; the true overlap passes 15 cm within
 0.24 s. A vertex may only rest on a triangle when the segment from it to its foot on the
 triangle stays inside the stage's solid (crosses no other stage triangle).
 """
