@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core import settings
 from ..core.shapes import Shape
+from ..core.vectors import vecdot
 from .box_box import box_box_parts, box_shape_frames
 from .collide import round_stage_contacts
 from .contact_helpers import (
@@ -199,7 +200,7 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     planes = np.stack([s.plane_normals for s in ref_shapes])  # (g, F, 3) body frame
     offsets = np.stack([s.plane_offsets for s in ref_shapes])  # (g, F)
     face_normals = np.einsum("gij,gfj->gfi", rotation, planes)  # outward, world frame
-    alignment = np.vecdot(face_normals, towards[:, None])  # n_f . towards
+    alignment = vecdot(face_normals, towards[:, None])  # n_f . towards
     face = tie_key(alignment).argmax(axis=1)  # the first of (nearly) equally aligned faces
     jobs = np.arange(len(face))
     # else no face of this body faces the other
@@ -210,7 +211,7 @@ def _reference_face_contacts(ref_shapes, ref_frame, verts, towards):
     local = np.einsum("gji,gvj->gvi", rotation, verts - position[:, None])
     inside = (np.einsum("gvj,gfj->gvf", local, planes) - offsets[:, None] <= tolerance).all(axis=2)
     # depth below the reference face plane n_f . x = c_f + n_f . x_ref
-    depth = (offsets[jobs, face] + np.vecdot(normal, position))[:, None] - np.einsum(
+    depth = (offsets[jobs, face] + vecdot(normal, position))[:, None] - np.einsum(
         "gvi,gi->gv", verts, normal
     )
     g, v = np.nonzero(inside & (depth > -tolerance) & facing[:, None])

@@ -53,6 +53,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import settings
+from ..core.vectors import vecdot
 from .contacts import tie_key
 
 #: the reference rectangle's corners (in units of its half extents), counter-clockwise,
@@ -90,13 +91,13 @@ def separating_axes(center_a, rot_a, half_a, center_b, rot_b, half_b):
 
     Reference: :func:`reference_box_box.separating_axes_reference`.
     """
-    axes_a, axes_b = rot_a.mT, rot_b.mT  # rows: box axes
+    axes_a, axes_b = rot_a.swapaxes(-1, -2), rot_b.swapaxes(-1, -2)  # rows: box axes
     # a_i x b_j for every i, j, (g, 9, 3), then normalized where the edges are not parallel
     # (a x b)_k = a_{k+1} b_{k+2} - a_{k+2} b_{k+1}, written out (np.cross is slow on small arrays)
     a_1, a_2 = axes_a[:, :, None, NEXT], axes_a[:, :, None, AFTER]
     b_1, b_2 = axes_b[:, None, :, NEXT], axes_b[:, None, :, AFTER]
     edges = (a_1 * b_2 - a_2 * b_1).reshape(-1, 9, 3)
-    length = np.sqrt(np.vecdot(edges, edges))
+    length = np.sqrt(vecdot(edges, edges))
     is_axis = length > settings.BOX_PARALLEL_EDGES
     edges = edges / np.where(is_axis, length, 1.0)[..., None]
     axes = np.concatenate([axes_a, axes_b, edges], axis=1)
@@ -183,8 +184,8 @@ def _face_contacts(pairs, axis, normal, frames):
     center_r, center_i = np.where(pick, center_a, center_b), np.where(pick, center_b, center_a)
     half_r, half_i = np.where(pick, half_a, half_b), np.where(pick, half_b, half_a)
     pick_matrix = pick[..., None]
-    axes_r = np.where(pick_matrix, rot_a, rot_b).mT  # rows: box axes
-    axes_i = np.where(pick_matrix, rot_b, rot_a).mT
+    axes_r = np.where(pick_matrix, rot_a, rot_b).swapaxes(-1, -2)  # rows: box axes
+    axes_i = np.where(pick_matrix, rot_b, rot_a).swapaxes(-1, -2)
     n_ref = np.where(pick, normal, -normal)  # out of the reference face, towards I
     i = axis % 3
     face_center = center_r + half_r[g, i, None] * n_ref
@@ -203,13 +204,13 @@ def _face_contacts(pairs, axis, normal, frames):
     across = OTHER_AXES[j]
     sides = axes_i[g_column, across] * half_i[g_column, across, None]
     corners = offset[:, None] + CORNER_SIGNS @ sides
-    quad = corners @ tangents.mT  # (g, 4, 2) in the reference face's 2D frame
+    quad = corners @ tangents.swapaxes(-1, -2)  # (g, 4, 2) in the reference face's 2D frame
     uv, valid = clip_candidates(quad, extent)
     # the incident face plane m . x = m . f seen from p_ref = o + u U + v V along n_ref:
     # p_inc = p_ref + t n_ref with t = (m . (f - o) - u m . U - v m . V) / (m . n_ref);
     # the point lies -t behind the reference face (its depth)
-    along = np.vecdot(m, n_ref)  # m . n_ref, at most -1/sqrt(3)
-    base = np.vecdot(m, offset)
+    along = vecdot(m, n_ref)  # m . n_ref, at most -1/sqrt(3)
+    base = vecdot(m, offset)
     slope = _apply(tangents, m)  # (g, 2): m . U, m . V
     t = (base[:, None] - (uv @ slope[:, :, None])[..., 0]) / along[:, None]
     valid &= t < settings.SPECULATIVE_DISTANCE  # -t > -SPECULATIVE_DISTANCE
@@ -240,17 +241,17 @@ def clip_candidates(quad: np.ndarray, extent: np.ndarray) -> tuple[np.ndarray, n
     following = quad[:, FOLLOWING]  # q_{k+1}
     edge = following - quad  # q_{k+1} - q_k, (g, 4, 2)
     # twice the quad's signed area: its orientation (+1 counter-clockwise)
-    area = np.vecdot(quad[..., 0], following[..., 1]) - np.vecdot(quad[..., 1], following[..., 0])
+    area = vecdot(quad[..., 0], following[..., 1]) - vecdot(quad[..., 1], following[..., 0])
     orientation = np.where(area >= 0.0, 1.0, -1.0)
     to_corner = rect[:, :, None] - quad[:, None]  # r_c - q_k, (g, 4 corners, 4 edges, 2)
     # 2D cross product e_k x (r_c - q_k) = (r_c - q_k) . perp(e_k), times the orientation
     # (the same products and sum as e_x r_y - e_y r_x), (g, 4, 4)
     inward = (edge @ PERPENDICULAR) * orientation[:, None, None]
-    cross = np.vecdot(to_corner, inward[:, None])
-    edge_length = np.sqrt(np.vecdot(edge, edge))
+    cross = vecdot(to_corner, inward[:, None])
+    edge_length = np.sqrt(vecdot(edge, edge))
     rect_inside = (cross >= -tol * edge_length[:, None]).all(axis=2)
     # a rectangle corner on a kept quad corner is that corner already (an aligned stack)
-    on_corner = np.vecdot(to_corner, to_corner) < settings.BOX_DUPLICATE_DISTANCE**2
+    on_corner = vecdot(to_corner, to_corner) < settings.BOX_DUPLICATE_DISTANCE**2
     rect_inside &= ~(on_corner & quad_inside[:, None, :]).any(axis=2)
     # 8-23: edge k of the quad crossing side s of the rectangle (u = +-e_u, v = +-e_v)
     crossing, crossing_valid = _edge_crossings(quad, edge, edge_length, extent)
@@ -302,7 +303,7 @@ def _edge_contacts(pairs, axis, normal, frames):
     center_a, rot_a, half_a, center_b, rot_b, half_b = (f[pairs] for f in frames)
     g = np.arange(len(pairs))
     i, j = np.divmod(axis - 6, 3)  # edge axis 6 + 3 i + j is a_i x b_j
-    axes_a, axes_b = rot_a.mT, rot_b.mT
+    axes_a, axes_b = rot_a.swapaxes(-1, -2), rot_b.swapaxes(-1, -2)
     # A's edge: its corner furthest along n, with the coordinate along a_i set to 0
     weight_a = half_a * np.where(_apply(axes_a, normal) >= 0.0, 1.0, -1.0)
     weight_a[g, i] = 0.0
@@ -314,7 +315,7 @@ def _edge_contacts(pairs, axis, normal, frames):
     dir_a, dir_b = axes_a[g, i], axes_b[g, j]
     # closest points of the lines mid_a + s d_a, mid_b + t d_b (unit d), clamped to the edges
     r = mid_a - mid_b
-    b, c, f = np.vecdot(dir_a, dir_b), np.vecdot(dir_a, r), np.vecdot(dir_b, r)
+    b, c, f = vecdot(dir_a, dir_b), vecdot(dir_a, r), vecdot(dir_b, r)
     length_a, length_b = half_a[g, i], half_b[g, j]
     low_a = -length_a
     s = np.clip((b * f - c) / (1.0 - b * b), low_a, length_a)
@@ -322,7 +323,7 @@ def _edge_contacts(pairs, axis, normal, frames):
     s = np.clip(t * b - c, low_a, length_a)
     point_a = mid_a + s[:, None] * dir_a
     point_b = mid_b + t[:, None] * dir_b
-    keep = np.vecdot(point_a - point_b, normal) > -settings.SPECULATIVE_DISTANCE
+    keep = vecdot(point_a - point_b, normal) > -settings.SPECULATIVE_DISTANCE
     k = np.flatnonzero(keep)
     local = np.zeros(len(k), dtype=np.int64)
     return pairs[k], local, point_a[k], point_b[k], normal[k], EDGE_FEATURE + axis[k]
