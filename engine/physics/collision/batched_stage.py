@@ -55,7 +55,7 @@ from itertools import chain
 import numpy as np
 
 from ..core import settings
-from .collide import dot
+from ..core.vectors import dot
 from .contact_helpers import (
     body_poses,
     center_decides,

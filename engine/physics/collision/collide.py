@@ -34,7 +34,6 @@ import numpy as np
 from ..core import settings
 from ..core.quaternions import cross, quat_to_matrix
 from ..core.shapes import ShapeKind
-from ..core.vectors import vecdot
 from .contact_helpers import (
     contact_arrays,
     fcl_raw_contacts,
@@ -43,31 +42,6 @@ from .contact_helpers import (
     segment_in_body,
     triangle_table,
 )
-
-#: largest operand (components) :func:`dot` hands to ``np.vecdot`` (one call, about 25 ns per
-#: result); larger ones get the written-out sum (a few calls, about 10 ns per result)
-DOT_VECDOT_SIZE = 1024
-
-
-def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``u . v`` over the last axis (a short one: 2-4 components), broadcast over the rest.
-
-    Always the same products summed left to right, ``(u_0 v_0 + u_1 v_1) + u_2 v_2``, as in
-    ``(u * v).sum(axis=-1)`` (the same bits; only an exact zero may come out as +0 where
-    the written-out sum gives -0). Small operands: one ``np.vecdot`` call (through
-    :mod:`..core.vectors`, the summed products on NumPy 1.x); large ones
-    (above ``DOT_VECDOT_SIZE`` components, where ``vecdot``'s per-result cost outweighs its
-    saved calls: measured 2x slower on a ``(150, 24, 3)`` array) written out, one multiply
-    and add per component. Both avoid NumPy's reduction over a short last axis, which pays
-    ~50 ns per output element (``.sum`` is 4x slower than the written-out sum on a
-    ``(150, 24, 3)`` array, 2.5x on ``(100, 2, 8, 3)``).
-    """
-    if max(u.size, v.size) <= DOT_VECDOT_SIZE:
-        return vecdot(u, v)
-    total = u[..., 0] * v[..., 0]
-    for k in range(1, max(u.shape[-1], v.shape[-1])):
-        total += u[..., k] * v[..., k]
-    return total
 
 
 def world_aabbs(

@@ -12,8 +12,8 @@ What is here, in reading order:
 6. ``reference_geometry.py``: plain 3-vector helpers and the ``Contact`` record of the
    per-pair code (read by both paths, so it lives here, not in ``reference/``).
 7. ``profiling.py``: the wall-clock timer of each stage.
-8. ``vectors.py``: ``vecdot``, the short dot product of the collision kernels (NumPy 1.x
-   and 2).
+8. ``vectors.py``: ``dot`` and ``vecdot``, the short dot products of the collision
+   kernels (NumPy 1.x and 2).
 
 May import: nothing of ``engine.physics`` outside this folder (the lowest layer; see the
 layering in :mod:`engine.physics`).

@@ -37,7 +37,7 @@ from itertools import compress, filterfalse
 
 import numpy as np
 
-from ..collision.collide import boxes_separated, dot, overlapping_pairs, world_aabbs
+from ..collision.collide import boxes_separated, overlapping_pairs, world_aabbs
 from ..collision.collision_groups import filter_pairs
 from ..collision.collision_objects import CollisionObjects, pairs_as_array
 from ..collision.contacts import FreshPoints, ManifoldStore
@@ -53,6 +53,7 @@ from ..core.settings import (
     STAGE_SPECULATIVE_DISTANCE,
     SolverSettings,
 )
+from ..core.vectors import dot
 from ..solver.sleeping import moving_kinematic_mask
 from .narrow_phase import narrow_phase
 from .pair_table import PAIR_TABLE
