@@ -9,6 +9,7 @@ makes. Usage::
     RIGIDSIM_SETTINGS="soft_step=1" python benchmarks/soft_variant.py bench_physics.py --only ...
     RIGIDSIM_SETTINGS="soft_step=1" python benchmarks/soft_variant.py hash plane-column-100 2.0
 
+``gates SCENE...`` prints each scene's operations per step and quality gates;
 ``hash SCENE SECONDS`` prints the world's state hash after stepping the scene (a
 trajectory fingerprint: the same before and after a change that must be bit-identical).
 """
@@ -63,6 +64,25 @@ def trajectory_hash(scene: str, seconds: float) -> str:
     return world.state_hash()
 
 
+def gates(scenes: list[str], seconds: float = 3.0) -> None:
+    """One line per scene: NumPy operations per step (``count_operations``), the deepest
+    floor and cube-cube overlaps from 1 s on, the cubes asleep at the end and when all
+    were (the quality gates of ``bench_physics.py``, rigidsim only)."""
+    for scene in scenes:
+        (positions, rotations), stage = physics_scenes.named_scene(scene)
+        sleep = not scene.startswith("column-")
+        run = physics_scenes.run_rigidsim(positions, rotations, seconds, sleep=sleep, stage=stage)
+        ops, _ = physics_scenes.count_operations(positions, rotations, sleep=sleep, stage=stage)
+        settled = "never" if run["settled"] is None else f"{run['settled'][0]:.2f} s"
+        floor, pair = 1000 * run["deepest"]
+        print(
+            f"{scene}: {ops:,.0f} ops/step, floor {floor:.1f} mm, cube-cube {pair:.1f} mm, "
+            f"asleep {run['asleep']}/{len(positions)} at {seconds:g} s, all asleep: {settled}, "
+            f"CPU {1000 * run['cpu'] / run['steps']:.2f} ms/step",
+            flush=True,
+        )
+
+
 def main() -> None:
     values = parsed_settings(os.environ.get("RIGIDSIM_SETTINGS", ""))
     patch(values)
@@ -70,6 +90,9 @@ def main() -> None:
     command, args = sys.argv[1], sys.argv[2:]
     if command == "hash":
         print(trajectory_hash(args[0], float(args[1])))
+        return
+    if command == "gates":
+        gates(args)
         return
     script = Path(command) if Path(command).exists() else HERE / command
     sys.argv = [str(script), *args]

@@ -4,7 +4,8 @@ its soft rows are Box2D's, and the stack tests hold with it.
 * batched (``solver/soft_step.py``) against plain (``reference/reference_soft.py``): the
   same contacts and trajectories to rounding over 2 s of a stack, a pile, stage contacts,
   Gauss-Seidel slots and without warm starting (``test_reference_path``'s lockstep), and
-  one captured step of a landing pile to 1e-12;
+  every captured step of landing piles to 1e-10 (measured worst 3e-12: the block
+  rows' inverse amplifies the sums' different order);
 * ``softness`` is ``b2MakeSoft``: the row it makes, iterated on a body resting on a fixed
   one, is the implicit (backward Euler) damped spring of ``contact_hertz`` and
   ``contact_damping_ratio`` (Catto's soft step derivation);
@@ -108,9 +109,9 @@ def test_captured_soft_steps_agree_to_rounding(monkeypatch, build, settings):
     for _ in range(90):
         step()
     assert sum(solved) > 100  # contacts were solved
-    assert worst["velocity"] < 1e-12  # m/s and rad/s
-    assert worst["pseudo"] < 1e-12
-    assert worst["impulse"] < 1e-12  # N s
+    assert worst["velocity"] < 1e-10  # m/s and rad/s
+    assert worst["pseudo"] < 1e-10
+    assert worst["impulse"] < 1e-10  # N s
 
 
 @pytest.mark.parametrize("hertz", [10.0, 30.0, 60.0])

@@ -246,7 +246,7 @@ def _solve_batched(
         PairCoefficients(friction, restitution, store.impulse[rows], problem.slop),
         ColorOrder(problem.color_slices, problem.priority_starts, problem.lower),
         split_mass=settings.block_jacobi,
-        block_normal=settings.uses_block_normal and not settings.soft_step,
+        block_normal=settings.uses_block_normal,
     )
     if settings.soft_step:  # Box2D v3's schedule (soft_step.py)
         forces = problem.velocity - problem.approach_velocity

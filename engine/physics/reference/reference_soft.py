@@ -15,8 +15,6 @@ rounding.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from ..collision.contacts import SLOTS, ManifoldStore
@@ -29,6 +27,7 @@ from .reference_solver import (
     Bodies6,
     ContactRow,
     ManifoldRows,
+    _block_steps,
     _friction_impulses,
     _restitution_impulses,
     _slot_groups,
@@ -52,18 +51,27 @@ def soft_row(s: float, h: float, soft: Softness, push: float) -> tuple[float, fl
     return max(soft.mass_scale * soft.bias_rate * s, -push), soft.mass_scale, soft.impulse_scale
 
 
-def _soft_normal_impulses(state: Bodies6, m: ManifoldRows, group: list, rows: list) -> None:
+def _soft_normal_impulses(
+    state: Bodies6, m: ManifoldRows, group: list, rows: list, block: bool = False
+) -> None:
     """Normal rows of ``group`` with their ``rows`` ``(bias, mass scale, impulse
     scale)``: ``dl = -m_n (mass scale v_n + bias) - impulse scale lambda`` (the bias
     holds the mass scale already, as Box2D v3 writes it), the accumulated impulse clamped
-    ``>= 0``, then applied together (a Jacobi block)."""
-    steps = []
+    ``>= 0``, then applied together (a Jacobi block). ``block`` (a relax sweep's rigid
+    rows, with the manifold's normal block): the block solve where it keeps every impulse
+    non-negative (``reference_solver._block_steps``)."""
+    residual, steps = [], []
     for p, (bias, mass_scale, impulse_scale) in zip(group, rows, strict=True):
         vn = dot(state.relative_velocity(m.body_a, m.body_b, p), p.directions[0])
-        step = -p.masses[0] * mass_scale * vn - p.masses[0] * bias - impulse_scale * p.impulse[0]
-        step = max(step, -p.impulse[0])
-        p.impulse[0] += step
-        steps.append(step)
+        residual.append(vn + bias)
+        steps.append(
+            -p.masses[0] * mass_scale * vn - p.masses[0] * bias - impulse_scale * p.impulse[0]
+        )
+    if block and m.block is not None:
+        steps = _block_steps(m, residual, steps)
+    for k, p in enumerate(group):
+        steps[k] = max(steps[k], -p.impulse[0])
+        p.impulse[0] += steps[k]
     for p, step in zip(group, steps, strict=True):
         state.apply(m.body_a, m.body_b, p, step * p.directions[0])
 
@@ -85,8 +93,7 @@ def solve_soft_reference(
     forces = problem.velocity - problem.approach_velocity
     state = Bodies6(problem.approach_velocity, problem.inv_mass, problem.inv_inertia)
     approach = Bodies6(problem.approach_velocity, problem.inv_mass, problem.inv_inertia)
-    rigid = replace(settings, block_normal_sweeps=0)  # no block rows in the soft step
-    manifolds = build_rows(bodies, store, problem.rows, state, approach, rigid)
+    manifolds = build_rows(bodies, store, problem.rows, state, approach, settings)
     for m in manifolds:
         for p in m.points:  # per substep inside the loop
             p.impulse = [value / substeps for value in p.impulse]
@@ -95,7 +102,7 @@ def solve_soft_reference(
     moved = Bodies6(np.zeros_like(problem.velocity), problem.inv_mass, problem.inv_inertia)
     groups = _slot_groups(settings.block_jacobi)
     n = len(state.v)
-    for _ in range(substeps):
+    for sub in range(substeps):
         for b in range(n):
             state.v[b] = state.v[b] + forces[b, :3] / substeps
             state.w[b] = state.w[b] + forces[b, 3:] / substeps
@@ -116,7 +123,8 @@ def solve_soft_reference(
         relax = _relax_rows(moved, manifolds, hs)
         for m in manifolds:
             for group in groups(m):
-                _soft_normal_impulses(state, m, group, [relax[id(p)] for p in group])
+                rows = [relax[id(p)] for p in group]
+                _soft_normal_impulses(state, m, group, rows, sub < settings.block_normal_sweeps)
                 _friction_impulses(state, m, group, True)
     for m in manifolds:
         for group in groups(m):

@@ -29,10 +29,15 @@ the row) is speculative, bias ``s / h``, mass scale 1, impulse scale 0 (in both 
 An overlapping point (``s <= 0``) gets in the soft sweep the bias ``max(mass scale x rate
 x s, -contact_push_speed)`` and the increment ``d_lambda = -m_n (mass scale J v + bias) -
 impulse scale lambda``; in the relax sweep no bias (rigid).
-Friction rows are solved in the relax sweeps only (as Box2D v3 does). Each soft sweep is
-:func:`color_rows.normal_update` with the matrix ``[m_n mass scale J | m_n bias]`` and the
-impulse scales, 9 NumPy calls per color; each relax sweep the velocity update of
-:mod:`color_rows` (17 calls) with the relax bias in its matrix.
+Friction rows are solved in the relax sweeps only (as Box2D v3 does). The first
+``block_normal_sweeps`` relax sweeps solve each manifold's touching normal rows as one
+block where its impulses stay non-negative (:mod:`color_rows`, the rigid solve's block
+sweep): one Jacobi sweep of mass-split rows removes only part of a face's common error,
+and the cubes of a pile resting that way never fell asleep (measured: apartment-30).
+Each soft sweep is :func:`color_rows.normal_update` with the matrix ``[m_n mass scale J |
+m_n bias]`` and the impulse scales, 9 NumPy calls per color; each relax sweep the
+velocity update of :mod:`color_rows` (17 calls, 23 as a block sweep) with the relax bias
+in its matrix.
 
 **Stage priority** (:mod:`stage_priority`): its push-only pass ends every soft sweep (the
 displacement then never takes a body into the stage) with the soft biases, and the
@@ -223,9 +228,12 @@ def solve_soft(
             displacement += hs * flat[:-1]
             relax_bias[..., 0] = np.maximum(separations(batch, displacement), 0.0) / hs
             np.multiply(batch.normal_mass, relax_bias[..., 0], out=matrices.normal[:, :, 12])
+            block = sub < settings.block_normal_sweeps and matrices.block is not None
+            if block:  # the block rows' bias column: B b
+                np.matmul(batch.normal_block, relax_bias, out=matrices.block[:, :, 12:])
             for color in colors:
                 for one in color:
-                    velocity_update(one, flat, True, False, sub)
+                    velocity_update(one, flat, True, block, sub)
     store_tangents(colors, state, substeps)
     _restitution(batch, flat, colors, state[0])
     stage_rows_last(batch, flat[:-1], relax_bias, settings)
