@@ -229,8 +229,8 @@ def solve_soft(
             relax_bias[..., 0] = np.maximum(separations(batch, displacement), 0.0) / hs
             np.multiply(batch.normal_mass, relax_bias[..., 0], out=matrices.normal[:, :, 12])
             block = sub < settings.block_normal_sweeps and matrices.block is not None
-            if block:  # the block rows' bias column: B b
-                np.matmul(batch.normal_block, relax_bias, out=matrices.block[:, :, 12:])
+            if block and matrices.block is not None and batch.normal_block is not None:
+                matrices.block[:, :, 12:] = batch.normal_block @ relax_bias  # B b
             for color in colors:
                 for one in color:
                     velocity_update(one, flat, True, block, sub)
