@@ -82,8 +82,9 @@ def _solved(bodies, store, moving, start_velocity, h, settings, vectorized: bool
         (lambda: pile_scene(6, ("cubeSolid", CYLINDER), seed=3), {"block_jacobi": False}),
         (stage_scene, {"soft_substeps": 4}),
         (pile_scene, {"warm_starting": False}),
+        (pile_scene, {"relax_iterations": 2, "block_normal_sweeps": 3}),
     ],
-    ids=["pile", "gauss-seidel-mixed", "stage-4-substeps", "cold-pile"],
+    ids=["pile", "gauss-seidel-mixed", "stage-4-substeps", "cold-pile", "2-relax-sweeps"],
 )
 def test_captured_soft_steps_agree_to_rounding(monkeypatch, build, settings):
     # every step of 1.5 s of a landing pile (impacts, speculative and overlapping points,
@@ -134,6 +135,7 @@ def test_soft_row_is_the_implicit_damped_spring(hertz, zeta):
     ("name", "value"),
     [
         ("soft_substeps", 0),
+        ("relax_iterations", 0),
         ("contact_hertz", -1.0),
         ("contact_damping_ratio", float("nan")),
         ("contact_push_speed", float("inf")),

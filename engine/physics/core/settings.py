@@ -101,6 +101,8 @@ class SolverSettings:
     soft_substeps : int
         Substeps of the soft step (>= 1): 2 at the 0.008 s step is a 250 Hz substep, Box2D
         v3's 4 substeps at 60 Hz a 240 Hz one.
+    relax_iterations : int
+        Relax sweeps per substep of the soft step (>= 1; Box2D v3's ``RELAX_ITERATIONS``).
     contact_hertz : float
         Hz, the soft contacts' stiffness between moving bodies (Box2D v3's 30, at most an
         eighth of the substep rate); a contact with the stage gets twice it.
@@ -127,6 +129,7 @@ class SolverSettings:
     use_vectorized: bool = True
     soft_step: bool = False
     soft_substeps: int = 2
+    relax_iterations: int = 1
     contact_hertz: float = 30.0
     contact_damping_ratio: float = 10.0
     contact_push_speed: float = 3.0

@@ -3,9 +3,10 @@
 The plain twin of :mod:`soft_step` (read that module's docstring for the equations),
 written like Box2D v3's scalar ``b2SolveContact`` (``contact_solver.c``): per substep the
 forces' share, a warm start, one soft sweep of the normal rows, the displacement ``d +=
-h v``, one relax sweep of the normal and friction rows; then the restitution pass and the
-stage's last word. A point's separation is ``s = -depth + n . ((d_b + theta_b x r_b) -
-(d_a + theta_a x r_a))`` (the relative velocity formula applied to the displacements).
+h v``, ``relax_iterations`` relax sweeps of the normal and friction rows; then the
+restitution pass and the stage's last word. A point's separation is ``s = -depth + n .
+((d_b + theta_b x r_b) - (d_a + theta_a x r_a))`` (the relative velocity formula applied
+to the displacements).
 
 It reuses the rigid reference's rows (:func:`reference_solver.build_rows`: anchors,
 tangents, split effective masses), friction and restitution updates and stage pass; the
@@ -88,7 +89,7 @@ def solve_soft_reference(
     ``problem.velocity`` and the store's impulses; returns pseudo velocities ``(n, 6)``,
     depths ``(m, S)`` and the normal loads (None unless ``with_loads``)."""
     check_soft_settings(settings)
-    substeps = int(settings.soft_substeps)
+    substeps, relaxes = int(settings.soft_substeps), int(settings.relax_iterations)
     hs = h / substeps
     forces = problem.velocity - problem.approach_velocity
     state = Bodies6(problem.approach_velocity, problem.inv_mass, problem.inv_inertia)
@@ -121,11 +122,13 @@ def solve_soft_reference(
             moved.v[b] = moved.v[b] + hs * state.v[b]
             moved.w[b] = moved.w[b] + hs * state.w[b]
         relax = _relax_rows(moved, manifolds, hs)
-        for m in manifolds:
-            for group in groups(m):
-                rows = [relax[id(p)] for p in group]
-                _soft_normal_impulses(state, m, group, rows, sub < settings.block_normal_sweeps)
-                _friction_impulses(state, m, group, True)
+        for sweep in range(sub * relaxes, (sub + 1) * relaxes):
+            block = sweep < settings.block_normal_sweeps
+            for m in manifolds:
+                for group in groups(m):
+                    rows = [relax[id(p)] for p in group]
+                    _soft_normal_impulses(state, m, group, rows, block)
+                    _friction_impulses(state, m, group, True)
     for m in manifolds:
         for group in groups(m):
             _restitution_impulses(state, m, group)

@@ -7,7 +7,7 @@ replace many rigid velocity sweeps plus a position solve by a few *substeps*, ea
     warm start                             apply the accumulated impulses (each substep)
     soft sweep (normal rows, with bias)    push-out of overlaps as a damped spring
     x += (h / n) v                         the bodies' displacement d
-    relax sweep (normal + friction rows)   the same rows without the push-out bias
+    relax sweeps (normal + friction rows)  the same rows without the push-out bias
 
 and after the substeps the restitution pass. ``SolverSettings.soft_step`` selects it;
 the contacts, manifolds and colors are the step's (no collision detection per substep).
@@ -29,7 +29,8 @@ the row) is speculative, bias ``s / h``, mass scale 1, impulse scale 0 (in both 
 An overlapping point (``s <= 0``) gets in the soft sweep the bias ``max(mass scale x rate
 x s, -contact_push_speed)`` and the increment ``d_lambda = -m_n (mass scale J v + bias) -
 impulse scale lambda``; in the relax sweep no bias (rigid).
-Friction rows are solved in the relax sweeps only (as Box2D v3 does). The first
+Friction rows are solved in the relax sweeps only (as Box2D v3 does),
+``relax_iterations`` of them per substep (Box2D v3's ``RELAX_ITERATIONS``, 1). The first
 ``block_normal_sweeps`` relax sweeps solve each manifold's touching normal rows as one
 block where its impulses stay non-negative (:mod:`color_rows`, the rigid solve's block
 sweep): one Jacobi sweep of mass-split rows removes only part of a face's common error,
@@ -114,8 +115,10 @@ def contact_softness(settings: SolverSettings, h: float) -> tuple[Softness, Soft
 
 def check_soft_settings(settings: SolverSettings) -> None:
     """Raise ``ValueError`` naming the first soft-step setting out of its range."""
-    if isinstance(settings.soft_substeps, bool) or int(settings.soft_substeps) < 1:
-        raise ValueError(f"soft_substeps must be an int >= 1, got {settings.soft_substeps!r}")
+    for name in ("soft_substeps", "relax_iterations"):
+        value = getattr(settings, name)
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ValueError(f"{name} must be an int >= 1, got {value!r}")
     for name in ("contact_hertz", "contact_damping_ratio", "contact_push_speed"):
         value = float(getattr(settings, name))
         if not (math.isfinite(value) and value >= 0.0):
@@ -199,7 +202,7 @@ def solve_soft(
 
     Reference: :func:`reference_soft.solve_soft_reference`."""
     check_soft_settings(settings)
-    substeps = int(settings.soft_substeps)
+    substeps, relaxes = int(settings.soft_substeps), int(settings.relax_iterations)
     hs = h / substeps
     batch.impulse /= substeps  # per substep inside the loop
     flat = with_one(velocity - forces)  # the start velocities, then the constant 1
@@ -218,7 +221,8 @@ def solve_soft(
     with np.errstate(divide="ignore", invalid="ignore"):  # the friction circle's 0 / 0
         for sub in range(substeps):
             flat[:-1] += share
-            _warm_start(batch, bodies_velocity, colors, state, sub, settings.warm_starting)
+            warm = settings.warm_starting
+            _warm_start(batch, bodies_velocity, colors, state, sub * relaxes, warm)
             s = separations(batch, displacement)
             bias = set_soft_rows(rows, batch, s, hs, settings.contact_push_speed)
             for soft_color in rows.colors:
@@ -228,13 +232,14 @@ def solve_soft(
             displacement += hs * flat[:-1]
             relax_bias[..., 0] = np.maximum(separations(batch, displacement), 0.0) / hs
             np.multiply(batch.normal_mass, relax_bias[..., 0], out=matrices.normal[:, :, 12])
-            block = sub < settings.block_normal_sweeps and matrices.block is not None
-            if block and matrices.block is not None and batch.normal_block is not None:
+            if matrices.block is not None and batch.normal_block is not None:
                 matrices.block[:, :, 12:] = batch.normal_block @ relax_bias  # B b
-            for color in colors:
-                for one in color:
-                    velocity_update(one, flat, True, block, sub)
-    store_tangents(colors, state, substeps)
+            for sweep in range(sub * relaxes, (sub + 1) * relaxes):
+                block = sweep < settings.block_normal_sweeps and matrices.block is not None
+                for color in colors:
+                    for one in color:
+                        velocity_update(one, flat, True, block, sweep)
+    store_tangents(colors, state, substeps * relaxes)
     _restitution(batch, flat, colors, state[0])
     stage_rows_last(batch, flat[:-1], relax_bias, settings)
     batch.impulse[...] = impulses(state) * substeps
@@ -245,16 +250,17 @@ def solve_soft(
     return pseudo
 
 
-def _warm_start(batch, velocity, colors, state, sub: int, warm: bool) -> None:
-    """Apply the accumulated impulses at the start of substep ``sub`` (Box2D v3 warm
-    starts every substep); without warm starting each substep starts from zero."""
+def _warm_start(batch, velocity, colors, state, sweeps: int, warm: bool) -> None:
+    """Apply the accumulated impulses at the start of a substep, after ``sweeps`` relax
+    sweeps (Box2D v3 warm starts every substep); without warm starting each substep
+    starts from zero."""
     if not warm:
         state[...] = 0.0
         for color in colors:
             for rows in color:
-                rows.tangents[sub % 2].lam[...] = 0.0
+                rows.tangents[sweeps % 2].lam[...] = 0.0
         return
-    if sub:  # the friction impulses of the relax sweeps so far, then the (m, S, 3) form
-        store_tangents(colors, state, sub)
+    if sweeps:  # the friction impulses of the relax sweeps so far, then the (m, S, 3) form
+        store_tangents(colors, state, sweeps)
         batch.impulse[...] = impulses(state)
     warm_start(batch, velocity)
