@@ -17,8 +17,14 @@ The spin moves that vertex up at 4.8 m/s, so the solve gives it no impulse, whil
 position correction lifts the cube toward the slab; and the spurious vertex contact keeps
 the edge-crossing fallback (fcl's points) from running, so the real edge contact is never
 made. The cube flies on into the slab at 4.4 m/s; the true overlap passes 15 cm within
-0.24 s. A vertex may only rest on a triangle when the segment from it to its foot on the
-triangle stays inside the stage's solid (crosses no other stage triangle).
+0.24 s.
+
+The fix, on both paths: a vertex rests on a triangle only when the segment from it to its
+foot on the triangle stays inside the stage's solid, crossing no other stage triangle
+(:mod:`engine.physics.collision.stage_crossings`); the vertex below the slab is then no
+contact, and the edge-crossing fallback takes fcl's points with the normal of the face
+the cube entered through (the named triangle it is least deep behind: the front face,
+not the bottom face, which gave 6.9 cm). Measured: 1.08 cm deepest on both paths.
 """
 
 from __future__ import annotations
@@ -80,12 +86,6 @@ def box_overlap(position: np.ndarray, rotation: np.ndarray) -> float:
 
 
 @pytest.mark.parametrize("vectorized", [True, False], ids=["batched", "reference"])
-@pytest.mark.xfail(
-    strict=True,
-    reason="stage contact generation: a vertex 2.3 cm below a 4 cm slab rests on its top "
-    "face at 6.3 cm depth (through the whole slab), and that spurious contact keeps the "
-    "edge-crossing fallback from finding the true 0.3 cm edge contact",
-)
 def test_a_spinning_cube_does_not_fly_into_a_thin_table_top(vectorized):
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized

@@ -219,6 +219,10 @@ STAGE_CORNER_PUSH = 0.001
 #: holds it when it lies at most this far below it, not deeper (below a skirting board's
 #: top, behind the board: not lifted onto it).
 STAGE_CORNER_REACH = 0.02
+#: m, a hull vertex behind a stage triangle rests on it only if the segment to its foot
+#: crosses no other stage triangle (collision.stage_crossings); a plane within this of
+#: either end of the segment is not crossed (the foot's neighbours share its plane).
+STAGE_CROSSING_TOLERANCE = 1e-6
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9

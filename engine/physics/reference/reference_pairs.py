@@ -30,6 +30,7 @@ from ..collision.contact_helpers import (
 )
 from ..collision.contacts import ManifoldStore, tie_key
 from ..collision.pair_rules import FCL_FEATURE, PairContext, PairJob
+from ..collision.stage_crossings import segment_crosses_stage_reference
 from ..collision.stage_grid import candidate_triangles_reference
 from ..core import settings
 from ..core.reference_geometry import Contact, dot, rotate, unrotate
@@ -258,6 +259,7 @@ def stage_polyhedron_contacts(
             if settings.STAGE_SPECULATIVE_DISTANCE > heights[i][k]
             and heights[i][k] > -settings.STAGE_BELOW_FRACTION * extent
             and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+            and not _way_out_crossed(stage, t, vertex, normals[i], heights[i][k])
         ]
         if not touching:
             continue
@@ -280,10 +282,22 @@ def stage_polyhedron_contacts(
     if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
-        # at most the depth of the hull's deepest vertex below the first triangle's plane
-        depths = np.minimum(depths, -min(heights[0]))
-        contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
+        # the face entered through: the triangle the hull is least deep behind (the first
+        # of equals; mirrors batched_stage._entry_face); no deeper than its deepest vertex
+        entry = max(range(len(heights)), key=lambda i: min(heights[i]))
+        depths = np.minimum(depths, -min(heights[entry]))
+        contacts = midpoint_contact_list(mid, [normals[entry]] * len(mid), depths)
     return contacts
+
+
+def _way_out_crossed(stage, t: int, vertex: np.ndarray, normal: np.ndarray, height: float) -> bool:
+    """A vertex ``height < 0`` behind triangle t whose segment to its foot on t crosses
+    another stage triangle: outside the stage's solid, not resting on t (mirrors
+    ``batched_stage._way_out_crossed``)."""
+    if height >= 0:
+        return False
+    foot = vertex - height * normal
+    return segment_crosses_stage_reference(stage, vertex, foot, t)
 
 
 def _behind_the_corner(
