@@ -32,9 +32,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from helpers import add, floor_mesh, make_world, register_primitive
+from test_stage_corners import narrow_phase_contacts
 
 from engine import mn
 from engine.attributes import StageAttributes
+from engine.physics.collision.pair_rules import FCL_FEATURE, RULE_SHIFT
 from engine.physics.core.quaternions import quat_to_matrix
 from engine.scene.assets import MeshData
 
@@ -102,3 +104,142 @@ def test_a_spinning_cube_does_not_fly_into_a_thin_table_top(vectorized):
         world.step_physics(0.008)
         deepest = max(deepest, box_overlap(b.body_position[index], b.body_rotation[index]))
     assert deepest < TOLERANCE, f"{deepest * 100:.2f} cm into the table top"
+
+
+# ------------------------------------------------------------------------------------------
+# a cone lying on the floor driven into a thin slab's side (a bed's 3 cm base, 10 cm up)
+# ------------------------------------------------------------------------------------------
+CONE = "coneSolid_segments_12_halfLen_1.25_rings_1_useTexCoords_false_useTangents_false_capEnd_true"
+BASE_LOW = np.array([0.5, 0.10, -0.6])  # the bed base's corners, m: its west side at x = 0.5
+BASE_HIGH = np.array([1.5, 0.13, 0.6])
+
+
+def cone_depths(world, index: int) -> tuple[float, float, float]:
+    """How far the cone's hull is in the stage (m): its lowest vertex below the floor, its
+    deepest vertex inside the slab (distance to the slab's nearest face), and the deepest
+    point of the slab's west edges (y = 0.10 and 0.13, sampled every 5 mm) inside the
+    hull (distance to the hull's nearest face plane)."""
+    b = world.bodies
+    shape = world.collision_objects.shape_entries[index][0][0]
+    rotation = quat_to_matrix(b.body_rotation[index][None])[0]
+    position = b.body_position[index]
+    vertices = shape.hull_vertices @ rotation.T + position
+    below = max(0.0, -float(vertices[:, 1].min()))
+    inside = np.all((vertices > BASE_LOW) & (vertices < BASE_HIGH), axis=1)
+    to_face = np.minimum(vertices - BASE_LOW, BASE_HIGH - vertices).min(axis=1)
+    in_slab = float(to_face[inside].max()) if inside.any() else 0.0
+    z = np.linspace(BASE_LOW[2], BASE_HIGH[2], 241)
+    edge_depth = 0.0
+    for y in (BASE_LOW[1], BASE_HIGH[1]):
+        edge = np.column_stack([np.full_like(z, BASE_LOW[0]), np.full_like(z, y), z])
+        local = (edge - position) @ rotation  # body frame
+        depth = (shape.plane_offsets - local @ shape.plane_normals.T).min(axis=1)
+        edge_depth = max(edge_depth, float(depth.max()))
+    return below, in_slab, edge_depth
+
+
+def cone_at_the_base(vectorized: bool, yaw: float):
+    """A 25 cm cone (10 cm radius) lying on the floor 0.5 m west of the bed base, its axis
+    turned ``yaw`` about +Y from +Z (0: its side toward the base; +-pi/2: its base or its
+    tip), settled for 0.48 s; returns the world and the cone."""
+    world, templates = make_world(floor=False)
+    world.settings.use_vectorized = vectorized
+    world.set_stage([floor_mesh(5.0), box_mesh(BASE_LOW, BASE_HIGH)], StageAttributes())
+    cone = add(world, templates, register_primitive(templates, CONE, half=(0.1,) * 3), [0, 0.12, 0])
+    lying = mn.Quaternion.rotation(mn.Rad(np.pi / 2), mn.Vector3(1, 0, 0))
+    cone.rotation = mn.Quaternion.rotation(mn.Rad(yaw), mn.Vector3(0, 1, 0)) * lying
+    for _ in range(60):
+        world.step_physics(0.008)
+    return world, cone
+
+
+@pytest.mark.parametrize("vectorized", [True, False], ids=["batched", "reference"])
+@pytest.mark.parametrize("yaw", [0.0, np.pi / 2, -np.pi / 2], ids=["side", "base", "tip"])
+def test_a_cone_driven_into_a_thin_slabs_side_stops_at_it(vectorized, yaw):
+    """The walls soak's cone wedged under the bed's base: lying on the floor, driven at
+    3.2 m/s into the base's 3 cm high side. Its rim vertices are 5 cm apart, so none lies
+    in the side's band while its edges cross the slab's edge, and its other vertices rest
+    on the floor. Before: no contact held the slab's edge (the job had vertex contacts, so
+    it never asked for edge contacts); the slab's edge went 4.2-6.2 cm into the cone, and
+    base or tip first the cone passed under the slab, whose top then pressed the vertices
+    that crossed it 10.7-13.0 cm below the floor. Now the side the hull crosses without a
+    vertex resting on it takes fcl's points with its normal, and a vertex below the slab
+    never rests on its top: the cone stops at the side (measured: at most 1.5 cm, 0.9 cm
+    below the floor)."""
+    world, cone = cone_at_the_base(vectorized, yaw)
+    index = cone.object_id
+    assert max(cone_depths(world, index)) < 0.005  # resting on the floor, clear of the base
+    cone.linear_velocity = [3.2, 0.0, 0.0]
+    worst = np.zeros(3)
+    for _ in range(90):  # 0.72 s
+        world.step_physics(0.008)
+        worst = np.maximum(worst, cone_depths(world, index))
+    below, in_slab, edge = worst
+    assert below < TOLERANCE, f"{below * 100:.2f} cm below the floor"
+    assert in_slab < TOLERANCE, f"a vertex {in_slab * 100:.2f} cm inside the slab"
+    assert edge < TOLERANCE, f"the slab's edge {edge * 100:.2f} cm inside the cone"
+
+
+# ------------------------------------------------------------------------------------------
+# the batched rules and their plain twins agree
+# ------------------------------------------------------------------------------------------
+def test_segment_crossings_agree_with_their_reference():
+    """:func:`segments_cross_stage` (one grid query for all segments) and its plain twin on
+    a grid of segments around the table top (vertical, slanted and level ones starting
+    above, inside and below it, and beside it): the same answers, and both kinds occur (a
+    segment from under the slab up to its top crosses the bottom face; one from inside
+    the slab to its top crosses nothing; one ending on a face does not cross it)."""
+    from engine.physics.collision.stage_crossings import (
+        segment_crosses_stage_reference,
+        segments_cross_stage,
+    )
+
+    world, _ = make_world(floor=False)
+    world.set_stage(
+        [floor_mesh(20.0, height=-1.45), box_mesh(SLAB_LOW, SLAB_HIGH)], StageAttributes()
+    )
+    stage = world.bodies.shapes[0][0]
+    starts = np.array(
+        [
+            [x, y, z]
+            for x in (5.8, 5.9, 6.4)
+            for y in (-0.76, -0.71, -0.69, -0.6)
+            for z in (-0.3, -0.25, -0.5)
+        ]
+    )
+    ends = [starts + step for step in ([0, 0.1, 0], [0.05, 0.08, 0.05], [0, 0, 0.1], [0, -0.04, 0])]
+    start, end = np.concatenate([starts] * len(ends)), np.concatenate(ends)
+    own = np.full(len(start), 2)  # a triangle of the floor: never crossed here
+    batched = segments_cross_stage(stage, start, end, own)
+    plain = [
+        segment_crosses_stage_reference(stage, a, b, 2) for a, b in zip(start, end, strict=True)
+    ]
+    np.testing.assert_array_equal(batched, plain)
+    assert batched.any() and not batched.all()
+    # under the slab straight up to its top: through the bottom face; inside it: nothing
+    up = np.array([[6.4, -0.75, -0.5], [6.4, -0.71, -0.5]])
+    top = up * [1, 0, 1] + [0, SLAB_HIGH[1], 0]
+    assert segments_cross_stage(stage, up, top, np.full(2, -1)).tolist() == [True, False]
+
+
+@pytest.mark.parametrize("yaw", [0.0, np.pi / 2, -np.pi / 2])
+def test_cone_contacts_at_a_thin_slab_agree_with_the_reference(yaw):
+    """The whole stage-hull rule (vertex contacts with the way-out test, the crossed side's
+    points) on both paths for the cone at the bed base, on a grid of poses: before the
+    side, across its edge, half under the slab, turned, sunk a little into the floor; the
+    same contacts to 1e-12, and the grid holds poses where the side takes fcl's points."""
+    world, cone = cone_at_the_base(True, yaw)
+    start, turn = cone.translation, cone.rotation
+    side_points = 0
+    for dx in (0.0, 0.3, 0.38, 0.42, 0.46, 0.5, 0.56):
+        for dy in (-0.008, 0.0, 0.015):
+            for roll in (0.0, 0.2):
+                cone.translation = start + mn.Vector3(dx, dy, 0.0)
+                cone.rotation = mn.Quaternion.rotation(mn.Rad(roll), mn.Vector3(1, 0, 0)) * turn
+                batched = narrow_phase_contacts(world, True, keys=True)
+                plain = narrow_phase_contacts(world, False, keys=True)
+                for mine, theirs in zip(batched, plain, strict=True):
+                    np.testing.assert_allclose(mine, theirs, atol=1e-12)
+                feature = batched[2] & ((1 << RULE_SHIFT) - 1)
+                side_points += int(np.count_nonzero(feature >= FCL_FEATURE))
+    assert side_points > 0

@@ -97,3 +97,88 @@ def segment_crosses_stage_reference(
         if v >= -barycentric and w >= -barycentric and v + w <= 1 + barycentric:
             return True
     return False
+
+
+def crossed_faces(candidate, best, corner, second, normal, height) -> np.ndarray:
+    """(g, T) bool: the triangles each hull crosses where no vertex rests on them, in jobs
+    with vertex contacts (``candidate (g, T, V)``, resting triangles ``best (g, V)``,
+    corner contacts ``corner (g, T, V)`` on ``second (g, V)``; outward ``normal (g, T,
+    3)`` and heights ``height (g, T, V)``, see :func:`batched_stage._stage_group`).
+
+    A vertex behind triangle t's plane is *loose* for t when it holds no contact on a
+    triangle facing t's way (``|n_s . n_t| >= STAGE_CORNER_COSINE``). Triangle t is
+    crossed when a vertex lies in front of its plane and a loose one behind it, deeper
+    than every vertex behind it that is held: a thin slab's side cutting a cone that rests
+    on the floor, its rim vertices above and below the slab behind the side's plane and
+    held by the floor or by nothing. Vertices resting on a floor are behind the floor's
+    plane and its neighbours' but held by them; a box resting on a slab's top and
+    overhanging its edge has its vertices in the air as deep behind the top's plane as
+    those held on it: neither is crossed.
+    Reference: :func:`crossed_faces_reference`."""
+    holds = np.zeros(height.shape, dtype=bool)  # triangle s holds a contact of vertex v
+    g, v = np.nonzero(candidate.any(axis=1))
+    holds[g, best[g, v], v] = True
+    g, v = np.nonzero(corner.any(axis=1))
+    holds[g, second[g, v], v] = True
+    # triangles s facing t's way, |n_t . n_s| >= cos 45, (g, T, T); then the vertices held
+    # by one of them: a boolean matrix product, (g, T, V)
+    facing = np.abs(np.einsum("gti,gsi->gts", normal, normal)) >= settings.STAGE_CORNER_COSINE
+    held = facing @ holds
+    behind = height < 0
+    loose = np.where(behind & ~held, -height, 0.0).max(axis=2)  # the deepest loose, (g, T)
+    kept = np.where(behind & held, -height, 0.0).max(axis=2)  # the deepest held
+    contacted = np.asarray(holds.any(axis=(1, 2)))  # jobs with a vertex contact, (g,)
+    return (loose > kept) & (height.max(axis=2) > 0) & contacted[:, None]
+
+
+def crossed_faces_reference(holding: list[list[int]], normals: list, heights: list) -> list[int]:
+    """Plain version of :func:`crossed_faces` for one job: the positions of its crossed
+    triangles, given ``holding[k]``, the positions of the triangles holding vertex k's
+    contacts, and every triangle's outward normal and vertex heights."""
+    if not any(holding):
+        return []
+    crossed = []
+    for i, (normal, height) in enumerate(zip(normals, heights, strict=True)):
+        loose, kept = 0.0, 0.0  # the deepest loose and held vertices behind the plane
+        for k, positions in enumerate(holding):
+            if height[k] >= 0:
+                continue
+            facing = any(
+                abs(dot3(normal, normals[j])) >= settings.STAGE_CORNER_COSINE for j in positions
+            )
+            if facing:
+                kept = max(kept, -height[k])
+            else:
+                loose = max(loose, -height[k])
+        if loose > kept and max(height) > 0:
+            crossed.append(i)
+    return crossed
+
+
+def crossed_face_points(records: list, faces: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Contacts ``(point_a, point_b, normal)`` (``(k, 3)`` each) of fcl's probe ``records``
+    on crossed triangles ``faces = {id: (outward normal (3,), least vertex height)}``, both
+    paths: a record on such a triangle whose fcl normal lies within 60 degrees of the
+    triangle's (``STAGE_CROSSED_FACE_ALIGNMENT``; the way out is through the face) takes
+    the triangle's normal, its depth turned from the probe's into the shape's and at most
+    the hull's deepest vertex behind the plane (as the edge-crossing fallback's)."""
+    point_a, point_b, normals = [], [], []
+    for record in records:
+        face = faces.get(int(record.b1))
+        if face is None:
+            continue
+        normal, least_height = face
+        if abs(dot3(np.asarray(record.normal, dtype=np.float64), normal)) < (
+            settings.STAGE_CROSSED_FACE_ALIGNMENT
+        ):
+            continue
+        depth = abs(record.penetration_depth) - settings.STAGE_SPECULATIVE_DISTANCE
+        depth = min(depth, -least_height)
+        middle = np.asarray(record.pos, dtype=np.float64)
+        point_a.append(middle + 0.5 * depth * normal)
+        point_b.append(middle - 0.5 * depth * normal)
+        normals.append(normal)
+    if not normals:
+        empty = np.zeros((0, 3))
+        return empty, empty, empty
+    return np.array(point_a), np.array(point_b), np.array(normals)
