@@ -87,8 +87,8 @@ def box_overlap(position: np.ndarray, rotation: np.ndarray) -> float:
     return float(least)
 
 
-@pytest.mark.parametrize("vectorized", [True, False], ids=["batched", "reference"])
-def test_a_spinning_cube_does_not_fly_into_a_thin_table_top(vectorized):
+def spinning_cube(vectorized: bool):
+    """The table top over the floor and the cube in its state after the soak's step 1338."""
     world, templates = make_world(floor=False)
     world.settings.use_vectorized = vectorized
     world.set_stage(
@@ -97,6 +97,12 @@ def test_a_spinning_cube_does_not_fly_into_a_thin_table_top(vectorized):
     cube = add(world, templates, register_primitive(templates, half=(HALF,) * 3), START[0])
     cube.rotation = mn.Quaternion.from_xyzw(np.array(START[1]))
     cube.linear_velocity, cube.angular_velocity = START[2], START[3]
+    return world, cube
+
+
+@pytest.mark.parametrize("vectorized", [True, False], ids=["batched", "reference"])
+def test_a_spinning_cube_does_not_fly_into_a_thin_table_top(vectorized):
+    world, cube = spinning_cube(vectorized)
     b, index = world.bodies, cube.object_id
     assert box_overlap(b.body_position[index], b.body_rotation[index]) < -0.05  # apart
     deepest = 0.0
@@ -183,43 +189,66 @@ def test_a_cone_driven_into_a_thin_slabs_side_stops_at_it(vectorized, yaw):
 # ------------------------------------------------------------------------------------------
 # the batched rules and their plain twins agree
 # ------------------------------------------------------------------------------------------
-def test_segment_crossings_agree_with_their_reference():
-    """:func:`segments_cross_stage` (one grid query for all segments) and its plain twin on
-    a grid of segments around the table top (vertical, slanted and level ones starting
-    above, inside and below it, and beside it): the same answers, and both kinds occur (a
-    segment from under the slab up to its top crosses the bottom face; one from inside
-    the slab to its top crosses nothing; one ending on a face does not cross it)."""
-    from engine.physics.collision.stage_crossings import (
-        segment_crosses_stage_reference,
-        segments_cross_stage,
-    )
-
-    world, _ = make_world(floor=False)
+def table_top_world(vectorized: bool):
+    """The floor and the table top of the soak's scene with one 0.2 m cube, at rest."""
+    world, templates = make_world(floor=False, gravity=(0.0, 0.0, 0.0))
+    world.settings.use_vectorized = vectorized
     world.set_stage(
         [floor_mesh(20.0, height=-1.45), box_mesh(SLAB_LOW, SLAB_HIGH)], StageAttributes()
     )
-    stage = world.bodies.shapes[0][0]
-    starts = np.array(
-        [
-            [x, y, z]
-            for x in (5.8, 5.9, 6.4)
-            for y in (-0.76, -0.71, -0.69, -0.6)
-            for z in (-0.3, -0.25, -0.5)
-        ]
-    )
-    ends = [starts + step for step in ([0, 0.1, 0], [0.05, 0.08, 0.05], [0, 0, 0.1], [0, -0.04, 0])]
-    start, end = np.concatenate([starts] * len(ends)), np.concatenate(ends)
-    own = np.full(len(start), 2)  # a triangle of the floor: never crossed here
-    batched = segments_cross_stage(stage, start, end, own)
-    plain = [
-        segment_crosses_stage_reference(stage, a, b, 2) for a, b in zip(start, end, strict=True)
-    ]
-    np.testing.assert_array_equal(batched, plain)
-    assert batched.any() and not batched.all()
-    # under the slab straight up to its top: through the bottom face; inside it: nothing
-    up = np.array([[6.4, -0.75, -0.5], [6.4, -0.71, -0.5]])
-    top = up * [1, 0, 1] + [0, SLAB_HIGH[1], 0]
-    assert segments_cross_stage(stage, up, top, np.full(2, -1)).tolist() == [True, False]
+    cube = add(world, templates, register_primitive(templates, half=(HALF,) * 3), START[0])
+    return world, cube
+
+
+def vertices_over_the_slab(world, index: int) -> np.ndarray:
+    """World hull vertices of body ``index`` over the slab's footprint (x and z), (k, 3)."""
+    b = world.bodies
+    vertices = b.shapes[index][0].hull_vertices @ quat_to_matrix(b.body_rotation[index]).T
+    vertices = vertices + b.body_position[index]
+    footprint = (vertices[:, [0, 2]] > SLAB_LOW[[0, 2]]) & (vertices[:, [0, 2]] < SLAB_HIGH[[0, 2]])
+    return vertices[footprint[:, 0] & footprint[:, 1]]
+
+
+@pytest.mark.parametrize("vectorized", [True, False], ids=["batched", "reference"])
+def test_a_vertex_just_below_a_thin_slab_does_not_rest_on_its_top(vectorized):
+    """The flight until the cube's only vertex over the slab's footprint is just past the
+    speculative reach below the slab's bottom face (2-3 cm below it, 6-7 cm below its top,
+    in the top's prism; main: held by the top that deep, +Y). Its way up to the top
+    crosses the bottom face: no contact pushes the cube up into the slab."""
+    world, cube = spinning_cube(vectorized)
+    for _ in range(8):
+        world.step_physics(0.008)
+        over = vertices_over_the_slab(world, cube.object_id)
+        if len(over) == 1 and 0.02 < SLAB_LOW[1] - over[0, 1] < 0.03:
+            break
+    else:
+        raise AssertionError("the cube never had one vertex just below the slab")
+    point_b, normal = narrow_phase_contacts(world, vectorized)
+    assert (normal[:, 1] < 0.5).all(), normal.tolist()  # nothing pushes it up
+
+
+def test_cube_contacts_at_a_thin_table_top_agree_with_the_reference():
+    """The stage-hull rule on both paths for a cube around the table top's front edge, on
+    a grid of poses (below, across, inside and above the slab, turned about two axes): the
+    same contacts to 1e-12; the grid holds poses with vertex contacts, without (fcl's
+    edge points) and with none."""
+    world, cube = table_top_world(True)
+    kinds = set()
+    for y in (-0.86, -0.835, -0.8, -0.75, -0.71, -0.6, -0.585):
+        for z in (-0.4, -0.3, -0.22, -0.14):
+            for angle in (0.0, 0.5):
+                cube.translation = [6.4, y, z]
+                turn = mn.Quaternion.rotation(mn.Rad(angle), mn.Vector3(1, 0, 0))
+                cube.rotation = mn.Quaternion.rotation(mn.Rad(angle), mn.Vector3(0, 0, 1)) * turn
+                batched = narrow_phase_contacts(world, True, keys=True)
+                plain = narrow_phase_contacts(world, False, keys=True)
+                assert len(batched[2]) == len(plain[2])
+                for mine, theirs in zip(batched, plain, strict=True):
+                    if len(mine):
+                        np.testing.assert_allclose(mine, theirs, atol=1e-12)
+                feature = batched[2] & ((1 << RULE_SHIFT) - 1)
+                kinds.add("none" if len(feature) == 0 else str(bool(feature.max() >= FCL_FEATURE)))
+    assert kinds == {"none", "True", "False"}
 
 
 @pytest.mark.parametrize("yaw", [0.0, np.pi / 2, -np.pi / 2])

@@ -76,7 +76,7 @@ from .contact_helpers import (
     triangle_table,
 )
 from .pair_rules import FCL_FEATURE, ContactBatch, PairContext, PairJob
-from .stage_crossings import crossed_face_points, crossed_faces, segments_cross_stage
+from .stage_crossings import crossed_face_points, crossed_faces, ways_out_crossed
 from .stage_grid import stage_grid
 
 #: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)``, their
@@ -124,8 +124,9 @@ def _known_edge(seq: int, records: list, triangles, out) -> bool:
     grid triangle ids ``(T,)``, their outward normals ``(T, 3)`` and the hull's vertex
     heights ``(T, V)`` above them (:data:`EdgeJob`).
 
-    Those triangles were tested in the first pass (vertex candidates are per triangle and
-    vertex, so fcl's subset has none either), and their normals and heights are known: the
+    Those triangles were tested in the first pass with all the body's near triangles (no
+    vertex rests on any of them, their ways out tested against the whole set), and their
+    normals and heights are known: the
     job's contacts are fcl's points with the normal of the named triangle the hull is least
     deep behind (:func:`_entry_face`),
     exactly what :func:`_stage_group` gives in fcl's second pass, without that pass
@@ -294,21 +295,25 @@ def _stage_group(
     candidate = (
         (height < settings.STAGE_SPECULATIVE_DISTANCE) & below & _in_prisms(table, ids, tris, verts)
     )
-    # a passed triangle holds the vertex only if its way out stays inside the solid
-    candidate &= ~_way_out_crossed(stage, ids, candidate & (height < 0), normal, height, verts)
+    grid = stage_grid(stage)
+    # n_t . n_s of the job's triangles, (g, T, T) (a stage in one plane needs none)
+    alignment = None if grid.one_plane else np.einsum("gti,gsi->gts", normal, normal)
+    if alignment is not None:  # a passed triangle holds a vertex whose way out stays inside
+        passed = candidate & (height < 0)
+        candidate &= ~ways_out_crossed(table, ids, tris, passed, normal, height, alignment, verts)
     # each vertex keeps its resting triangle (the shallowest it has passed, else the
     # nearest) ...
     best = _resting_triangle(candidate, height)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
     # ... and, in a corner, the shallowest of those facing another way (floor and wall;
     # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
-    if not stage_grid(stage).corner_free:
+    if not grid.corner_free and alignment is not None:
         behind = _behind_the_corner(
             table, ids, tris, (candidate, below), best, normal, height, verts
         )
         corner, second = _corner_contacts(contacts, seq, behind, best, normal, height, verts)
         if crossed is not None:  # a thin slab's side across a body resting on the floor
-            faces = crossed_faces(candidate, best, corner, second, normal, height)
+            faces = crossed_faces(candidate, best, corner, second, alignment, height)
             crossed += _crossed_jobs(jobs, ids, faces, normal, height)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
     if crossed is not None:  # with their triangles, normals and heights, for _known_edge
@@ -330,20 +335,6 @@ def _crossed_jobs(jobs, ids, faces, normal, height) -> list[CrossedJob]:
             found.setdefault(int(ids[k, t]), (normal[k, t], float(least[k, t])))
         out.append((jobs[k], found, height.shape[2]))
     return out
-
-
-def _way_out_crossed(stage, ids, passed, normal, height, verts) -> np.ndarray:
-    """(g, T, V) bool: the ``passed (g, T, V)`` vertex-triangle candidates (``h < 0``) whose
-    segment from the vertex to its foot on the triangle, ``x_v - h n_t``, crosses another
-    stage triangle (:func:`stage_crossings.segments_cross_stage`): the vertex is outside
-    the stage's solid (below a thin slab whose top's prism holds it), not resting on t."""
-    g, t, v = np.nonzero(passed)
-    crossed = np.zeros(passed.shape, dtype=bool)
-    if len(g):
-        start = verts[g, v]
-        foot = start - height[g, t, v][:, None] * normal[g, t]
-        crossed[g, t, v] = segments_cross_stage(stage, start, foot, ids[g, t])
-    return crossed
 
 
 def _resting_triangle(candidate: np.ndarray, height: np.ndarray) -> np.ndarray:

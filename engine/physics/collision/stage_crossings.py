@@ -1,30 +1,34 @@
-r"""Whether a segment crosses a stage triangle: the vertex-to-foot test of the stage-hull rule.
+r"""Where a hull crosses the stage: a vertex's way out of a triangle, and faces crossed.
 
-A hull vertex ``x`` behind a stage triangle ``t`` (signed height ``h < 0`` along its
-outward normal ``n_t``, inside its prism) rests on it only when the segment from ``x`` to
-its foot ``f = x - h n_t`` on the triangle stays inside the stage's solid, i.e. crosses no
-other stage triangle: a vertex 2.3 cm below a 4 cm table top is in the prism of the top
-face, 6.3 cm behind it, but its way up to the top passes the slab's bottom face first; it
-is outside the solid, and pushing it up to the top would pull the body through the slab.
-
-The segment ``x -> f`` crosses triangle ``s`` (unit normal ``n_s``, corner ``p_s``) when its
-ends lie strictly on opposite sides of the plane,
+**A vertex's way out.** A hull vertex ``x`` behind a stage triangle ``t`` (signed height
+``h < 0`` along its outward normal ``n_t``, inside its prism) rests on it only when the
+segment from ``x`` to its foot ``f = x - h n_t`` on the triangle stays inside the stage's
+solid, i.e. crosses no other stage triangle: a vertex 2.3 cm below a 4 cm table top is in
+the prism of the top face, 6.3 cm behind it, but its way up to the top passes the slab's
+bottom face first; it is outside the solid, and pushing it up to the top would pull the
+body through the slab. The segment crosses triangle ``s`` (unit normal ``n_s``) when its
+ends lie strictly on opposite sides of the plane, with the vertex's height ``d_0 = h_s``
+above ``s`` and the foot's
 
 .. math::
 
-    d_0 = n_s \cdot (x - p_s), \quad d_1 = n_s \cdot (f - p_s), \quad
+    d_1 = n_s \cdot (f - p_s) = h_s - h_t \, (n_s \cdot n_t), \qquad
     d_0 d_1 < 0, \; |d_0|, |d_1| > \varepsilon,
 
-and the crossing point ``x + d_0 / (d_0 - d_1) (f - x)`` lies inside ``s`` (barycentric
-test, Ericson 3.4). A plane through either end (``|d| <= STAGE_CROSSING_TOLERANCE``) is no
-crossing: the triangles sharing the foot's plane (a floor's neighbours) or its edge (the
-foot on the edge of a slab's top is on the front face's plane too) never count.
+(``STAGE_CROSSING_TOLERANCE``: a plane through the foot, a floor's neighbour or the front
+face at the edge of a slab's top, is no crossing), and the crossing point
+``x - (d_0 / (d_0 - d_1)) h_t n_t`` lies inside ``s`` (barycentric test, Ericson 3.4).
+Both heights and the normals' products are the rule's own arrays, so the test costs a
+few operations on ``(k, T)`` arrays for the ``k`` passed candidates against the job's ``T``
+triangles (those near the body: a segment to a floor-like or wall-like triangle near the
+body stays within the body's box grown by the probe's reach, so the triangles it crosses
+are among them). A stage lying in one plane (a floor) has nothing to cross: skipped.
 
-Cost: only the triangles whose boxes overlap the segment's box are tested, found in the
-stage grid (:mod:`stage_grid`) in one query for every segment of the step; a vertex has few
-passed triangles, and a segment is short (at most ``STAGE_BELOW_FRACTION`` of the hull's
-extent), so each meets a handful of triangles.
-Reference: :func:`segment_crosses_stage_reference` (one segment, all triangles).
+**Faces crossed.** :func:`crossed_faces`: a triangle the hull cuts where no vertex rests on
+it (a thin slab's side across a cone lying on the floor), whose fcl points
+:func:`crossed_face_points` turns into contacts with the triangle's normal.
+
+References: :func:`way_out_crossed_reference`, :func:`crossed_faces_reference`.
 """
 
 from __future__ import annotations
@@ -34,61 +38,59 @@ import numpy as np
 from ..core import settings
 from ..core.reference_geometry import dot as dot3
 from ..core.vectors import dot
-from .contact_helpers import triangle_table
-from .stage_grid import candidate_triangles_reference, stage_grid
 
 
-def segments_cross_stage(
-    mesh_shape, start: np.ndarray, end: np.ndarray, own: np.ndarray
-) -> np.ndarray:
-    """(k,) bool: segment ``start[i] -> end[i]`` (``(k, 3)``, world, m) crosses a triangle
-    of the stage ``mesh_shape`` other than ``own[i]`` (its foot's triangle)."""
+def ways_out_crossed(table, ids, tris, passed, normal, height, alignment, verts) -> np.ndarray:
+    """(g, T, V) bool: the ``passed (g, T, V)`` vertex-triangle candidates (``h < 0``) whose
+    way out crosses another of the job's triangles (see the module docstring); ``ids (g,
+    T)`` the triangles, ``tris (g, T, 3, 3)`` their corners, ``normal (g, T, 3)`` and
+    ``height (g, T, V)`` as turned outward, ``alignment (g, T, T)``: ``n_t . n_s``,
+    ``verts (g, V, 3)`` the hull's world vertices."""
+    g, t, v = np.nonzero(passed)
+    crossed = np.zeros(passed.shape, dtype=bool)
+    if len(g) == 0:
+        return crossed
+    h = height[g, t, v]  # (k,)
+    d0 = height[g, :, v]  # the vertex above every triangle s, (k, T)
+    d1 = d0 - h[:, None] * alignment[g, t]  # its foot on t above s
     tolerance = settings.STAGE_CROSSING_TOLERANCE
-    lo = np.minimum(start, end) - tolerance
-    hi = np.maximum(start, end) + tolerance
-    segment, tri = stage_grid(mesh_shape).candidates(lo, hi)
-    other = tri != own[segment]
-    segment, tri = segment[other], tri[other]
-    table = triangle_table(mesh_shape)
-    normal, corner = table["normal"][tri], mesh_shape.ray_triangles[tri, 0]
-    d0 = dot(normal, start[segment] - corner)  # signed distances of both ends, (e,)
-    d1 = dot(normal, end[segment] - corner)
     strict = (d0 * d1 < 0) & (np.abs(d0) > tolerance) & (np.abs(d1) > tolerance)
-    fraction = d0 / np.where(strict, d0 - d1, 1.0)
-    point = start[segment] + fraction[:, None] * (end[segment] - start[segment])
-    hit = strict & _inside(table, tri, point - corner)
-    return np.bincount(segment[hit], minlength=len(start)) > 0
+    strict &= ids[g] != ids[g, t][:, None]  # not its own triangle
+    step = (d0 / np.where(strict, d0 - d1, 1.0)) * h[:, None]  # x - step n_t crosses s
+    point = verts[g, v][:, None] - step[..., None] * normal[g, t][:, None]  # (k, T, 3)
+    crossed[g, t, v] = (strict & _inside(table, ids[g], tris[g, :, 0], point)).any(axis=1)
+    return crossed
 
 
-def _inside(table: dict, tri: np.ndarray, relative: np.ndarray) -> np.ndarray:
-    """(e,) bool: points ``relative (e, 3)`` to their triangle's corner 0 project inside
-    triangle ``tri (e,)`` (barycentric, within ``BARYCENTRIC_TOLERANCE``)."""
-    d20, d21 = dot(relative, table["e0"][tri]), dot(relative, table["e1"][tri])
-    d00, d01, d11, denom = (table[key][tri] for key in ("d00", "d01", "d11", "denom"))
+def _inside(table: dict, ids: np.ndarray, corner: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """Bool, ``point (..., 3)`` projects inside triangle ``ids (...)`` whose corner 0 is
+    ``corner (..., 3)`` (barycentric, within ``BARYCENTRIC_TOLERANCE``)."""
+    relative = point - corner
+    d20, d21 = dot(relative, table["e0"][ids]), dot(relative, table["e1"][ids])
+    d00, d01, d11, denom = (table[key][ids] for key in ("d00", "d01", "d11", "denom"))
     v = (d11 * d20 - d01 * d21) / denom
     w = (d00 * d21 - d01 * d20) / denom
     tolerance = settings.BARYCENTRIC_TOLERANCE
     return (v >= -tolerance) & (w >= -tolerance) & (v + w <= 1 + tolerance)
 
 
-def segment_crosses_stage_reference(
-    mesh_shape, start: np.ndarray, end: np.ndarray, own: int
-) -> bool:
-    """Plain version of :func:`segments_cross_stage` for one segment ``start -> end``
-    (``(3,)`` each): every triangle whose box overlaps the segment's, one at a time."""
+def way_out_crossed_reference(stage, table, triangle_ids, normals, heights, i, k, vertex) -> bool:
+    """Plain version of :func:`ways_out_crossed` for vertex ``k`` (world ``vertex``) and the
+    triangle at position ``i`` of the job's ``triangle_ids``, given every triangle's outward
+    normal and vertex heights: whether its way out crosses another of them."""
+    h = heights[i][k]
+    if h >= 0:
+        return False
     tolerance = settings.STAGE_CROSSING_TOLERANCE
-    lo = np.minimum(start, end) - tolerance
-    hi = np.maximum(start, end) + tolerance
-    table = triangle_table(mesh_shape)
-    for s in candidate_triangles_reference(mesh_shape.ray_triangles, lo[None], hi[None])[0]:
-        if s == own:
+    for j, s in enumerate(triangle_ids):
+        if s == triangle_ids[i]:
             continue
-        normal, corner = table["normal"][s], mesh_shape.ray_triangles[s][0]
-        d0, d1 = dot3(normal, start - corner), dot3(normal, end - corner)
+        d0 = heights[j][k]
+        d1 = d0 - h * dot3(normals[i], normals[j])
         if not (d0 * d1 < 0 and abs(d0) > tolerance and abs(d1) > tolerance):
             continue
-        point = start + (d0 / (d0 - d1)) * (end - start)
-        relative = point - corner
+        point = vertex - ((d0 / (d0 - d1)) * h) * normals[i]
+        relative = point - stage.ray_triangles[s][0]
         d20, d21 = dot3(relative, table["e0"][s]), dot3(relative, table["e1"][s])
         d00, d01, d11, denom = (table[key][s] for key in ("d00", "d01", "d11", "denom"))
         v = (d11 * d20 - d01 * d21) / denom
@@ -99,11 +101,12 @@ def segment_crosses_stage_reference(
     return False
 
 
-def crossed_faces(candidate, best, corner, second, normal, height) -> np.ndarray:
+def crossed_faces(candidate, best, corner, second, alignment, height) -> np.ndarray:
     """(g, T) bool: the triangles each hull crosses where no vertex rests on them, in jobs
     with vertex contacts (``candidate (g, T, V)``, resting triangles ``best (g, V)``,
-    corner contacts ``corner (g, T, V)`` on ``second (g, V)``; outward ``normal (g, T,
-    3)`` and heights ``height (g, T, V)``, see :func:`batched_stage._stage_group`).
+    corner contacts ``corner (g, T, V)`` on ``second (g, V)``; ``alignment (g, T, T)`` the
+    outward normals' products ``n_t . n_s`` and heights ``height (g, T, V)``, see
+    :func:`batched_stage._stage_group`).
 
     A vertex behind triangle t's plane is *loose* for t when it holds no contact on a
     triangle facing t's way (``|n_s . n_t| >= STAGE_CORNER_COSINE``). Triangle t is
@@ -122,7 +125,7 @@ def crossed_faces(candidate, best, corner, second, normal, height) -> np.ndarray
     holds[g, second[g, v], v] = True
     # triangles s facing t's way, |n_t . n_s| >= cos 45, (g, T, T); then the vertices held
     # by one of them: a boolean matrix product, (g, T, V)
-    facing = np.abs(np.einsum("gti,gsi->gts", normal, normal)) >= settings.STAGE_CORNER_COSINE
+    facing = np.abs(alignment) >= settings.STAGE_CORNER_COSINE
     held = facing @ holds
     behind = height < 0
     loose = np.where(behind & ~held, -height, 0.0).max(axis=2)  # the deepest loose, (g, T)

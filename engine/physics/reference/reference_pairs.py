@@ -33,7 +33,7 @@ from ..collision.pair_rules import FCL_FEATURE, PairContext, PairJob
 from ..collision.stage_crossings import (
     crossed_face_points,
     crossed_faces_reference,
-    segment_crosses_stage_reference,
+    way_out_crossed_reference,
 )
 from ..collision.stage_grid import candidate_triangles_reference
 from ..core import settings
@@ -86,7 +86,12 @@ def stage_hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
     if not found:
         return []
     touched = sorted({int(record.b1) for record in found if record.b1 >= 0})
-    return stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, touched, cached, None, found)
+    # every triangle fcl names was tested above (the batched path's known edge): no vertex
+    # rests on any, fcl's points only; else (never seen) fcl's triangles from the start
+    known = all(record.b1 >= 0 for record in found) and set(touched) <= set(near)
+    return stage_polyhedron_contacts(
+        job.shape_a, job.shape_b, pose, touched, cached, None, found, vertex_contacts=not known
+    )
 
 
 def box_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
@@ -233,13 +238,15 @@ def stage_polyhedron_contacts(
     cached: list[tuple[np.ndarray, np.ndarray]],
     crossed: dict | None = None,
     found: list | None = None,
+    vertex_contacts: bool = True,
 ) -> list[Contact]:
     """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles
     ``triangle_ids`` (ascending); when none touches and fcl's records ``found`` are given,
     fcl's points with the normal of the triangle the hull is least deep behind (an edge
     crossing a face), no deeper than the hull's deepest vertex below that triangle's
     plane. A vertex passed a triangle rests on it only if the segment to its foot crosses
-    no other stage triangle (:func:`_way_out_crossed`).
+    no other of its triangles
+    (:func:`stage_crossings.way_out_crossed_reference`).
 
     Mirrors ``batched_stage._stage_group``. For every touched triangle t (normal n_t turned to
     the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
@@ -253,6 +260,8 @@ def stage_polyhedron_contacts(
     orders them). ``crossed`` (a dict, when given) receives the triangles the hull
     crosses without a vertex on them, in a job with vertex contacts
     (:func:`stage_crossings.crossed_faces_reference`): ``{id: (normal, least height)}``.
+    Without ``vertex_contacts`` only fcl's points are made (every triangle fcl named was
+    already tested with the body's whole near set, which holds the vertices' ways out).
     """
     table = triangle_table(stage)
     rotation, position = pose
@@ -272,7 +281,7 @@ def stage_polyhedron_contacts(
         heights.append(height)  # (T, V) signed heights, m
     contacts, corner_contacts = [], []
     holding: list[list[int]] = [[] for _ in vertices]  # positions holding vertex k
-    for k, vertex in enumerate(vertices):
+    for k, vertex in enumerate(vertices if vertex_contacts else []):
         # positions i of the triangles this vertex touches
         touching = [
             i
@@ -280,7 +289,9 @@ def stage_polyhedron_contacts(
             if settings.STAGE_SPECULATIVE_DISTANCE > heights[i][k]
             and heights[i][k] > -settings.STAGE_BELOW_FRACTION * extent
             and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
-            and not _way_out_crossed(stage, t, vertex, normals[i], heights[i][k])
+            and not way_out_crossed_reference(
+                stage, table, triangle_ids, normals, heights, i, k, vertex
+            )
         ]
         if not touching:
             continue
@@ -314,16 +325,6 @@ def stage_polyhedron_contacts(
         depths = np.minimum(depths, -min(heights[entry]))
         contacts = midpoint_contact_list(mid, [normals[entry]] * len(mid), depths)
     return contacts
-
-
-def _way_out_crossed(stage, t: int, vertex: np.ndarray, normal: np.ndarray, height: float) -> bool:
-    """A vertex ``height < 0`` behind triangle t whose segment to its foot on t crosses
-    another stage triangle: outside the stage's solid, not resting on t (mirrors
-    ``batched_stage._way_out_crossed``)."""
-    if height >= 0:
-        return False
-    foot = vertex - height * normal
-    return segment_crosses_stage_reference(stage, vertex, foot, t)
 
 
 def _behind_the_corner(
