@@ -70,12 +70,13 @@ from .contact_helpers import (
     center_decides,
     contact_arrays,
     fcl_raw_contacts,
+    midpoint_contacts,
     new_contact_side,
     to_world,
     triangle_table,
 )
 from .pair_rules import FCL_FEATURE, ContactBatch, PairContext, PairJob
-from .stage_crossings import crossed_face_points, crossed_faces, face_points, ways_out_crossed
+from .stage_crossings import crossed_face_points, crossed_faces, ways_out_crossed
 from .stage_grid import stage_grid
 
 #: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)``, their
@@ -99,7 +100,7 @@ def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatc
         context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
     for job, faces, n_vertices in crossed:  # a thin slab's side across a resting body
         point_a, point_b, normal = crossed_face_points(
-            job.shape_a, fcl_raw_contacts(job.object_a, job.probe_b), faces
+            fcl_raw_contacts(job.object_a, job.probe_b), faces
         )
         local = np.arange(len(normal))  # after the vertex and corner contacts, as the twin
         seq = np.full(len(normal), job.seq)
@@ -108,8 +109,7 @@ def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatc
         asked = []
         for job, ids, normals, heights in edge_jobs:
             records = fcl_raw_contacts(job.object_a, job.probe_b)
-            triangles = (job.shape_a, ids, normals, heights)
-            if records and not _known_edge(job.seq, records, triangles, out):
+            if records and not _known_edge(job.seq, records, (ids, normals, heights), out):
                 asked.append(job._replace(records=records))
         if asked:  # fcl named a triangle the grid did not (never seen): the full pass
             named = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
@@ -131,15 +131,14 @@ def _known_edge(seq: int, records: list, triangles, out) -> bool:
     deep behind (:func:`_entry_face`),
     exactly what :func:`_stage_group` gives in fcl's second pass, without that pass
     over the arrays."""
-    stage, ids, normals, heights = triangles
+    ids, normals, heights = triangles
     touched = sorted({c.b1 for c in records})
     grid = ids.tolist()
     if touched[0] < 0 or not set(touched) <= set(grid):
         return False
     named = [grid.index(t) for t in touched]
     entry = named[_entry_face(heights[named])]
-    corner = stage.ray_triangles[ids[entry]][0]
-    _add_fcl_points(out, seq, records, (normals[entry], corner), heights[entry])
+    _add_fcl_points(out, seq, records, normals[entry], heights[entry])
     return True
 
 
@@ -155,19 +154,20 @@ def _entry_face(heights: np.ndarray) -> int:
     return int(heights.min(axis=1).argmax())
 
 
-def _add_fcl_points(out: ContactBatch, seq: int, records: list, face, heights: np.ndarray) -> None:
-    """fcl's midpoints of a stage job's probe records on the face of one triangle, ``face =
-    (normal (3,), corner (3,))`` (stage -> body; anchored on its plane,
-    :func:`stage_crossings.face_points`), their depths turned from the probe's into the
-    shape's and at most how far the hull's deepest vertex is below that triangle's plane
-    (``heights (V,)``: the vertices' signed heights above it): no point of a convex hull is
-    deeper below a plane than its deepest vertex, while fcl's depth of a probe against a
-    single triangle can be the way out through the triangle (measured: up to 0.5 m for 0.2
-    m cubes on a floor, popping them up)."""
+def _add_fcl_points(
+    out: ContactBatch, seq: int, records: list, normal: np.ndarray, heights: np.ndarray
+) -> None:
+    """fcl's midpoints of a stage job's probe records, all with ``normal (3,)`` (stage ->
+    body) of one triangle, their depths turned from the probe's into the shape's and at
+    most how far the hull's deepest vertex is below that triangle's plane (``heights
+    (V,)``: the vertices' signed heights above it):
+    no point of a convex hull is deeper below a plane than its deepest vertex, while fcl's
+    depth of a probe against a single triangle can be the way out through the triangle
+    (measured: up to 0.5 m for 0.2 m cubes on a floor, popping them up)."""
     mid, _, depths, _ = contact_arrays(records)
     depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
     depths = np.minimum(depths, -heights.min())
-    out.add_one(seq, face_points(mid, face[0], depths, face[1]), FCL_FEATURE)
+    out.add_one(seq, midpoint_contacts(mid, np.tile(normal, (len(mid), 1)), depths), FCL_FEATURE)
 
 
 def nearby_triangles(jobs: list[PairJob], context: PairContext) -> tuple[np.ndarray, np.ndarray]:
@@ -320,8 +320,7 @@ def _stage_group(
         return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
     for k in untouched:  # an edge crossing a face: fcl's points with the entry face's normal
         entry = _entry_face(height[k])
-        face = (normal[k, entry], tris[k, entry, 0])
-        _add_fcl_points(contacts, seq[k], jobs[k].records, face, height[k, entry])
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, entry], height[k, entry])
     return []
 
 

@@ -158,34 +158,13 @@ def crossed_faces_reference(holding: list[list[int]], normals: list, heights: li
     return crossed
 
 
-def face_points(mid: np.ndarray, normal: np.ndarray, depths: np.ndarray, corner: np.ndarray):
-    """fcl's midpoints ``mid (k, 3)`` of a stage job as contacts on one triangle's face, both
-    paths: A's (the stage's) point is the midpoint's foot on the triangle's plane (outward
-    ``normal (3,)``, ``corner (3,)`` on it), B's ``depths (k,)`` behind it; ``(point_a,
-    point_b, normal)``, ``(k, 3)`` each.
-
-    On the plane, the manifold's cached point keeps the face's outward side for the next
-    steps (:func:`batched_stage._outward_side` trusts only cached points on a triangle's
-    plane): fcl's own midpoint lies off it, and a cone whose edge had crossed a bed
-    block's top edge (cached point 1.6 cm off the side's plane) had its center pass the
-    side's plane by 3 mm two steps later; the side, level with the center, then took the
-    center's side and pushed the cone into the block."""
-    offset = dot(mid - corner, normal)  # (k,) heights above the plane
-    point_a = mid - offset[:, None] * normal
-    point_b = point_a - depths[:, None] * normal
-    return point_a, point_b, np.tile(normal, (len(mid), 1))
-
-
-def crossed_face_points(
-    stage, records: list, faces: dict
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def crossed_face_points(records: list, faces: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Contacts ``(point_a, point_b, normal)`` (``(k, 3)`` each) of fcl's probe ``records``
     on crossed triangles ``faces = {id: (outward normal (3,), least vertex height)}``, both
     paths: a record on such a triangle whose fcl normal lies within 60 degrees of the
     triangle's (``STAGE_CROSSED_FACE_ALIGNMENT``; the way out is through the face) takes
     the triangle's normal, its depth turned from the probe's into the shape's and at most
-    the hull's deepest vertex behind the plane, on the triangle's plane (as the
-    edge-crossing fallback's, :func:`face_points`)."""
+    the hull's deepest vertex behind the plane (as the edge-crossing fallback's)."""
     point_a, point_b, normals = [], [], []
     for record in records:
         face = faces.get(int(record.b1))
@@ -199,9 +178,8 @@ def crossed_face_points(
         depth = abs(record.penetration_depth) - settings.STAGE_SPECULATIVE_DISTANCE
         depth = min(depth, -least_height)
         middle = np.asarray(record.pos, dtype=np.float64)
-        foot = middle - dot3(middle - stage.ray_triangles[int(record.b1)][0], normal) * normal
-        point_a.append(foot)
-        point_b.append(foot - depth * normal)
+        point_a.append(middle + 0.5 * depth * normal)
+        point_b.append(middle - 0.5 * depth * normal)
         normals.append(normal)
     if not normals:
         empty = np.zeros((0, 3))

@@ -33,7 +33,6 @@ from ..collision.pair_rules import FCL_FEATURE, PairContext, PairJob
 from ..collision.stage_crossings import (
     crossed_face_points,
     crossed_faces_reference,
-    face_points,
     way_out_crossed_reference,
 )
 from ..collision.stage_grid import candidate_triangles_reference
@@ -76,7 +75,7 @@ def stage_hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
     context.objects.move(bodies, np.array([b]), context.rotation[[b]])  # and its probe
     if contacts:  # a thin slab's side across a resting body: fcl's points on that side
         point_a, point_b, normal = crossed_face_points(
-            job.shape_a, fcl_raw_contacts(job.object_a, job.probe_b), crossed
+            fcl_raw_contacts(job.object_a, job.probe_b), crossed
         )
         extra = [
             Contact(point_a[i], point_b[i], normal[i], FCL_FEATURE + i) for i in range(len(normal))
@@ -324,11 +323,7 @@ def stage_polyhedron_contacts(
         # of equals; mirrors batched_stage._entry_face); no deeper than its deepest vertex
         entry = max(range(len(heights)), key=lambda i: min(heights[i]))
         depths = np.minimum(depths, -min(heights[entry]))
-        corner = stage.ray_triangles[triangle_ids[entry]][0]
-        point_a, point_b, normal = face_points(mid, normals[entry], depths, corner)
-        contacts = [
-            Contact(point_a[i], point_b[i], normal[i], FCL_FEATURE + i) for i in range(len(mid))
-        ]
+        contacts = midpoint_contact_list(mid, [normals[entry]] * len(mid), depths)
     return contacts
 
 
