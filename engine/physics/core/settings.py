@@ -250,6 +250,15 @@ STAGE_CORNER_PUSH = 0.001
 #: holds it when it lies at most this far below it, not deeper (below a skirting board's
 #: top, behind the board: not lifted onto it).
 STAGE_CORNER_REACH = 0.02
+#: m, a hull vertex behind a stage triangle rests on it only if the segment to its foot
+#: crosses no other stage triangle (collision.stage_crossings); a plane within this of
+#: either end of the segment is not crossed (the foot's neighbours share its plane).
+STAGE_CROSSING_TOLERANCE = 1e-6
+#: 1 (cosine), a stage triangle a hull straddles without a vertex on it (a thin slab's
+#: side crossing a body whose vertices rest on the floor) takes fcl's points on it whose
+#: normal is within 60 degrees of its own: the way out is through its face, not over its
+#: edge (a body overhanging the slab's top beside it).
+STAGE_CROSSED_FACE_ALIGNMENT = 0.5
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9
