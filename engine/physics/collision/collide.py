@@ -35,6 +35,7 @@ from ..core import settings
 from ..core.quaternions import cross, quat_to_matrix
 from ..core.shapes import ShapeKind
 from .contact_helpers import (
+    center_decides,
     contact_arrays,
     fcl_raw_contacts,
     midpoint_contacts,
@@ -197,15 +198,16 @@ def round_stage_contacts(stage_shape, object_stage, shape_b, pose_b, probe_b):
     tris = stage_shape.ray_triangles[tri_ids]  # (t, 3, 3) world (the stage frame is world)
     rb, xb = pose_b
     center = rb @ shape_b.body_from_shape[:3, 3] + xb
-    normal = _outward_normals(
-        triangle_table(stage_shape)["normal"][tri_ids], tris[:, 0], shape_b, pose_b
-    )
-    if shape_b.kind == ShapeKind.SPHERE:
-        return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
+    table = triangle_table(stage_shape)
     if shape_b.kind == ShapeKind.CAPSULE:  # its two end spheres (fcl's capsule depths are off)
+        normal = _outward_normals(table, tri_ids, tris[:, 0], shape_b, pose_b, False)
         ends = _capsule_end_contacts(tris, normal, shape_b, pose_b)
         if ends is not None:
             return ends
+    # a sphere, or a ridge under a capsule's middle: the center decides a wall's side
+    normal = _outward_normals(table, tri_ids, tris[:, 0], shape_b, pose_b, True)
+    if shape_b.kind == ShapeKind.SPHERE:
+        return _sphere_triangle_contacts(tris, normal, center, shape_b.radius)
     fcl_normal = normal[np.argmax(depths)]
     return midpoint_contacts(mid, np.tile(fcl_normal, (len(mid), 1)), depths)
 
@@ -226,19 +228,39 @@ def _capsule_end_contacts(tris, normal, capsule, pose):
     return tuple(np.concatenate(part) for part in zip(*found, strict=True))
 
 
-def _outward_normals(normal, origin, shape, pose):
-    """Unit normals ``(t, 3)`` of the triangles through ``origin (t, 3)`` turned to their
+def _outward_normals(table, tri_ids, origin, shape, pose, center_always_decides):
+    """Unit normals ``(t, 3)`` of the triangles ``tri_ids`` (rows of the stage's
+    :func:`contact_helpers.triangle_table`) through ``origin (t, 3)`` turned to their
     outward side for a round shape (:func:`contact_helpers.new_contact_side`: its center
-    is the shape's center, its farthest point in front lies one radius beyond the
-    farther end of its segment)."""
+    is the shape's center, its farthest points in front and behind lie one radius beyond
+    the ends of its segment).
+
+    With ``center_always_decides`` (a sphere; a capsule whose middle rests on a ridge) the
+    center's side of a wall-like triangle is the outward side. Otherwise (a capsule's end
+    spheres) the center decides only as for polyhedra, where it is level with the
+    triangle (or the triangle is backed) or the plane passes clear of it
+    (:func:`contact_helpers.center_decides`), else the front: a capsule lying across a
+    platform's edge, its center 1.3 cm past the side face above the top, had that face
+    turned towards its center, and the end hanging beyond the edge, pushed along it, went
+    14.5 cm into the platform.
+    """
     rotation, position = pose
+    normal = table["normal"][tri_ids]
     start, end, radius = segment_in_body(shape)
     ends = np.stack([rotation @ start + position, rotation @ end + position])  # (2, 3)
     center = 0.5 * (ends[0] + ends[1])
     offset = (normal * origin).sum(axis=1)  # n . p0
     center_height = normal @ center - offset
-    max_height = (normal @ ends.T).max(axis=1) - offset + radius
-    return normal * new_contact_side(normal[:, 1], center_height, max_height)[:, None]
+    end_heights = normal @ ends.T - offset[:, None]  # (t, 2)
+    max_height = end_heights.max(axis=1) + radius
+    decides = center_always_decides
+    if not center_always_decides:
+        # the center level with each triangle (between its lowest and highest corner)
+        level = (table["y_low"][tri_ids] <= center[1]) & (center[1] <= table["y_high"][tri_ids])
+        level |= table["backed"][tri_ids]  # a board's back against a wall: its front is the wall
+        min_height = end_heights.min(axis=1) - radius
+        decides = center_decides(level, center_height, max_height, min_height)
+    return normal * new_contact_side(normal[:, 1], center_height, max_height, decides)[:, None]
 
 
 def _barycentric_inside(tris, points, tolerance=settings.BARYCENTRIC_TOLERANCE):
