@@ -339,6 +339,10 @@ CCD_SWEEPS = 3
 #: most this turn (a 20 cm reach strays at most 1.5 mm from its arc; 100 rad/s, the speed
 #: limit, turns 0.8 rad in a 1/125 s step: 4 chords).
 CCD_ARC_ANGLE = 0.25
+#: m, a body whose center moved more than this in a step has its center's segment tested
+#: against the stage's triangles (sweep.centers_through_stage); resting bodies are skipped
+#: (a cone spun against a wall crept in 7-15 mm a step before its center crossed).
+CCD_CENTER_TRAVEL = 0.001
 #: m, how deep a swept body is left inside the wall it hit, so the next step sees the contact.
 CCD_PENETRATION = 0.001
 #: 1, ... at most this fraction of the body's smallest half extent (thin bodies stay thin).

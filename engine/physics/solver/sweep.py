@@ -88,7 +88,9 @@ def sweep_fast_bodies(
     # Box2D v3's test: the translation and the turn together (|v| h + |w| h r) past the
     # threshold; the path sweep also takes the bodies whose turn alone passes it
     on_path = ((length + turn > threshold) & ~fast) | (turn > threshold)
-    on_path |= centers_through_stage(b, moving, old_position)
+    moved = np.flatnonzero(length > settings.CCD_CENTER_TRAVEL)  # (resting bodies: none)
+    if len(moved):
+        on_path[moved] |= centers_through_stage(b, moving[moved], old_position[moved])
     if not (np.any(fast) or np.any(on_path)):
         return
     n = b.count
