@@ -95,6 +95,7 @@ from .solver.integrate import (
     integrate_velocities,
 )
 from .solver.sleeping import update_sleep, wake_body, wake_island, wake_touched
+from .solver.soft_step import check_soft_settings
 
 __all__ = ["STAGE_ID", "PhysicsWorld"]
 
@@ -319,6 +320,8 @@ class PhysicsWorld:
                 f"dt={dt!r} needs {n_steps} fixed steps of {self._timestep} s; "
                 f"the limit per call is {MAX_STEPS_PER_CALL}"
             )
+        if self.settings.soft_step:  # its settings are checked before anything moves
+            check_soft_settings(self.settings)
         self._read_user_moves()  # raises ValueError before it changes anything
         active = [(index, c) for index, c in self.velocity_controls.items() if c.is_active]
         self._apply_velocity_control(dt, active)

@@ -38,8 +38,9 @@ def corner_world(vectorized: bool, gap_floor: float, gap_wall: float):
     return world, box
 
 
-def narrow_phase_contacts(world, vectorized: bool):
-    """This step's stage contacts of body 1 on the chosen path: ``(point_b, normal)``."""
+def narrow_phase_contacts(world, vectorized: bool, keys: bool = False):
+    """This step's stage contacts of body 1 on the chosen path: ``(point_b, normal)``, and
+    their contact keys with ``keys``."""
     from engine.physics.pipeline.collision_stage import update_world_aabbs
     from engine.physics.pipeline.narrow_phase import narrow_phase
     from engine.physics.pipeline.reference_contacts import pair_contacts
@@ -49,10 +50,16 @@ def narrow_phase_contacts(world, vectorized: bool):
     update_world_aabbs(b, rotation)
     objects.move(b, np.arange(1, b.count), rotation[1:])
     if vectorized:
-        _, _, point_b, normal, _ = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
-        return point_b, normal
+        _, _, point_b, normal, key = narrow_phase(b, objects, world.manifolds, [(0, 1)], rotation)
+        return (point_b, normal, key) if keys else (point_b, normal)
     contacts = pair_contacts(b, objects, world.manifolds, 0, 1, rotation)
-    return np.array([c.point_b for c in contacts]), np.array([c.normal for c in contacts])
+    point_b, normal = (
+        np.array([c.point_b for c in contacts]),
+        np.array([c.normal for c in contacts]),
+    )
+    if keys:
+        return point_b, normal, np.array([c.feature for c in contacts], dtype=np.int64)
+    return point_b, normal
 
 
 def test_a_vertex_in_front_of_a_floor_and_a_wall_is_held_by_the_nearer():

@@ -37,11 +37,20 @@ triangle's front (its winding normal): a body spawned or teleported
 with its center below a floor is pushed up, never down through it, and a thin plate
 pushed past the surface's plane is still pushed back out.
 
+A vertex that has passed a triangle rests on it only when the segment to its foot on it
+stays inside the stage's solid, crossing no other stage triangle
+(:mod:`stage_crossings`): a vertex just below a thin table top is in the prism of the
+top face but outside the slab, and the top would pull the body through the slab.
+
 A triangle only near the body (in the grid's answer, not fcl's) never holds a contact: a
 vertex inside its prism within ``STAGE_SPECULATIVE_DISTANCE`` of its plane puts the probe on
 it. A job whose hull has no vertex in contact (an edge crossing a face) asks fcl after all
-and takes fcl's points, as before the grid, with the outward normal of the lowest-id
-triangle fcl names (kept from the first pass, :func:`_known_edge`). Jobs are grouped by
+and takes fcl's points, as before the grid, with the outward normal of the triangle fcl
+names that the hull is least deep behind, the face it entered through (kept from the
+first pass, :func:`_known_edge`). A job with vertex contacts whose hull crosses a triangle
+no vertex rests on (:func:`stage_crossings.crossed_faces`: a thin slab's side cutting a
+body that rests on the floor) asks fcl too and takes its points on that triangle with
+the triangle's normal. Jobs are grouped by
 the hull's vertex count ``V``; each group is a handful of ``(g, T, V)`` array operations,
 whatever its size ``g``.
 Reference: :func:`reference_pairs.stage_hull_pair`.
@@ -67,21 +76,36 @@ from .contact_helpers import (
     triangle_table,
 )
 from .pair_rules import FCL_FEATURE, ContactBatch, PairContext, PairJob
+from .stage_crossings import crossed_face_points, crossed_faces, ways_out_crossed
 from .stage_grid import stage_grid
 
 #: a job with stage triangles but no vertex in contact, its triangle ids ``(T,)``, their
 #: outward normals ``(T, 3)`` (stage -> body) and the signed heights ``(T, V)`` of the hull's
 #: vertices above their planes, from :func:`_stage_group`
 EdgeJob = tuple[PairJob, np.ndarray, np.ndarray, np.ndarray]
+#: a job with vertex contacts whose hull crosses stage triangles without a vertex on them
+#: (:func:`stage_crossings.crossed_faces`): ``{triangle id: (outward normal (3,), the
+#: hull's least vertex height above it)}``, and the job's vertex count
+CrossedJob = tuple[PairJob, dict, int]
 
 
 def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatch) -> list[PairJob]:
     """Contacts of hull shapes (box, convex, cylinder, cone) with the stage mesh (A)."""
     nearby, count = nearby_triangles(jobs, context)
-    edge_jobs = _vertex_contacts(jobs, nearby, count, context, out, edges_from_fcl=False)
-    if edge_jobs:  # no vertex in contact: fcl's triangles and points for these few
-        bodies = np.array(sorted({edge[0].body_b for edge in edge_jobs}), dtype=np.int64)
+    crossed: list[CrossedJob] = []
+    edge_jobs = _vertex_contacts(jobs, nearby, count, context, out, crossed)
+    if edge_jobs or crossed:  # fcl's triangles and points for these few
+        asking = chain((edge[0] for edge in edge_jobs), (job for job, _, _ in crossed))
+        bodies = np.array(sorted({job.body_b for job in asking}), dtype=np.int64)
         context.objects.move(context.bodies, bodies, context.rotation[bodies])  # and probes
+    for job, faces, n_vertices in crossed:  # a thin slab's side across a resting body
+        point_a, point_b, normal = crossed_face_points(
+            fcl_raw_contacts(job.object_a, job.probe_b), faces
+        )
+        local = np.arange(len(normal))  # after the vertex and corner contacts, as the twin
+        seq = np.full(len(normal), job.seq)
+        out.add(seq, 2 * n_vertices + local, point_a, point_b, normal, FCL_FEATURE + local)
+    if edge_jobs:  # no vertex in contact
         asked = []
         for job, ids, normals, heights in edge_jobs:
             records = fcl_raw_contacts(job.object_a, job.probe_b)
@@ -90,7 +114,7 @@ def stage_hull_batch(jobs: list[PairJob], context: PairContext, out: ContactBatc
         if asked:  # fcl named a triangle the grid did not (never seen): the full pass
             named = [np.array([c.b1 for c in job.records], dtype=np.int64) for job in asked]
             touched, count = _touched_triangles(named, len(jobs[0].shape_a.ray_triangles))
-            _vertex_contacts(asked, touched, count, context, out, edges_from_fcl=True)
+            _vertex_contacts(asked, touched, count, context, out, None)
     return []
 
 
@@ -100,19 +124,34 @@ def _known_edge(seq: int, records: list, triangles, out) -> bool:
     grid triangle ids ``(T,)``, their outward normals ``(T, 3)`` and the hull's vertex
     heights ``(T, V)`` above them (:data:`EdgeJob`).
 
-    Those triangles were tested in the first pass (vertex candidates are per triangle and
-    vertex, so fcl's subset has none either), and their normals and heights are known: the
-    job's contacts are fcl's points with the normal of the lowest-id triangle fcl names,
-    exactly what :func:`_stage_group` gives with ``edges_from_fcl``, without a second pass
+    Those triangles were tested in the first pass with all the body's near triangles (no
+    vertex rests on any of them, their ways out tested against the whole set), and their
+    normals and heights are known: the
+    job's contacts are fcl's points with the normal of the named triangle the hull is least
+    deep behind (:func:`_entry_face`),
+    exactly what :func:`_stage_group` gives in fcl's second pass, without that pass
     over the arrays."""
     ids, normals, heights = triangles
     touched = sorted({c.b1 for c in records})
     grid = ids.tolist()
     if touched[0] < 0 or not set(touched) <= set(grid):
         return False
-    first = grid.index(touched[0])
-    _add_fcl_points(out, seq, records, normals[first], heights[first])
+    named = [grid.index(t) for t in touched]
+    entry = named[_entry_face(heights[named])]
+    _add_fcl_points(out, seq, records, normals[entry], heights[entry])
     return True
+
+
+def _entry_face(heights: np.ndarray) -> int:
+    """The row of ``heights (T, V)`` (the hull's vertex heights above triangles fcl named)
+    whose triangle the hull is least deep behind (the largest least height; the first of
+    equals): the face the body entered through, whose normal an edge crossing takes.
+
+    The lowest-id triangle (the rule before) gave a cube whose edge crossed a 4 cm table
+    top's front-bottom edge by 3 mm the slab's bottom face (-Y, the cube 10 cm deep behind
+    its plane) instead of the front face (+Z, a few cm): pushed along the slab, it went
+    6.9 cm into it."""
+    return int(heights.min(axis=1).argmax())
 
 
 def _add_fcl_points(
@@ -144,12 +183,14 @@ def nearby_triangles(jobs: list[PairJob], context: PairContext) -> tuple[np.ndar
 
 
 def _vertex_contacts(
-    jobs, ids: np.ndarray, count: np.ndarray, context, out, edges_from_fcl: bool
+    jobs, ids: np.ndarray, count: np.ndarray, context, out, crossed: list | None
 ) -> list[EdgeJob]:
     """Contacts of ``jobs`` with their triangles (padded rows ``ids (g, T)`` holding
     ``count (g,)`` ids each), grouped by hull size; returns the jobs with triangles but no
-    vertex in contact, as :data:`EdgeJob` (unless ``edges_from_fcl``: then those take
-    fcl's points, see :func:`_stage_group`)."""
+    vertex in contact, as :data:`EdgeJob`, and appends to ``crossed`` the jobs crossing
+    a face without a vertex on it (:data:`CrossedJob`); with ``crossed`` None (fcl's
+    second pass) the jobs without a vertex in contact take fcl's points instead, see
+    :func:`_stage_group`."""
     groups: defaultdict[int, list[int]] = defaultdict(list)
     for k, (job, n_ids) in enumerate(zip(jobs, count.tolist(), strict=True)):
         if n_ids:
@@ -167,7 +208,7 @@ def _vertex_contacts(
             (context.rotation, context.bodies.body_position),
             out,
             cached,
-            edges_from_fcl,
+            crossed,
         )
     return edge_jobs
 
@@ -220,14 +261,15 @@ def _outward_side(
 
 
 def _stage_group(
-    jobs, ids: np.ndarray, poses, contacts: ContactBatch, cached, edges_from_fcl: bool
+    jobs, ids: np.ndarray, poses, contacts: ContactBatch, cached, crossed: list | None
 ) -> list[EdgeJob]:
     """Vertex-triangle contacts of ``g`` hulls with ``V`` vertices against the stage
     triangles ``ids (g, T)`` (ascending per row, padded by repeats; ``poses``: every body's rotation
     ``(n, 3, 3)`` and position ``(n, 3)``; ``cached``: the pairs' cached manifold normals,
     see :func:`_cached_normals`). Returns the jobs without a vertex in contact with their
-    triangles and outward normals (:data:`EdgeJob`), or with ``edges_from_fcl`` gives them
-    fcl's points (their ``records``) and returns none.
+    triangles and outward normals (:data:`EdgeJob`) and appends the jobs crossing a face
+    without a vertex on it to ``crossed`` (:data:`CrossedJob`), or with ``crossed`` None
+    (fcl's second pass) gives the first fcl's points (their ``records``) and returns none.
 
     Reference: :func:`reference_pairs.stage_polyhedron_contacts` (one shape pair)."""
     rotation, position = poses
@@ -253,23 +295,46 @@ def _stage_group(
     candidate = (
         (height < settings.STAGE_SPECULATIVE_DISTANCE) & below & _in_prisms(table, ids, tris, verts)
     )
+    grid = stage_grid(stage)
+    # n_t . n_s of the job's triangles, (g, T, T) (a stage in one plane needs none)
+    alignment = None if grid.one_plane else np.einsum("gti,gsi->gts", normal, normal)
+    if alignment is not None:  # a passed triangle holds a vertex whose way out stays inside
+        passed = candidate & (height < 0)
+        candidate &= ~ways_out_crossed(table, ids, tris, passed, normal, height, alignment, verts)
     # each vertex keeps its resting triangle (the shallowest it has passed, else the
     # nearest) ...
     best = _resting_triangle(candidate, height)  # (g, V)
     _add_vertex_contacts(contacts, seq, candidate, best, normal, height, verts, 0)
     # ... and, in a corner, the shallowest of those facing another way (floor and wall;
     # a stage whose triangles are all nearly parallel has no corner: skipped, exactly)
-    if not stage_grid(stage).corner_free:
+    if not grid.corner_free and alignment is not None:
         behind = _behind_the_corner(
             table, ids, tris, (candidate, below), best, normal, height, verts
         )
-        _corner_contacts(contacts, seq, behind, best, normal, height, verts)
+        corner, second = _corner_contacts(contacts, seq, behind, best, normal, height, verts)
+        if crossed is not None:  # a thin slab's side across a body resting on the floor
+            faces = crossed_faces(candidate, best, corner, second, alignment, height)
+            crossed += _crossed_jobs(jobs, ids, faces, normal, height)
     untouched = np.flatnonzero(~candidate.any(axis=(1, 2))).tolist()
-    if not edges_from_fcl:  # with their triangles, normals and heights, for _known_edge
+    if crossed is not None:  # with their triangles, normals and heights, for _known_edge
         return [(jobs[k], ids[k], normal[k], height[k]) for k in untouched]
-    for k in untouched:  # an edge crossing a face: fcl's points with the first triangle's normal
-        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, 0], height[k, 0])
+    for k in untouched:  # an edge crossing a face: fcl's points with the entry face's normal
+        entry = _entry_face(height[k])
+        _add_fcl_points(contacts, seq[k], jobs[k].records, normal[k, entry], height[k, entry])
     return []
+
+
+def _crossed_jobs(jobs, ids, faces, normal, height) -> list[CrossedJob]:
+    """The jobs with crossed triangles ``faces (g, T)`` as :data:`CrossedJob` (the first
+    of a padded row's repeats)."""
+    least = height.min(axis=2)  # (g, T)
+    out = []
+    for k in np.flatnonzero(faces.any(axis=1)).tolist():
+        found: dict = {}
+        for t in np.flatnonzero(faces[k]).tolist():
+            found.setdefault(int(ids[k, t]), (normal[k, t], float(least[k, t])))
+        out.append((jobs[k], found, height.shape[2]))
+    return out
 
 
 def _resting_triangle(candidate: np.ndarray, height: np.ndarray) -> np.ndarray:
@@ -322,15 +387,17 @@ def _behind_the_corner(table, ids, tris, masks, best, normal, height, verts) -> 
     return behind
 
 
-def _corner_contacts(contacts, seq, behind, best, normal, height, verts) -> None:
+def _corner_contacts(contacts, seq, behind, best, normal, height, verts):
     """Second contacts of vertices in a corner: of the ``behind (g, T, V)`` triangles (see
     :func:`_behind_the_corner`) turned 45 to 135 degrees from the vertex's resting one
-    ``best (g, V)``, the shallowest, ordered after the first contacts (``V + v``)."""
+    ``best (g, V)``, the shallowest, ordered after the first contacts (``V + v``); returns
+    the corner mask ``(g, T, V)`` and each vertex's second triangle ``(g, V)``."""
     best_normal = np.take_along_axis(normal, best[..., None], axis=1)  # (g, V, 3)
     alignment = np.einsum("gti,gvi->gtv", normal, best_normal)  # n_t . n_best, (g, T, V)
     corner = behind & (np.abs(alignment) < settings.STAGE_CORNER_COSINE)
     second = np.where(corner, height, -np.inf).argmax(axis=1)
     _add_vertex_contacts(contacts, seq, corner, second, normal, height, verts, verts.shape[1])
+    return corner, second
 
 
 def _add_vertex_contacts(contacts, seq, candidate, chosen, normal, height, verts, first: int):

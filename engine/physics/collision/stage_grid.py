@@ -35,7 +35,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.settings import STAGE_CORNER_COSINE, STAGE_GRID_CELL, STAGE_GRID_MAX_CELLS, TINY
+from ..core.settings import (
+    STAGE_CORNER_COSINE,
+    STAGE_CROSSING_TOLERANCE,
+    STAGE_GRID_CELL,
+    STAGE_GRID_MAX_CELLS,
+    TINY,
+)
 
 #: the grid's two axes, x and z, as columns of a point
 XZ = [0, 2]
@@ -49,7 +55,8 @@ class StageGrid:
     lowest (x, z) corner, m; ``cell`` its cell side, m; ``shape (n_x, n_z)`` cells;
     ``cell_start (n_x n_z + 1,)`` and ``cell_triangles (E,)``: the triangles of cell
     ``k = i_x n_z + i_z`` are ``cell_triangles[cell_start[k]:cell_start[k + 1]]``;
-    ``corner_free``: no two triangles meet at a corner (:func:`corner_free`).
+    ``corner_free``: no two triangles meet at a corner (:func:`corner_free`);
+    ``one_plane``: all triangles lie in one plane (:func:`one_plane`).
     """
 
     tri_lo: np.ndarray
@@ -60,6 +67,7 @@ class StageGrid:
     cell_start: np.ndarray
     cell_triangles: np.ndarray
     corner_free: bool = False
+    one_plane: bool = False
 
     @classmethod
     def build(cls, triangles: np.ndarray, cell: float = STAGE_GRID_CELL) -> StageGrid:
@@ -79,7 +87,8 @@ class StageGrid:
         cell_start = np.concatenate([[0], np.cumsum(counts)])
         shape = (int(n_x), int(n_z))
         flat = corner_free(triangles)
-        return cls(tri_lo, tri_hi, origin, cell, shape, cell_start, owner[order], flat)
+        planar = one_plane(triangles)
+        return cls(tri_lo, tri_hi, origin, cell, shape, cell_start, owner[order], flat, planar)
 
     @staticmethod
     def _cell_range(lo, hi, origin, cell, shape):
@@ -130,6 +139,20 @@ def corner_free(triangles: np.ndarray) -> bool:
     normal /= length[:, None]
     half = 0.5 * np.arccos(STAGE_CORNER_COSINE) - 1e-6  # rad, half the corner angle
     return bool((np.abs(normal @ normal[0]) >= np.cos(half)).all())
+
+
+def one_plane(triangles: np.ndarray) -> bool:
+    """Whether every corner of ``triangles (T, 3, 3)`` lies within a tenth of
+    ``STAGE_CROSSING_TOLERANCE`` of the first triangle's plane (a floor): no vertex's way
+    out of one triangle can cross another (:mod:`stage_crossings`); a degenerate first
+    triangle answers False."""
+    e0, e1 = triangles[0, 1] - triangles[0, 0], triangles[0, 2] - triangles[0, 0]
+    normal = np.cross(e0, e1)
+    length = float(np.linalg.norm(normal))
+    if length <= TINY:
+        return False
+    offset = (triangles - triangles[0, 0]) @ (normal / length)  # (T, 3) heights
+    return bool((np.abs(offset) <= 0.1 * STAGE_CROSSING_TOLERANCE).all())
 
 
 def _expand(counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -91,6 +91,26 @@ class SolverSettings:
         solves one contact point at a time (:mod:`reference_solver`). Both apply the same
         rules and agree to rounding (1e-9 over 2 s, tested); not bitwise (other sum order).
         The reference is 10-50x slower: it exists to be read and stepped through.
+    soft_step : bool
+        Solve contacts with Box2D v3's soft step (:mod:`soft_step`; False, the default:
+        ``velocity_iterations`` sweeps, then the split-impulse position solve). Per
+        substep: the forces' share, a warm start, one soft normal sweep (``contact_hertz``,
+        ``contact_damping_ratio``, push-out at most ``contact_push_speed``), the bodies'
+        displacement, one relax sweep (normal and friction rows, no bias); then the
+        restitution pass. The contacts and manifolds stay those of the step.
+    soft_substeps : int
+        Substeps of the soft step (>= 1): 2 at the 0.008 s step is a 250 Hz substep, Box2D
+        v3's 4 substeps at 60 Hz a 240 Hz one.
+    relax_iterations : int
+        Relax sweeps per substep of the soft step (>= 1; Box2D v3's ``RELAX_ITERATIONS``).
+    contact_hertz : float
+        Hz, the soft contacts' stiffness between moving bodies (Box2D v3's 30, at most an
+        eighth of the substep rate); a contact with the stage gets twice it.
+    contact_damping_ratio : float
+        1, the soft contacts' damping ratio (Box2D v3's 10: heavily over-damped).
+    contact_push_speed : float
+        m/s, the fastest a soft contact pushes overlapping bodies apart (Box2D v3's
+        ``contactSpeed``, 3 m/s).
     """
 
     velocity_iterations: int = 10
@@ -107,6 +127,12 @@ class SolverSettings:
     contact_cache: bool = True
     feature_manifolds: bool = False
     use_vectorized: bool = True
+    soft_step: bool = False
+    soft_substeps: int = 2
+    relax_iterations: int = 1
+    contact_hertz: float = 30.0
+    contact_damping_ratio: float = 10.0
+    contact_push_speed: float = 3.0
 
     @property
     def uses_block_normal(self) -> bool:
@@ -126,6 +152,11 @@ DEEP_OVERLAP = 0.01
 #: 1, the Baumgarte fraction of the contacts deeper than ``DEEP_OVERLAP`` (the others keep
 #: ``POSITION_BAUMGARTE``, so a falling pile's brief impacts do not disturb its neighbors).
 OVERLAP_BAUMGARTE = 0.4
+#: m, the soft step (soft_step.py) treats a point as speculative (no softness) only when its
+#: separation exceeds this: points resting exactly on a surface (s = 0 give or take
+#: round-off) then always take the soft row, whichever way the round-off falls (the two rows
+#: differ by the impulse scale, 6 % of the load at 30 Hz).
+SOFT_SPECULATIVE_TOLERANCE = 1e-12
 #: m/s, upper bound of the position-correction pseudo velocity (no launches).
 MAX_CORRECTION_SPEED = 2.0
 #: m, a manifold point whose bodies separate by more than this along the normal is dropped.
@@ -219,6 +250,15 @@ STAGE_CORNER_PUSH = 0.001
 #: holds it when it lies at most this far below it, not deeper (below a skirting board's
 #: top, behind the board: not lifted onto it).
 STAGE_CORNER_REACH = 0.02
+#: m, a hull vertex behind a stage triangle rests on it only if the segment to its foot
+#: crosses no other stage triangle (collision.stage_crossings); a plane within this of
+#: either end of the segment is not crossed (the foot's neighbours share its plane).
+STAGE_CROSSING_TOLERANCE = 1e-6
+#: 1 (cosine), a stage triangle a hull straddles without a vertex on it (a thin slab's
+#: side crossing a body whose vertices rest on the floor) takes fcl's points on it whose
+#: normal is within 60 degrees of its own: the way out is through its face, not over its
+#: edge (a body overhanging the slab's top beside it).
+STAGE_CROSSED_FACE_ALIGNMENT = 0.5
 #: 1 (barycentric units), a point this close outside a triangle's edge counts as inside,
 #: so a vertex over a shared edge of two triangles is in contact with both.
 BARYCENTRIC_TOLERANCE = 1e-9

@@ -12,7 +12,11 @@ Inputs => outputs (``n`` bodies, ``m`` manifolds with points, ``S = 4`` slots ea
 Sleeping and non-dynamic bodies enter with zero inverse mass (they are not moved);
 KINEMATIC bodies enter with the velocity their velocity control gives them, so they push.
 ``settings.use_vectorized`` picks the batched solver (:mod:`solver`) or the scalar reference
-(:mod:`reference_solver`), which builds its own Jacobians and effective masses.
+(:mod:`reference_solver`), which builds its own Jacobians and effective masses;
+``settings.soft_step`` Box2D v3's soft schedule (:mod:`soft_step`, its twin
+:mod:`reference_soft`) instead of the rigid sweeps and the split-impulse position solve.
+Its forces' share per substep is the step's ``velocity - approach_velocity`` (the forces
+stage ran before this one).
 """
 
 from __future__ import annotations
@@ -48,6 +52,7 @@ from ..solver.rolling_friction import (
     needs_rolling_friction,
 )
 from ..solver.sequential_impulses import solve_contacts
+from ..solver.soft_step import solve_soft
 
 
 @dataclass
@@ -108,6 +113,10 @@ def solve_stage(
     rolling = needs_rolling_friction(bodies, problem.pairs)
     if settings.use_vectorized:
         pseudo, depth, loads = _solve_batched(bodies, store, problem, h, settings, rolling)
+    elif settings.soft_step:
+        from ..reference.reference_soft import solve_soft_reference
+
+        pseudo, depth, loads = solve_soft_reference(bodies, store, problem, h, settings, rolling)
     else:
         from ..reference.reference_solver import solve_reference
 
@@ -239,7 +248,11 @@ def _solve_batched(
         split_mass=settings.block_jacobi,
         block_normal=settings.uses_block_normal,
     )
-    pseudo = solve_contacts(batch, problem.velocity, h, settings)
+    if settings.soft_step:  # Box2D v3's schedule (soft_step.py)
+        forces = problem.velocity - problem.approach_velocity
+        pseudo = solve_soft(batch, problem.velocity, forces, h, settings)
+    else:
+        pseudo = solve_contacts(batch, problem.velocity, h, settings)
     loads = None
     if with_loads:  # every slot of a manifold shares its normal; lambda_n is the sum
         loads = ContactLoads(

@@ -30,6 +30,11 @@ from ..collision.contact_helpers import (
 )
 from ..collision.contacts import ManifoldStore, tie_key
 from ..collision.pair_rules import FCL_FEATURE, PairContext, PairJob
+from ..collision.stage_crossings import (
+    crossed_face_points,
+    crossed_faces_reference,
+    way_out_crossed_reference,
+)
 from ..collision.stage_grid import candidate_triangles_reference
 from ..core import settings
 from ..core.reference_geometry import Contact, dot, rotate, unrotate
@@ -48,8 +53,10 @@ def as_contacts(result) -> list[Contact]:
 # the rules' reference functions (one job each)
 # ------------------------------------------------------------------------------------------
 def stage_hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
-    """Rule ``stage-hull``: hull vertices resting on the stage triangles near the hull
-    (mirrors :func:`batched_stage.stage_hull_batch`)."""
+    """Rule ``stage-hull``: hull vertices resting on the stage triangles near the hull,
+    fcl's points on the triangles the hull crosses without a vertex on them, or, without
+    any vertex contact, fcl's points of an edge crossing a face (mirrors
+    :func:`batched_stage.stage_hull_batch`)."""
     bodies, b = context.bodies, job.body_b
     # the triangles whose box overlaps B's AABB grown by the probe's reach
     near = candidate_triangles_reference(
@@ -61,16 +68,30 @@ def stage_hull_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
         return []
     cached = cached_stage_normals(context.store, b)
     pose = context.pose(b)
-    contacts = stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, near, cached)
-    if contacts:
+    crossed: dict = {}  # triangles the hull crosses without a vertex on them
+    contacts = stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, near, cached, crossed)
+    if contacts and not crossed:
         return contacts
-    # no vertex in contact (an edge crossing a face): fcl's triangles and points
     context.objects.move(bodies, np.array([b]), context.rotation[[b]])  # and its probe
+    if contacts:  # a thin slab's side across a resting body: fcl's points on that side
+        point_a, point_b, normal = crossed_face_points(
+            fcl_raw_contacts(job.object_a, job.probe_b), crossed
+        )
+        extra = [
+            Contact(point_a[i], point_b[i], normal[i], FCL_FEATURE + i) for i in range(len(normal))
+        ]
+        return contacts + extra
+    # no vertex in contact (an edge crossing a face): fcl's triangles and points
     found = fcl_raw_contacts(job.object_a, job.probe_b)
     if not found:
         return []
     touched = sorted({int(record.b1) for record in found if record.b1 >= 0})
-    return stage_polyhedron_contacts(job.shape_a, job.shape_b, pose, touched, cached, found)
+    # every triangle fcl names was tested above (the batched path's known edge): no vertex
+    # rests on any, fcl's points only; else (never seen) fcl's triangles from the start
+    known = all(record.b1 >= 0 for record in found) and set(touched) <= set(near)
+    return stage_polyhedron_contacts(
+        job.shape_a, job.shape_b, pose, touched, cached, None, found, vertex_contacts=not known
+    )
 
 
 def box_pair(job: PairJob, context: PairContext) -> list[Contact] | None:
@@ -215,12 +236,17 @@ def stage_polyhedron_contacts(
     pose,
     triangle_ids: list[int],
     cached: list[tuple[np.ndarray, np.ndarray]],
+    crossed: dict | None = None,
     found: list | None = None,
+    vertex_contacts: bool = True,
 ) -> list[Contact]:
     """Vertices of ``hull`` (at ``pose = (R, x)``) resting on the stage triangles
     ``triangle_ids`` (ascending); when none touches and fcl's records ``found`` are given,
-    fcl's points with the first triangle's normal (an edge crossing a face), no deeper
-    than the hull's deepest vertex below that triangle's plane.
+    fcl's points with the normal of the triangle the hull is least deep behind (an edge
+    crossing a face), no deeper than the hull's deepest vertex below that triangle's
+    plane. A vertex passed a triangle rests on it only if the segment to its foot crosses
+    no other of its triangles
+    (:func:`stage_crossings.way_out_crossed_reference`).
 
     Mirrors ``batched_stage._stage_group``. For every touched triangle t (normal n_t turned to
     the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
@@ -231,7 +257,11 @@ def stage_polyhedron_contacts(
     the shallowest it has passed, else the nearest) and, in a corner, the shallowest of
     those turned 45 to 135 degrees from it that hold it up beside it
     (:func:`_behind_the_corner`; listed after all the first contacts, as the batched path
-    orders them).
+    orders them). ``crossed`` (a dict, when given) receives the triangles the hull
+    crosses without a vertex on them, in a job with vertex contacts
+    (:func:`stage_crossings.crossed_faces_reference`): ``{id: (normal, least height)}``.
+    Without ``vertex_contacts`` only fcl's points are made (every triangle fcl named was
+    already tested with the body's whole near set, which holds the vertices' ways out).
     """
     table = triangle_table(stage)
     rotation, position = pose
@@ -250,7 +280,8 @@ def stage_polyhedron_contacts(
         normals.append(normal)
         heights.append(height)  # (T, V) signed heights, m
     contacts, corner_contacts = [], []
-    for k, vertex in enumerate(vertices):
+    holding: list[list[int]] = [[] for _ in vertices]  # positions holding vertex k
+    for k, vertex in enumerate(vertices if vertex_contacts else []):
         # positions i of the triangles this vertex touches
         touching = [
             i
@@ -258,10 +289,14 @@ def stage_polyhedron_contacts(
             if settings.STAGE_SPECULATIVE_DISTANCE > heights[i][k]
             and heights[i][k] > -settings.STAGE_BELOW_FRACTION * extent
             and inside_triangle_prism(table, t, stage.ray_triangles[t][0], vertex)
+            and not way_out_crossed_reference(
+                stage, table, triangle_ids, normals, heights, i, k, vertex
+            )
         ]
         if not touching:
             continue
         best = _resting_triangle(touching, heights, k)
+        holding[k].append(best)
         contacts.append(_vertex_contact(vertex, normals[best], heights[best][k], k))
         # in a corner: also the shallowest triangle turned 45 to 135 degrees from that one
         # which holds the vertex up beside it (see _behind_the_corner)
@@ -274,15 +309,21 @@ def stage_polyhedron_contacts(
         ]
         if turned:
             second = _shallowest(turned, heights, k)
+            holding[k].append(second)
             corner = _vertex_contact(vertex, normals[second], heights[second][k], len(vertices) + k)
             corner_contacts.append(corner)
     contacts += corner_contacts  # the batched path orders them after every first contact
+    if crossed is not None:  # a thin slab's side across a body resting on the floor
+        for i in crossed_faces_reference(holding, normals, heights):
+            crossed.setdefault(triangle_ids[i], (normals[i], min(heights[i])))
     if not contacts and triangle_ids and found:  # an edge crossing a face: fcl's points
         mid, _, depths, _ = contact_arrays(found)
         depths = depths - settings.STAGE_SPECULATIVE_DISTANCE  # probe depth -> shape depth
-        # at most the depth of the hull's deepest vertex below the first triangle's plane
-        depths = np.minimum(depths, -min(heights[0]))
-        contacts = midpoint_contact_list(mid, [normals[0]] * len(mid), depths)
+        # the face entered through: the triangle the hull is least deep behind (the first
+        # of equals; mirrors batched_stage._entry_face); no deeper than its deepest vertex
+        entry = max(range(len(heights)), key=lambda i: min(heights[i]))
+        depths = np.minimum(depths, -min(heights[entry]))
+        contacts = midpoint_contact_list(mid, [normals[entry]] * len(mid), depths)
     return contacts
 
 

@@ -324,16 +324,23 @@ def rows_matrix(rows: ColorRows, matrix: np.ndarray) -> np.ndarray:
     return matrix[rows.manifolds, rows.slots]
 
 
-def normal_update(rows: ColorRows, flat: np.ndarray, matrix: np.ndarray, lam_n) -> None:
+def normal_update(
+    rows: ColorRows, flat: np.ndarray, matrix: np.ndarray, lam_n, relaxation=None
+) -> None:
     """One sweep of a color's normal rows alone with the matrix rows ``matrix (k, u, 13)``
     (the position solve's ``m_n [J_n | b]``, or the restitution pass's:
     :func:`rows_matrix`) and the accumulated impulses ``lam_n (u, k)`` (updated):
-    ``q = min(matrix v, lambda_n)``, ``lambda_n -= q``, ``v -= W_n q``.
+    ``q = min(matrix v, lambda_n)``, ``lambda_n -= q``, ``v -= W_n q``. The soft step
+    (:mod:`soft_step`) passes its impulse scales ``relaxation (u, k)``: ``q = matrix v +
+    relaxation lambda_n`` before the clamp (2 calls more).
 
     Reference: ``reference_solver._normal_impulses`` (positions), and
-    ``_restitution_impulses``."""
+    ``_restitution_impulses``; ``reference_soft._soft_normal_impulses``."""
     v = flat[rows.gather]
     np.matmul(matrix, v, out=rows.q_col)
+    if relaxation is not None:  # Box2D v3's soft row: the impulse scale times lambda_n
+        np.multiply(relaxation, lam_n, out=rows.scale)
+        rows.q += rows.scale
     np.minimum(rows.q, lam_n, out=rows.q)
     lam_n -= rows.q
     v -= rows.normal_w @ rows.q_col
