@@ -375,6 +375,14 @@ MAX_COORDINATE = 3.4028234663852886e38
 CCD_MOTION_FRACTION = 0.5
 #: sweeps, the most swept tests per fast body and step (one more wall found per sweep).
 CCD_SWEEPS = 3
+#: rad, the path sweep follows a turning body's vertices along their arcs in chords of at
+#: most this turn (a 20 cm reach strays at most 1.5 mm from its arc; 100 rad/s, the speed
+#: limit, turns 0.8 rad in a 1/125 s step: 4 chords).
+CCD_ARC_ANGLE = 0.25
+#: m, a body whose center moved more than this in a step has its center's segment tested
+#: against the stage's triangles (sweep.centers_through_stage); resting bodies are skipped
+#: (a cone spun against a wall crept in 7-15 mm a step before its center crossed).
+CCD_CENTER_TRAVEL = 0.001
 #: m, how deep a swept body is left inside the wall it hit, so the next step sees the contact.
 CCD_PENETRATION = 0.001
 #: 1, ... at most this fraction of the body's smallest half extent (thin bodies stay thin).
