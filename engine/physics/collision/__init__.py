@@ -16,7 +16,8 @@ What is here, in reading order (the collision stage that runs them is
    across steps), ``keyed_manifolds.py`` (fresh manifolds, ``feature_manifolds=True``: a
    step's points cut to four by feature keys, warm-started from the cached points),
    ``manifold_merge.py`` (the merge of fresh points into persistent manifolds: the
-   default, and always for stage and capsule pairs),
+   default, and always for stage and capsule pairs), ``slot_choice.py`` (which points a
+   row keeps: the supporting polygon, shared out in a corner of the stage),
    ``manifold_rows.py`` (a new row for a pair that first touches).
 
 May import: ``core``. Never ``solver`` (the two are independent), ``reference``,
