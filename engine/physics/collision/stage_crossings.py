@@ -28,7 +28,8 @@ are among them). A stage lying in one plane (a floor) has nothing to cross: skip
 it (a thin slab's side across a cone lying on the floor), whose fcl points
 :func:`crossed_face_points` turns into contacts with the triangle's normal.
 
-References: :func:`way_out_crossed_reference`, :func:`crossed_faces_reference`.
+References: :mod:`reference.reference_crossings` (``way_out_crossed_reference``,
+``crossed_faces_reference``).
 """
 
 from __future__ import annotations
@@ -74,33 +75,6 @@ def _inside(table: dict, ids: np.ndarray, corner: np.ndarray, point: np.ndarray)
     return (v >= -tolerance) & (w >= -tolerance) & (v + w <= 1 + tolerance)
 
 
-def way_out_crossed_reference(stage, table, triangle_ids, normals, heights, i, k, vertex) -> bool:
-    """Plain version of :func:`ways_out_crossed` for vertex ``k`` (world ``vertex``) and the
-    triangle at position ``i`` of the job's ``triangle_ids``, given every triangle's outward
-    normal and vertex heights: whether its way out crosses another of them."""
-    h = heights[i][k]
-    if h >= 0:
-        return False
-    tolerance = settings.STAGE_CROSSING_TOLERANCE
-    for j, s in enumerate(triangle_ids):
-        if s == triangle_ids[i]:
-            continue
-        d0 = heights[j][k]
-        d1 = d0 - h * dot3(normals[i], normals[j])
-        if not (d0 * d1 < 0 and abs(d0) > tolerance and abs(d1) > tolerance):
-            continue
-        point = vertex - ((d0 / (d0 - d1)) * h) * normals[i]
-        relative = point - stage.ray_triangles[s][0]
-        d20, d21 = dot3(relative, table["e0"][s]), dot3(relative, table["e1"][s])
-        d00, d01, d11, denom = (table[key][s] for key in ("d00", "d01", "d11", "denom"))
-        v = (d11 * d20 - d01 * d21) / denom
-        w = (d00 * d21 - d01 * d20) / denom
-        barycentric = settings.BARYCENTRIC_TOLERANCE
-        if v >= -barycentric and w >= -barycentric and v + w <= 1 + barycentric:
-            return True
-    return False
-
-
 def crossed_faces(candidate, best, corner, second, alignment, height) -> np.ndarray:
     """(g, T) bool: the triangles each hull crosses where no vertex rests on them, in jobs
     with vertex contacts (``candidate (g, T, V)``, resting triangles ``best (g, V)``,
@@ -117,7 +91,7 @@ def crossed_faces(candidate, best, corner, second, alignment, height) -> np.ndar
     plane and its neighbours' but held by them; a box resting on a slab's top and
     overhanging its edge has its vertices in the air as deep behind the top's plane as
     those held on it: neither is crossed.
-    Reference: :func:`crossed_faces_reference`."""
+    Reference: :func:`reference_crossings.crossed_faces_reference`."""
     holds = np.zeros(height.shape, dtype=bool)  # triangle s holds a contact of vertex v
     g, v = np.nonzero(candidate.any(axis=1))
     holds[g, best[g, v], v] = True
@@ -132,30 +106,6 @@ def crossed_faces(candidate, best, corner, second, alignment, height) -> np.ndar
     kept = np.where(behind & held, -height, 0.0).max(axis=2)  # the deepest held
     contacted = np.asarray(holds.any(axis=(1, 2)))  # jobs with a vertex contact, (g,)
     return (loose > kept) & (height.max(axis=2) > 0) & contacted[:, None]
-
-
-def crossed_faces_reference(holding: list[list[int]], normals: list, heights: list) -> list[int]:
-    """Plain version of :func:`crossed_faces` for one job: the positions of its crossed
-    triangles, given ``holding[k]``, the positions of the triangles holding vertex k's
-    contacts, and every triangle's outward normal and vertex heights."""
-    if not any(holding):
-        return []
-    crossed = []
-    for i, (normal, height) in enumerate(zip(normals, heights, strict=True)):
-        loose, kept = 0.0, 0.0  # the deepest loose and held vertices behind the plane
-        for k, positions in enumerate(holding):
-            if height[k] >= 0:
-                continue
-            facing = any(
-                abs(dot3(normal, normals[j])) >= settings.STAGE_CORNER_COSINE for j in positions
-            )
-            if facing:
-                kept = max(kept, -height[k])
-            else:
-                loose = max(loose, -height[k])
-        if loose > kept and max(height) > 0:
-            crossed.append(i)
-    return crossed
 
 
 def crossed_face_points(records: list, faces: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

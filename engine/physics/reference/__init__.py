@@ -11,7 +11,11 @@ batched function names the twin it mirrors. Read a twin beside its batched modul
    ``collision/keyed_manifolds.py`` and ``collision/manifold_merge.py``);
 4. ``reference_solver.py``: sequential impulses one point at a time (batched:
    ``solver/contact_batch.py``, ``solver/sequential_impulses.py``,
-   ``solver/color_rows.py``, ``solver/stage_priority.py``).
+   ``solver/color_rows.py``, ``solver/stage_priority.py``);
+5. ``reference_crossings.py``: a vertex's way out and the faces a hull crosses, and the
+   prism test ``reference_pairs`` uses (batched: ``collision/stage_crossings.py``);
+6. ``reference_soft.py``: the soft step one point at a time (batched:
+   ``solver/soft_step.py``, with ``SolverSettings.soft_step``).
 
 The runner of the reference collision stage, ``pipeline/reference_contacts.py``, sits with
 the pair table it reads; the plain vector helpers are ``core/reference_geometry.py``.

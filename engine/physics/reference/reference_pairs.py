@@ -30,15 +30,16 @@ from ..collision.contact_helpers import (
 )
 from ..collision.contacts import ManifoldStore, tie_key
 from ..collision.pair_rules import FCL_FEATURE, PairContext, PairJob
-from ..collision.stage_crossings import (
-    crossed_face_points,
-    crossed_faces_reference,
-    way_out_crossed_reference,
-)
+from ..collision.stage_crossings import crossed_face_points
 from ..collision.stage_grid import candidate_triangles_reference
 from ..core import settings
 from ..core.reference_geometry import Contact, dot, rotate, unrotate
 from .reference_box_box import box_box_contacts_reference
+from .reference_crossings import (
+    crossed_faces_reference,
+    inside_triangle_prism,
+    way_out_crossed_reference,
+)
 
 
 def as_contacts(result) -> list[Contact]:
@@ -246,7 +247,7 @@ def stage_polyhedron_contacts(
     crossing a face), no deeper than the hull's deepest vertex below that triangle's
     plane. A vertex passed a triangle rests on it only if the segment to its foot crosses
     no other of its triangles
-    (:func:`stage_crossings.way_out_crossed_reference`).
+    (:func:`reference_crossings.way_out_crossed_reference`).
 
     Mirrors ``batched_stage._stage_group``. For every touched triangle t (normal n_t turned to
     the stage's outward side, :func:`outward_side` with the ``cached`` manifold normals)
@@ -259,7 +260,7 @@ def stage_polyhedron_contacts(
     (:func:`_behind_the_corner`; listed after all the first contacts, as the batched path
     orders them). ``crossed`` (a dict, when given) receives the triangles the hull
     crosses without a vertex on them, in a job with vertex contacts
-    (:func:`stage_crossings.crossed_faces_reference`): ``{id: (normal, least height)}``.
+    (:func:`reference_crossings.crossed_faces_reference`): ``{id: (normal, least height)}``.
     Without ``vertex_contacts`` only fcl's points are made (every triangle fcl named was
     already tested with the body's whole near set, which holds the vertices' ways out).
     """
@@ -378,22 +379,6 @@ def _vertex_contact(vertex: np.ndarray, normal: np.ndarray, height: float, featu
     A's point on the plane; ``feature``: its feature number (the vertex's, ``V + v`` for
     a corner's second contact)."""
     return Contact(vertex - normal * height, vertex, normal, feature)
-
-
-def inside_triangle_prism(table: dict, t: int, corner: np.ndarray, point: np.ndarray) -> bool:
-    """True when ``point`` projected on triangle t's plane lies inside the triangle.
-
-    Barycentric ``(v, w)`` solve ``[d00 d01; d01 d11] [v; w] = [d20; d21]`` with the Gram
-    entries of the edges e0, e1 from ``corner`` (Ericson 3.4); inside when ``v, w >= 0`` and
-    ``v + w <= 1`` (within ``BARYCENTRIC_TOLERANCE``).
-    """
-    relative = point - corner
-    d20, d21 = dot(relative, table["e0"][t]), dot(relative, table["e1"][t])
-    d00, d01, d11, denom = (table[key][t] for key in ("d00", "d01", "d11", "denom"))
-    v = (d11 * d20 - d01 * d21) / denom
-    w = (d00 * d21 - d01 * d20) / denom
-    tolerance = settings.BARYCENTRIC_TOLERANCE
-    return bool(v >= -tolerance and w >= -tolerance and v + w <= 1 + tolerance)
 
 
 def polyhedron_contacts(
