@@ -70,6 +70,7 @@ from .contact_helpers import (
     center_decides,
     contact_arrays,
     fcl_raw_contacts,
+    level_with,
     midpoint_contacts,
     new_contact_side,
     to_world,
@@ -284,9 +285,7 @@ def _stage_group(
     normal = table["normal"][ids]
     # signed height of vertex v above triangle t's plane: n_t . (x_v - p0_t), (g, T, V)
     height = np.einsum("gti,gvi->gtv", normal, verts) - dot(normal, tris[:, :, 0])[..., None]
-    # the body's center level with each triangle (between its lowest and highest corner)
-    level = (table["y_low"][ids] <= x[:, None, 1]) & (x[:, None, 1] <= table["y_high"][ids])
-    level |= table["backed"][ids]  # a board's back against a wall: its front is the wall
+    level = level_with(table, ids, x[:, None, 1])  # the center level with each triangle
     side = _outward_side(normal, tris[:, :, 0], height, x, cached, level)  # (g, T)
     normal, height = normal * side[..., None], height * side[..., None]
     extent = (verts.max(axis=1) - verts.min(axis=1)).max(axis=1)

@@ -38,6 +38,7 @@ from .contact_helpers import (
     center_decides,
     contact_arrays,
     fcl_raw_contacts,
+    level_with,
     midpoint_contacts,
     new_contact_side,
     segment_in_body,
@@ -255,9 +256,7 @@ def _outward_normals(table, tri_ids, origin, shape, pose, center_always_decides)
     max_height = end_heights.max(axis=1) + radius
     decides = center_always_decides
     if not center_always_decides:
-        # the center level with each triangle (between its lowest and highest corner)
-        level = (table["y_low"][tri_ids] <= center[1]) & (center[1] <= table["y_high"][tri_ids])
-        level |= table["backed"][tri_ids]  # a board's back against a wall: its front is the wall
+        level = level_with(table, tri_ids, center[1])
         min_height = end_heights.min(axis=1) - radius
         decides = center_decides(level, center_height, max_height, min_height)
     return normal * new_contact_side(normal[:, 1], center_height, max_height, decides)[:, None]

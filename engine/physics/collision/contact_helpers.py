@@ -181,6 +181,15 @@ def backed_triangles(normal: np.ndarray, corner: np.ndarray) -> np.ndarray:
     return np.array([tuple(row) in planes for row in flipped.tolist()], dtype=bool)
 
 
+def level_with(table: dict, ids: np.ndarray, center_y) -> np.ndarray:
+    """Bool, a body's center at height ``center_y`` is level with each triangle ``ids``
+    (between its lowest and highest corner, ``triangle_table``'s ``y_low`` and ``y_high``)
+    or the triangle is backed (a board's back against a wall: its front is the wall), as
+    :func:`center_decides` reads it."""
+    level = (table["y_low"][ids] <= center_y) & (center_y <= table["y_high"][ids])
+    return level | table["backed"][ids]
+
+
 def segment_in_body(shape: Shape) -> tuple[np.ndarray, np.ndarray, float]:
     """Body-frame axis segment ``(p, q)`` and radius of a capsule (``p = q``: a sphere)."""
     center = shape.body_from_shape[:3, 3]

@@ -27,12 +27,12 @@ swept with the final orientation. The path sweep (:func:`sweep_path`) follows ea
 vertex from its place at the start of the step to its place at the end, along the turn's
 arc in chords of at most ``CCD_ARC_ANGLE``, and the center along its line; it takes
 
-* a body whose translation plus turn (``|d| + theta r``, :func:`turn_travel`) passes the
-  threshold (Box2D v3's test, ``b2FinalizeBodies``: ``|v| h + |w| h r_max`` against half
-  the body's smallest extent): a 1 mm slab thrown flat at the floor at 29 m/s spun up by
-  the impact and dug a corner 7.9 cm into it the next frame; a 25 cm cone at 5.4 m/s and
-  14 rad/s (4.3 cm and 2.1 cm a step, each under the 5 cm threshold) struck 7 cm into a
-  bed's side;
+* a body whose translation plus turn (``|d| + theta r``: :func:`turn_angle`,
+  :func:`body_reach`) passes the threshold (Box2D v3's test, ``b2FinalizeBodies``:
+  ``|v| h + |w| h r_max`` against half the body's smallest extent): a 1 mm slab thrown
+  flat at the floor at 29 m/s spun up by the impact and dug a corner 7.9 cm into it the
+  next frame; a 25 cm cone at 5.4 m/s and 14 rad/s (4.3 cm and 2.1 cm a step, each under
+  the 5 cm threshold) struck 7 cm into a bed's side;
 * a body, at any speed, whose center went through the front of a stage triangle this step
   (:func:`centers_through_stage`, all bodies at once): a 25 cm cone spun at 35-38 rad/s
   against a 10 cm wall crept in tip first, 1-1.5 cm a step (its tip held by a floor contact
@@ -159,14 +159,6 @@ def centers_through_stage(
         hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0) & (t <= 1)
         crossed[segment[hit]] = True
     return crossed
-
-
-def turn_travel(bodies: Bodies, moving: np.ndarray, old_rotation: np.ndarray) -> np.ndarray:
-    """``(k,)`` m, an upper bound of how far the step's rotation moved a hull vertex of each
-    body: ``theta r`` with ``theta`` the angle between the old and new orientation
-    (:func:`turn_angle`) and ``r`` the distance of the body's farthest AABB corner from its
-    center of mass (:func:`body_reach`)."""
-    return turn_angle(bodies, moving, old_rotation) * body_reach(bodies, moving)
 
 
 def turn_angle(bodies: Bodies, moving: np.ndarray, old_rotation: np.ndarray) -> np.ndarray:
